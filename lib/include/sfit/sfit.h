@@ -1,0 +1,19 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit.h
+ * @brief sfit umbrella header: sphere and circle fitting for microcontrollers.
+ */
+#ifndef SFIT_H
+#define SFIT_H
+
+#define SFIT_VERSION_MAJOR 0
+#define SFIT_VERSION_MINOR 1
+#define SFIT_VERSION_PATCH 0
+
+#include "sfit_config.h"
+#include "sfit_types.h"
+#include "sfit_mat3.h"
+#include "sfit_moments.h"
+#include "sfit_fit.h"
+
+#endif /* SFIT_H */

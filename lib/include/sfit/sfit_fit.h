@@ -1,0 +1,121 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_fit.h
+ * @brief Sphere and circle estimators: GDKE, UGDK, planar (cylindrical joint).
+ * @defgroup sfit_fit Sphere / circle fit
+ * @{
+ *
+ * With the chapter's notation (mean m, C = sum y y^T/(N-1),
+ * S = sum |y|^2 y/(N-1), y = x - m):
+ *  - GDKE (generalised Delogne-Kasa, identical to the Kasa algebraic fit):
+ *    c = m + C^-1 S / 2,  r = sqrt((N-1)/N tr C + |m - c|^2).
+ *  - UGDK (eq. 171-176): the same with C' = C - Sigma_hat, where Sigma_hat is
+ *    the measurement-noise covariance (sigma^2 I or a full symmetric 3x3).
+ *  - Planar (eq. 214-218): when the samples lie near a plane (a hinge), the
+ *    inverse is replaced by the pseudo-inverse over the two largest
+ *    eigen-directions of C (or C'); the dropped eigenvector is the axis.
+ */
+#ifndef SFIT_FIT_H
+#define SFIT_FIT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sfit_moments.h"
+#include "sfit_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** @brief Which solution to compute. */
+typedef enum sfit_mode {
+    SFIT_MODE_AUTO = 0,   /**< Sphere when well conditioned, planar when near-planar. */
+    SFIT_MODE_SPHERE = 1, /**< Always the sphere solution (flagged if near-planar). */
+    SFIT_MODE_PLANAR = 2  /**< Always the planar (circle) solution. */
+} sfit_mode_t;
+
+/** @brief Measurement-noise model for the bias compensation. */
+typedef enum sfit_noise_kind {
+    SFIT_NOISE_NONE = 0, /**< No compensation: GDKE. */
+    SFIT_NOISE_ISO = 1,  /**< Sigma_hat = noise_var * I: UGDK. */
+    SFIT_NOISE_COV = 2   /**< Sigma_hat = noise_cov (symmetric 3x3): UGDK. */
+} sfit_noise_kind_t;
+
+/** @brief Options of a fit. Start from ::sfit_fit_cfg_default. */
+typedef struct sfit_fit_cfg {
+    sfit_mode_t mode;            /**< Solution to compute. */
+    sfit_noise_kind_t noise;     /**< Noise model. */
+    float noise_var;             /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
+    sfit_mat3_t noise_cov;       /**< Sigma for SFIT_NOISE_COV (symmetric, PSD). */
+    float planar_ratio;          /**< lambda_min/lambda_max threshold; 0 = SFIT_PLANAR_RATIO. */
+} sfit_fit_cfg_t;
+
+/** @brief Defaults: auto mode, no noise compensation (GDKE). */
+extern const sfit_fit_cfg_t sfit_fit_cfg_default;
+
+/** @brief Result flags (bit mask). */
+enum sfit_flag {
+    SFIT_FLAG_UNTRUSTED = 1u,   /**< Trust ratio >= 1: Leontief condition (eq. 194) fails. */
+    SFIT_FLAG_FEW_SAMPLES = 2u, /**< N < SFIT_FEW_SAMPLES. */
+    SFIT_FLAG_NEAR_PLANAR = 4u  /**< lambda_min/lambda_max < planar_ratio. */
+};
+
+/** @brief Which estimator produced a result. */
+typedef enum sfit_method {
+    SFIT_METHOD_GDKE = 0, /**< No noise compensation. */
+    SFIT_METHOD_UGDK = 1  /**< Noise-compensated (C' = C - Sigma_hat). */
+} sfit_method_t;
+
+/** @brief A fit. Written only when the solve returns SFIT_OK; always finite. */
+typedef struct sfit_result {
+    sfit_vec3_t center;      /**< Sphere centre, or circle centre in planar mode. */
+    float radius;            /**< Sphere or circle radius. */
+    uint32_t n;              /**< Samples used. */
+    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending. */
+    sfit_vec3_t axis;        /**< Unit eigenvector of the dropped (planar) or smallest
+                                  (sphere) eigenvalue: the hinge axis / cap axis line;
+                                  sign: largest-magnitude component positive. */
+    float trust_ratio;       /**< rho(C0^-1 Sigma_hat), C0 estimated by C' (0 for GDKE). */
+    uint32_t flags;          /**< Bit mask of ::sfit_flag. */
+    sfit_method_t method;    /**< GDKE or UGDK. */
+    sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */
+} sfit_result_t;
+
+/**
+ * @brief Solve from an accumulator (the accumulator is not modified; solve
+ * can be called again after more samples).
+ * @param[in]  m    Accumulator.
+ * @param[in]  cfg  Options; NULL = ::sfit_fit_cfg_default.
+ * @param[out] out  Result; written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind,
+ *                            negative/non-finite variance, asymmetric covariance)
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_DEGENERATE  coincident or collinear samples; or near-planar
+ *                            samples whose sphere system is singular (GDKE)
+ * @retval SFIT_E_NOT_POSDEF  C' = C - Sigma_hat is not positive definite
+ *                            (on the kept directions in planar mode)
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @retval SFIT_E_RANGE       the result would not be finite
+ */
+sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+                             sfit_result_t *out);
+
+/**
+ * @brief Fit a caller-owned array of samples (accumulates, then solves).
+ * @param[in]  pts  Array of n samples.
+ * @param[in]  n    Sample count.
+ * @param[in]  cfg  Options; NULL = defaults.
+ * @param[out] out  Result; written only on SFIT_OK.
+ * @retval as sfit_fit_solve(), plus SFIT_E_NONFINITE / SFIT_E_RANGE for a bad sample.
+ */
+sfit_status_t sfit_fit_batch(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+                             sfit_result_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+#endif /* SFIT_FIT_H */

@@ -1,0 +1,201 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_mat3.c
+ * @brief Cholesky factor/solve and cyclic Jacobi for symmetric 3x3 matrices.
+ */
+#include "sfit/sfit_mat3.h"
+
+#include <string.h>
+
+#include "sfit/sfit_config.h"
+#include "sfit_internal.h"
+
+void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a)
+{
+    a->m[0] = p[0]; a->m[1] = p[3]; a->m[2] = p[4];
+    a->m[3] = p[3]; a->m[4] = p[1]; a->m[5] = p[5];
+    a->m[6] = p[4]; a->m[7] = p[5]; a->m[8] = p[2];
+}
+
+int sfit_i_isfinite(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return ((u >> 23) & 0xFFu) != 0xFFu;
+}
+
+sfit_status_t sfit_mat3_chol(const sfit_mat3_t *a, sfit_mat3_t *l)
+{
+    float a00, a10, a11, a20, a21, a22, dmax, tol;
+    float l00, l10, l11, l20, l21, l22, p;
+
+    if (a == NULL || l == NULL) {
+        return SFIT_E_ARG;
+    }
+    a00 = a->m[0]; a10 = a->m[3]; a11 = a->m[4];
+    a20 = a->m[6]; a21 = a->m[7]; a22 = a->m[8];
+    dmax = a00;
+    if (a11 > dmax) { dmax = a11; }
+    if (a22 > dmax) { dmax = a22; }
+    /* The negated comparisons also reject NaN (every comparison is false). */
+    if (!(dmax > 0.0f) || !sfit_i_isfinite(dmax)) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    tol = SFIT_CHOL_PIVOT_EPS * dmax;
+    if (!(a00 > tol)) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    l00 = SFIT_SQRTF(a00);
+    l10 = a10 / l00;
+    l20 = a20 / l00;
+    p = a11 - l10 * l10;
+    if (!(p > tol)) {
+        return SFIT_E_NOT_POSDEF; /* also catches a NaN/Inf in a10 */
+    }
+    l11 = SFIT_SQRTF(p);
+    l21 = (a21 - l20 * l10) / l11;
+    p = a22 - l20 * l20 - l21 * l21;
+    if (!(p > tol)) {
+        return SFIT_E_NOT_POSDEF; /* also catches a NaN/Inf in a20 or a21 */
+    }
+    l22 = SFIT_SQRTF(p);
+
+    l->m[0] = l00; l->m[1] = 0.0f; l->m[2] = 0.0f;
+    l->m[3] = l10; l->m[4] = l11;  l->m[5] = 0.0f;
+    l->m[6] = l20; l->m[7] = l21;  l->m[8] = l22;
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, sfit_vec3_t *x)
+{
+    const float *L;
+    float y0, y1, y2, x0, x1, x2;
+
+    if (l == NULL || b == NULL || x == NULL) {
+        return SFIT_E_ARG;
+    }
+    L = l->m;
+    /* Forward: L y = b. */
+    y0 = b->v[0] / L[0];
+    y1 = (b->v[1] - L[3] * y0) / L[4];
+    y2 = (b->v[2] - L[6] * y0 - L[7] * y1) / L[8];
+    /* Backward: L^T x = y. */
+    x2 = y2 / L[8];
+    x1 = (y1 - L[7] * x2) / L[4];
+    x0 = (y0 - L[3] * x1 - L[6] * x2) / L[0];
+    x->v[0] = x0; x->v[1] = x1; x->v[2] = x2;
+    return SFIT_OK;
+}
+
+/* One Jacobi rotation in the (p,q) plane zeroing a[p][q] (full row-major
+ * working copy a, accumulated eigenvectors v). Returns 1 if it rotated. */
+static int prv_rotate(float a[9], float v[9], int p, int q)
+{
+    const float apq = a[3 * p + q];
+    const float app = a[3 * p + p];
+    const float aqq = a[3 * q + q];
+    const float g = 100.0f * SFIT_FABSF(apq);
+    float theta, t, c, s;
+    int r, k;
+
+    if (apq == 0.0f) {
+        return 0;
+    }
+    /* Negligible against both diagonal entries: drop it (keeps the small
+     * eigenvalue accurate to its own relative precision). */
+    if (SFIT_FABSF(app) + g == SFIT_FABSF(app) && SFIT_FABSF(aqq) + g == SFIT_FABSF(aqq)) {
+        a[3 * p + q] = 0.0f;
+        a[3 * q + p] = 0.0f;
+        return 0;
+    }
+    theta = (aqq - app) / (2.0f * apq);
+    if (SFIT_FABSF(theta) > 1.0e18f) {
+        t = 0.5f / theta; /* theta^2 would overflow; t ~ 1/(2 theta) */
+    } else {
+        t = 1.0f / (SFIT_FABSF(theta) + SFIT_SQRTF(theta * theta + 1.0f));
+        if (theta < 0.0f) {
+            t = -t;
+        }
+    }
+    c = 1.0f / SFIT_SQRTF(t * t + 1.0f);
+    s = t * c;
+    a[3 * p + p] = app - t * apq;
+    a[3 * q + q] = aqq + t * apq;
+    a[3 * p + q] = 0.0f;
+    a[3 * q + p] = 0.0f;
+    r = 3 - p - q; /* the third index */
+    {
+        const float arp = a[3 * r + p];
+        const float arq = a[3 * r + q];
+        const float nrp = c * arp - s * arq;
+        const float nrq = s * arp + c * arq;
+        a[3 * r + p] = nrp; a[3 * p + r] = nrp;
+        a[3 * r + q] = nrq; a[3 * q + r] = nrq;
+    }
+    for (k = 0; k < 3; k++) {
+        const float vkp = v[3 * k + p];
+        const float vkq = v[3 * k + q];
+        v[3 * k + p] = c * vkp - s * vkq;
+        v[3 * k + q] = s * vkp + c * vkq;
+    }
+    return 1;
+}
+
+static void prv_swap_cols(float w[3], float v[9], int i, int j)
+{
+    float t = w[i];
+    int k;
+    w[i] = w[j];
+    w[j] = t;
+    for (k = 0; k < 3; k++) {
+        t = v[3 * k + i];
+        v[3 * k + i] = v[3 * k + j];
+        v[3 * k + j] = t;
+    }
+}
+
+sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v)
+{
+    float A[9], V[9], e[3];
+    int sweep, k, converged = 0;
+
+    if (a == NULL || w == NULL) {
+        return SFIT_E_ARG;
+    }
+    /* Symmetric working copy from the lower triangle. */
+    A[0] = a->m[0]; A[4] = a->m[4]; A[8] = a->m[8];
+    A[1] = a->m[3]; A[3] = a->m[3];
+    A[2] = a->m[6]; A[6] = a->m[6];
+    A[5] = a->m[7]; A[7] = a->m[7];
+    for (k = 0; k < 9; k++) {
+        if (!sfit_i_isfinite(A[k])) {
+            return SFIT_E_NONFINITE;
+        }
+        V[k] = (k % 4 == 0) ? 1.0f : 0.0f;
+    }
+    for (sweep = 0; sweep < SFIT_JACOBI_MAX_SWEEPS; sweep++) {
+        if (A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
+            converged = 1;
+            break;
+        }
+        (void)prv_rotate(A, V, 0, 1);
+        (void)prv_rotate(A, V, 0, 2);
+        (void)prv_rotate(A, V, 1, 2);
+    }
+    if (!converged && A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
+        converged = 1;
+    }
+    if (!converged) {
+        return SFIT_E_NO_CONVERGENCE;
+    }
+    e[0] = A[0]; e[1] = A[4]; e[2] = A[8];
+    /* Sort ascending (3-element network). */
+    if (e[0] > e[1]) { prv_swap_cols(e, V, 0, 1); }
+    if (e[1] > e[2]) { prv_swap_cols(e, V, 1, 2); }
+    if (e[0] > e[1]) { prv_swap_cols(e, V, 0, 1); }
+    w->v[0] = e[0]; w->v[1] = e[1]; w->v[2] = e[2];
+    if (v != NULL) {
+        memcpy(v->m, V, sizeof V);
+    }
+    return SFIT_OK;
+}

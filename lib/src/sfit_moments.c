@@ -1,0 +1,323 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_moments.c
+ * @brief Streaming moments with two-level (block) summation.
+ *
+ * Implementation notes
+ * --------------------
+ * Inner level: the open block sums z = x - bref, z z^T and |z|^2 z, where
+ * bref is the running mean at the block's start (the first sample for the
+ * first block). Near a far-away sphere x - bref is exact in float
+ * (Sterbenz) and |z| is of the order of the sphere's radius, so the sums
+ * carry no large offset.
+ *
+ * Outer level: a full block is converted to centred moments about its own
+ * mean and merged into the total with the exact parallel-update formulas
+ * (for sets A, B merged into A+B with mean m, a = m_A - m, b = m_B - m):
+ *   n   = n_A + n_B
+ *   M2  = M2_A + M2_B + (n_A n_B / n) delta delta^T,    delta = m_B - m_A
+ *   M3  = M3_A + M3_B + (2 M2_A + tr(M2_A) I) a + (2 M2_B + tr(M2_B) I) b
+ *         + n_A |a|^2 a + n_B |b|^2 b
+ * (expand sum |y + a|^2 (y + a) over a set with sum y = 0). The total keeps
+ * its mean as `origin + d` so no operation involves the large coordinate
+ * except the final `origin + (d + w)` of a solve.
+ */
+#include "sfit/sfit_moments.h"
+
+#include <string.h>
+
+#include "sfit_internal.h"
+
+sfit_status_t sfit_i_check_sample(const float x[3])
+{
+    sfit_status_t st = SFIT_OK;
+    int i;
+    for (i = 0; i < 3; i++) {
+        uint32_t u, e;
+        memcpy(&u, &x[i], sizeof u);
+        e = (u >> 23) & 0xFFu;
+        if (e == 0xFFu) {
+            return SFIT_E_NONFINITE;
+        }
+        if (e >= (uint32_t)(127 + SFIT_COORD_MAX_EXP)) {
+            st = SFIT_E_RANGE;
+        }
+    }
+    return st;
+}
+
+sfit_status_t sfit_moments_init(sfit_moments_t *m)
+{
+    if (m == NULL) {
+        return SFIT_E_ARG;
+    }
+    memset(m, 0, sizeof *m);
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_moments_reset(sfit_moments_t *m)
+{
+    return sfit_moments_init(m);
+}
+
+uint32_t sfit_moments_count(const sfit_moments_t *m)
+{
+    return (m == NULL) ? 0u : m->tot.n + m->bn;
+}
+
+/* Centred moments of the open block, mean expressed relative to `origin`. */
+static void prv_block_cmom(const sfit_moments_t *m, sfit_cmom_t *b)
+{
+    const float nb = (float)m->bn;
+    const float inv = 1.0f / nb;
+    float d[3], q, dd;
+    int i;
+
+    for (i = 0; i < 3; i++) {
+        d[i] = m->bs[i] * inv;
+    }
+    /* M2 = sum z z^T - (sum z) d^T */
+    b->m2[0] = m->bm2[0] - m->bs[0] * d[0];
+    b->m2[1] = m->bm2[1] - m->bs[1] * d[1];
+    b->m2[2] = m->bm2[2] - m->bs[2] * d[2];
+    b->m2[3] = m->bm2[3] - m->bs[0] * d[1];
+    b->m2[4] = m->bm2[4] - m->bs[0] * d[2];
+    b->m2[5] = m->bm2[5] - m->bs[1] * d[2];
+    /* M3 = sum |z|^2 z - 2 (sum z z^T) d - tr(sum z z^T) d + 2 n |d|^2 d */
+    q = m->bm2[0] + m->bm2[1] + m->bm2[2];
+    dd = 2.0f * nb * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    b->m3[0] = m->bm3[0] - 2.0f * (m->bm2[0] * d[0] + m->bm2[3] * d[1] + m->bm2[4] * d[2])
+               - q * d[0] + dd * d[0];
+    b->m3[1] = m->bm3[1] - 2.0f * (m->bm2[3] * d[0] + m->bm2[1] * d[1] + m->bm2[5] * d[2])
+               - q * d[1] + dd * d[1];
+    b->m3[2] = m->bm3[2] - 2.0f * (m->bm2[4] * d[0] + m->bm2[5] * d[1] + m->bm2[2] * d[2])
+               - q * d[2] + dd * d[2];
+    for (i = 0; i < 3; i++) {
+        b->d[i] = (m->bref[i] - m->origin[i]) + d[i];
+    }
+    b->n = m->bn;
+}
+
+/* (2 M2 + tr(M2) I) u + n |u|^2 u, the shift of M3 by u. */
+static void prv_m3_shift(const sfit_cmom_t *s, const float u[3], float out[3])
+{
+    const float tr = s->m2[0] + s->m2[1] + s->m2[2];
+    const float k = (float)s->n * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    out[0] = 2.0f * (s->m2[0] * u[0] + s->m2[3] * u[1] + s->m2[4] * u[2]) + (tr + k) * u[0];
+    out[1] = 2.0f * (s->m2[3] * u[0] + s->m2[1] * u[1] + s->m2[5] * u[2]) + (tr + k) * u[1];
+    out[2] = 2.0f * (s->m2[4] * u[0] + s->m2[5] * u[1] + s->m2[2] * u[2]) + (tr + k) * u[2];
+}
+
+/* a := a U b, both means relative to the same origin. */
+static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
+{
+    float delta[3], ua[3], ub[3], sa[3], sb[3], fb, w;
+    int i;
+
+    if (b->n == 0u) {
+        return;
+    }
+    if (a->n == 0u) {
+        *a = *b;
+        return;
+    }
+    {
+        const float na = (float)a->n;
+        const float nb = (float)b->n;
+        const float n = na + nb;
+        fb = nb / n;
+        w = na * fb; /* n_A n_B / n */
+        for (i = 0; i < 3; i++) {
+            delta[i] = b->d[i] - a->d[i];
+            ua[i] = -fb * delta[i];          /* m_A - m */
+            ub[i] = (na / n) * delta[i];     /* m_B - m */
+        }
+    }
+    prv_m3_shift(a, ua, sa);
+    prv_m3_shift(b, ub, sb);
+    for (i = 0; i < 3; i++) {
+        a->m3[i] = a->m3[i] + b->m3[i] + sa[i] + sb[i];
+    }
+    a->m2[0] += b->m2[0] + w * delta[0] * delta[0];
+    a->m2[1] += b->m2[1] + w * delta[1] * delta[1];
+    a->m2[2] += b->m2[2] + w * delta[2] * delta[2];
+    a->m2[3] += b->m2[3] + w * delta[0] * delta[1];
+    a->m2[4] += b->m2[4] + w * delta[0] * delta[2];
+    a->m2[5] += b->m2[5] + w * delta[1] * delta[2];
+    for (i = 0; i < 3; i++) {
+        a->d[i] = a->d[i] - ua[i];
+    }
+    a->n += b->n;
+}
+
+void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
+{
+    *out = m->tot;
+    if (m->bn > 0u) {
+        sfit_cmom_t b;
+        prv_block_cmom(m, &b);
+        prv_cmom_merge(out, &b);
+    }
+}
+
+/* Fold the open block into the total and empty it. */
+static void prv_flush(sfit_moments_t *m)
+{
+    sfit_cmom_t b;
+    if (m->bn == 0u) {
+        return;
+    }
+    prv_block_cmom(m, &b);
+    prv_cmom_merge(&m->tot, &b);
+    m->bn = 0u;
+    memset(m->bs, 0, sizeof m->bs);
+    memset(m->bm2, 0, sizeof m->bm2);
+    memset(m->bm3, 0, sizeof m->bm3);
+}
+
+/* Accumulate one already validated sample. */
+static void prv_add(sfit_moments_t *m, const float x[3])
+{
+    float z0, z1, z2, q00, q11, q22, q;
+
+    if (m->bn == 0u) {
+        if (m->tot.n == 0u) {
+            memcpy(m->origin, x, sizeof m->origin);
+            memcpy(m->bref, x, sizeof m->bref);
+        } else {
+            /* Next block is summed about the current mean. */
+            m->bref[0] = m->origin[0] + m->tot.d[0];
+            m->bref[1] = m->origin[1] + m->tot.d[1];
+            m->bref[2] = m->origin[2] + m->tot.d[2];
+        }
+    }
+    z0 = x[0] - m->bref[0];
+    z1 = x[1] - m->bref[1];
+    z2 = x[2] - m->bref[2];
+    m->bs[0] += z0;
+    m->bs[1] += z1;
+    m->bs[2] += z2;
+    q00 = z0 * z0;
+    q11 = z1 * z1;
+    q22 = z2 * z2;
+    m->bm2[0] += q00;
+    m->bm2[1] += q11;
+    m->bm2[2] += q22;
+    m->bm2[3] += z0 * z1;
+    m->bm2[4] += z0 * z2;
+    m->bm2[5] += z1 * z2;
+    q = q00 + q11 + q22;
+    m->bm3[0] += q * z0;
+    m->bm3[1] += q * z1;
+    m->bm3[2] += q * z2;
+    m->bn++;
+    if (m->bn >= SFIT_MOMENTS_BLOCK) {
+        prv_flush(m);
+    }
+}
+
+sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x)
+{
+    sfit_status_t st;
+    if (m == NULL || x == NULL) {
+        return SFIT_E_ARG;
+    }
+    st = sfit_i_check_sample(x->v);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (sfit_moments_count(m) == UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    prv_add(m, x->v);
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
+                                     size_t *bad)
+{
+    size_t i;
+    if (m == NULL || (pts == NULL && n > 0u)) {
+        return SFIT_E_ARG;
+    }
+    /* Validate everything first so that a rejection leaves m untouched. */
+    for (i = 0; i < n; i++) {
+        const sfit_status_t st = sfit_i_check_sample(pts[i].v);
+        if (st != SFIT_OK) {
+            if (bad != NULL) {
+                *bad = i;
+            }
+            return st;
+        }
+    }
+    if ((uint64_t)sfit_moments_count(m) + (uint64_t)n > (uint64_t)UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    for (i = 0; i < n; i++) {
+        prv_add(m, pts[i].v);
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
+{
+    sfit_cmom_t s;
+    int i;
+
+    if (dst == NULL || src == NULL) {
+        return SFIT_E_ARG;
+    }
+    if ((uint64_t)sfit_moments_count(dst) + (uint64_t)sfit_moments_count(src)
+        > (uint64_t)UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    if (sfit_moments_count(src) == 0u) {
+        return SFIT_OK;
+    }
+    sfit_i_moments_total(src, &s); /* before touching dst: they may alias */
+    if (sfit_moments_count(dst) == 0u) {
+        memcpy(dst->origin, src->origin, sizeof dst->origin);
+    } else {
+        prv_flush(dst);
+        for (i = 0; i < 3; i++) {
+            s.d[i] = (src->origin[i] - dst->origin[i]) + s.d[i];
+        }
+    }
+    prv_cmom_merge(&dst->tot, &s);
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,
+                                 sfit_vec3_t *s)
+{
+    sfit_cmom_t t;
+    float inv;
+    int i;
+
+    if (m == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (sfit_moments_count(m) < 2u) {
+        return SFIT_E_TOO_FEW;
+    }
+    sfit_i_moments_total(m, &t);
+    inv = 1.0f / (float)(t.n - 1u);
+    if (mean != NULL) {
+        for (i = 0; i < 3; i++) {
+            mean->v[i] = m->origin[i] + t.d[i];
+        }
+    }
+    if (c != NULL) {
+        float p[6];
+        for (i = 0; i < 6; i++) {
+            p[i] = t.m2[i] * inv;
+        }
+        sfit_i_sym_unpack(p, c);
+    }
+    if (s != NULL) {
+        for (i = 0; i < 3; i++) {
+            s->v[i] = t.m3[i] * inv;
+        }
+    }
+    return SFIT_OK;
+}
