@@ -35,7 +35,7 @@ const sfit_fit_cfg_t sfit_fit_cfg_default = {
     SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f, {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}},
     0.0f};
 
-static sfit_status_t prv_check_cfg(const sfit_fit_cfg_t *cfg)
+sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
 {
     int i;
     switch (cfg->mode) {
@@ -76,7 +76,7 @@ static sfit_status_t prv_check_cfg(const sfit_fit_cfg_t *cfg)
 }
 
 /* Sigma_hat as a full symmetric matrix (lower triangle of the option). */
-static void prv_sigma(const sfit_fit_cfg_t *cfg, sfit_mat3_t *sg)
+void sfit_i_sigma(const sfit_fit_cfg_t *cfg, sfit_mat3_t *sg)
 {
     memset(sg, 0, sizeof *sg);
     if (cfg->noise == SFIT_NOISE_ISO) {
@@ -162,15 +162,142 @@ static float prv_dot(const float *a, const float *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                           sfit_i_solution_t *out)
+{
+    const sfit_mat3_t *sg = &sys->sigma;
+    sfit_mat3_t cp, vec, vecp, l;
+    sfit_vec3_t lam, lamp;
+    sfit_i_solution_t r;
+    float ratio, rho = 0.0f;
+    int i, planar;
+    sfit_status_t st;
+
+    st = sfit_mat3_eig_sym(&sys->c, &lam, &vec);
+    if (st != SFIT_OK) {
+        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+    }
+    /* Geometry checks on the eigenvalues of C. */
+    if (!(lam.v[2] > FLT_MIN) || lam.v[2] <= sys->scale * sys->scale) {
+        return SFIT_E_DEGENERATE; /* coincident */
+    }
+    if (lam.v[1] <= SFIT_COLLINEAR_RATIO * lam.v[2]) {
+        return SFIT_E_DEGENERATE; /* collinear */
+    }
+    ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
+
+    memset(&r, 0, sizeof r);
+    r.eigenvalues = lam;
+    if (lam.v[0] < ratio * lam.v[2]) {
+        r.flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
+    }
+    planar = (mode == SFIT_MODE_PLANAR)
+             || (mode == SFIT_MODE_AUTO && (r.flags & (uint32_t)SFIT_FLAG_NEAR_PLANAR) != 0u);
+    for (i = 0; i < 9; i++) {
+        cp.m[i] = sys->c.m[i] - sg->m[i];
+    }
+
+    if (!planar) {
+        /* Sphere: Cholesky of C' = C - Sigma_hat, w = C'^-1 b. */
+        st = sfit_mat3_chol(&cp, &l);
+        if (st != SFIT_OK) {
+            return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
+        }
+        (void)sfit_mat3_chol_solve(&l, &sys->rhs, &r.w);
+        r.trace = cp.m[0] + cp.m[4] + cp.m[8];
+        if (sys->noisy) {
+            st = prv_trust_chol(&l, sg, &rho);
+            if (st != SFIT_OK) {
+                return st;
+            }
+        }
+        prv_axis(&vec, 0, &r.axis);
+        r.mode = SFIT_MODE_SPHERE;
+    } else {
+        /* Planar (eq. 217): pseudo-inverse over the two largest
+         * eigen-directions of C'. With no noise model, or isotropic noise,
+         * C' has C's eigenvectors and eigenvalues shifted by sigma^2. */
+        float v1[3], v2[3], k0, k1;
+        if (sys->noisy && !(sg->m[1] == 0.0f && sg->m[2] == 0.0f && sg->m[5] == 0.0f
+                            && sg->m[0] == sg->m[4] && sg->m[0] == sg->m[8])) {
+            st = sfit_mat3_eig_sym(&cp, &lamp, &vecp);
+            if (st != SFIT_OK) {
+                return st;
+            }
+        } else {
+            vecp = vec;
+            for (i = 0; i < 3; i++) {
+                lamp.v[i] = lam.v[i] - sg->m[0];
+            }
+        }
+        if (!(lamp.v[1] > SFIT_CHOL_PIVOT_EPS * lamp.v[2])) {
+            return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
+        }
+        for (i = 0; i < 3; i++) {
+            v1[i] = vecp.m[3 * i + 1];
+            v2[i] = vecp.m[3 * i + 2];
+        }
+        k0 = prv_dot(v1, sys->rhs.v) / lamp.v[1];
+        k1 = prv_dot(v2, sys->rhs.v) / lamp.v[2];
+        for (i = 0; i < 3; i++) {
+            r.w.v[i] = k0 * v1[i] + k1 * v2[i];
+        }
+        r.trace = lamp.v[1] + lamp.v[2];
+        if (sys->noisy) {
+            /* Trust on the kept plane: largest eigenvalue of the 2x2
+             * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
+            float sv1[3], sv2[3], b00, b01, b11, h;
+            for (i = 0; i < 3; i++) {
+                sv1[i] = prv_dot(&sg->m[3 * i], v1);
+                sv2[i] = prv_dot(&sg->m[3 * i], v2);
+            }
+            b00 = prv_dot(v1, sv1) / lamp.v[1];
+            b11 = prv_dot(v2, sv2) / lamp.v[2];
+            b01 = prv_dot(v1, sv2) / SFIT_SQRTF(lamp.v[1] * lamp.v[2]);
+            h = 0.5f * (b00 - b11);
+            rho = 0.5f * (b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
+        }
+        prv_axis(&vecp, 0, &r.axis);
+        r.mode = SFIT_MODE_PLANAR;
+    }
+    r.rho = rho;
+    if (rho >= 1.0f) {
+        r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+    }
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(r.w.v[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    if (!sfit_i_isfinite(r.rho) || !sfit_i_isfinite(r.trace)) {
+        return SFIT_E_RANGE;
+    }
+    *out = r;
+    return SFIT_OK;
+}
+
+float sfit_i_coincident_scale(const float origin[3], const float d[3])
+{
+    float scale = 0.0f;
+    int i;
+    for (i = 0; i < 3; i++) {
+        const float a = SFIT_FABSF(origin[i] + d[i]);
+        if (a > scale) {
+            scale = a;
+        }
+    }
+    return scale * (SFIT_COINCIDENT_ULPS * FLT_EPSILON);
+}
+
 sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
     sfit_cmom_t t;
-    sfit_mat3_t c, cp, sg, vec, vecp, l;
-    sfit_vec3_t lam, lamp, s, w;
+    sfit_i_system_t sys;
+    sfit_i_solution_t sol;
     sfit_result_t r;
-    float inv, scale, ratio, r2, trp, rho = 0.0f;
-    int i, planar;
+    float inv, r2;
+    int i;
     sfit_status_t st;
 
     if (m == NULL || out == NULL) {
@@ -179,7 +306,7 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
     if (cfg == NULL) {
         cfg = &sfit_fit_cfg_default;
     }
-    st = prv_check_cfg(cfg);
+    st = sfit_i_check_cfg(cfg);
     if (st != SFIT_OK) {
         return st;
     }
@@ -187,146 +314,52 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
         return SFIT_E_TOO_FEW;
     }
     sfit_i_moments_total(m, &t);
+    /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
     inv = 1.0f / (float)(t.n - 1u);
     {
         float p[6];
         for (i = 0; i < 6; i++) {
             p[i] = t.m2[i] * inv;
         }
-        sfit_i_sym_unpack(p, &c);
+        sfit_i_sym_unpack(p, &sys.c);
     }
     for (i = 0; i < 3; i++) {
-        s.v[i] = t.m3[i] * inv;
+        sys.rhs.v[i] = (0.5f * inv) * t.m3[i];
     }
-    st = sfit_mat3_eig_sym(&c, &lam, &vec);
+    sfit_i_sigma(cfg, &sys.sigma);
+    sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
+    sys.scale = sfit_i_coincident_scale(m->origin, t.d);
+
+    st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
     if (st != SFIT_OK) {
-        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+        return st;
     }
-
-    /* Geometry checks. */
-    scale = 0.0f;
-    for (i = 0; i < 3; i++) {
-        const float a = SFIT_FABSF(m->origin[i] + t.d[i]);
-        if (a > scale) {
-            scale = a;
-        }
-    }
-    scale *= SFIT_COINCIDENT_ULPS * FLT_EPSILON;
-    if (!(lam.v[2] > FLT_MIN) || lam.v[2] <= scale * scale) {
-        return SFIT_E_DEGENERATE; /* coincident */
-    }
-    if (lam.v[1] <= SFIT_COLLINEAR_RATIO * lam.v[2]) {
-        return SFIT_E_DEGENERATE; /* collinear */
-    }
-    ratio = (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO;
-
-    memset(&r, 0, sizeof r);
-    r.n = t.n;
-    r.eigenvalues = lam;
-    r.method = (cfg->noise == SFIT_NOISE_NONE) ? SFIT_METHOD_GDKE : SFIT_METHOD_UGDK;
-    if (lam.v[0] < ratio * lam.v[2]) {
-        r.flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
-    }
-    if (t.n < SFIT_FEW_SAMPLES) {
-        r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
-    }
-    planar = (cfg->mode == SFIT_MODE_PLANAR)
-             || (cfg->mode == SFIT_MODE_AUTO && (r.flags & (uint32_t)SFIT_FLAG_NEAR_PLANAR) != 0u);
-
-    prv_sigma(cfg, &sg);
-    for (i = 0; i < 9; i++) {
-        cp.m[i] = c.m[i] - sg.m[i];
-    }
-
-    if (!planar) {
-        st = sfit_mat3_chol(&cp, &l);
-        if (st != SFIT_OK) {
-            return (cfg->noise == SFIT_NOISE_NONE) ? SFIT_E_DEGENERATE : SFIT_E_NOT_POSDEF;
-        }
-        (void)sfit_mat3_chol_solve(&l, &s, &w);
-        for (i = 0; i < 3; i++) {
-            w.v[i] *= 0.5f;
-        }
-        trp = cp.m[0] + cp.m[4] + cp.m[8];
-        if (cfg->noise != SFIT_NOISE_NONE) {
-            st = prv_trust_chol(&l, &sg, &rho);
-            if (st != SFIT_OK) {
-                return st;
-            }
-        }
-        prv_axis(&vec, 0, &r.axis);
-        r.mode = SFIT_MODE_SPHERE;
-    } else {
-        float k0, k1, b00, b01, b11;
-        /* Eigen-directions of C'; for isotropic (or no) noise they are C's. */
-        if (cfg->noise == SFIT_NOISE_COV) {
-            st = sfit_mat3_eig_sym(&cp, &lamp, &vecp);
-            if (st != SFIT_OK) {
-                return st;
-            }
-        } else {
-            vecp = vec;
-            for (i = 0; i < 3; i++) {
-                lamp.v[i] = lam.v[i] - sg.m[0];
-            }
-        }
-        if (!(lamp.v[1] > SFIT_CHOL_PIVOT_EPS * lamp.v[2])) {
-            return (cfg->noise == SFIT_NOISE_NONE) ? SFIT_E_DEGENERATE : SFIT_E_NOT_POSDEF;
-        }
-        /* w = 1/2 sum over kept (v_i^T S / lambda_i) v_i  (eq. 217) */
-        {
-            float v1[3], v2[3];
-            for (i = 0; i < 3; i++) {
-                v1[i] = vecp.m[3 * i + 1];
-                v2[i] = vecp.m[3 * i + 2];
-            }
-            k0 = 0.5f * prv_dot(v1, s.v) / lamp.v[1];
-            k1 = 0.5f * prv_dot(v2, s.v) / lamp.v[2];
-            for (i = 0; i < 3; i++) {
-                w.v[i] = k0 * v1[i] + k1 * v2[i];
-            }
-            trp = lamp.v[1] + lamp.v[2];
-            if (cfg->noise != SFIT_NOISE_NONE) {
-                /* 2x2 generalised problem on the kept plane:
-                 * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
-                float sv1[3], sv2[3];
-                for (i = 0; i < 3; i++) {
-                    sv1[i] = prv_dot(&sg.m[3 * i], v1);
-                    sv2[i] = prv_dot(&sg.m[3 * i], v2);
-                }
-                b00 = prv_dot(v1, sv1) / lamp.v[1];
-                b11 = prv_dot(v2, sv2) / lamp.v[2];
-                b01 = prv_dot(v1, sv2) / SFIT_SQRTF(lamp.v[1] * lamp.v[2]);
-                {
-                    const float h = 0.5f * (b00 - b11);
-                    rho = 0.5f * (b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
-                }
-            }
-        }
-        prv_axis(&vecp, 0, &r.axis);
-        r.mode = SFIT_MODE_PLANAR;
-    }
-
-    r2 = ((float)(t.n - 1u) / (float)t.n) * trp + prv_dot(w.v, w.v);
+    /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
+    r2 = ((float)(t.n - 1u) / (float)t.n) * sol.trace + prv_dot(sol.w.v, sol.w.v);
     if (!(r2 > 0.0f)) {
         return SFIT_E_NOT_POSDEF;
     }
+    memset(&r, 0, sizeof r);
     r.radius = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
-        r.center.v[i] = m->origin[i] + (t.d[i] + w.v[i]);
-    }
-    r.trust_ratio = rho;
-    if (rho >= 1.0f) {
-        r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
-    }
-    for (i = 0; i < 3; i++) {
+        r.center.v[i] = m->origin[i] + (t.d[i] + sol.w.v[i]);
         if (!sfit_i_isfinite(r.center.v[i])) {
             return SFIT_E_RANGE;
         }
     }
-    if (!sfit_i_isfinite(r.radius) || !sfit_i_isfinite(r.trust_ratio)) {
+    if (!sfit_i_isfinite(r.radius)) {
         return SFIT_E_RANGE;
     }
+    r.n = t.n;
+    r.eigenvalues = sol.eigenvalues;
+    r.axis = sol.axis;
+    r.trust_ratio = sol.rho;
+    r.flags = sol.flags;
+    if (t.n < SFIT_FEW_SAMPLES) {
+        r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    }
+    r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
+    r.mode = sol.mode;
     *out = r;
     return SFIT_OK;
 }

@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_cmocka.h
+ * @brief cmocka glue shared by the host tests: includes in the order cmocka
+ * needs, float/double conversions, and near-equality assertions that print
+ * the failing index and both values.
+ */
+#ifndef SFIT_TEST_CMOCKA_H
+#define SFIT_TEST_CMOCKA_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+
+#include "sfit/sfit.h"
+#include "test_util.h"
+
+/** Fail unless |a - b| <= tol (doubles), printing what and the values. */
+#define assert_near(a, b, tol, what)                                                       \
+    do {                                                                                   \
+        const double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);              \
+        if (!(fabs(a_ - b_) <= t_)) {                                                      \
+            print_error("%s: %.10g vs %.10g (|diff| %.3g > tol %.3g)\n", (what), a_, b_,  \
+                        fabs(a_ - b_), t_);                                                \
+            fail();                                                                        \
+        }                                                                                  \
+    } while (0)
+
+/** Fail unless every component of two 3-vectors is within tol. */
+#define assert_vec3_near(a, b, tol, what)                                                  \
+    do {                                                                                   \
+        int i_;                                                                            \
+        for (i_ = 0; i_ < 3; i_++) {                                                       \
+            if (!(fabs((double)(a)[i_] - (double)(b)[i_]) <= (double)(tol))) {             \
+                print_error("%s[%d]: %.10g vs %.10g (tol %.3g)\n", (what), i_,             \
+                            (double)(a)[i_], (double)(b)[i_], (double)(tol));              \
+                fail();                                                                    \
+            }                                                                              \
+        }                                                                                  \
+    } while (0)
+
+static inline void tc_to_vec3(const double x[3], sfit_vec3_t *v)
+{
+    v->v[0] = (float)x[0];
+    v->v[1] = (float)x[1];
+    v->v[2] = (float)x[2];
+}
+
+static inline void tc_to_double3(const sfit_vec3_t *v, double x[3])
+{
+    x[0] = (double)v->v[0];
+    x[1] = (double)v->v[1];
+    x[2] = (double)v->v[2];
+}
+
+/** Euclidean distance between a float vec3 and a double 3-vector. */
+static inline double tc_dist(const sfit_vec3_t *a, const double b[3])
+{
+    const double d0 = (double)a->v[0] - b[0];
+    const double d1 = (double)a->v[1] - b[1];
+    const double d2 = (double)a->v[2] - b[2];
+    return sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+}
+
+#endif /* SFIT_TEST_CMOCKA_H */
