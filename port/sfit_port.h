@@ -10,6 +10,7 @@
  *  - SFIT_SQRTF(x)   single-precision square root (never sqrt on a double)
  *  - SFIT_FABSF(x)   single-precision absolute value
  *  - SFIT_INLINE     keyword(s) for small internal helpers
+ *  - SFIT_RESTRICT   the C99 restrict qualifier, or nothing
  *  - SFIT_ASSERT(c)  internal-invariant check; active only when
  *                    SFIT_ENABLE_ASSERT is 1 (host tests route it to cmocka)
  *  - SFIT_CYCLES()   a cycle counter, for tools and benchmarks only
@@ -33,6 +34,10 @@
 
 #ifndef SFIT_INLINE
 #define SFIT_INLINE static inline
+#endif
+
+#ifndef SFIT_RESTRICT
+#define SFIT_RESTRICT restrict
 #endif
 
 #ifndef SFIT_ASSERT

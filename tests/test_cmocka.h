@@ -20,6 +20,9 @@
 #include "sfit/sfit.h"
 #include "test_util.h"
 
+/** FLT_EPSILON as a double (avoids -Wdouble-promotion in tolerances). */
+#define TC_FEPS 1.1920928955078125e-07
+
 /** Fail unless |a - b| <= tol (doubles), printing what and the values. */
 #define assert_near(a, b, tol, what)                                                       \
     do {                                                                                   \

@@ -16,12 +16,19 @@
  * detect coincident / collinear / near-planar samples, and in planar mode
  * the pseudo-inverse uses the two largest eigen-directions of C' (eq. 217).
  *
- * Trust ratio: the Leontief condition of eq. 194 is rho(C0^-1 Sigma) < 1,
- * C0 the noise-free covariance, estimated without bias by C' (eq. 173). It
- * is computed as the largest eigenvalue of L^-1 Sigma L^-T with C' = L L^T
- * (a symmetric 3x3 eigenproblem); in planar mode, over the two kept
- * directions. (With the raw C instead of C' the ratio would be
- * rho0 / (1 + rho0) and could never reach 1 while C' is positive definite.)
+ * Trust: two spectral radii are reported.
+ *  - leontief_ratio nu = rho(C'^-1 Sigma): the Leontief condition of eq. 194
+ *    is rho(C0^-1 Sigma) < 1, C0 the noise-free covariance, which C'
+ *    estimates without bias (eq. 173). Computed as the largest eigenvalue of
+ *    L^-1 Sigma L^-T with C' = L L^T (a symmetric 3x3 eigenproblem; in
+ *    planar mode a 2x2 one over the kept directions).
+ *  - trust_ratio mu = rho(C^-1 Sigma) with the measured C (eq. 193 as the
+ *    issue tracker names it). The generalised eigenvalues are linked by
+ *    Sigma v = nu (C - Sigma) v  <=>  Sigma v = nu/(1+nu) C v, so
+ *    mu = nu / (1 + nu) exactly. mu is GDKE's shrinkage of the centre
+ *    offset along the weakest direction (E C = C0 + Sigma), which is why
+ *    GDKE's bias on a cap is mu |c - m| (DESIGN.md section 2). nu >= 1
+ *    (mu >= 1/2) raises SFIT_FLAG_UNTRUSTED.
  */
 #include "sfit/sfit_fit.h"
 
@@ -353,7 +360,8 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
     r.n = t.n;
     r.eigenvalues = sol.eigenvalues;
     r.axis = sol.axis;
-    r.trust_ratio = sol.rho;
+    r.leontief_ratio = sol.rho;
+    r.trust_ratio = sol.rho / (1.0f + sol.rho);
     r.flags = sol.flags;
     if (t.n < SFIT_FEW_SAMPLES) {
         r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;

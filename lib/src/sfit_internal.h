@@ -44,7 +44,7 @@ typedef struct sfit_i_solution {
     sfit_vec3_t eigenvalues; /**< eigenvalues of c, ascending */
     sfit_vec3_t axis;        /**< dropped / smallest eigen-direction (unit, sign-normalised) */
     float trace;             /**< trace of C - Sigma over the directions used */
-    float rho;               /**< trust ratio (0 when not noisy) */
+    float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
     uint32_t flags;          /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
 } sfit_i_solution_t;

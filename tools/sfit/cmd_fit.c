@@ -123,7 +123,8 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in)
     cli_print_vec(r->center.v);
     printf(",\"radius\":%.9g,\"eigenvalues\":", (double)r->radius);
     cli_print_vec(r->eigenvalues.v);
-    printf(",\"trust_ratio\":%.9g", (double)r->trust_ratio);
+    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)r->trust_ratio,
+           (double)r->leontief_ratio);
     if (r->mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
         cli_print_vec(r->axis.v);
@@ -150,8 +151,10 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
            (double)r->eigenvalues.v[0], (double)r->eigenvalues.v[1],
            (double)r->eigenvalues.v[2]);
     if (r->method == SFIT_METHOD_UGDK) {
-        printf("trust ratio  %.4g (%s)\n", (double)r->trust_ratio,
-               r->trust_ratio < 1.0f ? "< 1: Leontief condition holds" : ">= 1: do not trust");
+        printf("trust ratio  %.4g = rho(C^-1 Sigma); Leontief ratio %.4g (%s)\n",
+               (double)r->trust_ratio, (double)r->leontief_ratio,
+               r->leontief_ratio < 1.0f ? "< 1: condition of eq. 194 holds"
+                                        : ">= 1: do not trust this fit");
     } else {
         printf("trust ratio  n/a (no noise model: GDKE is biased on partial spheres)\n");
     }

@@ -56,7 +56,8 @@ extern const sfit_fit_cfg_t sfit_fit_cfg_default;
 
 /** @brief Result flags (bit mask). */
 enum sfit_flag {
-    SFIT_FLAG_UNTRUSTED = 1u,   /**< Trust ratio >= 1: Leontief condition (eq. 194) fails. */
+    SFIT_FLAG_UNTRUSTED = 1u,   /**< leontief_ratio >= 1 (trust_ratio >= 1/2): the
+                                     Leontief condition of eq. 194 fails. */
     SFIT_FLAG_FEW_SAMPLES = 2u, /**< N < SFIT_FEW_SAMPLES. */
     SFIT_FLAG_NEAR_PLANAR = 4u  /**< lambda_min/lambda_max < planar_ratio. */
 };
@@ -76,7 +77,13 @@ typedef struct sfit_result {
     sfit_vec3_t axis;        /**< Unit eigenvector of the dropped (planar) or smallest
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
-    float trust_ratio;       /**< rho(C0^-1 Sigma_hat), C0 estimated by C' (0 for GDKE). */
+    float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
+                                  (eq. 193; 0 for GDKE). It is also the factor by which
+                                  GDKE shrinks the centre offset along the weakest
+                                  direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
+    float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
+                                  eq. 194's rho(C0^-1 Sigma) (C0 = noise-free covariance,
+                                  estimated by C'); SFIT_FLAG_UNTRUSTED when >= 1. */
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
     sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */

@@ -1,0 +1,286 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_multi.c
+ * @brief MGDK / unbiased MGDK: the common centre of several markers.
+ *
+ * Implementation notes
+ * --------------------
+ * Derivation (see sfit_multi.h): for marker p with mean m_p and y = x - m_p,
+ *   |x - c|^2 = |y|^2 - 2 y^T (c - m_p) + |c - m_p|^2,
+ * so with r_p^2 set to its optimum mean_i |x_pi - c|^2 the residuals are
+ * e_i = (|y_i|^2 - mean |y|^2) - 2 y_i^T (c - m_p) and
+ *   sum_i e_i^2 = const - 4 (N_p-1) (c - m_p)^T S_p
+ *                       + 4 (N_p-1) (c - m_p)^T C_p (c - m_p).
+ * Its gradient is 4 (N_p-1) (2 C_p (c - m_p) - S_p) (eq. 219 without the
+ * N_p - 1); weighting marker p by w_p / (N_p - 1) and summing gives
+ *   A (c - o) = b,  A = sum w_p C'_p,  b = sum w_p (C'_p (m_p - o) + S_p/2)
+ * for any reference point o. o is the first used marker's mean, held as
+ * origin_1 + d_1; m_p - o = (origin_p - origin_1) + (d_p - d_1) is small.
+ *
+ * The system is handed to sfit_i_solve() as c = sum w_p C_p and
+ * sigma = (sum w_p) Sigma_hat, exactly the single-marker problem when
+ * M = 1 (w_1 = 1, m_1 - o = 0): the centre origin_1 + (d_1 + w) and the
+ * radius are then computed by the same float operations as sfit_fit_solve()
+ * in sphere mode.
+ *
+ * Planar: the pseudo-inverse gives the solution with no component along
+ * the axis a relative to o; the centre is moved along a to the weighted
+ * mean of the marker means (a^T (mbar - o)). Radii use the in-plane parts:
+ * tr C'_p - a^T C'_p a and |P (m_p - c)|^2.
+ *
+ * No storage per marker: the accumulators are read in three passes
+ * (counts, sums, radii), each sfit_i_moments_total() being O(1).
+ */
+#include "sfit/sfit_multi.h"
+
+#include <string.h>
+
+#include "sfit_internal.h"
+
+const sfit_multi_cfg_t sfit_multi_cfg_default = {
+    {SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f,
+     {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}}, 0.0f},
+    SFIT_MULTI_WEIGHT_EQUAL};
+
+static float prv_dot(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Per-marker quantities relative to the reference o = origin_ref + d_ref. */
+typedef struct prv_marker {
+    sfit_mat3_t c; /* C_p */
+    float s2[3];   /* S_p / 2 */
+    float dm[3];   /* m_p - o */
+    uint32_t n;
+} prv_marker_t;
+
+static void prv_marker(const sfit_moments_t *m, const float origin_ref[3], const float d_ref[3],
+                       prv_marker_t *pm)
+{
+    sfit_cmom_t t;
+    float p[6], inv;
+    int i;
+    sfit_i_moments_total(m, &t);
+    inv = 1.0f / (float)(t.n - 1u);
+    for (i = 0; i < 6; i++) {
+        p[i] = t.m2[i] * inv;
+    }
+    sfit_i_sym_unpack(p, &pm->c);
+    for (i = 0; i < 3; i++) {
+        pm->s2[i] = (0.5f * inv) * t.m3[i];
+        pm->dm[i] = (m->origin[i] - origin_ref[i]) + (t.d[i] - d_ref[i]);
+    }
+    pm->n = t.n;
+}
+
+/* Weight of a marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1 when
+ * every count is the same). */
+static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, uint64_t sum_n1)
+{
+    if (cfg->weight == SFIT_MULTI_WEIGHT_SAMPLES) {
+        return ((float)(n - 1u) * (float)used) / (float)sum_n1;
+    }
+    return 1.0f;
+}
+
+/* r_p^2 of one marker for the centre offset wc (= c - o). */
+static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const float wc[3],
+                         const sfit_i_solution_t *sol)
+{
+    float cp[9], e[3], tr, r2;
+    int i;
+    for (i = 0; i < 9; i++) {
+        cp[i] = pm->c.m[i] - sg->m[i];
+    }
+    tr = cp[0] + cp[4] + cp[8];
+    for (i = 0; i < 3; i++) {
+        e[i] = pm->dm[i] - wc[i];
+    }
+    if (sol->mode == SFIT_MODE_PLANAR) {
+        const float *a = sol->axis.v;
+        float ca[3], ea;
+        for (i = 0; i < 3; i++) {
+            ca[i] = prv_dot(&cp[3 * i], a);
+        }
+        tr -= prv_dot(a, ca);
+        ea = prv_dot(e, a);
+        for (i = 0; i < 3; i++) {
+            e[i] -= ea * a[i];
+        }
+    }
+    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + prv_dot(e, e);
+    return r2;
+}
+
+sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
+                               const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
+                               float *radii)
+{
+    sfit_i_system_t sys;
+    sfit_i_solution_t sol;
+    sfit_multi_result_t r;
+    sfit_mat3_t sg;
+    const float *origin_ref = NULL;
+    float d_ref[3] = {0.0f, 0.0f, 0.0f};
+    float wc[3], dbar[3] = {0.0f, 0.0f, 0.0f}, sw = 0.0f, scale = 0.0f;
+    uint64_t n_total = 0u, sum_n1 = 0u;
+    uint32_t used = 0u, skipped = 0u, flags = 0u;
+    size_t p;
+    int i;
+    sfit_status_t st;
+
+    if (markers == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (cfg == NULL) {
+        cfg = &sfit_multi_cfg_default;
+    }
+    st = sfit_i_check_cfg(&cfg->fit);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (cfg->weight != SFIT_MULTI_WEIGHT_EQUAL && cfg->weight != SFIT_MULTI_WEIGHT_SAMPLES) {
+        return SFIT_E_ARG;
+    }
+    if (count == 0u) {
+        return SFIT_E_TOO_FEW;
+    }
+
+    /* Pass 1: which markers are used, counts, reference point, scale. */
+    for (p = 0u; p < count; p++) {
+        const uint32_t n = sfit_moments_count(&markers[p]);
+        sfit_cmom_t t;
+        float sc;
+        if (n < SFIT_MIN_SAMPLES) {
+            skipped++;
+            continue;
+        }
+        sfit_i_moments_total(&markers[p], &t);
+        if (origin_ref == NULL) {
+            origin_ref = markers[p].origin;
+            for (i = 0; i < 3; i++) {
+                d_ref[i] = t.d[i];
+            }
+        }
+        sc = sfit_i_coincident_scale(markers[p].origin, t.d);
+        if (sc > scale) {
+            scale = sc;
+        }
+        if (n < SFIT_FEW_SAMPLES) {
+            flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+        }
+        used++;
+        n_total += n;
+        sum_n1 += (uint64_t)(n - 1u);
+    }
+    if (used == 0u) {
+        return SFIT_E_TOO_FEW;
+    }
+    if (n_total > (uint64_t)UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    if (skipped > 0u) {
+        flags |= SFIT_MULTI_FLAG_SKIPPED;
+    }
+
+    /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
+    sfit_i_sigma(&cfg->fit, &sg);
+    memset(&sys, 0, sizeof sys);
+    for (p = 0u; p < count; p++) {
+        prv_marker_t pm;
+        float w;
+        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+            continue;
+        }
+        prv_marker(&markers[p], origin_ref, d_ref, &pm);
+        w = prv_weight(cfg, pm.n, used, sum_n1);
+        sw += w;
+        for (i = 0; i < 9; i++) {
+            sys.c.m[i] += w * pm.c.m[i];
+        }
+        for (i = 0; i < 3; i++) {
+            const float *ci = &pm.c.m[3 * i];
+            const float *si = &sg.m[3 * i];
+            const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
+                                        + (ci[2] - si[2]) * pm.dm[2]);
+            sys.rhs.v[i] += w * t;
+            dbar[i] += w * pm.dm[i];
+        }
+    }
+    for (i = 0; i < 9; i++) {
+        sys.sigma.m[i] = sw * sg.m[i];
+    }
+    sys.noisy = (cfg->fit.noise != SFIT_NOISE_NONE);
+    sys.scale = scale;
+
+    st = sfit_i_solve(&sys, cfg->fit.mode, cfg->fit.planar_ratio, &sol);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    for (i = 0; i < 3; i++) {
+        wc[i] = sol.w.v[i];
+    }
+    if (sol.mode == SFIT_MODE_PLANAR) {
+        /* Along the axis: the weighted mean of the marker means (w itself
+         * has no axial component beyond rounding: it is a combination of
+         * the two kept eigenvectors). */
+        float k;
+        for (i = 0; i < 3; i++) {
+            dbar[i] /= sw;
+        }
+        k = prv_dot(sol.axis.v, dbar);
+        for (i = 0; i < 3; i++) {
+            wc[i] += k * sol.axis.v[i];
+        }
+    }
+
+    /* Pass 3: every radius must be real before anything is written. */
+    for (p = 0u; p < count; p++) {
+        prv_marker_t pm;
+        float r2;
+        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+            continue;
+        }
+        prv_marker(&markers[p], origin_ref, d_ref, &pm);
+        r2 = prv_radius2(&pm, &sg, wc, &sol);
+        if (!(r2 > 0.0f)) {
+            return SFIT_E_NOT_POSDEF;
+        }
+        if (!sfit_i_isfinite(r2)) {
+            return SFIT_E_RANGE;
+        }
+    }
+
+    memset(&r, 0, sizeof r);
+    for (i = 0; i < 3; i++) {
+        r.center.v[i] = origin_ref[i] + (d_ref[i] + wc[i]);
+        if (!sfit_i_isfinite(r.center.v[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    r.n_total = (uint32_t)n_total;
+    r.markers = used;
+    r.skipped = skipped;
+    r.eigenvalues = sol.eigenvalues;
+    r.axis = sol.axis;
+    r.trust_ratio = sol.rho;
+    r.flags = sol.flags | flags;
+    r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
+    r.mode = sol.mode;
+
+    /* Pass 4: write the radii (all checked above). */
+    if (radii != NULL) {
+        for (p = 0u; p < count; p++) {
+            prv_marker_t pm;
+            if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+                radii[p] = 0.0f;
+                continue;
+            }
+            prv_marker(&markers[p], origin_ref, d_ref, &pm);
+            radii[p] = SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol));
+        }
+    }
+    *out = r;
+    return SFIT_OK;
+}

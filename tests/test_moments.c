@@ -1,0 +1,282 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_moments.c
+ * @brief Streaming accumulator: statistics vs the double reference on
+ * far-offset data, merge == sequential adds, rejected samples leave the
+ * state byte-identical, every error path.
+ */
+#include "test_cmocka.h"
+
+#include <float.h>
+#include <string.h>
+
+#include "sfit_ref.h"
+
+#define NMAX 20000
+static double g_pts[NMAX][3];
+static sfit_vec3_t g_fpts[NMAX];
+
+/* Cap samples around a far centre, rounded to float; g_pts holds the
+ * float values as doubles so the reference sees exactly the same data. */
+static void make_cap(uint64_t seed, size_t n, double theta, double sigma)
+{
+    const double c[3] = {2100.0, -1500.0, 900.0}; /* |c| ~ 2730 mm */
+    const double axis[3] = {0.267261, 0.534522, 0.801784};
+    tu_rng_t g;
+    size_t i;
+    tu_rng_seed(&g, seed);
+    for (i = 0; i < n; i++) {
+        double p[3];
+        tu_sample_cap(&g, c, 100.0, axis, theta, sigma, p);
+        tc_to_vec3(p, &g_fpts[i]);
+        tc_to_double3(&g_fpts[i], g_pts[i]);
+    }
+}
+
+/* Compare stats of the accumulator with ref_moments on g_pts[0..n). The
+ * tolerances are relative to the data's own scales: the mean to 2 ulps of
+ * its magnitude plus 1e-6 of the spread; C to 1e-5 of its largest
+ * eigenvalue; S to 1e-5 of r^3 (|S| is O(r^3); 2e-6 passes). These are
+ * well above the rounding of two-level summation with N <= 2e4 and far
+ * below what a wrong shift formula gives (checked: >1e-4 r^3). */
+static void check_stats(const sfit_moments_t *m, size_t n)
+{
+    double mean[3], C[3][3], S[3], w[3], v[3][3];
+    sfit_vec3_t fm, fs;
+    sfit_mat3_t fc;
+    int i, j;
+    assert_int_equal(ref_moments(REF_C3(g_pts), n, mean, C, S), 0);
+    assert_int_equal(sfit_moments_stats(m, &fm, &fc, &fs), SFIT_OK);
+    ref_sym3_eig(REF_C3(C), w, v);
+    for (i = 0; i < 3; i++) {
+        assert_near(fm.v[i], mean[i], 2.0 * TC_FEPS * fabs(mean[i]) + 1e-6 * sqrt(w[2]), "mean");
+        for (j = 0; j < 3; j++) {
+            assert_near(fc.m[3 * i + j], C[i][j], 1e-5 * w[2], "C");
+        }
+        assert_near(fs.v[i], S[i], 1e-5 * 1e6, "S");
+    }
+    assert_int_equal(sfit_moments_count(m), (uint32_t)n);
+}
+
+static void test_stats_vs_reference(void **state)
+{
+    const double thetas[] = {0.5, 1.0, TU_PI};
+    const size_t ns[] = {2, 3, 63, 64, 65, 1000, NMAX};
+    size_t a, b;
+    (void)state;
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < sizeof ns / sizeof ns[0]; b++) {
+            sfit_moments_t m;
+            make_cap(10 + a * 7 + b, ns[b], thetas[a], 1.0);
+            assert_int_equal(sfit_moments_init(&m), SFIT_OK);
+            assert_int_equal(sfit_moments_add_block(&m, g_fpts, ns[b], NULL), SFIT_OK);
+            check_stats(&m, ns[b]);
+        }
+    }
+}
+
+static void test_add_equals_add_block(void **state)
+{
+    sfit_moments_t a, b;
+    size_t i;
+    (void)state;
+    make_cap(3, 1000, 1.0, 2.0);
+    (void)sfit_moments_init(&a);
+    (void)sfit_moments_init(&b);
+    for (i = 0; i < 1000; i++) {
+        assert_int_equal(sfit_moments_add(&a, &g_fpts[i]), SFIT_OK);
+    }
+    assert_int_equal(sfit_moments_add_block(&b, g_fpts, 1000, NULL), SFIT_OK);
+    assert_memory_equal(&a, &b, sizeof a); /* same operations, same bits */
+}
+
+static void test_merge_equals_sequential(void **state)
+{
+    const size_t splits[] = {1, 17, 64, 333, 999};
+    size_t k;
+    (void)state;
+    make_cap(4, 1000, 0.8, 1.0);
+    for (k = 0; k < sizeof splits / sizeof splits[0]; k++) {
+        sfit_moments_t a, b;
+        (void)sfit_moments_init(&a);
+        (void)sfit_moments_init(&b);
+        (void)sfit_moments_add_block(&a, g_fpts, splits[k], NULL);
+        (void)sfit_moments_add_block(&b, g_fpts + splits[k], 1000 - splits[k], NULL);
+        assert_int_equal(sfit_moments_merge(&a, &b), SFIT_OK);
+        check_stats(&a, 1000);
+        /* Adding after a merge continues correctly. */
+        (void)sfit_moments_add_block(&a, g_fpts, 0, NULL);
+    }
+    {
+        /* Merge into an empty accumulator, and merging an empty one. */
+        sfit_moments_t e, a, before;
+        (void)sfit_moments_init(&e);
+        (void)sfit_moments_init(&a);
+        (void)sfit_moments_add_block(&a, g_fpts, 1000, NULL);
+        before = a;
+        assert_int_equal(sfit_moments_merge(&a, &e), SFIT_OK);
+        assert_memory_equal(&a, &before, sizeof a);
+        assert_int_equal(sfit_moments_merge(&e, &a), SFIT_OK);
+        check_stats(&e, 1000);
+    }
+    {
+        /* Many small accumulators merged (a multi-core / multi-buffer use). */
+        sfit_moments_t tot, part;
+        size_t i;
+        (void)sfit_moments_init(&tot);
+        for (i = 0; i < 1000; i += 10) {
+            (void)sfit_moments_init(&part);
+            (void)sfit_moments_add_block(&part, g_fpts + i, 10, NULL);
+            assert_int_equal(sfit_moments_merge(&tot, &part), SFIT_OK);
+        }
+        check_stats(&tot, 1000);
+        /* Then add more samples after the merges. */
+        make_cap(4, 1500, 0.8, 1.0);
+        (void)sfit_moments_add_block(&tot, g_fpts + 1000, 500, NULL);
+        check_stats(&tot, 1500);
+    }
+}
+
+static void test_merge_self(void **state)
+{
+    sfit_moments_t a, b;
+    sfit_vec3_t ma, mb, sa, sb;
+    sfit_mat3_t ca, cb;
+    int i;
+    (void)state;
+    make_cap(5, 300, 1.0, 1.0);
+    (void)sfit_moments_init(&a);
+    (void)sfit_moments_init(&b);
+    (void)sfit_moments_add_block(&a, g_fpts, 300, NULL);
+    (void)sfit_moments_add_block(&b, g_fpts, 300, NULL);
+    (void)sfit_moments_add_block(&b, g_fpts, 300, NULL);
+    assert_int_equal(sfit_moments_merge(&a, &a), SFIT_OK); /* aliasing */
+    assert_int_equal(sfit_moments_count(&a), 600u);
+    (void)sfit_moments_stats(&a, &ma, &ca, &sa);
+    (void)sfit_moments_stats(&b, &mb, &cb, &sb);
+    for (i = 0; i < 3; i++) {
+        assert_near(ma.v[i], mb.v[i], 1e-3, "self-merge mean");
+        assert_near(sa.v[i], sb.v[i], 1e-4 * 1e6, "self-merge S");
+    }
+    for (i = 0; i < 9; i++) {
+        assert_near(ca.m[i], cb.m[i], 1e-5 * 3000.0, "self-merge C");
+    }
+}
+
+static void test_rejected_sample_leaves_state(void **state)
+{
+    const float bad[][3] = {
+        {NAN, 0, 0}, {0, INFINITY, 0}, {0, 0, -INFINITY}, {1e30f, 0, 0},
+        {0, -1.5e8f, 0}, {0, 0, 134217728.0f /* 2^27 */}, {-NAN, 1e30f, 0}};
+    const sfit_status_t want[] = {SFIT_E_NONFINITE, SFIT_E_NONFINITE, SFIT_E_NONFINITE,
+                                  SFIT_E_RANGE, SFIT_E_RANGE, SFIT_E_RANGE, SFIT_E_NONFINITE};
+    size_t k, stage;
+    (void)state;
+    make_cap(6, 200, 1.0, 1.0);
+    /* Empty, mid-block, and exactly at a block boundary. */
+    for (stage = 0; stage < 3; stage++) {
+        const size_t nprior = (stage == 0) ? 0 : (stage == 1) ? 37 : SFIT_MOMENTS_BLOCK;
+        for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+            sfit_moments_t m, before;
+            sfit_vec3_t x;
+            size_t idx = 12345;
+            sfit_vec3_t blk[3];
+            memset(&m, 0, sizeof m);
+            (void)sfit_moments_init(&m);
+            (void)sfit_moments_add_block(&m, g_fpts, nprior, NULL);
+            before = m;
+            memcpy(x.v, bad[k], sizeof x.v);
+            assert_int_equal(sfit_moments_add(&m, &x), want[k]);
+            assert_memory_equal(&m, &before, sizeof m);
+            /* A block with one bad sample in the middle adds nothing. */
+            blk[0] = g_fpts[150];
+            blk[1] = x;
+            blk[2] = g_fpts[151];
+            assert_int_equal(sfit_moments_add_block(&m, blk, 3, &idx), want[k]);
+            assert_int_equal(idx, 1);
+            assert_memory_equal(&m, &before, sizeof m);
+        }
+    }
+    {
+        /* Largest accepted coordinate: just below 2^27. */
+        sfit_moments_t m;
+        sfit_vec3_t x = {{134217720.0f, -134217720.0f, 0.0f}};
+        (void)sfit_moments_init(&m);
+        assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
+    }
+}
+
+static void test_counter_limit(void **state)
+{
+    sfit_moments_t m, before, other;
+    sfit_vec3_t blk[2];
+    (void)state;
+    make_cap(7, 10, 1.0, 1.0);
+    (void)sfit_moments_init(&m);
+    (void)sfit_moments_add_block(&m, g_fpts, 10, NULL);
+    /* White-box: pretend the total already holds UINT32_MAX - 11 samples so
+     * the next add reaches the limit. */
+    m.tot.n = UINT32_MAX - 11u;
+    assert_int_equal(sfit_moments_count(&m), UINT32_MAX - 1u);
+    assert_int_equal(sfit_moments_add(&m, &g_fpts[0]), SFIT_OK);
+    assert_int_equal(sfit_moments_count(&m), UINT32_MAX);
+    before = m;
+    assert_int_equal(sfit_moments_add(&m, &g_fpts[1]), SFIT_E_RANGE);
+    assert_memory_equal(&m, &before, sizeof m);
+    blk[0] = g_fpts[1];
+    blk[1] = g_fpts[2];
+    assert_int_equal(sfit_moments_add_block(&m, blk, 2, NULL), SFIT_E_RANGE);
+    assert_memory_equal(&m, &before, sizeof m);
+    (void)sfit_moments_init(&other);
+    (void)sfit_moments_add(&other, &g_fpts[3]);
+    assert_int_equal(sfit_moments_merge(&m, &other), SFIT_E_RANGE);
+    assert_memory_equal(&m, &before, sizeof m);
+}
+
+static void test_contract(void **state)
+{
+    sfit_moments_t m;
+    sfit_vec3_t x = {{1, 2, 3}}, mean, s;
+    sfit_mat3_t c;
+    (void)state;
+    assert_int_equal(sfit_moments_init(NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_reset(NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_init(&m), SFIT_OK);
+    assert_int_equal(sfit_moments_add(NULL, &x), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_add(&m, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_add_block(NULL, &x, 1, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_add_block(&m, NULL, 1, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_add_block(&m, NULL, 0, NULL), SFIT_OK);
+    assert_int_equal(sfit_moments_merge(NULL, &m), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_merge(&m, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_count(NULL), 0u);
+    assert_int_equal(sfit_moments_stats(NULL, &mean, &c, &s), SFIT_E_ARG);
+    assert_int_equal(sfit_moments_stats(&m, &mean, &c, &s), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
+    assert_int_equal(sfit_moments_stats(&m, &mean, &c, &s), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
+    assert_int_equal(sfit_moments_stats(&m, NULL, NULL, NULL), SFIT_OK);
+    assert_int_equal(sfit_moments_stats(&m, &mean, &c, &s), SFIT_OK);
+    assert_vec3_near(mean.v, ((const double[3]){1, 2, 3}), 0.0, "mean of equal samples");
+    /* reset forgets everything: byte-identical to a fresh init. */
+    {
+        sfit_moments_t fresh;
+        (void)sfit_moments_init(&fresh);
+        assert_int_equal(sfit_moments_reset(&m), SFIT_OK);
+        assert_memory_equal(&m, &fresh, sizeof m);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_stats_vs_reference),
+        cmocka_unit_test(test_add_equals_add_block),
+        cmocka_unit_test(test_merge_equals_sequential),
+        cmocka_unit_test(test_merge_self),
+        cmocka_unit_test(test_rejected_sample_leaves_state),
+        cmocka_unit_test(test_counter_limit),
+        cmocka_unit_test(test_contract),
+    };
+    return cmocka_run_group_tests_name("moments", tests, NULL, NULL);
+}
