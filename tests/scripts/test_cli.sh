@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The `sfit fit` command line: JSON shape, rejected lines counted, exit
+# codes, status names. Usage: test_cli.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1 src=$2
+sfit="$build/bin/sfit"
+data="$src/tests/data"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+py() { /usr/bin/python3 -c "$@"; }
+
+# 1. The hip marker: JSON, centre within 0.01 mm of the double-precision
+#    Kasa reference (tests/ref, printed by test_ref_selfcheck's author:
+#    (-66.128738, -93.950381, 76.080840), r 254.518889).
+out=$("$sfit" fit --json "$data/mocap/hip_right/RTHI1.csv")
+py '
+import json, sys, math
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["method"] == "gdke" and o["mode"] == "sphere", o
+assert o["n"] == 1400 and o["rejected"] == 0, o
+ref = (-66.128738, -93.950381, 76.080840)
+d = math.dist(o["center"], ref)
+assert d <= 0.01, d
+assert abs(o["radius"] - 254.518889) <= 0.01
+e = o["eigenvalues"]; assert e[0] <= e[1] <= e[2]
+assert o["trust_ratio"] == 0
+for k in ("status","method","mode","n","rejected","center","radius","eigenvalues","trust_ratio"):
+    assert k in o, k
+' "$out" || fail "RTHI1 json: $out"
+
+# 2. Bad lines are rejected, counted, and the fit goes on.
+{
+  echo "x,y,z"
+  head -n 401 "$data/mocap/hip_right/RTHI1.csv" | tail -n 400
+  echo "nan,1,2"
+  echo "1,2"
+  echo "abc,def,ghi"
+  echo "1e30,0,0"
+  echo "inf,0,0"
+  echo "1,2,3,4"
+  echo ""
+} > "$tmp/bad.csv"
+out=$("$sfit" fit --json "$tmp/bad.csv")
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["n"] == 400 and o["rejected"] == 6, o
+' "$out" || fail "rejected lines: $out"
+"$sfit" fit "$tmp/bad.csv" >"$tmp/human.txt" 2>"$tmp/err.txt" || fail "human run"
+grep -q "6 rejected" "$tmp/human.txt" || fail "human summary lacks the rejected count"
+grep -q "bad.csv:402 rejected: not finite" "$tmp/err.txt" || fail "stderr lacks line 402: $(cat "$tmp/err.txt")"
+grep -q "centre" "$tmp/human.txt" || fail "human summary lacks the centre"
+
+# 3. Too few samples: status, message, exit 1.
+printf 'x,y,z\n1,2,3\n4,5,6\n7,8,10\n' > "$tmp/few.csv"
+set +e
+out=$("$sfit" fit --json "$tmp/few.csv"); rc=$?
+set -e
+[ "$rc" -eq 1 ] || fail "too few: exit $rc"
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "too_few_samples" and o["message"], o
+' "$out" || fail "too few json: $out"
+
+# 4. Missing file: exit 3 (JSON io_error); bad option: exit 2.
+set +e
+out=$("$sfit" fit --json "$tmp/none.csv"); rc=$?
+set -e
+[ "$rc" -eq 3 ] || fail "missing file: exit $rc"
+echo "$out" | grep -q '"status":"io_error"' || fail "missing file json: $out"
+for args in "fit --bogus x.csv" "fit" "nosuchcmd" "fit --noise-var -1 x.csv" \
+            "fit --noise-var 1 --noise-cov 1,1,1,0,0,0 x.csv" "fit --mode cube x.csv"; do
+  set +e
+  # shellcheck disable=SC2086
+  "$sfit" $args >/dev/null 2>&1; rc=$?
+  set -e
+  [ "$rc" -eq 2 ] || fail "'$args': exit $rc, expected 2"
+done
+"$sfit" fit --help | grep -q "usage: sfit fit" || fail "fit --help"
+
+# 5. UGDK options and the planar solution on the knee.
+out=$("$sfit" fit --json --noise-var 1 "$data/mocap/hip_right/RTHI1.csv")
+echo "$out" | grep -q '"method":"ugdk"' || fail "noise-var: $out"
+out=$("$sfit" fit --json --noise-cov 1,1,1,0,0,0 "$data/mocap/hip_right/RTHI1.csv")
+echo "$out" | grep -q '"method":"ugdk"' || fail "noise-cov: $out"
+out=$("$sfit" fit --json "$data/mocap/knee_right/RATT.csv")
+py '
+import json, sys, math
+o = json.loads(sys.argv[1])
+assert o["mode"] == "planar", o
+assert abs(math.hypot(*o["axis"]) - 1) < 1e-5, o
+' "$out" || fail "knee planar: $out"
+# Exactly planar data forced to a sphere: degenerate, exit 1.
+printf '1,7,0\n2,6,0\n5,8,0\n7,7,0\n9,5,0\n3,7,0\n' > "$tmp/ggs.csv"
+set +e
+out=$("$sfit" fit --json --mode sphere "$tmp/ggs.csv"); rc=$?
+set -e
+[ "$rc" -eq 1 ] || fail "planar as sphere: exit $rc"
+echo "$out" | grep -q '"status":"degenerate"' || fail "planar as sphere: $out"
+# stdin
+"$sfit" fit --json - < "$tmp/ggs.csv" | grep -q '"mode":"planar"' || fail "stdin"
+echo "cli: all checks passed"
