@@ -47,11 +47,17 @@
         }                                                                                  \
     } while (0)
 
+/* Round to float through a volatile: GCC 12.2 -O2 (SLP vectorizer) was
+ * seen to store the unrounded doubles when a float round trip
+ * `f = (float)x; d = (double)f;` of a 3-vector was inlined (tests then
+ * compared the library with a reference fed different data). */
 static inline void tc_to_vec3(const double x[3], sfit_vec3_t *v)
 {
-    v->v[0] = (float)x[0];
-    v->v[1] = (float)x[1];
-    v->v[2] = (float)x[2];
+    int i;
+    for (i = 0; i < 3; i++) {
+        volatile float t = (float)x[i];
+        v->v[i] = t;
+    }
 }
 
 static inline void tc_to_double3(const sfit_vec3_t *v, double x[3])
