@@ -264,7 +264,8 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     r.skipped = skipped;
     r.eigenvalues = sol.eigenvalues;
     r.axis = sol.axis;
-    r.trust_ratio = sol.rho;
+    r.leontief_ratio = sol.rho;
+    r.trust_ratio = sol.rho / (1.0f + sol.rho);
     r.flags = sol.flags | flags;
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;

@@ -102,4 +102,21 @@ set -e
 echo "$out" | grep -q '"status":"degenerate"' || fail "planar as sphere: $out"
 # stdin
 "$sfit" fit --json - < "$tmp/ggs.csv" | grep -q '"mode":"planar"' || fail "stdin"
+# 6. Several markers, one centre (one file per marker).
+out=$("$sfit" fit --json "$data"/mocap/hip_right/*.csv)
+py '
+import json, sys, math
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["mode"] == "sphere", o
+assert len(o["markers"]) == 6 and all(m["n"] == 1400 for m in o["markers"]), o
+# Common centre vs the double-precision eq. 220 reference (tests/ref):
+# (-63.058, -91.618, 85.293) mm, printed to 3 decimals.
+assert math.dist(o["center"], (-63.058, -91.618, 85.293)) <= 0.002, o["center"]
+' "$out" || fail "hip multi: $out"
+out=$("$sfit" fit --json "$data"/mocap/knee_right/*.csv)
+echo "$out" | grep -q '"mode":"planar"' || fail "knee multi: $out"
+echo "$out" | grep -q '"axis":\[' || fail "knee multi axis: $out"
+printf 'x,y,z\n1,2,3\n' > "$tmp/one.csv"
+out=$("$sfit" fit --json "$data/mocap/hip_right/RTHI1.csv" "$tmp/one.csv")
+echo "$out" | grep -q '"radius":null' || fail "skipped marker: $out"
 echo "cli: all checks passed"

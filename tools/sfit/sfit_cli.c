@@ -23,7 +23,7 @@ static void usage(FILE *f)
 {
     size_t i;
     fprintf(f, "sfit %d.%d.%d: sphere and circle fitting (GDKE / UGDK)\n"
-               "usage: sfit COMMAND [options] FILE   (sfit COMMAND --help)\n",
+               "usage: sfit COMMAND [options] FILE...   (sfit COMMAND --help)\n",
             SFIT_VERSION_MAJOR, SFIT_VERSION_MINOR, SFIT_VERSION_PATCH);
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].help);

@@ -15,5 +15,6 @@
 #include "sfit_mat3.h"
 #include "sfit_moments.h"
 #include "sfit_fit.h"
+#include "sfit_multi.h"
 
 #endif /* SFIT_H */

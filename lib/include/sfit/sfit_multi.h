@@ -88,7 +88,11 @@ typedef struct sfit_multi_result {
     sfit_vec3_t eigenvalues; /**< Eigenvalues of sum_p w_p C_p, ascending. */
     sfit_vec3_t axis;        /**< Hinge axis (planar) or smallest eigen-direction
                                   (sphere); unit, largest component positive. */
-    float trust_ratio;       /**< rho((sum w_p C'_p)^-1 (sum w_p) Sigma_hat); 0 for GDKE. */
+    float trust_ratio;       /**< rho(A^-1 (sum w_p) Sigma_hat), A = sum w_p C_p: as
+                                  sfit_result_t::trust_ratio for the summed system
+                                  (0 for GDKE). */
+    float leontief_ratio;    /**< rho(A'^-1 (sum w_p) Sigma_hat), A' = sum w_p C'_p
+                                  = trust/(1 - trust); SFIT_FLAG_UNTRUSTED when >= 1. */
     uint32_t flags;          /**< ::sfit_flag bits (FEW_SAMPLES: some marker used has
                                   N_p < SFIT_FEW_SAMPLES) | ::SFIT_MULTI_FLAG_SKIPPED. */
     sfit_method_t method;    /**< MGDK (SFIT_METHOD_GDKE) or unbiased (SFIT_METHOD_UGDK). */

@@ -1,0 +1,37 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_ref_multi.h
+ * @brief Double-precision oracle for the planar (hinge) multi-marker
+ * centre; complements ref_fit_multi / ref_fit_multi_weighted (sfit_ref.h),
+ * which cover the sphere case. Independent of lib/.
+ */
+#ifndef SFIT_REF_MULTI_H
+#define SFIT_REF_MULTI_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * Several markers turning about one axis. With weights w_p (1, or n_p - 1
+ * when `weighted`), A = sum w_p (C_p - Sigma), b = sum w_p ((C_p - Sigma)
+ * (m_p - o) + S_p/2): the centre is o + A^+ b, A^+ the pseudo-inverse over
+ * A's two largest eigen-directions, moved along the dropped direction (the
+ * axis) to the weighted mean of the marker means. Per-marker radius: the
+ * distance from the axis, r_p^2 = (n_p-1)/n_p tr(P C'_p P) + |P (m_p - c)|^2,
+ * P = I - a a^T. xs[p] holds 3*ns[p] doubles; cov as in sfit_ref.h (NULL =
+ * none). axis: unit, largest-magnitude component positive. radii may be
+ * NULL. Returns 0, or nonzero (outputs untouched) on bad input or when a
+ * kept eigenvalue of A is not positive or some r_p^2 <= 0.
+ */
+int ref_fit_multi_planar(const double *const *xs, const size_t *ns, size_t m,
+                         const double *cov, int weighted, double center[3],
+                         double axis[3], double *radii);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SFIT_REF_MULTI_H */
