@@ -56,5 +56,7 @@ int cli_json_error(const char *status, const char *message);
 
 /** Sub-commands: argv[0] is the sub-command name. */
 int cli_cmd_fit(int argc, char **argv);
+int cli_cmd_noise(int argc, char **argv);
+int cli_cmd_coverage(int argc, char **argv);
 
 #endif /* SFIT_CLI_H */

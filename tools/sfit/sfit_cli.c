@@ -17,6 +17,8 @@ typedef struct cli_command {
 
 static const cli_command_t commands[] = {
     {"fit", cli_cmd_fit, "fit a sphere (or a circle) to x,y,z samples"},
+    {"noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point"},
+    {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
 };
 
 static void usage(FILE *f)

@@ -16,5 +16,6 @@
 #include "sfit_moments.h"
 #include "sfit_fit.h"
 #include "sfit_multi.h"
+#include "sfit_noise.h"
 
 #endif /* SFIT_H */

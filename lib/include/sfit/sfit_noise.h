@@ -33,8 +33,8 @@
  * coincide (r^2/3 and r^2/2). They never swap, so the trust-limiting
  * eigenvalue is always the axial / radial one and there is no crossover
  * angle. The Leontief (trust) condition rho = sigma^2 / lambda_min < 1
- * (eq. 197) then reads sigma < r sqrt(lambda_min(theta)) / r, which is
- * eq. 212 (cap) and eq. 213 (arc) exactly as printed.
+ * (eq. 197) then reads sigma < sqrt(lambda_min(theta)), which is eq. 212
+ * (cap) and eq. 213 (arc) exactly as printed.
  *
  * Float notes: every function is evaluated from power series in theta (no
  * trigonometric library call, no cancellation for small theta: the arc's

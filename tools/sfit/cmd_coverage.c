@@ -1,0 +1,269 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_coverage.c
+ * @brief `sfit coverage`: how much of the sphere (cap) or circle (arc) the
+ * samples cover, the largest noise that coverage tolerates (eq. 212/213),
+ * and, given the noise, whether to rotate further.
+ *
+ *   sfit coverage [--cap | --arc] [--noise-var V] [--rho-max R] [--json] FILE
+ */
+#include <errno.h>
+#include <math.h>
+#include <string.h>
+
+#include "cli.h"
+#include "sfit/sfit_noise.h"
+
+/* Also declared in cli.h once the command is registered there. */
+
+#define COV_RAD2DEG 57.29577951f
+
+typedef struct cov_opts {
+    const char *file;
+    int json;
+    sfit_mode_t mode;   /* AUTO, SPHERE (--cap) or PLANAR (--arc) */
+    int have_noise;
+    float noise_var;
+    float rho_max;
+} cov_opts_t;
+
+typedef struct cov_out {
+    sfit_coverage_kind_t kind;
+    sfit_result_t fit;
+    int fit_ugdk;        /* the fit used the noise model (else GDKE fallback) */
+    int measurable;      /* a coverage could be estimated */
+    float theta;         /* estimated half-angle, rad */
+    float max_sigma;     /* sqrt(lambda_min(theta)) */
+    int have_min;        /* min_theta is defined (noise given and attainable) */
+    float min_theta;     /* rad */
+    int rotate;          /* rotate further */
+} cov_out_t;
+
+static void cov_usage(FILE *f)
+{
+    fputs("usage: sfit coverage [--cap | --arc] [--noise-var V] [--rho-max R] [--json] FILE\n"
+          "  Estimate the covered half-angle of a cap (sphere fit) or an arc (hinge,\n"
+          "  planar fit) from the eigenvalues of the sample covariance, and the\n"
+          "  largest noise sigma that coverage tolerates (trust ratio rho < 1).\n"
+          "  FILE  CSV of x,y,z samples (optional header line); '-' reads stdin\n"
+          "  --cap / --arc    force the geometry (default: arc when the samples are\n"
+          "                   near-planar, else cap)\n"
+          "  --noise-var V    known noise variance sigma^2 (e.g. from `sfit noise`):\n"
+          "                   removed from the eigenvalues, used for the UGDK fit and\n"
+          "                   for the smallest half-angle that noise needs\n"
+          "  --rho-max R      target trust ratio for that half-angle (0 < R <= 1,\n"
+          "                   default 1: the Leontief limit itself)\n"
+          "  --json           one JSON object on stdout\n",
+          f);
+}
+
+static int cov_parse(int argc, char **argv, cov_opts_t *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    o->mode = SFIT_MODE_AUTO;
+    o->rho_max = 1.0f;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            return 1;
+        } else if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+        } else if (strcmp(a, "--cap") == 0 || strcmp(a, "--arc") == 0) {
+            const sfit_mode_t md = (a[2] == 'c') ? SFIT_MODE_SPHERE : SFIT_MODE_PLANAR;
+            if (o->mode != SFIT_MODE_AUTO && o->mode != md) {
+                fprintf(stderr, "sfit: --cap and --arc exclude each other\n");
+                return -1;
+            }
+            o->mode = md;
+        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc) {
+            if (cli_parse_floats(argv[++i], &o->noise_var, 1) != 0
+                || !(o->noise_var >= 0.0f) || !(o->noise_var < 3.0e38f)) {
+                fprintf(stderr, "sfit: --noise-var needs one finite value >= 0\n");
+                return -1;
+            }
+            o->have_noise = 1;
+        } else if (strcmp(a, "--rho-max") == 0 && i + 1 < argc) {
+            if (cli_parse_floats(argv[++i], &o->rho_max, 1) != 0 || !(o->rho_max > 0.0f)
+                || !(o->rho_max <= 1.0f)) {
+                fprintf(stderr, "sfit: --rho-max needs one value in (0, 1]\n");
+                return -1;
+            }
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
+            return -1;
+        } else if (o->file == NULL) {
+            o->file = a;
+        } else {
+            fprintf(stderr, "sfit: one FILE expected\n");
+            return -1;
+        }
+    }
+    if (o->file == NULL) {
+        fprintf(stderr, "sfit: FILE missing\n");
+        return -1;
+    }
+    return 0;
+}
+
+/* Fit, then the coverage figures. Returns the fit's status. */
+static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o, cov_out_t *c)
+{
+    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    sfit_vec3_t eig;
+    sfit_status_t st;
+    int i;
+
+    memset(c, 0, sizeof *c);
+    cfg.mode = o->mode;
+    if (o->have_noise) {
+        cfg.noise = SFIT_NOISE_ISO;
+        cfg.noise_var = o->noise_var;
+    }
+    st = sfit_fit_solve(acc, &cfg, &c->fit);
+    c->fit_ugdk = o->have_noise;
+    if (st == SFIT_E_NOT_POSDEF && o->have_noise) {
+        /* The noise exceeds the spread: no trust at all. Fall back to GDKE
+         * for the radius and the geometry; the coverage is then judged
+         * from the eigenvalues minus the noise (usually "not measurable"). */
+        cfg.noise = SFIT_NOISE_NONE;
+        cfg.noise_var = 0.0f;
+        st = sfit_fit_solve(acc, &cfg, &c->fit);
+        c->fit_ugdk = 0;
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    c->kind = (c->fit.mode == SFIT_MODE_PLANAR) ? SFIT_COVERAGE_ARC : SFIT_COVERAGE_CAP;
+    eig = c->fit.eigenvalues;
+    if (o->have_noise) {
+        for (i = 0; i < 3; i++) {
+            eig.v[i] -= o->noise_var; /* C0 = C - sigma^2 I: same order */
+        }
+    }
+    if (sfit_coverage_estimate_theta(c->kind, &eig, &c->theta) == SFIT_OK
+        && sfit_coverage_max_sigma(c->kind, c->theta, c->fit.radius, &c->max_sigma)
+               == SFIT_OK) {
+        c->measurable = 1;
+    }
+    if (o->have_noise) {
+        const float sr = sqrtf(o->noise_var / o->rho_max) / c->fit.radius;
+        c->have_min = (sfit_coverage_min_theta(c->kind, sr, &c->min_theta) == SFIT_OK);
+        c->rotate = !c->measurable || !c->have_min || c->theta < c->min_theta
+                    || !c->fit_ugdk || (c->fit.flags & SFIT_FLAG_UNTRUSTED) != 0u;
+    }
+    return SFIT_OK;
+}
+
+static void cov_json(const cov_opts_t *o, const cov_out_t *c, const cli_input_t *in)
+{
+    printf("{\"status\":\"ok\",\"kind\":\"%s\",\"n\":%lu,\"rejected\":%lu,\"radius\":%.9g",
+           c->kind == SFIT_COVERAGE_ARC ? "arc" : "cap", (unsigned long)c->fit.n, in->rejected,
+           (double)c->fit.radius);
+    if (c->measurable) {
+        printf(",\"half_angle_deg\":%.6g,\"max_sigma\":%.6g", (double)(c->theta * COV_RAD2DEG),
+               (double)c->max_sigma);
+    } else {
+        printf(",\"half_angle_deg\":null,\"max_sigma\":null");
+    }
+    if (o->have_noise) {
+        printf(",\"noise_var\":%.6g,\"rho_max\":%.6g", (double)o->noise_var, (double)o->rho_max);
+        if (c->fit_ugdk) {
+            printf(",\"trust_ratio\":%.6g", (double)c->fit.trust_ratio);
+        } else {
+            printf(",\"trust_ratio\":null");
+        }
+        if (c->have_min) {
+            printf(",\"min_half_angle_deg\":%.6g", (double)(c->min_theta * COV_RAD2DEG));
+        } else {
+            printf(",\"min_half_angle_deg\":null");
+        }
+        printf(",\"rotate_further\":%s", c->rotate ? "true" : "false");
+    }
+    printf("}\n");
+}
+
+static void cov_human(const char *file, const cov_opts_t *o, const cov_out_t *c,
+                      const cli_input_t *in)
+{
+    const char *what = (c->kind == SFIT_COVERAGE_ARC) ? "arc (hinge, planar fit)"
+                                                      : "cap (sphere fit)";
+    printf("file            %s\n", file);
+    printf("samples         %lu used, %lu rejected\n", (unsigned long)c->fit.n, in->rejected);
+    printf("geometry        %s, radius %.4f\n", what, (double)c->fit.radius);
+    if (c->measurable) {
+        printf("half-angle      %.2f deg (uniform %s with the same eigenvalue ratio)\n",
+               (double)(c->theta * COV_RAD2DEG), c->kind == SFIT_COVERAGE_ARC ? "arc" : "cap");
+        printf("max sigma       %.4g (largest noise sd with trust ratio < 1, eq. %s)\n",
+               (double)c->max_sigma, c->kind == SFIT_COVERAGE_ARC ? "213" : "212");
+    } else {
+        printf("half-angle      not measurable above the noise\n");
+    }
+    if (!o->have_noise) {
+        printf("hint            give --noise-var (from `sfit noise`) for a verdict\n");
+        return;
+    }
+    printf("noise sigma     %.4g (variance %.4g)\n", (double)sqrtf(o->noise_var),
+           (double)o->noise_var);
+    if (c->fit_ugdk) {
+        printf("trust ratio     %.4g (measured, UGDK fit)\n", (double)c->fit.trust_ratio);
+    } else {
+        printf("trust ratio     >= 1 (C - sigma^2 I is not positive definite)\n");
+    }
+    if (c->have_min) {
+        printf("needed          half-angle >= %.2f deg for trust ratio <= %.3g\n",
+               (double)(c->min_theta * COV_RAD2DEG), (double)o->rho_max);
+    } else {
+        printf("needed          no coverage suffices for this noise and radius\n");
+    }
+    printf("verdict         %s\n", c->rotate ? "rotate further" : "coverage sufficient");
+}
+
+int cli_cmd_coverage(int argc, char **argv)
+{
+    cov_opts_t o;
+    cov_out_t c;
+    sfit_moments_t acc;
+    cli_input_t in;
+    sfit_status_t st;
+
+    switch (cov_parse(argc, argv, &o)) {
+    case 0:
+        break;
+    case 1:
+        cov_usage(stdout);
+        return CLI_OK;
+    default:
+        cov_usage(stderr);
+        return CLI_USAGE;
+    }
+    (void)sfit_moments_init(&acc);
+    if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
+        if (o.json) {
+            (void)cli_json_error("io_error", "cannot open the input file");
+        } else {
+            fprintf(stderr, "sfit: cannot open %s: %s\n", o.file, strerror(errno));
+        }
+        return CLI_IO;
+    }
+    if (!o.json) {
+        cli_report_rejects(o.file, &in);
+    }
+    st = cov_compute(&acc, &o, &c);
+    if (st != SFIT_OK) {
+        if (o.json) {
+            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
+                   sfit_status_str(st), cli_status_message(st), in.accepted, in.rejected);
+        } else {
+            fprintf(stderr, "sfit: fit failed (%s): %s\n", sfit_status_str(st),
+                    cli_status_message(st));
+        }
+        return CLI_FAIL;
+    }
+    if (o.json) {
+        cov_json(&o, &c, &in);
+    } else {
+        cov_human(o.file, &o, &c, &in);
+    }
+    return CLI_OK;
+}
