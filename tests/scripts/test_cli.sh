@@ -119,4 +119,21 @@ echo "$out" | grep -q '"axis":\[' || fail "knee multi axis: $out"
 printf 'x,y,z\n1,2,3\n' > "$tmp/one.csv"
 out=$("$sfit" fit --json "$data/mocap/hip_right/RTHI1.csv" "$tmp/one.csv")
 echo "$out" | grep -q '"radius":null' || fail "skipped marker: $out"
+# 7. noise and coverage sub-commands.
+out=$("$sfit" noise --json --center -66.13,-93.95,76.08 --radius 254.52 "$data/mocap/hip_right/RTHI1.csv")
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["n"] == 1400, o
+for k in ("noise_var", "noise_var_std"):
+    assert isinstance(o[k], float), k
+' "$out" || fail "noise: $out"
+out=$("$sfit" coverage --json --noise-var 3.06 "$data/mocap/hip_right/RTHI1.csv")
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["kind"] == "cap", o
+assert 20 < o["half_angle_deg"] < 40 and o["rotate_further"] is False, o
+' "$out" || fail "coverage: $out"
+"$sfit" coverage --json "$data/mocap/knee_right/RATT.csv" | grep -q '"kind":"arc"' || fail "coverage arc"
 echo "cli: all checks passed"
