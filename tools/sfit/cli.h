@@ -58,5 +58,6 @@ int cli_json_error(const char *status, const char *message);
 int cli_cmd_fit(int argc, char **argv);
 int cli_cmd_noise(int argc, char **argv);
 int cli_cmd_coverage(int argc, char **argv);
+int cli_cmd_track(int argc, char **argv);
 
 #endif /* SFIT_CLI_H */

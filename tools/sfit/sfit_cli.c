@@ -18,6 +18,7 @@ typedef struct cli_command {
 static const cli_command_t commands[] = {
     {"fit", cli_cmd_fit, "fit a sphere (or a circle) to x,y,z samples"},
     {"noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point"},
+    {"track", cli_cmd_track, "incremental estimate: a new centre every K samples"},
     {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
 };
 

@@ -17,5 +17,6 @@
 #include "sfit_fit.h"
 #include "sfit_multi.h"
 #include "sfit_noise.h"
+#include "sfit_incr.h"
 
 #endif /* SFIT_H */
