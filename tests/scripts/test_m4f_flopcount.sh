@@ -1,0 +1,39 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# test_m4f_flopcount.sh BUILD_DIR SOURCE_DIR
+#
+# tools/flopcount/run.sh --json on the emulated Cortex-M4F: every operation
+# the issue names is listed, and no FLOP count exceeds its budget
+# (tools/flopcount/budget.txt; moments_add <= 30, incremental_update <= 123).
+# Also checks that a budget violation is detected (a budget file with a
+# limit below the measured count must fail).
+# Exit 77 (skip) only when a tool is missing and CI != "true".
+set -u
+build=$1
+src=$2
+tool="$src/tools/flopcount/run.sh"
+json=$("$tool" --build-dir "$build" --json)
+rc=$?
+printf '%s\n' "$json"
+[ "$rc" -eq 77 ] && exit 77
+fail=0
+[ "$rc" -eq 0 ] || { echo "test_m4f_flopcount: FAIL: run.sh exited $rc (budget or footprint)" >&2; fail=1; }
+for op in moments_add batch_per_point solve_gdke solve_ugdk chol_solve jacobi_eig planar_solve \
+    multi_solve_per_marker incremental_update noise_calibration; do
+    if ! printf '%s\n' "$json" | grep -q "{\"name\": \"$op\", "; then
+        echo "test_m4f_flopcount: FAIL: operation $op missing from --json" >&2
+        fail=1
+    fi
+done
+# The budget check must be able to fail: halve every budget.
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+awk '/^[a-z]/ { $2 = $2 / 2 } { print }' "$src/tools/flopcount/budget.txt" >"$tmp/budget.txt"
+out="$build/m4f"
+if awk -v mode=text -f "$src/tools/flopcount/report.awk" "$out/fc.out" "$out/fc.win" "$tmp/budget.txt" \
+    "$out/footprint.txt" >/dev/null 2>&1; then
+    echo "test_m4f_flopcount: FAIL: halved budgets were not reported as exceeded" >&2
+    fail=1
+fi
+exit "$fail"

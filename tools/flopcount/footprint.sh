@@ -1,0 +1,212 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+#
+# footprint.sh M4F_BUILD_DIR [BUDGET_FILE]
+#
+# Footprint of the library on Cortex-M4F, from the objects built by
+# tests/target (sfit_fp_Os / sfit_fp_O2: the lib/src/*.c at -Os and -O2
+# with -fstack-usage -fcallgraph-info=su; sfit_fp_sizes: sizeof of each
+# public struct). Prints, one record per line:
+#   code MODULE TEXT_OS TEXT_O2          .text+.rodata bytes per module (object)
+#   code_total TOTAL_OS TOTAL_O2
+#   struct TYPE BYTES
+#   stack FUNCTION BYTES_OS BYTES_O2     worst-case stack of a public function:
+#                                        its frame + the deepest callee chain
+#                                        (call graph of -fcallgraph-info; C
+#                                        library callees from their disassembly)
+#   check NAME ok|FAIL DETAIL            heap, static_data, double, stack_bounded,
+#                                        budget
+# Exit status 1 when a check fails. Budget file lines (default
+# tools/flopcount/footprint_budget.txt):
+#   code_os MODULE BYTES | code_o2 MODULE BYTES | stack FUNCTION|* BYTES
+# A module without a code budget is reported (check budget ... unbudgeted)
+# but does not fail.
+set -u
+if [ $# -lt 1 ]; then
+    echo "usage: $0 M4F_BUILD_DIR [BUDGET_FILE]" >&2
+    exit 2
+fi
+m4f=$(cd "$1" && pwd)
+here=$(cd "$(dirname "$0")" && pwd)
+budget=${2:-$here/footprint_budget.txt}
+nm=${SFIT_NM:-arm-none-eabi-nm}
+objdump=${SFIT_OBJDUMP:-arm-none-eabi-objdump}
+size=${SFIT_SIZE:-arm-none-eabi-size}
+gcc=${SFIT_GCC:-arm-none-eabi-gcc}
+arch="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard"
+
+for f in "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" "$m4f/libsfit_fp_sizes_a.a"; do
+    if [ ! -f "$f" ]; then
+        echo "footprint.sh: $f missing: build tests/target first (tests/target/build.sh)" >&2
+        exit 2
+    fi
+done
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+fail=0
+
+# ---- code size per module ----------------------------------------------------
+for opt in Os O2; do
+    "$size" "$m4f/libsfit_fp_$opt.a" | awk -v opt="$opt" 'NR > 1 {
+        m = $6; sub(/\.c\.(obj|o)$/, "", m); print opt, m, $1, $2, $3 }'
+done >"$tmp/size.txt"
+awk '
+{ t[$2 " " $1] = $3; mods[$2] = 1; if ($4 + $5 > 0) bad[$2] = $4 + $5 }
+END {
+    for (m in mods) { printf "code %s %d %d\n", m, t[m " Os"], t[m " O2"]; os += t[m " Os"]; o2 += t[m " O2"] }
+    printf "code_total %d %d\n", os, o2
+    for (m in bad) printf "staticdata %s %d\n", m, bad[m]
+}' "$tmp/size.txt" | sort >"$tmp/code.txt"
+grep -v '^staticdata' "$tmp/code.txt"
+
+# ---- struct sizes -------------------------------------------------------------
+"$nm" -S "$m4f/libsfit_fp_sizes_a.a" | awk '$4 ~ /^fc_sizeof_/ { n = $4; sub(/^fc_sizeof_/, "", n); print n, $2 }' |
+    while read -r n hx; do printf 'struct %s %d\n' "$n" "$((0x$hx))"; done
+
+# ---- checks on the objects --------------------------------------------------------
+# Heap: no reference to an allocator.
+heap=$("$nm" -u "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" "$m4f/sfit/lib/libsfit.a" 2>/dev/null |
+    awk '$1 == "U" && $2 ~ /^(_?malloc|_?calloc|_?realloc|_?free|_malloc_r|_calloc_r|_realloc_r|_free_r|_?sbrk|_sbrk_r|aligned_alloc|posix_memalign|memalign|alloca|__builtin_alloca)$/ { print $2 }' | sort -u | tr '\n' ' ')
+if [ -n "$heap" ]; then
+    echo "check heap FAIL references $heap"
+    fail=1
+else
+    echo "check heap ok no allocator referenced"
+fi
+# Mutable static data: no .data/.bss/COMMON in any library object.
+sd=$(grep '^staticdata' "$tmp/code.txt" | awk '{ printf "%s(%d B) ", $2, $3 }')
+sdsym=$("$nm" "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" "$m4f/sfit/lib/libsfit.a" 2>/dev/null |
+    awk 'NF == 3 && $2 ~ /^[dDbBcC]$/ { print $3 }' | sort -u | tr '\n' ' ')
+if [ -n "$sd$sdsym" ]; then
+    echo "check static_data FAIL $sd $sdsym"
+    fail=1
+else
+    echo "check static_data ok no .data/.bss/COMMON"
+fi
+# Double precision: no soft-double helper referenced, no .f64 instruction
+# (the same checker as tests/scripts/test_m4f_build.sh).
+if dbl=$("$here/../../tests/target/check_double.sh" "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" \
+    "$m4f/sfit/lib/libsfit.a" 2>&1); then
+    echo "check double ok no double helper, no .f64"
+else
+    echo "check double FAIL $(printf '%s' "$dbl" | tr '\n' ' ')"
+    fail=1
+fi
+
+# ---- worst-case stack ---------------------------------------------------------------
+# Public functions: global text symbols, minus the sfit_i_ internals.
+"$nm" -g --defined-only "$m4f/libsfit_fp_O2.a" | awk '$2 == "T" && $3 !~ /^sfit_i_/ { print $3 }' |
+    sort -u >"$tmp/public.txt"
+# Frames of the C-library callees (leaf routines; a call inside -> unknown).
+libc=$("$gcc" $arch -print-file-name=libc_nano.a)
+libgcc=$("$gcc" $arch -print-libgcc-file-name)
+for opt in Os O2; do
+    find "$m4f/CMakeFiles/sfit_fp_$opt.dir" -name '*.ci' -exec cat {} + >"$tmp/cg_$opt.ci"
+done
+awk '/^edge:/ { s = $0; sub(/.*targetname: "/, "", s); sub(/".*/, "", s); print s }' \
+    "$tmp/cg_Os.ci" "$tmp/cg_O2.ci" | sort -u >"$tmp/targets.txt"
+: >"$tmp/ext.txt"
+while read -r t; do
+    if grep -q "^node: { title: \"$t\" label: \"[^\"]*bytes" "$tmp/cg_O2.ci"; then
+        continue # defined in the library
+    fi
+    "$objdump" -d --no-show-raw-insn --disassemble="$t" "$libc" "$libgcc" 2>/dev/null |
+        awk -v name="$t" '
+        function nregs(ops,  l, a, k, i, r, n, lo, hi) {
+            if (!match(ops, /\{[^}]*\}/)) return 0
+            l = substr(ops, RSTART + 1, RLENGTH - 2); k = split(l, a, /, */); n = 0
+            for (i = 1; i <= k; i++) {
+                if (split(a[i], r, "-") == 2) { lo = r[1]; hi = r[2]; gsub(/[^0-9]/, "", lo); gsub(/[^0-9]/, "", hi); n += (hi - lo + 1) * (a[i] ~ /^d/ ? 2 : 1) }
+                else n += (a[i] ~ /^d/ ? 2 : 1)
+            }
+            return n
+        }
+        $0 ~ ("^[0-9a-f]+ <" name ">:$") { on = 1; found = 1; next }
+        on && /^$/ { on = 0 }
+        on && /\t/ {
+            split($0, f, "\t"); m = f[2]; o = f[3]
+            if (m ~ /^(push|stmdb)/ && o ~ /sp/ || m ~ /^push/) b += 4 * nregs(o)
+            if (m ~ /^vpush/) b += 4 * nregs(o)
+            if (m ~ /^sub/ && o ~ /^sp, sp, #/ || m ~ /^sub/ && o ~ /^sp, #/) { v = o; sub(/.*#/, "", v); b += v + 0 }
+            if (m ~ /^blx?(\.[nw])?$/) call = 1
+        }
+        END { if (found) print name, (call ? -1 : b + 0); else print name, -1 }'
+done <"$tmp/targets.txt" >>"$tmp/ext.txt"
+
+for opt in Os O2; do
+    awk -v opt="$opt" '
+    FILENAME ~ /ext\.txt$/ { ext[$1] = $2; next }
+    FILENAME ~ /public\.txt$/ { pub[$1] = 1; next }
+    /^node:/ {
+        t = $0; sub(/^node: \{ title: "/, "", t); sub(/".*/, "", t)
+        if (match($0, /[0-9]+ bytes \([a-z,]*\)/)) {
+            s = substr($0, RSTART, RLENGTH); q = s; sub(/ bytes.*/, "", s)
+            frame[t] = s + 0
+            if (q ~ /dynamic/) dyn[t] = 1
+        }
+        next
+    }
+    /^edge:/ {
+        s = $0; sub(/.*sourcename: "/, "", s); sub(/".*/, "", s)
+        d = $0; sub(/.*targetname: "/, "", d); sub(/".*/, "", d)
+        ne[s]++; e[s, ne[s]] = d
+        next
+    }
+    # depth-first, iterative (no recursion in the library: a cycle is reported)
+    function worst(f,    sp, stk, it, best, i, c, w, n) {
+        if (f in memo) return memo[f]
+        if (!(f in frame)) { if (f in ext) return ext[f]; return -1 }
+        if (onpath[f]) return -2
+        onpath[f] = 1
+        best = 0
+        for (i = 1; i <= ne[f]; i++) {
+            c = e[f, i]
+            w = worst(c)
+            if (w < 0) { onpath[f] = 0; memo[f] = w; why[f] = (w == -2 ? "recursion via " c : "unknown callee " c (c in why ? " (" why[c] ")" : "")); return w }
+            if (w > best) best = w
+        }
+        onpath[f] = 0
+        if (f in dyn) { memo[f] = -3; why[f] = "dynamic frame"; return -3 }
+        memo[f] = frame[f] + best
+        return memo[f]
+    }
+    END {
+        for (f in pub) { w = worst(f); printf "%s %s %d %s\n", opt, f, w, (w < 0 ? why[f] : "") }
+    }' "$tmp/ext.txt" "$tmp/public.txt" "$tmp/cg_$opt.ci"
+done >"$tmp/stack.txt"
+awk '
+{ v[$2, $1] = $3; f[$2] = 1; if ($3 < 0) { note[$2] = $0 } }
+END { for (x in f) printf "stack %s %d %d%s\n", x, v[x, "Os"], v[x, "O2"], (x in note ? " " note[x] : "") }' \
+    "$tmp/stack.txt" | sort >"$tmp/stack_rec.txt"
+cat "$tmp/stack_rec.txt"
+unb=$(awk '$3 < 0 || $4 < 0 { printf "%s ", $2 }' "$tmp/stack_rec.txt")
+if [ -n "$unb" ]; then
+    echo "check stack_bounded FAIL no bound for: $unb"
+    fail=1
+else
+    echo "check stack_bounded ok every public function has a static bound"
+fi
+
+# ---- budgets ---------------------------------------------------------------------------
+if [ -f "$budget" ]; then
+    awk '
+    FILENAME == ARGV[1] {
+        sub(/#.*/, ""); if (NF < 3) next
+        if ($1 == "stack") sb[$2] = $3; else if ($1 == "code_os") co[$2] = $3; else if ($1 == "code_o2") c2[$2] = $3
+        next
+    }
+    $1 == "code" {
+        if (!($2 in co) || !($2 in c2)) { printf "check budget ok unbudgeted module %s (%d B -Os, %d B -O2)\n", $2, $3, $4; next }
+        if ($3 > co[$2]) { printf "check budget FAIL code -Os %s %d B > %d B\n", $2, $3, co[$2]; bad = 1 }
+        if ($4 > c2[$2]) { printf "check budget FAIL code -O2 %s %d B > %d B\n", $2, $4, c2[$2]; bad = 1 }
+    }
+    $1 == "stack" {
+        lim = ($2 in sb) ? sb[$2] : (("*" in sb) ? sb["*"] : -1)
+        if (lim < 0) next
+        if ($3 > lim || $4 > lim) { printf "check budget FAIL stack %s %d/%d B > %d B\n", $2, $3, $4, lim; bad = 1 }
+    }
+    END { if (!bad) print "check budget ok within " ARGV[1]; exit bad }' "$budget" "$tmp/code.txt" "$tmp/stack_rec.txt" || fail=1
+else
+    echo "check budget ok no budget file ($budget)"
+fi
+exit "$fail"

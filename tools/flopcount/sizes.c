@@ -1,0 +1,38 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sizes.c
+ * @brief sizeof() of every public state / result / option struct, for the
+ * footprint report, without running anything: each FC_SIZE(T) defines an
+ * array `fc_sizeof_T` of sizeof(T) bytes; `arm-none-eabi-nm -S` on the
+ * object prints the sizes (tools/flopcount/footprint.sh). This object is
+ * never linked into anything.
+ * Adding a struct = one FC_SIZE() line.
+ */
+#include "sfit/sfit.h"
+
+#define FC_SIZE(T)                                                                                 \
+    extern unsigned char fc_sizeof_##T[sizeof(T)];                                                 \
+    unsigned char fc_sizeof_##T[sizeof(T)]
+
+FC_SIZE(sfit_moments_t);
+FC_SIZE(sfit_fit_cfg_t);
+FC_SIZE(sfit_result_t);
+FC_SIZE(sfit_vec3_t);
+FC_SIZE(sfit_mat3_t);
+
+#if defined(__has_include)
+#if __has_include("sfit/sfit_multi.h")
+#include "sfit/sfit_multi.h"
+FC_SIZE(sfit_multi_cfg_t);
+FC_SIZE(sfit_multi_result_t);
+#endif
+#if __has_include("sfit/sfit_noise.h")
+#include "sfit/sfit_noise.h"
+FC_SIZE(sfit_noise_est_t);
+#endif
+#if __has_include("sfit/sfit_incr.h")
+#include "sfit/sfit_incr.h"
+FC_SIZE(sfit_incr_t);
+FC_SIZE(sfit_incr_est_t);
+#endif
+#endif
