@@ -4,9 +4,16 @@
  * @brief `sfit fit`: stream a CSV into a moments accumulator and solve; with
  * several files (one marker each), the common centre of the markers (MGDK).
  *
- *   sfit fit [--noise-var V | --noise-cov XX,YY,ZZ,XY,XZ,YZ]
- *            [--mode auto|sphere|planar] [--weight equal|samples] [--json]
- *            FILE [FILE ...]
+ *   sfit fit [--noise-var V|auto | --noise-cov XX,YY,ZZ,XY,XZ,YZ] [--refine]
+ *            [--gate K] [--mode auto|sphere|planar] [--weight equal|samples]
+ *            [--json] FILE [FILE ...]
+ *
+ * One FILE: the JSON also carries "noise_var" (given or estimated, null
+ * without a noise model), "center_cov" [xx,yy,zz,xy,xz,yz] and
+ * "radius_var" (null without an isotropic noise variance or for a circle),
+ * "iterations" (self-calibration or refinement; 0 for a direct solve) and
+ * "outliers" (samples rejected by --gate). --noise-var auto and --refine
+ * keep the samples in memory (the library works on a caller-owned array).
  */
 #include <errno.h>
 #include <math.h>
@@ -14,7 +21,11 @@
 #include <string.h>
 
 #include "cli.h"
+#include "sfit/sfit_gate.h"
 #include "sfit/sfit_multi.h"
+#include "sfit/sfit_refine.h"
+#include "sfit/sfit_selfcal.h"
+#include "sfit/sfit_uncert.h"
 
 typedef struct fit_opts {
     const char *file;   /* first FILE */
@@ -23,16 +34,25 @@ typedef struct fit_opts {
     int json;
     sfit_fit_cfg_t cfg;
     sfit_multi_weight_t weight;
+    int auto_noise; /* --noise-var auto */
+    int refine;     /* --refine */
+    float gate_k;   /* --gate K (0 = no gate) */
 } fit_opts_t;
 
 static void fit_usage(FILE *f)
 {
-    fputs("usage: sfit fit [--noise-var V | --noise-cov XX,YY,ZZ,XY,XZ,YZ]\n"
-          "                [--mode auto|sphere|planar] [--weight equal|samples] [--json]\n"
-          "                FILE [FILE ...]\n"
+    fputs("usage: sfit fit [--noise-var V|auto | --noise-cov XX,YY,ZZ,XY,XZ,YZ] [--refine]\n"
+          "                [--gate K] [--mode auto|sphere|planar] [--weight equal|samples]\n"
+          "                [--json] FILE [FILE ...]\n"
           "  FILE  CSV of x,y,z samples (optional header line); '-' reads stdin\n"
           "        several FILEs: one marker each, common centre of all (MGDK)\n"
           "  --noise-var V    UGDK with isotropic measurement-noise variance V (unit^2)\n"
+          "  --noise-var auto self-calibrated UGDK: V estimated from the radial residuals\n"
+          "  --refine         geometric (orthogonal-distance) refinement of the fit\n"
+          "  --gate K         reject samples farther than K sigma from the running fit\n"
+          "                   (outlier gate; not with auto / --refine)\n"
+          "  (one FILE: the JSON adds noise_var, center_cov, radius_var, iterations,\n"
+          "   outliers; --noise-var auto / --refine / --gate need one FILE)\n"
           "  --noise-cov ...  UGDK with a full symmetric noise covariance (unit^2)\n"
           "  --mode M         auto (default): sphere, or circle when the samples are\n"
           "                   near-planar (hinge); sphere / planar force one\n"
@@ -50,14 +70,32 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->json = 0;
     o->cfg = sfit_fit_cfg_default;
     o->weight = SFIT_MULTI_WEIGHT_EQUAL;
+    o->auto_noise = 0;
+    o->refine = 0;
+    o->gate_k = 0.0f;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return 1;
         } else if (strcmp(a, "--json") == 0) {
             o->json = 1;
+        } else if (strcmp(a, "--refine") == 0) {
+            o->refine = 1;
+        } else if (strcmp(a, "--gate") == 0 && i + 1 < argc) {
+            if (cli_parse_floats(argv[++i], &o->gate_k, 1) != 0 || !(o->gate_k > 1.0f)) {
+                fprintf(stderr, "sfit: --gate needs one value K > 1 (sigmas)\n");
+                return -1;
+            }
+        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc
+                   && strcmp(argv[i + 1], "auto") == 0) {
+            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise) {
+                fprintf(stderr, "sfit: --noise-var auto: noise model given twice\n");
+                return -1;
+            }
+            o->auto_noise = 1;
+            i++;
         } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc) {
-            if (o->cfg.noise != SFIT_NOISE_NONE
+            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise
                 || cli_parse_floats(argv[++i], &o->cfg.noise_var, 1) != 0
                 || !(o->cfg.noise_var >= 0.0f)) {
                 fprintf(stderr, "sfit: --noise-var needs one value >= 0 (not with --noise-cov)\n");
@@ -67,7 +105,8 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
         } else if (strcmp(a, "--noise-cov") == 0 && i + 1 < argc) {
             float c[6];
             float *m = o->cfg.noise_cov.m;
-            if (o->cfg.noise != SFIT_NOISE_NONE || cli_parse_floats(argv[++i], c, 6) != 0) {
+            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise
+                || cli_parse_floats(argv[++i], c, 6) != 0) {
                 fprintf(stderr, "sfit: --noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)\n");
                 return -1;
             }
@@ -112,6 +151,18 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
         fprintf(stderr, "sfit: FILE missing\n");
         return -1;
     }
+    if ((o->auto_noise || o->refine || o->gate_k > 0.0f) && o->nfiles > 1) {
+        fprintf(stderr, "sfit: --noise-var auto, --refine and --gate take one FILE\n");
+        return -1;
+    }
+    if (o->gate_k > 0.0f && (o->auto_noise || o->refine)) {
+        fprintf(stderr, "sfit: --gate does not combine with --noise-var auto / --refine\n");
+        return -1;
+    }
+    if ((o->auto_noise || o->refine) && o->cfg.mode == SFIT_MODE_PLANAR) {
+        fprintf(stderr, "sfit: --noise-var auto / --refine fit spheres (not --mode planar)\n");
+        return -1;
+    }
     return 0;
 }
 
@@ -142,12 +193,33 @@ static void print_flags_json(uint32_t flags)
     printf("]");
 }
 
-static void print_json(const sfit_result_t *r, const cli_input_t *in)
+/* What the single-file fit adds to sfit_result_t. */
+typedef struct fit_extra {
+    int refined;          /* geometric refinement done */
+    int has_noise;        /* noise_var meaningful */
+    float noise_var;      /* given or estimated sigma^2 */
+    int noise_estimated;  /* from the samples */
+    int has_uncert;       /* u valid */
+    sfit_uncert_t u;
+    unsigned long iterations;
+    unsigned long outliers;
+    int capped;           /* self-calibration hit its cap */
+} fit_extra_t;
+
+static const char *method_name(const sfit_result_t *r, const fit_extra_t *x)
 {
+    if (x->refined) {
+        return "geometric";
+    }
+    return r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke";
+}
+
+static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
+{
+    int i;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"n\":%lu,\"rejected\":%lu,"
            "\"center\":",
-           r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke", mode_name(r->mode),
-           (unsigned long)r->n, in->rejected);
+           method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected);
     cli_print_vec(r->center.v);
     printf(",\"radius\":%.9g,\"eigenvalues\":", (double)r->radius);
     cli_print_vec(r->eigenvalues.v);
@@ -159,15 +231,36 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in)
     }
     printf(",\"flags\":");
     print_flags_json(r->flags);
-    printf("}\n");
+    if (x->has_noise) {
+        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)x->noise_var,
+               x->noise_estimated ? "true" : "false");
+    } else {
+        printf(",\"noise_var\":null,\"noise_estimated\":false");
+    }
+    if (x->has_uncert) {
+        printf(",\"center_cov\":[");
+        for (i = 0; i < 6; i++) {
+            printf("%s%.9g", i > 0 ? "," : "", (double)x->u.center_cov[i]);
+        }
+        printf("],\"radius_var\":%.9g", (double)x->u.radius_var);
+    } else {
+        printf(",\"center_cov\":null,\"radius_var\":null");
+    }
+    printf(",\"iterations\":%lu,\"outliers\":%lu,\"noise_capped\":%s}\n", x->iterations,
+           x->outliers, x->capped ? "true" : "false");
 }
 
-static void print_human(const char *file, const sfit_result_t *r, const cli_input_t *in)
+static void print_human(const char *file, const sfit_result_t *r, const cli_input_t *in,
+                        const fit_extra_t *x)
 {
     printf("file         %s\n", file);
-    printf("samples      %lu used, %lu rejected\n", (unsigned long)r->n, in->rejected);
-    printf("method       %s, %s solution\n", r->method == SFIT_METHOD_UGDK ? "UGDK" : "GDKE",
-           mode_name(r->mode));
+    printf("samples      %lu used, %lu rejected", (unsigned long)r->n, in->rejected);
+    if (x->outliers > 0u) {
+        printf(", %lu outliers gated out", x->outliers);
+    }
+    printf("\nmethod       %s, %s solution%s\n",
+           x->refined ? "geometric (refined)" : (r->method == SFIT_METHOD_UGDK ? "UGDK" : "GDKE"),
+           mode_name(r->mode), x->noise_estimated && !x->refined ? ", self-calibrated noise" : "");
     printf("centre       %.4f %.4f %.4f\n", (double)r->center.v[0], (double)r->center.v[1],
            (double)r->center.v[2]);
     printf("radius       %.4f\n", (double)r->radius);
@@ -185,6 +278,23 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
                                         : ">= 1: do not trust this fit");
     } else {
         printf("trust ratio  n/a (no noise model: GDKE is biased on partial spheres)\n");
+    }
+    if (x->has_noise) {
+        printf("noise var    %.6g (sigma %.4g, %s)\n", (double)x->noise_var,
+               sqrt((double)x->noise_var), x->noise_estimated ? "estimated" : "given");
+    }
+    if (x->has_uncert) {
+        printf("centre SD    %.4g %.4g %.4g (radius SD %.4g)\n", sqrt((double)x->u.center_cov[0]),
+               sqrt((double)x->u.center_cov[1]), sqrt((double)x->u.center_cov[2]),
+               sqrt((double)x->u.radius_var));
+    }
+    if (x->iterations > 0u) {
+        printf("iterations   %lu\n", x->iterations);
+    }
+    if (x->capped) {
+        printf("warning      the estimated noise hit its cap (trust ratio %.2g): the data "
+               "cannot separate noise from geometry\n",
+               (double)SFIT_SELFCAL_MAX_TRUST);
     }
     if (r->flags & SFIT_FLAG_FEW_SAMPLES) {
         printf("warning      few samples\n");
@@ -390,10 +500,104 @@ done:
     return rc;
 }
 
+/* Sample sink of the single-file path: moments, optionally a copy of the
+ * samples (auto / refine), or the outlier gate. */
+typedef struct fit_sink {
+    sfit_moments_t acc;
+    sfit_vec3_t *pts;
+    size_t n, cap;
+    int store;
+    sfit_gate_t *gate;
+} fit_sink_t;
+
+static sfit_status_t fit_sink_add(void *ctx, const sfit_vec3_t *x)
+{
+    fit_sink_t *k = (fit_sink_t *)ctx;
+    sfit_status_t st;
+    if (k->gate != NULL) {
+        return sfit_gate_add(k->gate, x, NULL); /* an outlier is counted, not rejected */
+    }
+    if (k->store && k->n == k->cap) {
+        size_t nc = (k->cap == 0u) ? 1024u : 2u * k->cap;
+        sfit_vec3_t *np = (sfit_vec3_t *)realloc(k->pts, nc * sizeof *np);
+        if (np == NULL) {
+            return SFIT_E_RANGE;
+        }
+        k->pts = np;
+        k->cap = nc;
+    }
+    st = sfit_moments_add(&k->acc, x);
+    if (st == SFIT_OK && k->store) {
+        k->pts[k->n++] = *x;
+    }
+    return st;
+}
+
+/* Fit the single file's samples as the options say. */
+static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_t *r,
+                                fit_extra_t *x)
+{
+    const sfit_moments_t *acc = &k->acc;
+    sfit_uncert_noise_t kind = SFIT_UNCERT_NOISE_KNOWN;
+    sfit_status_t st;
+
+    memset(x, 0, sizeof *x);
+    if (k->gate != NULL) {
+        sfit_gate_stats_t gs;
+        st = sfit_gate_solve(k->gate, r);
+        (void)sfit_gate_stats(k->gate, &gs);
+        x->outliers = gs.outliers;
+        acc = sfit_gate_moments(k->gate);
+    } else if (o->auto_noise) {
+        sfit_selfcal_result_t sc;
+        st = sfit_selfcal_fit(k->pts, k->n, &o->cfg, &sc);
+        if (st == SFIT_OK) {
+            *r = sc.fit;
+            x->has_noise = 1;
+            x->noise_var = sc.noise_var;
+            x->noise_estimated = 1;
+            x->iterations = sc.iterations;
+            x->capped = (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+            kind = SFIT_UNCERT_NOISE_ESTIMATED;
+        }
+    } else {
+        st = sfit_fit_solve(acc, &o->cfg, r);
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (!o->auto_noise && o->cfg.noise == SFIT_NOISE_ISO) {
+        x->has_noise = 1;
+        x->noise_var = o->cfg.noise_var;
+    }
+    if (o->refine) {
+        sfit_refine_result_t rf;
+        st = sfit_refine_fit(k->pts, k->n, &r->center, NULL, &rf);
+        if (st != SFIT_OK) {
+            return st;
+        }
+        r->center = rf.center;
+        r->radius = rf.radius;
+        x->refined = 1;
+        x->has_noise = 1;
+        x->noise_var = rf.noise_var;
+        x->noise_estimated = 1;
+        x->iterations = rf.iterations;
+        kind = SFIT_UNCERT_NOISE_ESTIMATED;
+    }
+    if (x->has_noise && r->mode == SFIT_MODE_SPHERE && acc != NULL) {
+        x->has_uncert = (sfit_uncert_moments(acc, &r->center, r->radius, x->noise_var, kind,
+                                             &x->u) == SFIT_OK);
+    }
+    return SFIT_OK;
+}
+
 int cli_cmd_fit(int argc, char **argv)
 {
     fit_opts_t o;
-    sfit_moments_t acc;
+    fit_sink_t sink;
+    sfit_gate_t gate;
+    fit_extra_t extra;
     cli_input_t in;
     sfit_result_t r;
     sfit_status_t st;
@@ -421,8 +625,24 @@ int cli_cmd_fit(int argc, char **argv)
     }
     free(o.files);
     o.files = NULL;
-    (void)sfit_moments_init(&acc);
-    if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
+    memset(&sink, 0, sizeof sink);
+    (void)sfit_moments_init(&sink.acc);
+    sink.store = o.auto_noise || o.refine;
+    if (o.gate_k > 0.0f) {
+        sfit_gate_cfg_t gc = sfit_gate_cfg_default;
+        gc.fit = o.cfg;
+        gc.k = o.gate_k;
+        if (o.cfg.noise == SFIT_NOISE_ISO) {
+            gc.noise_var = o.cfg.noise_var;
+        }
+        if (sfit_gate_init(&gate, &gc) != SFIT_OK) {
+            fprintf(stderr, "sfit: invalid gate options\n");
+            return CLI_USAGE;
+        }
+        sink.gate = &gate;
+    }
+    if (cli_read_csv(o.file, fit_sink_add, &sink, &in) != 0) {
+        free(sink.pts);
         if (o.json) {
             (void)cli_json_error("io_error", "cannot open the input file");
         } else {
@@ -430,7 +650,8 @@ int cli_cmd_fit(int argc, char **argv)
         }
         return CLI_IO;
     }
-    st = sfit_fit_solve(&acc, &o.cfg, &r);
+    st = fit_single(&o, &sink, &r, &extra);
+    free(sink.pts);
     if (!o.json) {
         cli_report_rejects(o.file, &in);
     }
@@ -445,9 +666,9 @@ int cli_cmd_fit(int argc, char **argv)
         return CLI_FAIL;
     }
     if (o.json) {
-        print_json(&r, &in);
+        print_json(&r, &in, &extra);
     } else {
-        print_human(o.file, &r, &in);
+        print_human(o.file, &r, &in, &extra);
     }
     return CLI_OK;
 }

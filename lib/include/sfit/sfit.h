@@ -18,5 +18,9 @@
 #include "sfit_multi.h"
 #include "sfit_noise.h"
 #include "sfit_incr.h"
+#include "sfit_selfcal.h"
+#include "sfit_refine.h"
+#include "sfit_uncert.h"
+#include "sfit_gate.h"
 
 #endif /* SFIT_H */

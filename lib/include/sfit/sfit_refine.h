@@ -1,0 +1,110 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_refine.h
+ * @brief Geometric (orthogonal-distance) sphere fit over a caller-owned
+ * array: bounded Levenberg-Marquardt in float, started from UGDK.
+ * @defgroup sfit_refine Geometric refinement
+ * @{
+ *
+ * Minimises sum (|x_i - c| - r)^2. The radius is eliminated exactly (for a
+ * given centre the best radius is the mean distance dbar), leaving a
+ * 3-parameter problem in the centre (variable projection):
+ *   rho_i(c) = d_i - dbar, d_i = |x_i - c|, Jacobian rows -(u_i - ubar)^T,
+ *   u_i = (x_i - c)/d_i.
+ * Each iteration solves (A + lambda diag A) delta = g with
+ * A = sum (u - ubar)(u - ubar)^T and g = sum (u - ubar)(d - dbar) (3x3
+ * Cholesky), accepts the step if the cost does not grow, and adapts lambda
+ * (divided by 10 on success, multiplied by 10 on failure, at most
+ * SFIT_REFINE_MAX_TRIALS tries per iteration). Work is done relative to the
+ * start centre (x_i - c0 once per sample and pass; the centre offset is
+ * small), so a centre thousands of radii away costs no accuracy. Converged
+ * when the step is below tol * r.
+ *
+ * Cost per iteration: two passes over the samples (one for ubar, dbar and
+ * the cost, one for the centred sums) plus one pass per damping trial;
+ * about 2 sqrt and 40 FLOPs per sample and pass.
+ */
+#ifndef SFIT_REFINE_H
+#define SFIT_REFINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sfit_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** @brief Iteration bound (linearisations) of the refinement. Range 1..200. */
+#ifndef SFIT_REFINE_MAX_ITERS
+#define SFIT_REFINE_MAX_ITERS 30
+#endif
+#if (SFIT_REFINE_MAX_ITERS < 1) || (SFIT_REFINE_MAX_ITERS > 200)
+#error "SFIT_REFINE_MAX_ITERS must be in 1..200"
+#endif
+
+/** @brief Damping trials per iteration (lambda x10 each). Range 1..20. */
+#ifndef SFIT_REFINE_MAX_TRIALS
+#define SFIT_REFINE_MAX_TRIALS 8
+#endif
+#if (SFIT_REFINE_MAX_TRIALS < 1) || (SFIT_REFINE_MAX_TRIALS > 20)
+#error "SFIT_REFINE_MAX_TRIALS must be in 1..20"
+#endif
+
+/**
+ * @brief Default convergence threshold: the centre step, relative to the
+ * radius. 1e-5 is ~ 170 float epsilons: above the rounding noise of the
+ * steps, below any statistical error worth reporting. Range [1e-7, 1e-2].
+ */
+#ifndef SFIT_REFINE_TOL
+#define SFIT_REFINE_TOL 1e-5f
+#endif
+
+/** @brief Run-time options; start from ::sfit_refine_cfg_default. */
+typedef struct sfit_refine_cfg {
+    uint32_t max_iters; /**< 0 = SFIT_REFINE_MAX_ITERS; larger values are clamped to it. */
+    float tol;          /**< 0 = SFIT_REFINE_TOL; else in [1e-7, 1e-2]. */
+} sfit_refine_cfg_t;
+
+/** @brief Defaults (compile-time bound and tolerance). */
+extern const sfit_refine_cfg_t sfit_refine_cfg_default;
+
+/** @brief A refined fit. Written only on SFIT_OK (i.e. converged). */
+typedef struct sfit_refine_result {
+    sfit_vec3_t center;  /**< Geometric centre. */
+    float radius;        /**< Geometric radius (mean distance from the centre). */
+    float rms;           /**< sqrt(sum (d - r)^2 / N): RMS radial residual. */
+    float noise_var;     /**< sigma^2 from the residuals: s^2 = sum (d - r)^2/(N - 4)
+                              corrected for curvature (as sfit_selfcal.h). */
+    uint32_t n;          /**< Samples used. */
+    uint32_t iterations; /**< Linearisations done (>= 1). */
+    uint32_t converged;  /**< 1 (a result is only written when converged). */
+} sfit_refine_result_t;
+
+/**
+ * @brief Refine a sphere fit geometrically.
+ * @param[in]  pts     n samples (read only).
+ * @param[in]  n       Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  c0      Start centre (e.g. the UGDK / self-calibrated centre).
+ * @param[in]  cfg     Options; NULL = defaults.
+ * @param[out] out     Written only on SFIT_OK.
+ * @retval SFIT_OK                converged
+ * @retval SFIT_E_ARG             NULL pointer, non-finite c0, invalid cfg
+ * @retval SFIT_E_TOO_FEW         n < 5 or n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_NONFINITE       a sample holds NaN or Inf
+ * @retval SFIT_E_RANGE           n > UINT32_MAX, or a value would not be finite
+ * @retval SFIT_E_DEGENERATE      a sample at the centre, or the directions do
+ *                                not span 3-D (A singular: planar / collinear data)
+ * @retval SFIT_E_NO_CONVERGENCE  the step is still above tol after max_iters, or
+ *                                no damping made the cost decrease
+ */
+sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+                              const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+#endif /* SFIT_REFINE_H */

@@ -1,0 +1,102 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_uncert.h
+ * @brief How sure a sphere fit is: covariance of the centre, variance of the
+ * radius (and their coupling), from the moments or from the samples.
+ * @defgroup sfit_uncert Fit uncertainty
+ * @{
+ *
+ * Notation: N samples, mean m, M = sum (x - m)(x - m)^T over the noise-free
+ * samples, estimated by (N-1)(C - sigma^2 I) (C = sample covariance), centre
+ * c, radius r, a = m - c, isotropic Gaussian noise of variance sigma^2.
+ *
+ * First order (every consistent sphere fit: GDKE/UGDK and the geometric fit
+ * agree to first order in the noise), from sigma^2 (J^T J)^-1 with the
+ * Jacobian rows [-u_i^T, -1], u_i = (x_i - c)/|x_i - c| ~ (x_i - c)/r:
+ *   Cov(c)    = sigma^2 r^2 M^-1            (the Cramer-Rao bound's centre block)
+ *   Var(r)    = sigma^2 (1/N + a^T M^-1 a)
+ *   Cov(c, r) = -sigma^2 r M^-1 a
+ *
+ * Second order (derived for UGDK in docs/beyond.md; the term that matters
+ * on a cap, where sigma^2 is a sizeable fraction of lambda_min):
+ *   Cov(c) += 7.5 sigma^4 M^-1 + N sigma^4 M^-1 (r^2 I + s a a^T) M^-1
+ * with s = +1 when sigma^2 is a known constant (calibrated beforehand) and
+ * s = -1 when sigma^2 was estimated from the same samples (self-calibrated
+ * UGDK, sfit_selfcal_fit(), or the refined geometric fit): the estimate
+ * co-varies with the centre error and cancels most of the a a^T term.
+ */
+#ifndef SFIT_UNCERT_H
+#define SFIT_UNCERT_H
+
+#include <stddef.h>
+
+#include "sfit_moments.h"
+#include "sfit_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** @brief Where the noise variance given to the uncertainty comes from. */
+typedef enum sfit_uncert_noise {
+    SFIT_UNCERT_NOISE_KNOWN = 0,    /**< A constant known beforehand (calibration). */
+    SFIT_UNCERT_NOISE_ESTIMATED = 1 /**< Estimated from the same samples (self-calibration,
+                                         refinement residuals). */
+} sfit_uncert_noise_t;
+
+/** @brief Uncertainty of a sphere fit. Written only on SFIT_OK; always finite. */
+typedef struct sfit_uncert {
+    float center_cov[6];        /**< Cov(c), packed XX, YY, ZZ, XY, XZ, YZ (unit^2). */
+    float radius_var;           /**< Var(r) (unit^2), first order. */
+    float center_radius_cov[3]; /**< Cov(c, r) (unit^2), first order. */
+    float noise_var;            /**< The sigma^2 used. */
+} sfit_uncert_t;
+
+/**
+ * @brief Uncertainty of a fit from the accumulator alone (O(1); no samples
+ * kept): first- plus second-order centre covariance, first-order radius.
+ * @param[in]  m          Accumulator of the samples that were fitted.
+ * @param[in]  center     Fitted centre (UGDK, self-calibrated or refined).
+ * @param[in]  radius     Fitted radius (> 0).
+ * @param[in]  noise_var  sigma^2 (>= 0; 0 gives an all-zero covariance).
+ * @param[in]  kind       Where sigma^2 comes from (sign s of the a a^T term).
+ * @param[out] out        Written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL pointer, bad kind, negative / non-finite
+ *                            noise_var or radius <= 0 / non-finite, non-finite centre
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_NOT_POSDEF  C - sigma^2 I is not positive definite (sphere
+ *                            ill-posed: near-planar samples, or the noise too large)
+ * @retval SFIT_E_RANGE       a result would not be finite
+ */
+sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
+                                  float radius, float noise_var, sfit_uncert_noise_t kind,
+                                  sfit_uncert_t *out);
+
+/**
+ * @brief First-order uncertainty sigma^2 (J^T J)^-1 of a fit, from the
+ * samples (one pass for the mean direction, one for the centred sums; the
+ * centre block is formed as sum (u - u_mean)(u - u_mean)^T, no cancellation).
+ * @param[in]  pts        n samples (caller-owned).
+ * @param[in]  n          Sample count (>= SFIT_MIN_SAMPLES).
+ * @param[in]  center     Fitted centre.
+ * @param[in]  radius     Fitted radius (> 0; only checked, the directions carry r).
+ * @param[in]  noise_var  sigma^2 (>= 0).
+ * @param[out] out        Written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL pointer, bad noise_var / radius / centre
+ * @retval SFIT_E_TOO_FEW     n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
+ * @retval SFIT_E_DEGENERATE  a sample at the centre, or the directions span
+ *                            less than 3 dimensions (J^T J singular)
+ * @retval SFIT_E_RANGE       a result would not be finite
+ */
+sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+                                 float radius, float noise_var, sfit_uncert_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+#endif /* SFIT_UNCERT_H */

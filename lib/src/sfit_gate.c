@@ -1,0 +1,426 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_gate.c
+ * @brief Outlier gate around a moments accumulator.
+ *
+ * Implementation notes
+ * --------------------
+ * The variance floor (SFIT_GATE_VAR_FLOOR_REL * r)^2 keeps exact or
+ * nearly exact data from gating out its own rounding noise. The robust
+ * start sorts at most SFIT_GATE_WARMUP residuals by insertion (bounded,
+ * no recursion).
+ */
+#include "sfit/sfit_gate.h"
+
+#include <string.h>
+
+#include "sfit/sfit_mat3.h"
+#include "sfit_internal.h"
+
+/** Gate sigma is at least this fraction of the radius (rounding noise). */
+#define SFIT_GATE_VAR_FLOOR_REL 1e-5f
+/** Interleaved start subsets of the robust start (LTS). */
+/* (subsets of 8 samples: with 5 % outliers about 2/3 of them are clean) */
+#define SFIT_GATE_STARTS ((uint32_t)SFIT_GATE_WARMUP / 8u)
+/** Concentration steps per start. */
+#define SFIT_GATE_CSTEPS 3
+/** MAD to sigma for a Gaussian. */
+#define SFIT_GATE_MAD_SIGMA 1.4826f
+
+const sfit_gate_cfg_t sfit_gate_cfg_default = {
+    {SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f, {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}},
+     0.0f},
+    0.0f,
+    0.0f,
+    64u};
+
+static float prv_floor(float r)
+{
+    const float f = SFIT_GATE_VAR_FLOOR_REL * r;
+    return f * f;
+}
+
+static float prv_resid(const sfit_vec3_t *x, const sfit_vec3_t *c, float r)
+{
+    const float d0 = x->v[0] - c->v[0], d1 = x->v[1] - c->v[1], d2 = x->v[2] - c->v[2];
+    return SFIT_SQRTF(d0 * d0 + d1 * d1 + d2 * d2) - r;
+}
+
+/* Median of a[0..n-1] (sorted in place, insertion sort, n <= SFIT_GATE_WARMUP). */
+static float prv_median(float *a, uint32_t n)
+{
+    uint32_t i, j;
+    for (i = 1u; i < n; i++) {
+        const float v = a[i];
+        for (j = i; j > 0u && a[j - 1u] > v; j--) {
+            a[j] = a[j - 1u];
+        }
+        a[j] = v;
+    }
+    return ((n & 1u) != 0u) ? a[n / 2u] : 0.5f * (a[n / 2u - 1u] + a[n / 2u]);
+}
+
+sfit_status_t sfit_gate_init(sfit_gate_t *g, const sfit_gate_cfg_t *cfg)
+{
+    sfit_gate_cfg_t c;
+    if (g == NULL) {
+        return SFIT_E_ARG;
+    }
+    c = (cfg != NULL) ? *cfg : sfit_gate_cfg_default;
+    if (sfit_i_check_cfg(&c.fit) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(c.k) || (c.k != 0.0f && !(c.k > 1.0f))) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(c.noise_var) || c.noise_var < 0.0f) {
+        return SFIT_E_ARG;
+    }
+    if (c.k == 0.0f) {
+        c.k = SFIT_GATE_K;
+    }
+    memset(g, 0, sizeof *g);
+    g->cfg = c;
+    (void)sfit_moments_init(&g->acc);
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_gate_reset(sfit_gate_t *g)
+{
+    sfit_gate_cfg_t c;
+    if (g == NULL) {
+        return SFIT_E_ARG;
+    }
+    c = g->cfg;
+    return sfit_gate_init(g, &c);
+}
+
+/* Accumulate the buffered samples whose keep flag is set. */
+static void prv_buffer_moments(const sfit_gate_t *g, const uint8_t *keep, sfit_moments_t *m)
+{
+    uint32_t i;
+    (void)sfit_moments_init(m);
+    for (i = 0u; i < g->nwarm; i++) {
+        if (keep == NULL || keep[i] != 0u) {
+            (void)sfit_moments_add(m, &g->warm[i]); /* validated on entry */
+        }
+    }
+}
+
+/* Leverage data of the fitted samples: mean and M^-1 = C^-1/(N-1). With a
+ * singular C (cannot happen after a successful sphere solve, but planar
+ * solutions have a tiny lambda_min) M^-1 is left huge on that direction
+ * through the Cholesky floor: the gate is then lenient there. */
+static sfit_status_t prv_leverage(sfit_gate_t *g, const sfit_moments_t *m)
+{
+    sfit_vec3_t mean;
+    sfit_mat3_t c, l;
+    float inv[9];
+    uint32_t n = sfit_moments_count(m);
+    int j;
+    if (n < 2u || sfit_moments_stats(m, &mean, &c, NULL) != SFIT_OK
+        || sfit_mat3_chol(&c, &l) != SFIT_OK) {
+        return SFIT_E_DEGENERATE;
+    }
+    for (j = 0; j < 3; j++) {
+        sfit_vec3_t e, x;
+        e.v[0] = (j == 0) ? 1.0f : 0.0f;
+        e.v[1] = (j == 1) ? 1.0f : 0.0f;
+        e.v[2] = (j == 2) ? 1.0f : 0.0f;
+        (void)sfit_mat3_chol_solve(&l, &e, &x);
+        inv[j] = x.v[0];
+        inv[3 + j] = x.v[1];
+        inv[6 + j] = x.v[2];
+    }
+    g->mean = mean;
+    g->inv_n = 1.0f / (float)n;
+    {
+        const float s = 1.0f / (float)(n - 1u);
+        g->minv[0] = s * inv[0];
+        g->minv[1] = s * inv[4];
+        g->minv[2] = s * inv[8];
+        g->minv[3] = s * 0.5f * (inv[1] + inv[3]);
+        g->minv[4] = s * 0.5f * (inv[2] + inv[6]);
+        g->minv[5] = s * 0.5f * (inv[5] + inv[7]);
+    }
+    return SFIT_OK;
+}
+
+/* h = 1/N + (x - m)^T M^-1 (x - m). */
+static float prv_h(const sfit_gate_t *g, const sfit_vec3_t *x)
+{
+    const float *q = g->minv;
+    const float d0 = x->v[0] - g->mean.v[0], d1 = x->v[1] - g->mean.v[1],
+                d2 = x->v[2] - g->mean.v[2];
+    return g->inv_n + q[0] * d0 * d0 + q[1] * d1 * d1 + q[2] * d2 * d2
+           + 2.0f * (q[3] * d0 * d1 + q[4] * d0 * d2 + q[5] * d1 * d2);
+}
+
+/* Start gating from the current fit: reset the window. */
+static void prv_set_fit(sfit_gate_t *g, const sfit_result_t *r, const sfit_moments_t *m)
+{
+    if (prv_leverage(g, m) != SFIT_OK) {
+        memset(g->minv, 0, sizeof g->minv);
+        g->inv_n = 0.0f;
+    }
+    g->center = r->center;
+    g->radius = r->radius;
+    g->phase = 2u;
+    g->ws1 = 0.0f;
+    g->ws2 = 0.0f;
+    g->wn = 0u;
+    g->since = 0u;
+    g->wrej = 0u;
+}
+
+/* Fit the kept buffer samples and take every residual. */
+static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfit_moments_t *m,
+                                  sfit_result_t *fit, float *res)
+{
+    uint32_t i;
+    sfit_status_t st;
+    prv_buffer_moments(g, keep, m);
+    st = sfit_fit_solve(m, &g->cfg.fit, fit);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    for (i = 0u; i < g->nwarm; i++) {
+        res[i] = prv_resid(&g->warm[i], &fit->center, fit->radius);
+    }
+    return SFIT_OK;
+}
+
+/* Robust start on the warm-up buffer (see the header): least trimmed
+ * squares from SFIT_GATE_STARTS interleaved subsets with
+ * SFIT_GATE_CSTEPS concentration steps each, then a k-sigma cut with the
+ * MAD scale of the best fit. */
+static sfit_status_t prv_warm_start(sfit_gate_t *g)
+{
+    uint8_t *const keep = g->wkeep, *const best = g->wbest;
+    float *const res = g->wres, *const tmp = g->wtmp;
+    sfit_moments_t m;
+    sfit_result_t fit;
+    const uint32_t nw = g->nwarm;
+    const uint32_t h = (3u * nw) / 4u;
+    const uint32_t starts = (nw >= 4u * (SFIT_MIN_SAMPLES + 2u)) ? SFIT_GATE_STARTS : 1u;
+    uint32_t i, s, nk = 0u, dropped = 0u;
+    float best_score = -1.0f, med, sr, thr;
+    int step, found = 0;
+    sfit_status_t st = SFIT_E_TOO_FEW;
+
+    for (s = 0u; s < starts; s++) {
+        float score = 0.0f;
+        int ok = 1;
+        for (i = 0u; i < nw; i++) {
+            keep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
+        }
+        for (step = 0; step <= SFIT_GATE_CSTEPS; step++) {
+            float cut;
+            if (prv_fit_keep(g, keep, &m, &fit, res) != SFIT_OK) {
+                ok = 0;
+                break;
+            }
+            for (i = 0u; i < nw; i++) {
+                tmp[i] = SFIT_FABSF(res[i]);
+            }
+            (void)prv_median(tmp, nw); /* sorts tmp */
+            cut = tmp[h - 1u];
+            score = 0.0f;
+            for (i = 0u; i < h; i++) {
+                score += tmp[i] * tmp[i];
+            }
+            if (step == SFIT_GATE_CSTEPS) {
+                break;
+            }
+            for (i = 0u; i < nw; i++) {
+                keep[i] = (SFIT_FABSF(res[i]) <= cut) ? 1u : 0u;
+            }
+        }
+        if (ok && (!found || score < best_score)) {
+            found = 1;
+            best_score = score;
+            for (i = 0u; i < nw; i++) {
+                best[i] = keep[i];
+            }
+        }
+    }
+    if (found) {
+        /* k-sigma cut around the best trimmed fit, MAD scale over all samples */
+        st = prv_fit_keep(g, best, &m, &fit, res);
+        if (st == SFIT_OK) {
+            for (i = 0u; i < nw; i++) {
+                tmp[i] = res[i];
+            }
+            med = prv_median(tmp, nw);
+            for (i = 0u; i < nw; i++) {
+                tmp[i] = SFIT_FABSF(res[i] - med);
+            }
+            sr = SFIT_GATE_MAD_SIGMA * prv_median(tmp, nw);
+            if (sr * sr < g->cfg.noise_var) {
+                sr = SFIT_SQRTF(g->cfg.noise_var);
+            }
+            if (sr * sr < prv_floor(fit.radius)) {
+                sr = SFIT_SQRTF(prv_floor(fit.radius));
+            }
+            thr = g->cfg.k * sr;
+            for (i = 0u; i < nw; i++) {
+                keep[i] = (SFIT_FABSF(res[i] - med) <= thr) ? 1u : 0u;
+                nk += keep[i];
+            }
+            st = (nk > SFIT_MIN_SAMPLES) ? prv_fit_keep(g, keep, &m, &fit, res) : SFIT_E_TOO_FEW;
+        }
+    }
+    if (st != SFIT_OK) {
+        /* No fit yet: accept everything ungated until a refresh succeeds. */
+        (void)sfit_moments_init(&g->acc);
+        for (i = 0u; i < nw; i++) {
+            (void)sfit_moments_add(&g->acc, &g->warm[i]);
+        }
+        g->nwarm = 0u;
+        g->phase = 1u;
+        g->since = 0u;
+        return st;
+    }
+    for (i = 0u; i < nw; i++) {
+        dropped += (keep[i] != 0u) ? 0u : 1u;
+    }
+    g->acc = m;
+    g->outliers += dropped;
+    prv_set_fit(g, &fit, &g->acc);
+    if (g->cfg.noise_var > 0.0f) {
+        g->var = g->cfg.noise_var;
+    } else {
+        float s1 = 0.0f, s2 = 0.0f, v;
+        for (i = 0u; i < nw; i++) {
+            if (keep[i] != 0u) {
+                s1 += res[i];
+                s2 += res[i] * res[i];
+            }
+        }
+        v = (s2 - s1 * s1 / (float)nk) / (float)(nk - 4u);
+        g->var = (v > prv_floor(fit.radius)) ? v : prv_floor(fit.radius);
+    }
+    g->nwarm = 0u;
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
+{
+    sfit_result_t fit;
+    sfit_status_t st;
+    if (g == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (g->phase == 0u) {
+        if (g->nwarm < SFIT_MIN_SAMPLES + 1u) {
+            return SFIT_E_TOO_FEW;
+        }
+        return prv_warm_start(g);
+    }
+    st = sfit_fit_solve(&g->acc, &g->cfg.fit, &fit);
+    if (st != SFIT_OK) {
+        g->since = 0u;
+        g->wrej = 0u;
+        return st;
+    }
+    if (g->since > 0u && (uint64_t)g->wrej * 100u > (uint64_t)g->since * SFIT_GATE_MAX_REJECT_PCT) {
+        g->var *= 4.0f; /* rejecting too much: the noise level is not credible */
+    } else if (g->cfg.noise_var > 0.0f) {
+        g->var = g->cfg.noise_var;
+    } else if (g->wn >= SFIT_GATE_MIN_WINDOW) {
+        const float v = g->ws2 / (float)g->wn;
+        g->var = (v > prv_floor(fit.radius)) ? v : prv_floor(fit.radius);
+    } else {
+        /* keep the previous sigma^2 (0 = not known yet: ungated window) */
+    }
+    prv_set_fit(g, &fit, &g->acc);
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
+{
+    sfit_status_t st;
+    float e = 0.0f, h1 = 1.0f;
+    if (g == NULL || x == NULL) {
+        return SFIT_E_ARG;
+    }
+    st = sfit_i_check_sample(x->v);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (g->phase == 0u) {
+        g->warm[g->nwarm++] = *x;
+        if (g->nwarm == (uint32_t)SFIT_GATE_WARMUP) {
+            (void)prv_warm_start(g);
+        }
+        if (accepted != NULL) {
+            *accepted = 1;
+        }
+        return SFIT_OK;
+    }
+    if (g->phase == 2u) {
+        e = prv_resid(x, &g->center, g->radius);
+        h1 = 1.0f + prv_h(g, x);
+        if (g->var > 0.0f && e * e > g->cfg.k * g->cfg.k * g->var * h1) {
+            if (g->outliers == UINT32_MAX) {
+                return SFIT_E_RANGE;
+            }
+            g->outliers++;
+            g->wrej++;
+            g->since++;
+            if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
+                (void)sfit_gate_refresh(g);
+            }
+            if (accepted != NULL) {
+                *accepted = 0;
+            }
+            return SFIT_OK;
+        }
+    }
+    st = sfit_moments_add(&g->acc, x);
+    if (st != SFIT_OK) {
+        return st; /* accumulator unchanged, gate untouched */
+    }
+    if (g->phase == 2u && g->wn < UINT32_MAX) {
+        g->ws2 += e * e / h1;
+        g->wn++;
+    }
+    g->since++;
+    if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
+        (void)sfit_gate_refresh(g);
+    }
+    if (accepted != NULL) {
+        *accepted = 1;
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_gate_solve(const sfit_gate_t *g, sfit_result_t *out)
+{
+    if (g == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (g->phase == 0u) {
+        sfit_moments_t m;
+        prv_buffer_moments(g, NULL, &m);
+        return sfit_fit_solve(&m, &g->cfg.fit, out);
+    }
+    return sfit_fit_solve(&g->acc, &g->cfg.fit, out);
+}
+
+sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)
+{
+    if (g == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    out->accepted = (g->phase == 0u) ? g->nwarm : sfit_moments_count(&g->acc);
+    out->outliers = g->outliers;
+    out->gated = (g->phase == 2u && g->var > 0.0f) ? 1u : 0u;
+    out->noise_var = (g->phase == 2u) ? g->var : 0.0f;
+    return SFIT_OK;
+}
+
+const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g)
+{
+    return (g == NULL || g->phase == 0u) ? NULL : &g->acc;
+}

@@ -1,0 +1,296 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_refine.c
+ * @brief Bounded Levenberg-Marquardt orthogonal-distance sphere fit (float).
+ *
+ * Implementation notes
+ * --------------------
+ * Parameters: the offset p of the centre from the start centre c0 (the
+ * radius is profiled out). Samples are used as z_i = (x_i - c0) - p.
+ * Sums are two-level (blocks of SFIT_REFINE_BLOCK samples). The cost
+ * sum (d - dbar)^2 is summed as e = d - rref with rref the previous mean
+ * distance, so the one-pass variance formula does not cancel.
+ */
+#include "sfit/sfit_refine.h"
+
+#include <float.h>
+#include <string.h>
+
+#include "sfit/sfit_config.h"
+#include "sfit/sfit_mat3.h"
+#include "sfit_internal.h"
+
+#define SFIT_REFINE_BLOCK 64u
+#define PRV_NSUM 9
+/* A step is accepted while the cost grows by less than this many float
+ * epsilons (relative): near the minimum the change is below the rounding
+ * of the summed cost and a strict comparison would stall the iteration. */
+#define SFIT_REFINE_COST_ULPS 32.0f
+
+
+const sfit_refine_cfg_t sfit_refine_cfg_default = {0u, 0.0f};
+
+/* Two-level sum of up to PRV_NSUM quantities. */
+typedef struct prv_sum {
+    float tot[PRV_NSUM];
+    float blk[PRV_NSUM];
+    uint32_t inblk;
+} prv_sum_t;
+
+static void prv_sum_add(prv_sum_t *s, const float *v, int k)
+{
+    int j;
+    for (j = 0; j < k; j++) {
+        s->blk[j] += v[j];
+    }
+    if (++s->inblk == SFIT_REFINE_BLOCK) {
+        for (j = 0; j < k; j++) {
+            s->tot[j] += s->blk[j];
+            s->blk[j] = 0.0f;
+        }
+        s->inblk = 0u;
+    }
+}
+
+static void prv_sum_end(prv_sum_t *s, int k)
+{
+    int j;
+    for (j = 0; j < k; j++) {
+        s->tot[j] += s->blk[j];
+    }
+}
+
+/* Distance and direction of sample i from c0 + p; 0 if at the centre. */
+static int prv_dist(const sfit_vec3_t *x, const sfit_vec3_t *c0, const float p[3], float u[3],
+                    float *d)
+{
+    float dd;
+    int j;
+    for (j = 0; j < 3; j++) {
+        u[j] = (x->v[j] - c0->v[j]) - p[j];
+    }
+    dd = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(dd > 0.0f)) {
+        return 0;
+    }
+    for (j = 0; j < 3; j++) {
+        u[j] /= dd;
+    }
+    *d = dd;
+    return 1;
+}
+
+/* Pass A: mean direction, mean distance, cost. */
+typedef struct prv_stats {
+    float ubar[3];
+    float dbar;
+    float cost;
+} prv_stats_t;
+
+static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+                                const float p[3], float rref, prv_stats_t *st)
+{
+    prv_sum_t s;
+    float nf = (float)n, e1;
+    size_t i;
+    int j;
+
+    memset(&s, 0, sizeof s);
+    for (i = 0; i < n; i++) {
+        float u[3], d, v[5];
+        if (!prv_dist(&pts[i], c0, p, u, &d)) {
+            return SFIT_E_DEGENERATE;
+        }
+        v[0] = u[0];
+        v[1] = u[1];
+        v[2] = u[2];
+        v[3] = d - rref;
+        v[4] = v[3] * v[3];
+        prv_sum_add(&s, v, 5);
+    }
+    prv_sum_end(&s, 5);
+    for (j = 0; j < 3; j++) {
+        st->ubar[j] = s.tot[j] / nf;
+    }
+    e1 = s.tot[3] / nf;
+    st->dbar = rref + e1;
+    st->cost = s.tot[4] - s.tot[3] * e1;
+    if (st->cost < 0.0f) {
+        st->cost = 0.0f; /* rounding */
+    }
+    if (!sfit_i_isfinite(st->cost) || !sfit_i_isfinite(st->dbar)) {
+        return SFIT_E_RANGE;
+    }
+    return SFIT_OK;
+}
+
+/* Pass B: A = sum (u - ubar)(u - ubar)^T (packed), g = sum (u - ubar)(d - dbar). */
+static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, const float p[3],
+                       const prv_stats_t *st, float a[6], float g[3])
+{
+    prv_sum_t s;
+    size_t i;
+    int j;
+
+    memset(&s, 0, sizeof s);
+    for (i = 0; i < n; i++) {
+        float u[3], d = 0.0f, v[9], e;
+        (void)prv_dist(&pts[i], c0, p, u, &d); /* pass A saw no zero distance */
+        for (j = 0; j < 3; j++) {
+            u[j] -= st->ubar[j];
+        }
+        e = d - st->dbar;
+        v[0] = u[0] * u[0];
+        v[1] = u[1] * u[1];
+        v[2] = u[2] * u[2];
+        v[3] = u[0] * u[1];
+        v[4] = u[0] * u[2];
+        v[5] = u[1] * u[2];
+        v[6] = u[0] * e;
+        v[7] = u[1] * e;
+        v[8] = u[2] * e;
+        prv_sum_add(&s, v, 9);
+    }
+    prv_sum_end(&s, 9);
+    for (j = 0; j < 6; j++) {
+        a[j] = s.tot[j];
+    }
+    for (j = 0; j < 3; j++) {
+        g[j] = s.tot[6 + j];
+    }
+}
+
+static float prv_corrected_var(float cost, float nf, float r)
+{
+    float v = cost / (nf - 4.0f), q;
+    q = 4.0f * v / (r * r);
+    return 2.0f * v / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
+}
+
+sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+                              const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
+{
+    prv_stats_t cur, trial;
+    sfit_refine_result_t res;
+    float p[3] = {0.0f, 0.0f, 0.0f}, lambda = 1e-3f, tol, nf;
+    uint32_t maxit, it;
+    size_t i;
+    int j;
+    sfit_status_t st;
+
+    if (pts == NULL || c0 == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (cfg == NULL) {
+        cfg = &sfit_refine_cfg_default;
+    }
+    for (j = 0; j < 3; j++) {
+        if (!sfit_i_isfinite(c0->v[j])) {
+            return SFIT_E_ARG;
+        }
+    }
+    if (!sfit_i_isfinite(cfg->tol) || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
+        return SFIT_E_ARG;
+    }
+    tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
+    maxit = (cfg->max_iters == 0u || cfg->max_iters > (uint32_t)SFIT_REFINE_MAX_ITERS)
+                ? (uint32_t)SFIT_REFINE_MAX_ITERS
+                : cfg->max_iters;
+    if (n < 5u || n < (size_t)SFIT_MIN_SAMPLES) {
+        return SFIT_E_TOO_FEW;
+    }
+    if (n > (size_t)UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    for (i = 0; i < n; i++) {
+        st = sfit_i_check_sample(pts[i].v);
+        if (st != SFIT_OK) {
+            return st;
+        }
+    }
+    nf = (float)n;
+    st = prv_pass_a(pts, n, c0, p, 0.0f, &cur);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    /* once more with the mean distance as shift (exact cost) */
+    st = prv_pass_a(pts, n, c0, p, cur.dbar, &cur);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    for (it = 1u; it <= maxit; it++) {
+        float a[6], g[3];
+        sfit_mat3_t am, l;
+        int trials, accepted = 0;
+
+        prv_pass_b(pts, n, c0, p, &cur, a, g);
+        sfit_i_sym_unpack(a, &am);
+        for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
+            sfit_mat3_t ad = am;
+            sfit_vec3_t gv, step;
+            float pn[3], sn;
+            int small;
+            for (j = 0; j < 3; j++) {
+                ad.m[4 * j] += lambda * am.m[4 * j];
+                gv.v[j] = g[j];
+            }
+            if (sfit_mat3_chol(&ad, &l) != SFIT_OK) {
+                return SFIT_E_DEGENERATE;
+            }
+            (void)sfit_mat3_chol_solve(&l, &gv, &step);
+            sn = SFIT_SQRTF(step.v[0] * step.v[0] + step.v[1] * step.v[1]
+                            + step.v[2] * step.v[2]);
+            if (!sfit_i_isfinite(sn)) {
+                return SFIT_E_RANGE;
+            }
+            for (j = 0; j < 3; j++) {
+                pn[j] = p[j] + step.v[j];
+            }
+            st = prv_pass_a(pts, n, c0, pn, cur.dbar, &trial);
+            if (st != SFIT_OK) {
+                return st;
+            }
+            /* (1 + lambda) sn bounds the undamped step: a tiny step that
+             * only reflects heavy damping does not count as converged */
+            small = ((1.0f + lambda) * sn <= tol * cur.dbar);
+            if (trial.cost <= cur.cost * (1.0f + SFIT_REFINE_COST_ULPS * FLT_EPSILON) || small) {
+                /* a step inside the tolerance is taken even if rounding
+                 * made the cost tick up: it is the converged answer */
+                for (j = 0; j < 3; j++) {
+                    p[j] = pn[j];
+                }
+                cur = trial;
+                accepted = 1;
+                if (lambda > 1e-6f) {
+                    lambda *= 0.1f;
+                }
+                if (small) {
+                    memset(&res, 0, sizeof res);
+                    for (j = 0; j < 3; j++) {
+                        res.center.v[j] = c0->v[j] + p[j];
+                        if (!sfit_i_isfinite(res.center.v[j])) {
+                            return SFIT_E_RANGE;
+                        }
+                    }
+                    res.radius = cur.dbar;
+                    res.rms = SFIT_SQRTF(cur.cost / nf);
+                    res.noise_var = prv_corrected_var(cur.cost, nf, cur.dbar);
+                    res.n = (uint32_t)n;
+                    res.iterations = it;
+                    res.converged = 1u;
+                    if (!(res.radius > 0.0f) || !sfit_i_isfinite(res.noise_var)) {
+                        return SFIT_E_RANGE;
+                    }
+                    *out = res;
+                    return SFIT_OK;
+                }
+                break;
+            }
+            lambda *= 10.0f;
+        }
+        if (!accepted) {
+            return SFIT_E_NO_CONVERGENCE;
+        }
+    }
+    return SFIT_E_NO_CONVERGENCE;
+}

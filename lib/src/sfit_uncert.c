@@ -1,0 +1,268 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_uncert.c
+ * @brief Centre covariance and radius variance of a sphere fit.
+ *
+ * Implementation notes
+ * --------------------
+ * From moments: with C' = C - sigma^2 I (the noise-free covariance estimate)
+ * and K = C'^-1, M^-1 = K / (N-1), so
+ *   Cov(c) = sigma^2 (r^2 + 7.5 sigma^2) K / (N-1)
+ *          + N sigma^4 / (N-1)^2 (r^2 K K + s (K a)(K a)^T).
+ * Working with C' (entries ~ the spread squared) instead of M keeps the
+ * numbers in range for any N. K is formed column by column from the
+ * Cholesky factor of C'.
+ *
+ * From samples: J^T J = [[sum u u^T, sum u], [sum u^T, N]]; its inverse's
+ * centre block is A^-1 with A = sum (u - ubar)(u - ubar)^T (the Schur
+ * complement, summed centred so nothing cancels), the radius entry is
+ * 1/N + ubar^T A^-1 ubar and the coupling -A^-1 ubar. Two passes; sums are
+ * two-level (blocks of SFIT_UNCERT_BLOCK) to bound float rounding.
+ */
+#include "sfit/sfit_uncert.h"
+
+#include <string.h>
+
+#include "sfit/sfit_mat3.h"
+#include "sfit_internal.h"
+
+#define SFIT_UNCERT_BLOCK 64u
+
+static sfit_status_t prv_check_fit(const sfit_vec3_t *center, float radius, float noise_var)
+{
+    int i;
+    if (!sfit_i_isfinite(radius) || !(radius > 0.0f) || !sfit_i_isfinite(noise_var)
+        || noise_var < 0.0f) {
+        return SFIT_E_ARG;
+    }
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(center->v[i])) {
+            return SFIT_E_ARG;
+        }
+    }
+    return SFIT_OK;
+}
+
+/* Inverse of an SPD matrix from its Cholesky factor (full symmetric). */
+static void prv_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv)
+{
+    int j;
+    for (j = 0; j < 3; j++) {
+        sfit_vec3_t e, x;
+        e.v[0] = (j == 0) ? 1.0f : 0.0f;
+        e.v[1] = (j == 1) ? 1.0f : 0.0f;
+        e.v[2] = (j == 2) ? 1.0f : 0.0f;
+        (void)sfit_mat3_chol_solve(l, &e, &x);
+        inv->m[j] = x.v[0];
+        inv->m[3 + j] = x.v[1];
+        inv->m[6 + j] = x.v[2];
+    }
+    /* symmetrise (rounding) */
+    inv->m[1] = inv->m[3] = 0.5f * (inv->m[1] + inv->m[3]);
+    inv->m[2] = inv->m[6] = 0.5f * (inv->m[2] + inv->m[6]);
+    inv->m[5] = inv->m[7] = 0.5f * (inv->m[5] + inv->m[7]);
+}
+
+static void prv_pack(const sfit_mat3_t *a, float p[6])
+{
+    p[0] = a->m[0];
+    p[1] = a->m[4];
+    p[2] = a->m[8];
+    p[3] = a->m[1];
+    p[4] = a->m[2];
+    p[5] = a->m[5];
+}
+
+static sfit_status_t prv_finish(sfit_uncert_t *u, sfit_uncert_t *out)
+{
+    int i;
+    for (i = 0; i < 6; i++) {
+        if (!sfit_i_isfinite(u->center_cov[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(u->center_radius_cov[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    if (!sfit_i_isfinite(u->radius_var)) {
+        return SFIT_E_RANGE;
+    }
+    *out = *u;
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
+                                  float radius, float noise_var, sfit_uncert_noise_t kind,
+                                  sfit_uncert_t *out)
+{
+    sfit_vec3_t mean, a, q;
+    sfit_mat3_t c, l, k, cov;
+    sfit_uncert_t u;
+    float nf, n1, f1, f2, sgn, r2;
+    int i, j;
+    sfit_status_t st;
+
+    if (m == NULL || center == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (kind != SFIT_UNCERT_NOISE_KNOWN && kind != SFIT_UNCERT_NOISE_ESTIMATED) {
+        return SFIT_E_ARG;
+    }
+    st = prv_check_fit(center, radius, noise_var);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
+        return SFIT_E_TOO_FEW;
+    }
+    (void)sfit_moments_stats(m, &mean, &c, NULL);
+    for (i = 0; i < 3; i++) {
+        c.m[4 * i] -= noise_var;
+        a.v[i] = mean.v[i] - center->v[i];
+    }
+    if (sfit_mat3_chol(&c, &l) != SFIT_OK) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    prv_chol_inverse(&l, &k);
+    for (i = 0; i < 3; i++) {
+        q.v[i] = k.m[3 * i] * a.v[0] + k.m[3 * i + 1] * a.v[1] + k.m[3 * i + 2] * a.v[2];
+    }
+    nf = (float)sfit_moments_count(m);
+    n1 = nf - 1.0f;
+    r2 = radius * radius;
+    sgn = (kind == SFIT_UNCERT_NOISE_KNOWN) ? 1.0f : -1.0f;
+    f1 = noise_var * (r2 + 7.5f * noise_var) / n1;
+    f2 = (nf / n1) * (noise_var / n1) * noise_var;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            const float kk = k.m[3 * i] * k.m[j] + k.m[3 * i + 1] * k.m[3 + j]
+                             + k.m[3 * i + 2] * k.m[6 + j];
+            cov.m[3 * i + j] = f1 * k.m[3 * i + j] + f2 * (r2 * kk + sgn * q.v[i] * q.v[j]);
+        }
+    }
+    memset(&u, 0, sizeof u);
+    prv_pack(&cov, u.center_cov);
+    u.radius_var = noise_var * (1.0f / nf + (a.v[0] * q.v[0] + a.v[1] * q.v[1] + a.v[2] * q.v[2]) / n1);
+    for (i = 0; i < 3; i++) {
+        u.center_radius_cov[i] = -noise_var * radius * q.v[i] / n1;
+    }
+    u.noise_var = noise_var;
+    return prv_finish(&u, out);
+}
+
+/* Unit direction from the centre; 0 when the sample is at the centre. */
+static int prv_dir(const sfit_vec3_t *x, const sfit_vec3_t *c, float u[3])
+{
+    float d;
+    int i;
+    for (i = 0; i < 3; i++) {
+        u[i] = x->v[i] - c->v[i];
+    }
+    d = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(d > 0.0f)) {
+        return 0;
+    }
+    for (i = 0; i < 3; i++) {
+        u[i] /= d;
+    }
+    return 1;
+}
+
+sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+                                 float radius, float noise_var, sfit_uncert_t *out)
+{
+    float ub[3], tot[3] = {0.0f, 0.0f, 0.0f}, blk[3] = {0.0f, 0.0f, 0.0f};
+    float at[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}, ab[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    sfit_mat3_t a, l, k;
+    sfit_vec3_t q;
+    sfit_uncert_t u;
+    size_t i;
+    uint32_t inblk = 0u;
+    int j;
+    float nf;
+    sfit_status_t st;
+
+    if (pts == NULL || center == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    st = prv_check_fit(center, radius, noise_var);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (n < (size_t)SFIT_MIN_SAMPLES || n > (size_t)UINT32_MAX) {
+        return (n < (size_t)SFIT_MIN_SAMPLES) ? SFIT_E_TOO_FEW : SFIT_E_RANGE;
+    }
+    for (i = 0; i < n; i++) {
+        st = sfit_i_check_sample(pts[i].v);
+        if (st != SFIT_OK) {
+            return st;
+        }
+    }
+    /* Pass 1: mean direction. */
+    for (i = 0; i < n; i++) {
+        float d[3];
+        if (!prv_dir(&pts[i], center, d)) {
+            return SFIT_E_DEGENERATE;
+        }
+        for (j = 0; j < 3; j++) {
+            blk[j] += d[j];
+        }
+        if (++inblk == SFIT_UNCERT_BLOCK) {
+            for (j = 0; j < 3; j++) {
+                tot[j] += blk[j];
+                blk[j] = 0.0f;
+            }
+            inblk = 0u;
+        }
+    }
+    nf = (float)n;
+    for (j = 0; j < 3; j++) {
+        ub[j] = (tot[j] + blk[j]) / nf;
+    }
+    /* Pass 2: A = sum (u - ubar)(u - ubar)^T. */
+    inblk = 0u;
+    for (i = 0; i < n; i++) {
+        float d[3];
+        (void)prv_dir(&pts[i], center, d);
+        for (j = 0; j < 3; j++) {
+            d[j] -= ub[j];
+        }
+        ab[0] += d[0] * d[0];
+        ab[1] += d[1] * d[1];
+        ab[2] += d[2] * d[2];
+        ab[3] += d[0] * d[1];
+        ab[4] += d[0] * d[2];
+        ab[5] += d[1] * d[2];
+        if (++inblk == SFIT_UNCERT_BLOCK) {
+            for (j = 0; j < 6; j++) {
+                at[j] += ab[j];
+                ab[j] = 0.0f;
+            }
+            inblk = 0u;
+        }
+    }
+    for (j = 0; j < 6; j++) {
+        at[j] += ab[j];
+    }
+    sfit_i_sym_unpack(at, &a);
+    if (sfit_mat3_chol(&a, &l) != SFIT_OK) {
+        return SFIT_E_DEGENERATE;
+    }
+    prv_chol_inverse(&l, &k);
+    for (j = 0; j < 3; j++) {
+        q.v[j] = k.m[3 * j] * ub[0] + k.m[3 * j + 1] * ub[1] + k.m[3 * j + 2] * ub[2];
+    }
+    memset(&u, 0, sizeof u);
+    for (j = 0; j < 9; j++) {
+        k.m[j] *= noise_var;
+    }
+    prv_pack(&k, u.center_cov);
+    u.radius_var = noise_var * (1.0f / nf + ub[0] * q.v[0] + ub[1] * q.v[1] + ub[2] * q.v[2]);
+    for (j = 0; j < 3; j++) {
+        u.center_radius_cov[j] = -noise_var * q.v[j];
+    }
+    u.noise_var = noise_var;
+    return prv_finish(&u, out);
+}
