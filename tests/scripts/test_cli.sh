@@ -136,4 +136,19 @@ assert o["status"] == "ok" and o["kind"] == "cap", o
 assert 20 < o["half_angle_deg"] < 40 and o["rotate_further"] is False, o
 ' "$out" || fail "coverage: $out"
 "$sfit" coverage --json "$data/mocap/knee_right/RATT.csv" | grep -q '"kind":"arc"' || fail "coverage arc"
+# 8. Self-calibration and refinement: the double-precision geometric fit
+#    of tests/data/README.md is (-67.033, -88.814, 72.238), r 260.495.
+out=$("$sfit" fit --json --noise-var auto --refine "$data/mocap/hip_right/RTHI1.csv")
+py '
+import json, sys, math
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["method"] == "geometric", o
+assert math.dist(o["center"], (-67.033, -88.814, 72.238)) <= 0.01, o["center"]
+assert abs(o["radius"] - 260.495) <= 0.01
+assert len(o["center_cov"]) == 6 and o["noise_estimated"] is True
+for k in ("noise_var", "iterations", "outliers"):
+    assert k in o, k
+' "$out" || fail "auto+refine: $out"
+out=$("$sfit" fit --json --noise-var 3 --gate 4 "$data/mocap/hip_right/RTHI1.csv")
+echo "$out" | grep -q '"outliers":0' || fail "gate: $out"
 echo "cli: all checks passed"
