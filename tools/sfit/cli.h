@@ -54,6 +54,19 @@ void cli_print_vec(const float *v);
 /** Print {"status":...,"message":...} for a failure and return CLI_FAIL. */
 int cli_json_error(const char *status, const char *message);
 
+/** Report that `file` cannot be opened (JSON io_error or stderr); returns CLI_IO. */
+int cli_open_failed(const char *file, int json);
+
+/**
+ * Map a sub-command parser's result to an exit: 0 (go on) gives -1; 1
+ * (--help) prints usage on stdout and gives CLI_OK; anything else prints
+ * usage on stderr and gives CLI_USAGE.
+ */
+int cli_parse_outcome(int parse_rc, void (*usage)(FILE *));
+
+/** One positional FILE argument: rejects unknown options and a second FILE (0 ok). */
+int cli_positional(const char *arg, const char **file);
+
 /** Sub-commands: argv[0] is the sub-command name. */
 int cli_cmd_fit(int argc, char **argv);
 int cli_cmd_noise(int argc, char **argv);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /** @file cli_common.c  CSV streaming and output helpers of the `sfit` tool. */
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -135,4 +136,41 @@ int cli_json_error(const char *status, const char *message)
 {
     printf("{\"status\":\"%s\",\"message\":\"%s\"}\n", status, message);
     return CLI_FAIL;
+}
+
+int cli_open_failed(const char *file, int json)
+{
+    if (json) {
+        (void)cli_json_error("io_error", "cannot open an input file");
+    } else {
+        fprintf(stderr, "sfit: cannot open %s: %s\n", file, strerror(errno));
+    }
+    return CLI_IO;
+}
+
+int cli_parse_outcome(int parse_rc, void (*usage)(FILE *))
+{
+    if (parse_rc == 0) {
+        return -1;
+    }
+    if (parse_rc == 1) {
+        usage(stdout);
+        return CLI_OK;
+    }
+    usage(stderr);
+    return CLI_USAGE;
+}
+
+int cli_positional(const char *arg, const char **file)
+{
+    if (arg[0] == '-' && arg[1] != '\0') {
+        fprintf(stderr, "sfit: unknown or incomplete option %s\n", arg);
+        return -1;
+    }
+    if (*file != NULL) {
+        fprintf(stderr, "sfit: one FILE expected\n");
+        return -1;
+    }
+    *file = arg;
+    return 0;
 }

@@ -7,7 +7,6 @@
  *
  *   sfit coverage [--cap | --arc] [--noise-var V] [--rho-max R] [--json] FILE
  */
-#include <errno.h>
 #include <math.h>
 #include <string.h>
 
@@ -89,13 +88,7 @@ static int cov_parse(int argc, char **argv, cov_opts_t *o)
                 fprintf(stderr, "sfit: --rho-max needs one value in (0, 1]\n");
                 return -1;
             }
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
-            return -1;
-        } else if (o->file == NULL) {
-            o->file = a;
-        } else {
-            fprintf(stderr, "sfit: one FILE expected\n");
+        } else if (cli_positional(a, &o->file) != 0) {
             return -1;
         }
     }
@@ -227,24 +220,15 @@ int cli_cmd_coverage(int argc, char **argv)
     cli_input_t in;
     sfit_status_t st;
 
-    switch (cov_parse(argc, argv, &o)) {
-    case 0:
-        break;
-    case 1:
-        cov_usage(stdout);
-        return CLI_OK;
-    default:
-        cov_usage(stderr);
-        return CLI_USAGE;
+    {
+        const int prc = cli_parse_outcome(cov_parse(argc, argv, &o), cov_usage);
+        if (prc >= 0) {
+            return prc;
+        }
     }
     (void)sfit_moments_init(&acc);
     if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
-        if (o.json) {
-            (void)cli_json_error("io_error", "cannot open the input file");
-        } else {
-            fprintf(stderr, "sfit: cannot open %s: %s\n", o.file, strerror(errno));
-        }
-        return CLI_IO;
+        return cli_open_failed(o.file, o.json);
     }
     if (!o.json) {
         cli_report_rejects(o.file, &in);

@@ -15,7 +15,6 @@
  * "outliers" (samples rejected by --gate). --noise-var auto and --refine
  * keep the samples in memory (the library works on a caller-owned array).
  */
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -461,12 +460,7 @@ static int fit_multi(const fit_opts_t *o)
         cli_input_t in;
         (void)sfit_moments_init(&acc[k]);
         if (cli_read_csv(o->files[k], cli_add_to_moments, &acc[k], &in) != 0) {
-            if (o->json) {
-                (void)cli_json_error("io_error", "cannot open an input file");
-            } else {
-                fprintf(stderr, "sfit: cannot open %s: %s\n", o->files[k], strerror(errno));
-            }
-            rc = CLI_IO;
+            rc = cli_open_failed(o->files[k], o->json);
             goto done;
         }
         if (!o->json) {
@@ -616,12 +610,7 @@ int cli_cmd_fit(int argc, char **argv)
             return prc;
         }
         free(o.files);
-        if (prc == 1) {
-            fit_usage(stdout);
-            return CLI_OK;
-        }
-        fit_usage(stderr);
-        return CLI_USAGE;
+        return cli_parse_outcome(prc, fit_usage);
     }
     free(o.files);
     o.files = NULL;
@@ -643,12 +632,7 @@ int cli_cmd_fit(int argc, char **argv)
     }
     if (cli_read_csv(o.file, fit_sink_add, &sink, &in) != 0) {
         free(sink.pts);
-        if (o.json) {
-            (void)cli_json_error("io_error", "cannot open the input file");
-        } else {
-            fprintf(stderr, "sfit: cannot open %s: %s\n", o.file, strerror(errno));
-        }
-        return CLI_IO;
+        return cli_open_failed(o.file, o.json);
     }
     st = fit_single(&o, &sink, &r, &extra);
     free(sink.pts);

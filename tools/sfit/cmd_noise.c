@@ -6,7 +6,6 @@
  *
  *   sfit noise --center X,Y,Z --radius R [--json] FILE
  */
-#include <errno.h>
 #include <math.h>
 #include <string.h>
 
@@ -61,13 +60,7 @@ static int noise_parse(int argc, char **argv, noise_opts_t *o)
                 return -1;
             }
             o->have_radius = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
-            return -1;
-        } else if (o->file == NULL) {
-            o->file = a;
-        } else {
-            fprintf(stderr, "sfit: one FILE expected\n");
+        } else if (cli_positional(a, &o->file) != 0) {
             return -1;
         }
     }
@@ -109,24 +102,15 @@ int cli_cmd_noise(int argc, char **argv)
     sfit_noise_est_t e;
     sfit_status_t st;
 
-    switch (noise_parse(argc, argv, &o)) {
-    case 0:
-        break;
-    case 1:
-        noise_usage(stdout);
-        return CLI_OK;
-    default:
-        noise_usage(stderr);
-        return CLI_USAGE;
+    {
+        const int prc = cli_parse_outcome(noise_parse(argc, argv, &o), noise_usage);
+        if (prc >= 0) {
+            return prc;
+        }
     }
     (void)sfit_moments_init(&acc);
     if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
-        if (o.json) {
-            (void)cli_json_error("io_error", "cannot open the input file");
-        } else {
-            fprintf(stderr, "sfit: cannot open %s: %s\n", o.file, strerror(errno));
-        }
-        return CLI_IO;
+        return cli_open_failed(o.file, o.json);
     }
     if (!o.json) {
         cli_report_rejects(o.file, &in);

@@ -80,13 +80,7 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
                 fprintf(stderr, "sfit: --every needs a whole number >= 0\n");
                 return -1;
             }
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
-            return -1;
-        } else if (o->file == NULL) {
-            o->file = a;
-        } else {
-            fprintf(stderr, "sfit: one FILE expected\n");
+        } else if (cli_positional(a, &o->file) != 0) {
             return -1;
         }
     }
@@ -135,15 +129,11 @@ int cli_cmd_track(int argc, char **argv)
     sfit_incr_est_t e;
     sfit_status_t st;
 
-    switch (track_parse(argc, argv, &o)) {
-    case 0:
-        break;
-    case 1:
-        track_usage(stdout);
-        return CLI_OK;
-    default:
-        track_usage(stderr);
-        return CLI_USAGE;
+    {
+        const int prc = cli_parse_outcome(track_parse(argc, argv, &o), track_usage);
+        if (prc >= 0) {
+            return prc;
+        }
     }
     if (sfit_incr_init(&ctx.inc, &o.cfg) != SFIT_OK) {
         fprintf(stderr, "sfit: invalid noise model\n");
@@ -155,12 +145,7 @@ int cli_cmd_track(int argc, char **argv)
         printf("# n center_x center_y center_z radius\n");
     }
     if (cli_read_csv(o.file, track_sample, &ctx, &in) != 0) {
-        if (o.json) {
-            (void)cli_json_error("io_error", "cannot open the input file");
-        } else {
-            fprintf(stderr, "sfit: cannot open %s: %s\n", o.file, strerror(errno));
-        }
-        return CLI_IO;
+        return cli_open_failed(o.file, o.json);
     }
     if (!o.json) {
         cli_report_rejects(o.file, &in);
