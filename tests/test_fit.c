@@ -637,6 +637,13 @@ static void test_errors(void **state)
     assert_int_equal(sfit_fit_batch(g_fpts, 8, &cfg, &r), SFIT_E_ARG);
     cfg.noise_cov.m[4] = -1.0f;
     assert_int_equal(sfit_fit_batch(g_fpts, 8, &cfg, &r), SFIT_E_ARG);
+    /* Not positive semi-definite: a 2x2 principal minor < 0 (fuzz finding:
+     * the planar trust ratio came out negative for such a Sigma). */
+    cfg.noise_cov.m[0] = 1.0f; cfg.noise_cov.m[4] = 1.0f; cfg.noise_cov.m[8] = 2.0f;
+    cfg.noise_cov.m[3] = 1e4f; cfg.noise_cov.m[6] = 0.0f; cfg.noise_cov.m[7] = 0.0f;
+    assert_int_equal(sfit_fit_batch(g_fpts, 8, &cfg, &r), SFIT_E_ARG);
+    cfg.noise_cov.m[3] = 0.0f; cfg.noise_cov.m[7] = -2.0f;
+    assert_int_equal(sfit_fit_batch(g_fpts, 8, &cfg, &r), SFIT_E_ARG);
     cfg = sfit_fit_cfg_default;
     cfg.planar_ratio = 1.5f;
     assert_int_equal(sfit_fit_batch(g_fpts, 8, &cfg, &r), SFIT_E_ARG);

@@ -268,6 +268,13 @@ static void test_eig_errors(void **state)
     assert_int_equal(sfit_mat3_eig_sym(&a, &w, &v), SFIT_E_NONFINITE);
     assert_memory_equal(&w, &ws, sizeof w);
     assert_memory_equal(&v, &vs, sizeof v);
+    {
+        /* Finite but near FLT_MAX: a rotation overflows (fuzz finding: an
+         * infinite eigenvalue came back with SFIT_OK). */
+        const sfit_mat3_t huge = {{3e38f, 1e38f, 2e38f, 1e38f, -3e38f, 1e37f, 2e38f, 1e37f, 3e38f}};
+        assert_int_equal(sfit_mat3_eig_sym(&huge, &w, &v), SFIT_E_RANGE);
+        assert_memory_equal(&w, &ws, sizeof w);
+    }
 }
 
 static void test_status_names(void **state)

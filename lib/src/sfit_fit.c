@@ -71,9 +71,14 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
                 return SFIT_E_ARG;
             }
         }
-        if (cfg->noise_cov.m[0] < 0.0f || cfg->noise_cov.m[4] < 0.0f
-            || cfg->noise_cov.m[8] < 0.0f) {
-            return SFIT_E_ARG;
+        {
+            /* Positive semi-definite, necessary conditions: non-negative
+             * diagonal and every 2x2 principal minor >= 0 (lower triangle). */
+            const float *c = cfg->noise_cov.m;
+            if (c[0] < 0.0f || c[4] < 0.0f || c[8] < 0.0f || c[3] * c[3] > c[0] * c[4]
+                || c[6] * c[6] > c[0] * c[8] || c[7] * c[7] > c[4] * c[8]) {
+                return SFIT_E_ARG;
+            }
         }
         break;
     default:
@@ -261,8 +266,9 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
             b00 = prv_dot(v1, sv1) / lamp.v[1];
             b11 = prv_dot(v2, sv2) / lamp.v[2];
             b01 = prv_dot(v1, sv2) / SFIT_SQRTF(lamp.v[1] * lamp.v[2]);
+            /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
             h = 0.5f * (b00 - b11);
-            rho = 0.5f * (b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
+            rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
         }
         prv_axis(&vecp, 0, &r.axis);
         r.mode = SFIT_MODE_PLANAR;

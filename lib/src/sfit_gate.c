@@ -190,96 +190,130 @@ static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfi
     return SFIT_OK;
 }
 
+/* One least-trimmed-squares start: the interleaved subset s of `starts`,
+ * then SFIT_GATE_CSTEPS concentration steps keeping the h smallest
+ * residuals. Leaves the final subset in g->wkeep; returns 1 with its
+ * trimmed score when every fit succeeded. */
+static int prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h,
+                         float *score)
+{
+    uint8_t *const keep = g->wkeep;
+    float *const res = g->wres, *const tmp = g->wtmp;
+    const uint32_t nw = g->nwarm;
+    sfit_moments_t m;
+    sfit_result_t fit;
+    uint32_t i;
+    int step;
+
+    for (i = 0u; i < nw; i++) {
+        keep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
+    }
+    for (step = 0; step <= SFIT_GATE_CSTEPS; step++) {
+        float cut;
+        if (prv_fit_keep(g, keep, &m, &fit, res) != SFIT_OK) {
+            return 0;
+        }
+        for (i = 0u; i < nw; i++) {
+            tmp[i] = SFIT_FABSF(res[i]);
+        }
+        (void)prv_median(tmp, nw); /* sorts tmp */
+        cut = tmp[h - 1u];
+        *score = 0.0f;
+        for (i = 0u; i < h; i++) {
+            *score += tmp[i] * tmp[i];
+        }
+        if (step == SFIT_GATE_CSTEPS) {
+            break;
+        }
+        for (i = 0u; i < nw; i++) {
+            keep[i] = (SFIT_FABSF(res[i]) <= cut) ? 1u : 0u;
+        }
+    }
+    return 1;
+}
+
+/* k-sigma cut around the best trimmed fit (subset g->wbest), with the MAD
+ * scale over all buffered samples; refits the kept samples into m / fit
+ * and leaves the kept set in g->wkeep and its size in *nk. */
+static sfit_status_t prv_ksigma_cut(sfit_gate_t *g, sfit_moments_t *m, sfit_result_t *fit,
+                                    uint32_t *nk)
+{
+    uint8_t *const keep = g->wkeep;
+    float *const res = g->wres, *const tmp = g->wtmp;
+    const uint32_t nw = g->nwarm;
+    float med, sr, thr;
+    uint32_t i;
+    sfit_status_t st = prv_fit_keep(g, g->wbest, m, fit, res);
+
+    if (st != SFIT_OK) {
+        return st;
+    }
+    for (i = 0u; i < nw; i++) {
+        tmp[i] = res[i];
+    }
+    med = prv_median(tmp, nw);
+    for (i = 0u; i < nw; i++) {
+        tmp[i] = SFIT_FABSF(res[i] - med);
+    }
+    sr = SFIT_GATE_MAD_SIGMA * prv_median(tmp, nw);
+    if (sr * sr < g->cfg.noise_var) {
+        sr = SFIT_SQRTF(g->cfg.noise_var);
+    }
+    if (sr * sr < prv_floor(fit->radius)) {
+        sr = SFIT_SQRTF(prv_floor(fit->radius));
+    }
+    thr = g->cfg.k * sr;
+    *nk = 0u;
+    for (i = 0u; i < nw; i++) {
+        keep[i] = (SFIT_FABSF(res[i] - med) <= thr) ? 1u : 0u;
+        *nk += keep[i];
+    }
+    return (*nk > SFIT_MIN_SAMPLES) ? prv_fit_keep(g, keep, m, fit, res) : SFIT_E_TOO_FEW;
+}
+
+/* No fit yet: accept the buffer ungated until a refresh succeeds. */
+static sfit_status_t prv_warm_fail(sfit_gate_t *g, sfit_status_t st)
+{
+    uint32_t i;
+    (void)sfit_moments_init(&g->acc);
+    for (i = 0u; i < g->nwarm; i++) {
+        (void)sfit_moments_add(&g->acc, &g->warm[i]);
+    }
+    g->nwarm = 0u;
+    g->phase = 1u;
+    g->since = 0u;
+    return st;
+}
+
 /* Robust start on the warm-up buffer (see the header): least trimmed
  * squares from SFIT_GATE_STARTS interleaved subsets with
  * SFIT_GATE_CSTEPS concentration steps each, then a k-sigma cut with the
  * MAD scale of the best fit. */
 static sfit_status_t prv_warm_start(sfit_gate_t *g)
 {
-    uint8_t *const keep = g->wkeep, *const best = g->wbest;
-    float *const res = g->wres, *const tmp = g->wtmp;
-    sfit_moments_t m;
-    sfit_result_t fit;
     const uint32_t nw = g->nwarm;
     const uint32_t h = (3u * nw) / 4u;
     const uint32_t starts = (nw >= 4u * (SFIT_MIN_SAMPLES + 2u)) ? SFIT_GATE_STARTS : 1u;
+    const uint8_t *const keep = g->wkeep;
+    const float *const res = g->wres;
+    sfit_moments_t m;
+    sfit_result_t fit;
     uint32_t i, s, nk = 0u, dropped = 0u;
-    float best_score = -1.0f, med, sr, thr;
-    int step, found = 0;
-    sfit_status_t st = SFIT_E_TOO_FEW;
+    float best_score = -1.0f;
+    int found = 0;
+    sfit_status_t st;
 
     for (s = 0u; s < starts; s++) {
         float score = 0.0f;
-        int ok = 1;
-        for (i = 0u; i < nw; i++) {
-            keep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
-        }
-        for (step = 0; step <= SFIT_GATE_CSTEPS; step++) {
-            float cut;
-            if (prv_fit_keep(g, keep, &m, &fit, res) != SFIT_OK) {
-                ok = 0;
-                break;
-            }
-            for (i = 0u; i < nw; i++) {
-                tmp[i] = SFIT_FABSF(res[i]);
-            }
-            (void)prv_median(tmp, nw); /* sorts tmp */
-            cut = tmp[h - 1u];
-            score = 0.0f;
-            for (i = 0u; i < h; i++) {
-                score += tmp[i] * tmp[i];
-            }
-            if (step == SFIT_GATE_CSTEPS) {
-                break;
-            }
-            for (i = 0u; i < nw; i++) {
-                keep[i] = (SFIT_FABSF(res[i]) <= cut) ? 1u : 0u;
-            }
-        }
-        if (ok && (!found || score < best_score)) {
+        if (prv_lts_start(g, s, starts, h, &score) && (!found || score < best_score)) {
             found = 1;
             best_score = score;
-            for (i = 0u; i < nw; i++) {
-                best[i] = keep[i];
-            }
+            memcpy(g->wbest, g->wkeep, nw);
         }
     }
-    if (found) {
-        /* k-sigma cut around the best trimmed fit, MAD scale over all samples */
-        st = prv_fit_keep(g, best, &m, &fit, res);
-        if (st == SFIT_OK) {
-            for (i = 0u; i < nw; i++) {
-                tmp[i] = res[i];
-            }
-            med = prv_median(tmp, nw);
-            for (i = 0u; i < nw; i++) {
-                tmp[i] = SFIT_FABSF(res[i] - med);
-            }
-            sr = SFIT_GATE_MAD_SIGMA * prv_median(tmp, nw);
-            if (sr * sr < g->cfg.noise_var) {
-                sr = SFIT_SQRTF(g->cfg.noise_var);
-            }
-            if (sr * sr < prv_floor(fit.radius)) {
-                sr = SFIT_SQRTF(prv_floor(fit.radius));
-            }
-            thr = g->cfg.k * sr;
-            for (i = 0u; i < nw; i++) {
-                keep[i] = (SFIT_FABSF(res[i] - med) <= thr) ? 1u : 0u;
-                nk += keep[i];
-            }
-            st = (nk > SFIT_MIN_SAMPLES) ? prv_fit_keep(g, keep, &m, &fit, res) : SFIT_E_TOO_FEW;
-        }
-    }
+    st = found ? prv_ksigma_cut(g, &m, &fit, &nk) : SFIT_E_TOO_FEW;
     if (st != SFIT_OK) {
-        /* No fit yet: accept everything ungated until a refresh succeeds. */
-        (void)sfit_moments_init(&g->acc);
-        for (i = 0u; i < nw; i++) {
-            (void)sfit_moments_add(&g->acc, &g->warm[i]);
-        }
-        g->nwarm = 0u;
-        g->phase = 1u;
-        g->since = 0u;
-        return st;
+        return prv_warm_fail(g, st);
     }
     for (i = 0u; i < nw; i++) {
         dropped += (keep[i] != 0u) ? 0u : 1u;

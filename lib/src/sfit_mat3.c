@@ -185,6 +185,12 @@ sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_
     if (!converged && A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
         converged = 1;
     }
+    /* Entries near FLT_MAX can overflow inside a rotation. */
+    for (k = 0; k < 9; k++) {
+        if (!sfit_i_isfinite(A[k]) || !sfit_i_isfinite(V[k])) {
+            return SFIT_E_RANGE;
+        }
+    }
     if (!converged) {
         return SFIT_E_NO_CONVERGENCE;
     }

@@ -39,6 +39,8 @@
  */
 #include "sfit/sfit_noise.h"
 
+#include <float.h>
+
 #include <string.h>
 
 #include "sfit_internal.h"
@@ -301,8 +303,18 @@ sfit_status_t sfit_coverage_min_theta(sfit_coverage_kind_t kind, float sigma_ove
         return SFIT_E_ARG;
     }
     target = sigma_over_r * sigma_over_r;
-    if (target >= prv_g(kind, PRV_MIN, PRV_PI_F)) {
-        return SFIT_E_RANGE;
+    {
+        /* At the full sphere / circle the limit itself is reachable: a
+         * target within rounding (4 ulps) of g(pi) is answered with pi,
+         * anything beyond is out of range. */
+        const float gpi = prv_g(kind, PRV_MIN, PRV_PI_F);
+        if (target > gpi * (1.0f + 4.0f * FLT_EPSILON)) {
+            return SFIT_E_RANGE;
+        }
+        if (target >= gpi) {
+            *theta = PRV_PI_F;
+            return SFIT_OK;
+        }
     }
     *theta = prv_bisect(kind, PRV_MIN, target);
     return SFIT_OK;
@@ -335,6 +347,9 @@ sfit_status_t sfit_coverage_estimate_theta(sfit_coverage_kind_t kind, const sfit
         return SFIT_E_DEGENERATE;
     }
     q = num / den;
+    if (!(q > 0.0f)) {
+        return SFIT_E_DEGENERATE; /* the ratio underflowed */
+    }
     if (q >= 1.0f) {
         *theta = PRV_PI_F;
         return SFIT_OK;

@@ -167,36 +167,30 @@ static float prv_corrected_var(float cost, float nf, float r)
     return 2.0f * v / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
 }
 
-sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
-                              const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
+/* Fewest samples a refinement accepts: 4 parameters plus one residual. */
+#define PRV_REFINE_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
+
+/* Arguments, options and samples; sets the tolerance and iteration bound. */
+static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+                                    const sfit_refine_cfg_t *cfg, float *tol, uint32_t *maxit)
 {
-    prv_stats_t cur, trial;
-    sfit_refine_result_t res;
-    float p[3] = {0.0f, 0.0f, 0.0f}, lambda = 1e-3f, tol, nf;
-    uint32_t maxit, it;
     size_t i;
     int j;
     sfit_status_t st;
-
-    if (pts == NULL || c0 == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_refine_cfg_default;
-    }
     for (j = 0; j < 3; j++) {
         if (!sfit_i_isfinite(c0->v[j])) {
             return SFIT_E_ARG;
         }
     }
-    if (!sfit_i_isfinite(cfg->tol) || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
+    if (!sfit_i_isfinite(cfg->tol)
+        || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
         return SFIT_E_ARG;
     }
-    tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
-    maxit = (cfg->max_iters == 0u || cfg->max_iters > (uint32_t)SFIT_REFINE_MAX_ITERS)
-                ? (uint32_t)SFIT_REFINE_MAX_ITERS
-                : cfg->max_iters;
-    if (n < 5u || n < (size_t)SFIT_MIN_SAMPLES) {
+    *tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
+    *maxit = (cfg->max_iters == 0u || cfg->max_iters > (uint32_t)SFIT_REFINE_MAX_ITERS)
+                 ? (uint32_t)SFIT_REFINE_MAX_ITERS
+                 : cfg->max_iters;
+    if (n < PRV_REFINE_MIN_N) {
         return SFIT_E_TOO_FEW;
     }
     if (n > (size_t)UINT32_MAX) {
@@ -208,7 +202,114 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_
             return st;
         }
     }
-    nf = (float)n;
+    return SFIT_OK;
+}
+
+/* The converged result from the offset p of the centre from c0. */
+static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const prv_stats_t *cur,
+                                size_t n, uint32_t it, sfit_refine_result_t *out)
+{
+    sfit_refine_result_t res;
+    const float nf = (float)n;
+    int j;
+    memset(&res, 0, sizeof res);
+    for (j = 0; j < 3; j++) {
+        res.center.v[j] = c0->v[j] + p[j];
+        if (!sfit_i_isfinite(res.center.v[j])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    res.radius = cur->dbar;
+    res.rms = SFIT_SQRTF(cur->cost / nf);
+    res.noise_var = prv_corrected_var(cur->cost, nf, cur->dbar);
+    res.n = (uint32_t)n;
+    res.iterations = it;
+    res.converged = 1u;
+    if (!(res.radius > 0.0f) || !sfit_i_isfinite(res.noise_var)) {
+        return SFIT_E_RANGE;
+    }
+    *out = res;
+    return SFIT_OK;
+}
+
+/* One Levenberg-Marquardt iteration: damped steps (at most
+ * SFIT_REFINE_MAX_TRIALS) until one does not raise the cost. Returns 1 when
+ * the accepted step is inside the tolerance (converged), 0 when a step was
+ * accepted, or a negative status (SFIT_E_NO_CONVERGENCE when no trial was
+ * accepted). */
+static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, float p[3],
+                            prv_stats_t *cur, float *lambda, float tol)
+{
+    float a[6], g[3];
+    sfit_mat3_t am, l;
+    int trials, j;
+
+    prv_pass_b(pts, n, c0, p, cur, a, g);
+    sfit_i_sym_unpack(a, &am);
+    for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
+        sfit_mat3_t ad = am;
+        sfit_vec3_t gv, step;
+        prv_stats_t trial;
+        float pn[3], sn;
+        int small;
+        sfit_status_t st;
+        for (j = 0; j < 3; j++) {
+            ad.m[4 * j] += *lambda * am.m[4 * j];
+            gv.v[j] = g[j];
+        }
+        if (sfit_mat3_chol(&ad, &l) != SFIT_OK) {
+            return (int)SFIT_E_DEGENERATE;
+        }
+        (void)sfit_mat3_chol_solve(&l, &gv, &step);
+        sn = SFIT_SQRTF(step.v[0] * step.v[0] + step.v[1] * step.v[1] + step.v[2] * step.v[2]);
+        if (!sfit_i_isfinite(sn)) {
+            return (int)SFIT_E_RANGE;
+        }
+        for (j = 0; j < 3; j++) {
+            pn[j] = p[j] + step.v[j];
+        }
+        st = prv_pass_a(pts, n, c0, pn, cur->dbar, &trial);
+        if (st != SFIT_OK) {
+            return (int)st;
+        }
+        /* (1 + lambda) sn bounds the undamped step: a tiny step that only
+         * reflects heavy damping does not count as converged */
+        small = ((1.0f + *lambda) * sn <= tol * cur->dbar);
+        if (trial.cost <= cur->cost * (1.0f + SFIT_REFINE_COST_ULPS * FLT_EPSILON) || small) {
+            /* a step inside the tolerance is taken even if rounding made
+             * the cost tick up: it is the converged answer */
+            for (j = 0; j < 3; j++) {
+                p[j] = pn[j];
+            }
+            *cur = trial;
+            if (*lambda > 1e-6f) {
+                *lambda *= 0.1f;
+            }
+            return small ? 1 : 0;
+        }
+        *lambda *= 10.0f;
+    }
+    return (int)SFIT_E_NO_CONVERGENCE;
+}
+
+sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+                              const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
+{
+    prv_stats_t cur;
+    float p[3] = {0.0f, 0.0f, 0.0f}, lambda = 1e-3f, tol = 0.0f;
+    uint32_t maxit = 0u, it;
+    sfit_status_t st;
+
+    if (pts == NULL || c0 == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (cfg == NULL) {
+        cfg = &sfit_refine_cfg_default;
+    }
+    st = prv_check_args(pts, n, c0, cfg, &tol, &maxit);
+    if (st != SFIT_OK) {
+        return st;
+    }
     st = prv_pass_a(pts, n, c0, p, 0.0f, &cur);
     if (st != SFIT_OK) {
         return st;
@@ -219,77 +320,12 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_
         return st;
     }
     for (it = 1u; it <= maxit; it++) {
-        float a[6], g[3];
-        sfit_mat3_t am, l;
-        int trials, accepted = 0;
-
-        prv_pass_b(pts, n, c0, p, &cur, a, g);
-        sfit_i_sym_unpack(a, &am);
-        for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
-            sfit_mat3_t ad = am;
-            sfit_vec3_t gv, step;
-            float pn[3], sn;
-            int small;
-            for (j = 0; j < 3; j++) {
-                ad.m[4 * j] += lambda * am.m[4 * j];
-                gv.v[j] = g[j];
-            }
-            if (sfit_mat3_chol(&ad, &l) != SFIT_OK) {
-                return SFIT_E_DEGENERATE;
-            }
-            (void)sfit_mat3_chol_solve(&l, &gv, &step);
-            sn = SFIT_SQRTF(step.v[0] * step.v[0] + step.v[1] * step.v[1]
-                            + step.v[2] * step.v[2]);
-            if (!sfit_i_isfinite(sn)) {
-                return SFIT_E_RANGE;
-            }
-            for (j = 0; j < 3; j++) {
-                pn[j] = p[j] + step.v[j];
-            }
-            st = prv_pass_a(pts, n, c0, pn, cur.dbar, &trial);
-            if (st != SFIT_OK) {
-                return st;
-            }
-            /* (1 + lambda) sn bounds the undamped step: a tiny step that
-             * only reflects heavy damping does not count as converged */
-            small = ((1.0f + lambda) * sn <= tol * cur.dbar);
-            if (trial.cost <= cur.cost * (1.0f + SFIT_REFINE_COST_ULPS * FLT_EPSILON) || small) {
-                /* a step inside the tolerance is taken even if rounding
-                 * made the cost tick up: it is the converged answer */
-                for (j = 0; j < 3; j++) {
-                    p[j] = pn[j];
-                }
-                cur = trial;
-                accepted = 1;
-                if (lambda > 1e-6f) {
-                    lambda *= 0.1f;
-                }
-                if (small) {
-                    memset(&res, 0, sizeof res);
-                    for (j = 0; j < 3; j++) {
-                        res.center.v[j] = c0->v[j] + p[j];
-                        if (!sfit_i_isfinite(res.center.v[j])) {
-                            return SFIT_E_RANGE;
-                        }
-                    }
-                    res.radius = cur.dbar;
-                    res.rms = SFIT_SQRTF(cur.cost / nf);
-                    res.noise_var = prv_corrected_var(cur.cost, nf, cur.dbar);
-                    res.n = (uint32_t)n;
-                    res.iterations = it;
-                    res.converged = 1u;
-                    if (!(res.radius > 0.0f) || !sfit_i_isfinite(res.noise_var)) {
-                        return SFIT_E_RANGE;
-                    }
-                    *out = res;
-                    return SFIT_OK;
-                }
-                break;
-            }
-            lambda *= 10.0f;
+        const int rc = prv_lm_iteration(pts, n, c0, p, &cur, &lambda, tol);
+        if (rc < 0) {
+            return (sfit_status_t)rc;
         }
-        if (!accepted) {
-            return SFIT_E_NO_CONVERGENCE;
+        if (rc == 1) {
+            return prv_finish(c0, p, &cur, n, it, out);
         }
     }
     return SFIT_E_NO_CONVERGENCE;

@@ -22,6 +22,9 @@
 
 
 /* One residual pass: sigma^2 from s^2 with the curvature correction. */
+/* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
+#define PRV_SELFCAL_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
+
 static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                                    float r, float *var)
 {
@@ -116,7 +119,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
     if (sfit_i_check_cfg(&fc) != SFIT_OK || fc.mode == SFIT_MODE_PLANAR) {
         return SFIT_E_ARG;
     }
-    if (n < 5u || n < (size_t)SFIT_MIN_SAMPLES) {
+    if (n < PRV_SELFCAL_MIN_N) {
         return SFIT_E_TOO_FEW;
     }
     if (n > (size_t)UINT32_MAX) {

@@ -47,7 +47,10 @@ typedef struct sfit_fit_cfg {
     sfit_mode_t mode;            /**< Solution to compute. */
     sfit_noise_kind_t noise;     /**< Noise model. */
     float noise_var;             /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
-    sfit_mat3_t noise_cov;       /**< Sigma for SFIT_NOISE_COV (symmetric, PSD). */
+    sfit_mat3_t noise_cov;       /**< Sigma for SFIT_NOISE_COV: symmetric positive
+                                      semi-definite; the lower triangle is read.
+                                      A negative diagonal entry or 2x2 principal
+                                      minor is rejected with SFIT_E_ARG. */
     float planar_ratio;          /**< lambda_min/lambda_max threshold; 0 = SFIT_PLANAR_RATIO. */
 } sfit_fit_cfg_t;
 
@@ -97,7 +100,8 @@ typedef struct sfit_result {
  * @param[out] out  Result; written only on SFIT_OK.
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind,
- *                            negative/non-finite variance, asymmetric covariance)
+ *                            negative/non-finite variance, a covariance that is not
+ *                            finite or fails the semi-definiteness checks)
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_DEGENERATE  coincident or collinear samples; or near-planar
  *                            samples whose sphere system is singular (GDKE)

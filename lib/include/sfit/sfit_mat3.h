@@ -47,6 +47,7 @@ sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, s
  * @retval SFIT_OK                success
  * @retval SFIT_E_ARG             a or w is NULL
  * @retval SFIT_E_NONFINITE       a holds NaN or Inf
+ * @retval SFIT_E_RANGE           a rotation overflowed (entries near FLT_MAX)
  * @retval SFIT_E_NO_CONVERGENCE  off-diagonal not negligible after the sweep bound
  */
 sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v);

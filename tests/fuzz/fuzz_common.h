@@ -1,0 +1,208 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file fuzz_common.h
+ * @brief Shared pieces of the libFuzzer harnesses: a byte reader that never
+ * fails (an exhausted input reads as zeros), float decoders biased towards
+ * hostile values, sentinel-filled outputs and the contract checks.
+ *
+ * A contract violation prints what was violated and calls abort(), which
+ * libFuzzer (and the replay driver) report as a crash with the input saved.
+ */
+#ifndef SFIT_FUZZ_COMMON_H
+#define SFIT_FUZZ_COMMON_H
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sfit/sfit.h"
+
+/* The modules written after the core: covered when their header exists. */
+#if defined(__has_include)
+#if __has_include("sfit/sfit_noise.h")
+#include "sfit/sfit_noise.h"
+#define FZ_HAVE_NOISE 1
+#endif
+#if __has_include("sfit/sfit_incr.h")
+#include "sfit/sfit_incr.h"
+#define FZ_HAVE_INCR 1
+#endif
+#endif
+#ifndef FZ_HAVE_NOISE
+#define FZ_HAVE_NOISE 0
+#endif
+#ifndef FZ_HAVE_INCR
+#define FZ_HAVE_INCR 0
+#endif
+
+/** Byte pattern of an output the library must not write on failure. */
+#define FZ_SENTINEL 0xA5
+
+/** Abort with a message when a contract clause does not hold. */
+#define FZ_CHECK(cond, what)                                                           \
+    do {                                                                               \
+        if (!(cond)) {                                                                 \
+            (void)fprintf(stderr, "sfit fuzz: contract violated at %s:%d: %s\n",       \
+                          __FILE__, __LINE__, (what));                                 \
+            abort();                                                                   \
+        }                                                                              \
+    } while (0)
+
+/** The input, read front to back. */
+typedef struct fz_in {
+    const uint8_t *p;
+    size_t n;
+    size_t i;
+} fz_in_t;
+
+static inline int fz_more(const fz_in_t *in)
+{
+    return in->i < in->n;
+}
+
+static inline uint8_t fz_u8(fz_in_t *in)
+{
+    return (in->i < in->n) ? in->p[in->i++] : (uint8_t)0;
+}
+
+static inline uint32_t fz_u32(fz_in_t *in)
+{
+    uint32_t u = 0u;
+    int k;
+    for (k = 0; k < 4; k++) {
+        u |= (uint32_t)fz_u8(in) << (8 * k);
+    }
+    return u;
+}
+
+/** Four bytes reinterpreted as a float (every NaN, Inf, subnormal). */
+static inline float fz_raw(fz_in_t *in)
+{
+    const uint32_t u = fz_u32(in);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+/** Values a glitching sensor or a bad configuration can produce. */
+static const float fz_specials[] = {
+    0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 100.0f, 2700.0f, -2700.0f,
+    FLT_MIN, -FLT_MIN, 1.40129846e-45f /* smallest subnormal */, FLT_EPSILON,
+    FLT_MAX, -FLT_MAX, 1e30f, -1e30f, 1.8446743e19f /* ~sqrt(FLT_MAX) */,
+    134217728.0f /* 2^27: first rejected coordinate */,
+    134217720.0f /* largest accepted coordinate (2^27 - 8) */, -134217720.0f,
+    1e-20f, 1e20f, 3.14159274f, 0.999999940f,
+    INFINITY, -INFINITY, NAN, -NAN};
+#define FZ_NSPECIALS (sizeof fz_specials / sizeof fz_specials[0])
+
+/**
+ * A float for a sample or an option: raw bits (1/8), a special value (1/8),
+ * or a 16-bit integer times a power of two in 2^-20..2^11 (3/4, so that most
+ * inputs reach the solvers rather than the range checks).
+ */
+static inline float fz_float(fz_in_t *in)
+{
+    const uint8_t k = fz_u8(in);
+    switch (k & 7u) {
+    case 0:
+        return fz_raw(in);
+    case 1:
+        return fz_specials[fz_u8(in) % FZ_NSPECIALS];
+    default: {
+        const int16_t q = (int16_t)(uint16_t)((uint16_t)fz_u8(in) | ((uint16_t)fz_u8(in) << 8));
+        return ldexpf((float)q, (int)(k >> 3) - 20);
+    }
+    }
+}
+
+/**
+ * A sample near a sphere of radius 100 about one of four centres (one far
+ * from the origin, as in motion capture), direction from three signed bytes,
+ * an optional small perturbation; so that solves succeed often.
+ */
+static inline void fz_sphere_point(fz_in_t *in, sfit_vec3_t *x)
+{
+    static const float centres[4][3] = {
+        {0.0f, 0.0f, 0.0f}, {2700.0f, -1200.0f, 900.0f}, {1e6f, 1e6f, -1e6f}, {0.25f, 0.5f, 1.0f}};
+    const uint8_t sel = fz_u8(in);
+    const float *c = centres[sel & 3u];
+    float d[3], nrm;
+    int k;
+    for (k = 0; k < 3; k++) {
+        d[k] = (float)(int8_t)fz_u8(in);
+    }
+    nrm = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(nrm > 0.0f)) {
+        d[0] = 1.0f;
+        nrm = 1.0f;
+    }
+    for (k = 0; k < 3; k++) {
+        float e = 0.0f;
+        if ((sel & 4u) != 0u) {
+            e = ldexpf((float)(int8_t)fz_u8(in), -6); /* +-2 */
+        }
+        x->v[k] = c[k] + 100.0f * d[k] / nrm + e;
+    }
+}
+
+static inline int fz_finite(float x)
+{
+    return isfinite(x) ? 1 : 0;
+}
+
+static inline int fz_all_finite(const float *x, size_t n)
+{
+    size_t k;
+    for (k = 0; k < n; k++) {
+        if (!fz_finite(x[k])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** 1 when every byte of an object still holds the sentinel. */
+static inline int fz_untouched(const void *p, size_t n)
+{
+    const unsigned char *b = (const unsigned char *)p;
+    size_t k;
+    for (k = 0; k < n; k++) {
+        if (b[k] != (unsigned char)FZ_SENTINEL) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** Every status the library may return; anything else is a violation. */
+static inline int fz_status_defined(sfit_status_t st)
+{
+    switch (st) {
+    case SFIT_OK:
+    case SFIT_E_ARG:
+    case SFIT_E_TOO_FEW:
+    case SFIT_E_NOT_POSDEF:
+    case SFIT_E_NO_CONVERGENCE:
+    case SFIT_E_DEGENERATE:
+    case SFIT_E_NONFINITE:
+    case SFIT_E_RANGE:
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+/** Defined status, and a failed call left its output untouched. */
+#define FZ_CHECK_OUT(st, obj, what)                                                    \
+    do {                                                                               \
+        FZ_CHECK(fz_status_defined(st), what ": undefined status");                    \
+        if ((st) != SFIT_OK) {                                                         \
+            FZ_CHECK(fz_untouched(&(obj), sizeof(obj)), what ": output written on failure"); \
+        }                                                                              \
+    } while (0)
+
+#endif /* SFIT_FUZZ_COMMON_H */

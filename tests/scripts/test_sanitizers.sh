@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Every cmocka test under AddressSanitizer + UndefinedBehaviorSanitizer (gcc).
+#
+#   test_sanitizers.sh BUILD_DIR SOURCE_DIR
+#
+# Configures a nested build of the project in BUILD_DIR/asan with
+#   -fsanitize=address,undefined -fno-sanitize-recover=all
+# (without the last flag UBSan only prints and the test still passes) and
+# -DSFIT_WERROR=ON, builds it and runs its ctest without the script tests
+# (no recursion). Then replays the committed fuzz seed corpus through the
+# harnesses built with gcc and the same sanitizers (tests/fuzz/replay_main.c),
+# so the harnesses also compile and hold under gcc.
+#
+# SFIT_SAN_CC picks the compiler (default: gcc). Exit 77 (skipped) when the
+# compiler cannot link a sanitized program, unless CI=true.
+set -euo pipefail
+build=$(cd "$1" && pwd)
+src=$(cd "$2" && pwd)
+out="$build/asan"
+name=test_sanitizers
+cc=${SFIT_SAN_CC:-gcc}
+
+missing() {
+  if [ "${CI:-}" = "true" ]; then
+    echo "$name: FAIL: $* (required in CI)" >&2
+    exit 1
+  fi
+  echo "$name: SKIP: $*"
+  exit 77
+}
+command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
+command -v cmake >/dev/null 2>&1 || missing "cmake not found"
+
+san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+mkdir -p "$out"
+printf 'int main(void) { return 0; }\n' > "$out/probe.c"
+# shellcheck disable=SC2086
+"$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
+
+# LeakSanitizer on (the library allocates nothing; a leak would be in a test).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+CC="$cc" cmake -S "$src" -B "$out" -DCMAKE_BUILD_TYPE=Debug -DSFIT_WERROR=ON \
+  -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
+  || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
+cmake --build "$out" -j2 >"$out/build.log" 2>&1 \
+  || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
+if ! ctest --test-dir "$out" -E '^sfit\.script\.' --output-on-failure -j2 >"$out/ctest.log" 2>&1; then
+  cat "$out/ctest.log" >&2
+  echo "$name: FAIL: a test failed under ASan+UBSan" >&2
+  exit 1
+fi
+ntests=$(sed -n 's/.*tests passed, 0 tests failed out of \([0-9]*\).*/\1/p' "$out/ctest.log")
+grep -q "tests passed" "$out/ctest.log" || { cat "$out/ctest.log" >&2; exit 1; }
+
+# Fuzz seed corpus through gcc-built harnesses (no libFuzzer needed).
+nrep=0
+if [ -d "$src/tests/fuzz" ]; then
+  mkdir -p "$out/fuzz-replay"
+  for h in "$src"/tests/fuzz/fuzz_*.c; do
+    hn=$(basename "${h%.c}")
+    corpus="$src/tests/fuzz/corpus/${hn#fuzz_}"
+    [ -d "$corpus" ] || continue
+    # shellcheck disable=SC2086
+    "$cc" -std=c99 -D_POSIX_C_SOURCE=200809L -g -O1 $san -Wall -Wextra -Werror \
+      -I"$src/lib/include" -I"$src/lib/src" -I"$src/port" -I"$src/port/host" -I"$src/tests/fuzz" \
+      "$h" "$src/tests/fuzz/replay_main.c" "$src"/lib/src/*.c -lm -o "$out/fuzz-replay/$hn"
+    if ! "$out/fuzz-replay/$hn" "$corpus" >"$out/fuzz-replay/$hn.log" 2>&1; then
+      cat "$out/fuzz-replay/$hn.log" >&2
+      echo "$name: FAIL: $hn seed corpus under $cc sanitizers" >&2
+      exit 1
+    fi
+    nrep=$((nrep + $(find "$corpus" -type f | wc -l)))
+  done
+fi
+echo "$name: ok: ${ntests:-all} tests pass under $cc -fsanitize=address,undefined -fno-sanitize-recover=all; $nrep fuzz seeds replayed"
