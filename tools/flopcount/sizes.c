@@ -36,3 +36,8 @@ FC_SIZE(sfit_incr_t);
 FC_SIZE(sfit_incr_est_t);
 #endif
 #endif
+FC_SIZE(sfit_gate_t);
+FC_SIZE(sfit_gate_cfg_t);
+FC_SIZE(sfit_selfcal_result_t);
+FC_SIZE(sfit_refine_result_t);
+FC_SIZE(sfit_uncert_t);
