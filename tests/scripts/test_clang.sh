@@ -24,14 +24,8 @@ out="$build/clang"
 name=test_clang
 cc=${SFIT_CLANG:-clang}
 
-missing() {
-  if [ "${CI:-}" = "true" ]; then
-    echo "$name: FAIL: $* (required in CI)" >&2
-    exit 1
-  fi
-  echo "$name: SKIP: $*"
-  exit 77
-}
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
 command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
 command -v cmake >/dev/null 2>&1 || missing "cmake not found"
 command -v pkg-config >/dev/null 2>&1 || missing "pkg-config not found"

@@ -21,14 +21,8 @@ src=$(cd "$2" && pwd)
 out="$build/fuzz"
 name=test_fuzz
 
-missing() {
-  if [ "${CI:-}" = "true" ]; then
-    echo "$name: FAIL: $* (required in CI)" >&2
-    exit 1
-  fi
-  echo "$name: SKIP: $*"
-  exit 77
-}
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
 
 CLANG=${SFIT_FUZZ_CC:-clang}
 command -v "$CLANG" >/dev/null 2>&1 || missing "$CLANG not found"

@@ -21,14 +21,8 @@ out="$build/asan"
 name=test_sanitizers
 cc=${SFIT_SAN_CC:-gcc}
 
-missing() {
-  if [ "${CI:-}" = "true" ]; then
-    echo "$name: FAIL: $* (required in CI)" >&2
-    exit 1
-  fi
-  echo "$name: SKIP: $*"
-  exit 77
-}
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
 command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
 command -v cmake >/dev/null 2>&1 || missing "cmake not found"
 

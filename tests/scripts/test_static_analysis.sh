@@ -23,14 +23,8 @@ src=$(cd "$2" && pwd)
 out="$build/static"
 name=test_static_analysis
 
-missing() {
-  if [ "${CI:-}" = "true" ]; then
-    echo "$name: FAIL: $* (required in CI)" >&2
-    exit 1
-  fi
-  echo "$name: SKIP: $*"
-  exit 77
-}
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
 for tool in cppcheck clang-tidy cmake arm-none-eabi-gcc python3; do
   command -v "$tool" >/dev/null 2>&1 || missing "$tool not found"
 done
