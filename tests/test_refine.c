@@ -11,6 +11,8 @@
  */
 #include "test_cmocka.h"
 
+#include <string.h>
+
 #include "sfit/sfit_refine.h"
 #include "sfit/sfit_selfcal.h"
 #include "sfit_ref.h"
@@ -222,6 +224,27 @@ static void test_bounds_and_contract(void **state)
     assert_memory_equal(&r, &sentinel, sizeof r);
 }
 
+/* Fuzz finding: with 10 or more coincident samples the damped system looked
+ * regular and the refinement "converged" at the start centre. */
+static void test_coincident_is_degenerate(void **state)
+{
+    sfit_vec3_t p[12], c0 = {{0.0f, 0.0f, 0.0f}};
+    sfit_refine_result_t r, sentinel;
+    size_t i;
+    (void)state;
+    for (i = 0; i < 12; i++) {
+        p[i].v[0] = 5.0f;
+        p[i].v[1] = 5.0f;
+        p[i].v[2] = 5.0f;
+    }
+    memset(&sentinel, 0x3C, sizeof sentinel);
+    r = sentinel;
+    for (i = 5; i <= 12; i++) {
+        assert_int_equal(sfit_refine_fit(p, i, &c0, NULL, &r), SFIT_E_DEGENERATE);
+    }
+    assert_memory_equal(&r, &sentinel, sizeof r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -230,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_efficiency),
         cmocka_unit_test(test_hip_real),
         cmocka_unit_test(test_bounds_and_contract),
+        cmocka_unit_test(test_coincident_is_degenerate),
     };
     return cmocka_run_group_tests_name("refine", tests, NULL, NULL);
 }

@@ -246,6 +246,11 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
 
     prv_pass_b(pts, n, c0, p, cur, a, g);
     sfit_i_sym_unpack(a, &am);
+    /* The undamped normal matrix itself must be regular: damping would make
+     * a singular one (coincident samples) look solvable. */
+    if (sfit_mat3_chol(&am, &l) != SFIT_OK) {
+        return (int)SFIT_E_DEGENERATE;
+    }
     for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
         sfit_mat3_t ad = am;
         sfit_vec3_t gv, step;

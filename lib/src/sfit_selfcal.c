@@ -137,6 +137,11 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
     if (st != SFIT_OK) {
         return st;
     }
+    if (!(fit.eigenvalues.v[0] > 0.0f)) {
+        /* Rounding left C without a positive smallest eigenvalue: no noise
+         * level can be compensated (the cap below would be negative). */
+        return SFIT_E_DEGENERATE;
+    }
     cap = SFIT_SELFCAL_MAX_TRUST * fit.eigenvalues.v[0];
     memset(&res, 0, sizeof res);
     for (it = 1; it <= SFIT_SELFCAL_MAX_ITERS; it++) {

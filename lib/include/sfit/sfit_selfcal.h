@@ -133,6 +133,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
  * @retval SFIT_E_TOO_FEW     n < 5
  * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
  * @retval SFIT_E_RANGE       the estimate would not be finite
+ * @retval SFIT_E_DEGENERATE  a sample lies at the centre (its radial direction is undefined)
  */
 sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var);
