@@ -312,61 +312,11 @@ static void fz_check_bad_status(sfit_status_t st, unsigned bad, const char *what
     }
 }
 
-/* A fit configuration, including invalid enums and hostile noise values. */
 static void fz_cfg(fz_in_t *in, sfit_fit_cfg_t *cfg)
 {
-    const uint8_t b = fz_u8(in);
-    int k;
-    *cfg = sfit_fit_cfg_default;
-    cfg->mode = (sfit_mode_t)(b % 4u);               /* 3 is invalid */
-    cfg->noise = (sfit_noise_kind_t)((b >> 2) % 4u); /* 3 is invalid */
-    if ((b & 0x10u) != 0u) {
-        cfg->planar_ratio = fz_float(in);
-    }
-    if (cfg->noise == SFIT_NOISE_ISO) {
-        cfg->noise_var = fz_float(in);
-    } else if (cfg->noise == SFIT_NOISE_COV) {
-        float p[6];
-        for (k = 0; k < 6; k++) {
-            p[k] = fz_float(in);
-        }
-        cfg->noise_cov.m[0] = p[0];
-        cfg->noise_cov.m[4] = p[1];
-        cfg->noise_cov.m[8] = p[2];
-        cfg->noise_cov.m[1] = p[3];
-        cfg->noise_cov.m[3] = p[3];
-        cfg->noise_cov.m[2] = p[4];
-        cfg->noise_cov.m[6] = p[4];
-        cfg->noise_cov.m[5] = p[5];
-        cfg->noise_cov.m[7] = p[5];
-    } else {
-        /* no noise values */
-    }
+    fz_cfg_decode(in, cfg, 0);
 }
 
-/* What sfit_fit.h rejects with SFIT_E_ARG (same clauses as fuzz_stream.c). */
-static int fz_cfg_valid(const sfit_fit_cfg_t *cfg)
-{
-    if ((int)cfg->mode < 0 || (int)cfg->mode > 2 || (int)cfg->noise < 0 || (int)cfg->noise > 2) {
-        return 0;
-    }
-    if (!fz_finite(cfg->planar_ratio) || cfg->planar_ratio < 0.0f || cfg->planar_ratio >= 1.0f) {
-        return 0;
-    }
-    if (cfg->noise == SFIT_NOISE_ISO && (!fz_finite(cfg->noise_var) || cfg->noise_var < 0.0f)) {
-        return 0;
-    }
-    if (cfg->noise == SFIT_NOISE_COV) {
-        const float *c = cfg->noise_cov.m;
-        if (!fz_all_finite(c, 9) || c[0] < 0.0f || c[4] < 0.0f || c[8] < 0.0f) {
-            return 0;
-        }
-        if (c[3] * c[3] > c[0] * c[4] || c[6] * c[6] > c[0] * c[8] || c[7] * c[7] > c[4] * c[8]) {
-            return 0;
-        }
-    }
-    return 1;
-}
 
 /*
  * Centre, radius and noise variance operands: the last fit, hostile floats,
