@@ -54,6 +54,20 @@ void cli_print_vec(const float *v);
 /** Print {"status":...,"message":...} for a failure and return CLI_FAIL. */
 int cli_json_error(const char *status, const char *message);
 
+/**
+ * Stream `file` into a fresh accumulator; list rejected lines on stderr
+ * unless json. Returns 0, or CLI_IO after reporting an open failure.
+ */
+int cli_read_moments(const char *file, int json, sfit_moments_t *acc, cli_input_t *in);
+
+/**
+ * Report a failed computation: JSON {"status","message","n","rejected"} or a
+ * line on stderr naming `what`. message NULL = cli_status_message(st).
+ * Returns CLI_FAIL.
+ */
+int cli_report_failure(sfit_status_t st, const char *what, const char *message, int json,
+                       const cli_input_t *in);
+
 /** Report that `file` cannot be opened (JSON io_error or stderr); returns CLI_IO. */
 int cli_open_failed(const char *file, int json);
 

@@ -174,3 +174,28 @@ int cli_positional(const char *arg, const char **file)
     *file = arg;
     return 0;
 }
+
+int cli_read_moments(const char *file, int json, sfit_moments_t *acc, cli_input_t *in)
+{
+    (void)sfit_moments_init(acc);
+    if (cli_read_csv(file, cli_add_to_moments, acc, in) != 0) {
+        return cli_open_failed(file, json);
+    }
+    if (!json) {
+        cli_report_rejects(file, in);
+    }
+    return 0;
+}
+
+int cli_report_failure(sfit_status_t st, const char *what, const char *message, int json,
+                       const cli_input_t *in)
+{
+    const char *msg = (message != NULL) ? message : cli_status_message(st);
+    if (json) {
+        printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
+               sfit_status_str(st), msg, in->accepted, in->rejected);
+    } else {
+        fprintf(stderr, "sfit: %s failed (%s): %s\n", what, sfit_status_str(st), msg);
+    }
+    return CLI_FAIL;
+}

@@ -226,23 +226,15 @@ int cli_cmd_coverage(int argc, char **argv)
             return prc;
         }
     }
-    (void)sfit_moments_init(&acc);
-    if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
-        return cli_open_failed(o.file, o.json);
-    }
-    if (!o.json) {
-        cli_report_rejects(o.file, &in);
+    {
+        const int rrc = cli_read_moments(o.file, o.json, &acc, &in);
+        if (rrc != 0) {
+            return rrc;
+        }
     }
     st = cov_compute(&acc, &o, &c);
     if (st != SFIT_OK) {
-        if (o.json) {
-            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
-                   sfit_status_str(st), cli_status_message(st), in.accepted, in.rejected);
-        } else {
-            fprintf(stderr, "sfit: fit failed (%s): %s\n", sfit_status_str(st),
-                    cli_status_message(st));
-        }
-        return CLI_FAIL;
+        return cli_report_failure(st, "fit", NULL, o.json, &in);
     }
     if (o.json) {
         cov_json(&o, &c, &in);

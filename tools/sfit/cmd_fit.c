@@ -640,14 +640,7 @@ int cli_cmd_fit(int argc, char **argv)
         cli_report_rejects(o.file, &in);
     }
     if (st != SFIT_OK) {
-        if (o.json) {
-            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
-                   sfit_status_str(st), cli_status_message(st), in.accepted, in.rejected);
-        } else {
-            fprintf(stderr, "sfit: fit failed (%s): %s\n", sfit_status_str(st),
-                    cli_status_message(st));
-        }
-        return CLI_FAIL;
+        return cli_report_failure(st, "fit", NULL, o.json, &in);
     }
     if (o.json) {
         print_json(&r, &in, &extra);

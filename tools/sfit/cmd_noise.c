@@ -108,24 +108,16 @@ int cli_cmd_noise(int argc, char **argv)
             return prc;
         }
     }
-    (void)sfit_moments_init(&acc);
-    if (cli_read_csv(o.file, cli_add_to_moments, &acc, &in) != 0) {
-        return cli_open_failed(o.file, o.json);
-    }
-    if (!o.json) {
-        cli_report_rejects(o.file, &in);
+    {
+        const int rrc = cli_read_moments(o.file, o.json, &acc, &in);
+        if (rrc != 0) {
+            return rrc;
+        }
     }
     st = sfit_noise_calibrate(&acc, &o.center, o.radius, &e);
     if (st != SFIT_OK) {
-        const char *msg = (st == SFIT_E_TOO_FEW) ? "no valid sample" : cli_status_message(st);
-        if (o.json) {
-            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
-                   sfit_status_str(st), msg, in.accepted, in.rejected);
-        } else {
-            fprintf(stderr, "sfit: noise calibration failed (%s): %s\n", sfit_status_str(st),
-                    msg);
-        }
-        return CLI_FAIL;
+        return cli_report_failure(st, "noise calibration",
+                                  (st == SFIT_E_TOO_FEW) ? "no valid sample" : NULL, o.json, &in);
     }
     if (o.json) {
         printf("{\"status\":\"ok\",\"n\":%lu,\"noise_var\":%.9g,\"noise_var_std\":%.9g,"
