@@ -169,9 +169,7 @@ static void coverage(double theta_deg, double rho, int n, int trials, uint64_t s
                          SFIT_OK);
         mc_add(&asc, &sc.fit.center, &u);
         assert_int_equal(sfit_refine_fit(g_pf, (size_t)n, &sc.fit.center, NULL, &rf), SFIT_OK);
-        assert_int_equal(sfit_uncert_moments(&m, &rf.center, rf.radius, rf.noise_var,
-                                             SFIT_UNCERT_NOISE_ESTIMATED, &u),
-                         SFIT_OK);
+        assert_int_equal(sfit_uncert_geometric(g_pf, (size_t)n, &rf.center, &u), SFIT_OK);
         mc_add(&arf, &rf.center, &u);
         assert_int_equal(sfit_fit_solve(&m, &kcfg, &kn), SFIT_OK);
         assert_int_equal(sfit_uncert_moments(&m, &kn.center, kn.radius, (float)s2,
@@ -197,6 +195,8 @@ static void test_mc_rho01(void **state)
      * and 1.01 / 1.07 / 1.01 (hemisphere); other seeds within +-0.08 */
     coverage(35.0, 0.1, 100, 2000, 51u);
     coverage(90.0, 0.1, 100, 2000, 52u);
+    /* whole sphere: sigma / r = 0.19, the largest noise at rho = 0.1 */
+    coverage(180.0, 0.1, 100, 2000, 54u);
 }
 
 static void test_mc_rho03(void **state)
@@ -206,6 +206,70 @@ static void test_mc_rho03(void **state)
      * case needs the second-order term: first order alone would report
      * ~1/(1 + 2 sigma^2/lambda0) = 0.54 of the MC trace here */
     coverage(35.0, 0.3, 1000, 1000, 53u);
+    /* wide coverage, large noise: sigma / r = 0.19 (hemisphere) and 0.38
+     * (whole sphere). The refined fit's moments-formula covariance was
+     * 1.32x the MC trace on the hemisphere; the sandwich is not. */
+    coverage(90.0, 0.3, 1000, 1000, 55u);
+    coverage(180.0, 0.3, 1000, 1000, 56u);
+}
+
+/* The sandwich against the double oracle (full 4x4, not profiled) on the
+ * same float samples, far-offset centre, sigma / r = 0.05. */
+static void test_geometric_vs_oracle(void **state)
+{
+    sfit_selfcal_result_t sc;
+    sfit_refine_result_t rf;
+    sfit_uncert_t u;
+    double cd[3], cr[4][4];
+    tu_rng_t g;
+    int i, j;
+    (void)state;
+    tu_rng_seed(&g, 44u);
+    gen(&g, 70.0 * TU_PI / 180.0, 5.0, 600);
+    assert_int_equal(sfit_selfcal_fit(g_pf, 600, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_refine_fit(g_pf, 600, &sc.fit.center, NULL, &rf), SFIT_OK);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 600, &rf.center, &u), SFIT_OK);
+    tc_to_double3(&rf.center, cd);
+    assert_int_equal(ref_sandwich_geometric(REF_C3(g_xn), 600, cd, cr), 0);
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            assert_near(u.center_cov[pk(i, j)], cr[i][j], 1e-3 * sqrt(cr[i][i] * cr[j][j]),
+                        "sandwich cov_c");
+        }
+        assert_near(u.center_radius_cov[i], cr[i][3], 1e-3 * sqrt(cr[i][i] * cr[3][3]),
+                    "sandwich cov_cr");
+    }
+    assert_near(u.radius_var, cr[3][3], 1e-3 * cr[3][3], "sandwich var_r");
+    /* noise_var is the residual variance the sandwich used */
+    assert_near(u.noise_var, (double)rf.rms * (double)rf.rms * 600.0 / 596.0, 1e-3 * (double)u.noise_var,
+                "sandwich s^2");
+    /* it exceeds the first-order sigma^2 (J^T J)^-1 at the same centre by
+     * the curvature term: never below it by more than the s^2 difference */
+    {
+        sfit_uncert_t f;
+        assert_int_equal(sfit_uncert_points(g_pf, 600, &rf.center, rf.radius, u.noise_var, &f),
+                         SFIT_OK);
+        assert_true(trace6(u.center_cov) > trace6(f.center_cov));
+    }
+}
+
+/* Exact data: zero covariance, finite; a centre that is not a minimum of
+ * the geometric cost: NOT_POSDEF. */
+static void test_geometric_edges(void **state)
+{
+    static const sfit_vec3_t centre_on_data = {{1200.0f, -800.0f, 390.0f}};
+    sfit_uncert_t u;
+    sfit_vec3_t cf;
+    tu_rng_t g;
+    (void)state;
+    tu_rng_seed(&g, 45u);
+    gen(&g, TU_PI, 0.0, 200);
+    tc_to_vec3(k_c, &cf);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 200, &cf, &u), SFIT_OK);
+    assert_true(trace6(u.center_cov) < 1e-8 && u.radius_var >= 0.0f && u.radius_var < 1e-8f);
+    /* 90 % of the way to the surface: the nearby samples make the Hessian
+     * indefinite */
+    assert_int_equal(sfit_uncert_geometric(g_pf, 200, &centre_on_data, &u), SFIT_E_NOT_POSDEF);
 }
 
 static void test_contract(void **state)
@@ -242,6 +306,14 @@ static void test_contract(void **state)
     assert_int_equal(sfit_uncert_points(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_DEGENERATE);
     g_pf[9].v[0] = NAN;
     assert_int_equal(sfit_uncert_points(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_geometric(NULL, 100, &c, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, NULL, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &cbad, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 4, &c, &u), SFIT_E_TOO_FEW);
+    g_pf[9] = c;
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_DEGENERATE);
     assert_memory_equal(&u, &sentinel, sizeof u);
 }
 
@@ -252,6 +324,8 @@ int main(void)
         cmocka_unit_test(test_moments_first_order),
         cmocka_unit_test(test_mc_rho01),
         cmocka_unit_test(test_mc_rho03),
+        cmocka_unit_test(test_geometric_vs_oracle),
+        cmocka_unit_test(test_geometric_edges),
         cmocka_unit_test(test_contract),
     };
     return cmocka_run_group_tests_name("uncert", tests, NULL, NULL);

@@ -683,6 +683,33 @@ static void fz_uncert_pts(fz_state_t *s, fz_in_t *in)
         FZ_CHECK(st != SFIT_OK, "sfit_uncert_points: J^T J of coincident samples accepted");
     }
     fz_check_uncert(st, &u, v, "sfit_uncert_points: non-finite or wrong result");
+
+    /* The sandwich of the geometric fit on the same window and centre (no
+     * extra input bytes: the corpus keeps its meaning). */
+    memset(&u, FZ_SENTINEL, sizeof u);
+    st = sfit_uncert_geometric(w, n, &c, &u);
+    FZ_CHECK_OUT(st, u, "sfit_uncert_geometric");
+    fz_check_window(s, &win, "sfit_uncert_geometric wrote its samples");
+    if (!fz_all_finite(c.v, 3)) {
+        FZ_CHECK(st == SFIT_E_ARG, "sfit_uncert_geometric: invalid centre accepted");
+    } else if (n < 5u || n < (size_t)SFIT_MIN_SAMPLES) {
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_uncert_geometric: too few samples not reported");
+    } else if (bad != 0u) {
+        fz_check_bad_status(st, bad, "sfit_uncert_geometric: wrong status for a bad sample");
+    } else {
+        FZ_CHECK(st == SFIT_OK || st == SFIT_E_DEGENERATE || st == SFIT_E_NOT_POSDEF
+                     || st == SFIT_E_RANGE,
+                 "sfit_uncert_geometric: status");
+    }
+    if (fz_coincident(w, n)) {
+        FZ_CHECK(st != SFIT_OK, "sfit_uncert_geometric: coincident samples accepted");
+    }
+    if (st == SFIT_OK) {
+        FZ_CHECK(fz_all_finite(u.center_cov, 6) && fz_finite(u.radius_var)
+                     && fz_all_finite(u.center_radius_cov, 3) && fz_finite(u.noise_var)
+                     && u.noise_var >= 0.0f,
+                 "sfit_uncert_geometric: non-finite result");
+    }
 }
 
 /* ------------------------------------------------------------------ gate */
@@ -857,6 +884,9 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_uncert_points(NULL, n, c, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL pts)");
     FZ_CHECK(sfit_uncert_points(p, n, NULL, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL centre)");
     FZ_CHECK(sfit_uncert_points(p, n, c, 1.0f, 0.0f, NULL) == SFIT_E_ARG, "uncert_points(NULL out)");
+    FZ_CHECK(sfit_uncert_geometric(NULL, n, c, &u) == SFIT_E_ARG, "uncert_geometric(NULL pts)");
+    FZ_CHECK(sfit_uncert_geometric(p, n, NULL, &u) == SFIT_E_ARG, "uncert_geometric(NULL centre)");
+    FZ_CHECK(sfit_uncert_geometric(p, n, c, NULL) == SFIT_E_ARG, "uncert_geometric(NULL out)");
     FZ_CHECK(sfit_gate_init(NULL, NULL) == SFIT_E_ARG, "gate_init(NULL)");
     FZ_CHECK(sfit_gate_init(NULL, &sfit_gate_cfg_default) == SFIT_E_ARG, "gate_init(NULL, cfg)");
     FZ_CHECK(sfit_gate_reset(NULL) == SFIT_E_ARG, "gate_reset(NULL)");

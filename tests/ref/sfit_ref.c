@@ -839,6 +839,81 @@ void ref_crlb_sphere(const double (*x_true)[3], size_t n, const double c[3],
     }
 }
 
+int ref_sandwich_geometric(const double (*x)[3], size_t n, const double c[3],
+                           double cov[4][4])
+{
+    ref_ld jtj[16], a[16], ainv[16], col[4], rbar = 0.0L, s2 = 0.0L;
+    size_t i;
+    int j, k, l;
+
+    memset(jtj, 0, sizeof jtj);
+    memset(a, 0, sizeof a);
+    for (i = 0; i < n; ++i) {
+        ref_ld v[3];
+        for (j = 0; j < 3; ++j) {
+            v[j] = LD(x[i][j]) - LD(c[j]);
+        }
+        rbar += sqrtl(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    rbar /= (ref_ld)n;
+    for (i = 0; i < n; ++i) {
+        ref_ld u[4], v[3], d, f;
+        for (j = 0; j < 3; ++j) {
+            v[j] = LD(x[i][j]) - LD(c[j]);
+        }
+        d = sqrtl(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!(d > 0.0L)) {
+            return -1;
+        }
+        f = d - rbar;
+        s2 += f * f;
+        for (j = 0; j < 3; ++j) {
+            u[j] = -v[j] / d;
+        }
+        u[3] = -1.0L;
+        for (j = 0; j < 4; ++j) {
+            for (k = 0; k < 4; ++k) {
+                jtj[4 * j + k] += u[j] * u[k];
+            }
+        }
+        for (j = 0; j < 3; ++j) {
+            for (k = 0; k < 3; ++k) {
+                a[4 * j + k] += f * (((j == k) ? 1.0L : 0.0L) - u[j] * u[k]) / d;
+            }
+        }
+    }
+    s2 /= (ref_ld)(n - 4u);
+    for (j = 0; j < 16; ++j) {
+        a[j] += jtj[j];
+    }
+    for (k = 0; k < 4; ++k) {
+        ref_ld t[16];
+        memcpy(t, a, sizeof t);
+        for (j = 0; j < 4; ++j) {
+            col[j] = (j == k) ? 1.0L : 0.0L;
+        }
+        if (ref_i_solve(4, t, col)) {
+            return -1;
+        }
+        for (j = 0; j < 4; ++j) {
+            ainv[4 * j + k] = col[j];
+        }
+    }
+    for (j = 0; j < 4; ++j) {
+        for (k = 0; k < 4; ++k) {
+            ref_ld acc = 0.0L;
+            int m;
+            for (l = 0; l < 4; ++l) {
+                for (m = 0; m < 4; ++m) {
+                    acc += ainv[4 * j + l] * jtj[4 * l + m] * ainv[4 * m + k];
+                }
+            }
+            cov[j][k] = (double)(s2 * acc);
+        }
+    }
+    return 0;
+}
+
 /* ---------------------------------------------------------------------- */
 /* Cap / arc covariance by quadrature                                      */
 /*

@@ -108,6 +108,13 @@ int ref_fit_geometric(const double (*x)[3], size_t n, const double c_init[3],
 void ref_crlb_sphere(const double (*x_true)[3], size_t n, const double c[3],
                      double r, double sigma2, double crlb[4][4]);
 
+/** Sandwich covariance of the geometric fit at centre c (radius = mean
+ *  distance), full 4x4 in (cx, cy, cz, r): A^-1 (s^2 J^T J) A^-1 with J rows
+ *  [-u^T, -1], A = J^T J + sum f_i diag((I - u u^T)/d_i, 0), s^2 =
+ *  sum f^2 / (n - 4). Returns -1 on a singular A or a sample at c. */
+int ref_sandwich_geometric(const double (*x)[3], size_t n, const double c[3],
+                           double cov[4][4]);
+
 /** Population covariance eigenvalues (numerical quadrature) of the uniform
  *  distribution on a spherical cap of half-angle theta, radius r. */
 void ref_cap_eigs_numeric(double theta, double r, double *lmin, double *lmax);

@@ -577,7 +577,9 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->noise_var = rf.noise_var;
         x->noise_estimated = 1;
         x->iterations = rf.iterations;
-        kind = SFIT_UNCERT_NOISE_ESTIMATED;
+        /* the geometric fit's own (sandwich) covariance, from the samples */
+        x->has_uncert = (sfit_uncert_geometric(k->pts, k->n, &rf.center, &x->u) == SFIT_OK);
+        return SFIT_OK;
     }
     if (x->has_noise && r->mode == SFIT_MODE_SPHERE && acc != NULL) {
         x->has_uncert = (sfit_uncert_moments(acc, &r->center, r->radius, x->noise_var, kind,

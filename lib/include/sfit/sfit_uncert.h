@@ -22,8 +22,14 @@
  *   Cov(c) += 7.5 sigma^4 M^-1 + N sigma^4 M^-1 (r^2 I + s a a^T) M^-1
  * with s = +1 when sigma^2 is a known constant (calibrated beforehand) and
  * s = -1 when sigma^2 was estimated from the same samples (self-calibrated
- * UGDK, sfit_selfcal_fit(), or the refined geometric fit): the estimate
- * co-varies with the centre error and cancels most of the a a^T term.
+ * UGDK, sfit_selfcal_fit()): the estimate co-varies with the centre error
+ * and cancels most of the a a^T term.
+ *
+ * For the geometric fit (sfit_refine_fit()) use sfit_uncert_geometric(): the
+ * sandwich A^-1 B A^-1 of its own estimating equation, from the samples.
+ * It holds at any noise level to leading order in 1/N (the UGDK formula
+ * above over-reports the refined fit's covariance by up to 1.3x where
+ * sigma / r is large).
  */
 #ifndef SFIT_UNCERT_H
 #define SFIT_UNCERT_H
@@ -93,6 +99,41 @@ sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *ce
  */
 sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out);
+
+/**
+ * @brief Covariance of the geometric (orthogonal-distance) fit at its
+ * centre, from the samples: the sandwich estimate A^-1 B A^-1.
+ *
+ * With d_i = |x_i - c|, u_i = (x_i - c)/d_i, dbar and ubar their means,
+ * f_i = d_i - dbar (the radius is the mean distance):
+ *   Mu = sum (u - ubar)(u - ubar)^T            (J^T J, radius profiled out)
+ *   A  = Mu + sum f_i (I - u_i u_i^T) / d_i    (the cost's full Hessian)
+ *   B  = s^2 Mu, s^2 = sum f_i^2 / (N - 4)     (the residual variance)
+ *   Cov(c) = s^2 A^-1 Mu A^-1, Var(r) = s^2 (1/N + ubar^T A^-1 Mu A^-1 ubar),
+ *   Cov(c, r) = -s^2 A^-1 Mu A^-1 ubar.
+ * The second term of A (the curvature of the distances times the residuals)
+ * and the noise in u_i are what first-order formulas leave out; both grow
+ * with sigma / r. No noise level is needed: s^2 comes from the residuals
+ * (and is returned in noise_var, without the curvature correction of
+ * sfit_refine_result_t::noise_var, because the sandwich needs the residual
+ * variance itself).
+ * @param[in]  pts     n samples (caller-owned, read only).
+ * @param[in]  n       Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  center  Centre of the geometric fit (sfit_refine_result_t::center).
+ * @param[out] out     Written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL pointer, non-finite centre
+ * @retval SFIT_E_TOO_FEW     n < 5 or n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
+ * @retval SFIT_E_DEGENERATE  a sample at the centre, or the directions span
+ *                            less than 3 dimensions
+ * @retval SFIT_E_NOT_POSDEF  A is not positive definite: the centre is not a
+ *                            minimum of the geometric cost, or the noise
+ *                            swamps the curvature of the data
+ * @retval SFIT_E_RANGE       n > UINT32_MAX, or a result would not be finite
+ */
+sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+                                    sfit_uncert_t *out);
 
 #ifdef __cplusplus
 }
