@@ -137,7 +137,7 @@ static void test_efficiency_wide(void **state)
 
 /* The documented limit: the maximum-likelihood fit itself misses the
  * first-order bound at large sigma / r. Whole sphere at rho = 0.3 is
- * sigma / r = 0.38: measured 1.30 (T = 300, SE 4 %), 3.7 SE above 1.15. No
+ * sigma / r = 0.38: measured 1.26-1.30 (SE 2.2 % at T = 1000), 5 SE above 1.15. No
  * estimator here meets must-show 1 there; docs/beyond.md says so. */
 static void test_efficiency_limit(void **state)
 {
