@@ -10,6 +10,7 @@
 #     (default <source>/build-montecarlo);
 #  2. runs it (fixed seeds): writes the CSVs, results_table.md and
 #     claims.md into the output directory (default <source>/docs/figures);
+#     then sfit_mc_beyond writes beyond_table.md (docs/beyond.md);
 #  3. draws the PNGs with gnuplot (tools/montecarlo/plots.gp).
 # --quick: a tenth of the trials (smoke test), written by default into
 #          DIR/quick instead of docs/figures.
@@ -48,7 +49,8 @@ cmake --build "$build" -j2 >/dev/null || exit 1
 mkdir -p "$out"
 echo "run.sh: running the Monte Carlo into $out" >&2
 "$build/sfit_mc" "$out" $quick || exit 1
+"$build/sfit_mc_beyond" "$out" $quick || exit 1
 if [ "$plot" = 1 ]; then
     gnuplot -e "d='$out'" "$here/plots.gp" || exit 1
 fi
-echo "run.sh: done; see $out/claims.md and $out/results_table.md" >&2
+echo "run.sh: done; see $out/claims.md, $out/results_table.md and $out/beyond_table.md" >&2
