@@ -17,6 +17,7 @@ void tt_fit(void);
 void tt_multi(void);
 void tt_noise(void);
 void tt_incr(void);
+void tt_beyond(void);
 
 typedef void (*tt_suite_fn)(void);
 static const struct {
@@ -29,6 +30,7 @@ static const struct {
     {"multi", tt_multi},
     {"noise", tt_noise},
     {"incr", tt_incr},
+    {"beyond", tt_beyond},
 };
 
 static unsigned tt_pass;
