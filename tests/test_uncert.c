@@ -243,8 +243,10 @@ static void test_geometric_vs_oracle(void **state)
     /* noise_var is the residual variance the sandwich used */
     assert_near(u.noise_var, (double)rf.rms * (double)rf.rms * 600.0 / 596.0, 1e-3 * (double)u.noise_var,
                 "sandwich s^2");
-    /* it exceeds the first-order sigma^2 (J^T J)^-1 at the same centre by
-     * the curvature term: never below it by more than the s^2 difference */
+    /* with the same s^2 it exceeds the first-order s^2 Mu^-1 at the same
+     * centre: the curvature term H2 = sum f (I - u u^T)/d is negative on
+     * balance (samples outside the sphere have f > 0 and larger d), so
+     * A = Mu + H2 < Mu. A sign error in H2 would fail this. */
     {
         sfit_uncert_t f;
         assert_int_equal(sfit_uncert_points(g_pf, 600, &rf.center, rf.radius, u.noise_var, &f),

@@ -52,6 +52,14 @@ static sfit_status_t prv_check_fit(const sfit_vec3_t *center, float radius, floa
     return SFIT_OK;
 }
 
+/* Average the off-diagonal pairs (rounding left them unequal). */
+static void prv_symmetrise(sfit_mat3_t *a)
+{
+    a->m[1] = a->m[3] = 0.5f * (a->m[1] + a->m[3]);
+    a->m[2] = a->m[6] = 0.5f * (a->m[2] + a->m[6]);
+    a->m[5] = a->m[7] = 0.5f * (a->m[5] + a->m[7]);
+}
+
 /* Inverse of an SPD matrix from its Cholesky factor (full symmetric). */
 static void prv_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv)
 {
@@ -66,10 +74,7 @@ static void prv_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv)
         inv->m[3 + j] = x.v[1];
         inv->m[6 + j] = x.v[2];
     }
-    /* symmetrise (rounding) */
-    inv->m[1] = inv->m[3] = 0.5f * (inv->m[1] + inv->m[3]);
-    inv->m[2] = inv->m[6] = 0.5f * (inv->m[2] + inv->m[6]);
-    inv->m[5] = inv->m[7] = 0.5f * (inv->m[5] + inv->m[7]);
+    prv_symmetrise(inv);
 }
 
 static void prv_pack(const sfit_mat3_t *a, float p[6])
@@ -161,20 +166,30 @@ sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *ce
     return prv_finish(&u, out);
 }
 
-/* Unit direction from the centre; 0 when the sample is at the centre. */
-static int prv_dir(const sfit_vec3_t *x, const sfit_vec3_t *c, float u[3])
+/* Two-level accumulation of k floats: blk into tot every block. */
+static void prv_flush(float *tot, float *blk, int k)
 {
-    float d;
+    int j;
+    for (j = 0; j < k; j++) {
+        tot[j] += blk[j];
+        blk[j] = 0.0f;
+    }
+}
+
+/* Distance and unit direction from the centre; 0 when the sample is at the
+ * centre. */
+static int prv_dist_dir(const sfit_vec3_t *x, const sfit_vec3_t *c, float *d, float u[3])
+{
     int i;
     for (i = 0; i < 3; i++) {
         u[i] = x->v[i] - c->v[i];
     }
-    d = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (!(d > 0.0f)) {
+    *d = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(*d > 0.0f)) {
         return 0;
     }
     for (i = 0; i < 3; i++) {
-        u[i] /= d;
+        u[i] /= *d;
     }
     return 1;
 }
@@ -211,18 +226,15 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
     }
     /* Pass 1: mean direction. */
     for (i = 0; i < n; i++) {
-        float d[3];
-        if (!prv_dir(&pts[i], center, d)) {
+        float d[3], dist;
+        if (!prv_dist_dir(&pts[i], center, &dist, d)) {
             return SFIT_E_DEGENERATE;
         }
         for (j = 0; j < 3; j++) {
             blk[j] += d[j];
         }
         if (++inblk == SFIT_UNCERT_BLOCK) {
-            for (j = 0; j < 3; j++) {
-                tot[j] += blk[j];
-                blk[j] = 0.0f;
-            }
+            prv_flush(tot, blk, 3);
             inblk = 0u;
         }
     }
@@ -233,8 +245,8 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
     /* Pass 2: A = sum (u - ubar)(u - ubar)^T. */
     inblk = 0u;
     for (i = 0; i < n; i++) {
-        float d[3];
-        (void)prv_dir(&pts[i], center, d);
+        float d[3], dist;
+        (void)prv_dist_dir(&pts[i], center, &dist, d);
         for (j = 0; j < 3; j++) {
             d[j] -= ub[j];
         }
@@ -245,16 +257,11 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
         ab[4] += d[0] * d[2];
         ab[5] += d[1] * d[2];
         if (++inblk == SFIT_UNCERT_BLOCK) {
-            for (j = 0; j < 6; j++) {
-                at[j] += ab[j];
-                ab[j] = 0.0f;
-            }
+            prv_flush(at, ab, 6);
             inblk = 0u;
         }
     }
-    for (j = 0; j < 6; j++) {
-        at[j] += ab[j];
-    }
+    prv_flush(at, ab, 6);
     sfit_i_sym_unpack(at, &a);
     if (sfit_mat3_chol(&a, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
@@ -274,33 +281,6 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
     }
     u.noise_var = noise_var;
     return prv_finish(&u, out);
-}
-
-/* Two-level accumulation of k floats: blk into tot every block. */
-static void prv_flush(float *tot, float *blk, int k)
-{
-    int j;
-    for (j = 0; j < k; j++) {
-        tot[j] += blk[j];
-        blk[j] = 0.0f;
-    }
-}
-
-/* Distance and unit direction; 0 when the sample is at the centre. */
-static int prv_dist_dir(const sfit_vec3_t *x, const sfit_vec3_t *c, float *d, float u[3])
-{
-    int i;
-    for (i = 0; i < 3; i++) {
-        u[i] = x->v[i] - c->v[i];
-    }
-    *d = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (!(*d > 0.0f)) {
-        return 0;
-    }
-    for (i = 0; i < 3; i++) {
-        u[i] /= *d;
-    }
-    return 1;
 }
 
 /* p = a * b for full 3x3 matrices. */
@@ -428,9 +408,7 @@ sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit
     for (j = 0; j < 9; j++) {
         cov.m[j] *= s2;
     }
-    cov.m[1] = cov.m[3] = 0.5f * (cov.m[1] + cov.m[3]);
-    cov.m[2] = cov.m[6] = 0.5f * (cov.m[2] + cov.m[6]);
-    cov.m[5] = cov.m[7] = 0.5f * (cov.m[5] + cov.m[7]);
+    prv_symmetrise(&cov);
     for (j = 0; j < 3; j++) {
         q.v[j] = k.m[3 * j] * ub[0] + k.m[3 * j + 1] * ub[1] + k.m[3 * j + 2] * ub[2];
     }

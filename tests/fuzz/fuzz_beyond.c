@@ -597,12 +597,16 @@ static void fz_refine(fz_state_t *s, fz_in_t *in)
 
 /* ------------------------------------------------------------ uncertainty */
 
+static int fz_uncert_finite(const sfit_uncert_t *u)
+{
+    return fz_all_finite(u->center_cov, 6) && fz_finite(u->radius_var)
+           && fz_all_finite(u->center_radius_cov, 3) && fz_finite(u->noise_var);
+}
+
 static void fz_check_uncert(sfit_status_t st, const sfit_uncert_t *u, float v, const char *what)
 {
     if (st == SFIT_OK) {
-        FZ_CHECK(fz_all_finite(u->center_cov, 6) && fz_finite(u->radius_var)
-                     && fz_all_finite(u->center_radius_cov, 3) && fz_finite(u->noise_var),
-                 what);
+        FZ_CHECK(fz_uncert_finite(u), what);
         FZ_CHECK(u->noise_var == v, what);
     }
 }
@@ -705,9 +709,7 @@ static void fz_uncert_pts(fz_state_t *s, fz_in_t *in)
         FZ_CHECK(st != SFIT_OK, "sfit_uncert_geometric: coincident samples accepted");
     }
     if (st == SFIT_OK) {
-        FZ_CHECK(fz_all_finite(u.center_cov, 6) && fz_finite(u.radius_var)
-                     && fz_all_finite(u.center_radius_cov, 3) && fz_finite(u.noise_var)
-                     && u.noise_var >= 0.0f,
+        FZ_CHECK(fz_uncert_finite(&u) && u.noise_var >= 0.0f,
                  "sfit_uncert_geometric: non-finite result");
     }
 }

@@ -20,6 +20,8 @@
  * small), so a centre thousands of radii away costs no accuracy. Converged
  * when the step is below tol * r.
  *
+ * The covariance of the result: sfit_uncert_geometric() (sfit_uncert.h).
+ *
  * Cost per iteration: two passes over the samples (one for ubar, dbar and
  * the cost, one for the centred sums) plus one pass per damping trial;
  * about 2 sqrt and 40 FLOPs per sample and pass.
