@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file cli.h
- * @brief Shared pieces of the `sfit` command-line tool: CSV streaming,
- * rejection bookkeeping, JSON helpers, and the sub-command entry points.
+ * @brief Shared pieces of the `sfit` command-line tool: the input layer
+ * (delimited text, table.h; C3D, c3d.h), rejection bookkeeping, JSON
+ * helpers, and the sub-command entry points.
  */
 #ifndef SFIT_CLI_H
 #define SFIT_CLI_H
@@ -20,10 +21,30 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2, CLI_IO = 3 };
 /** Per-sample consumer: returns SFIT_OK or the reason the sample is rejected. */
 typedef sfit_status_t (*cli_sample_fn)(void *ctx, const sfit_vec3_t *x);
 
+/** Input options shared by every command that reads samples (--cols). */
+typedef struct cli_src {
+    const char *cols; /**< --cols spec (names or 1-based indices), NULL = x,y,z */
+} cli_src_t;
+
+/**
+ * If argv[*i] is a shared input option (--cols SPEC), consume it (and its
+ * value) and return 1; 0 if it is not one; -1 (message on stderr) if its
+ * value is missing.
+ */
+int cli_input_opt(int argc, char **argv, int *i, cli_src_t *src);
+
+/** The usage lines of the shared input options. */
+#define CLI_INPUT_USAGE                                                                    \
+    "  FILE  delimited text: comma, tab, semicolon or blanks (detected), optional\n"       \
+    "        header naming the columns, blank cell = missing sample; '-' reads stdin\n"   \
+    "  --cols A,B,C     the x,y,z columns: header names or 1-based indices\n"              \
+    "                   (default: the columns named x, y, z, or the only three)\n"
+
 typedef struct cli_input {
     unsigned long lines;    /**< data lines seen (header and blank lines excluded) */
     unsigned long accepted; /**< samples the consumer accepted */
     unsigned long rejected; /**< lines that did not parse or were rejected */
+    unsigned long missing;  /**< rows with a blank selected cell (skipped) */
     unsigned long bad_line[CLI_REPORT_MAX];
     const char *bad_why[CLI_REPORT_MAX];
 } cli_input_t;
@@ -32,12 +53,22 @@ typedef struct cli_input {
 int cli_parse_floats(const char *s, float *out, int n);
 
 /**
- * Stream the CSV file `path` ('-' = stdin) sample by sample into fn(ctx, x).
- * An optional header (first line that does not parse) is skipped; other
- * lines that do not parse, and samples fn rejects, are counted in `in`.
- * Returns 0, or -1 if the file cannot be opened.
+ * Stream the delimited file `path` ('-' = stdin) sample by sample into
+ * fn(ctx, x) (table.h). The header is skipped; rows that do not parse and
+ * samples fn rejects are counted in `in` (rejected), rows with a blank
+ * selected cell too (missing). Returns 0; -1 if the file cannot be opened
+ * (errno kept); -2 if its columns cannot be selected (message in `why`,
+ * TAB_ERR_MAX bytes).
  */
-int cli_read_csv(const char *path, cli_sample_fn fn, void *ctx, cli_input_t *in);
+int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
+                 cli_input_t *in, char *why);
+
+/**
+ * Report a cli_read_xyz failure (rc -1 or -2) for `file`: JSON
+ * {"status":"io_error"|"format_error","message":...} or a line on stderr.
+ * Returns CLI_IO.
+ */
+int cli_input_failed(int rc, const char *file, const char *why, int json);
 
 /** sfit_moments_add as a cli_sample_fn (ctx is a sfit_moments_t *). */
 sfit_status_t cli_add_to_moments(void *ctx, const sfit_vec3_t *x);
@@ -48,6 +79,9 @@ void cli_report_rejects(const char *file, const cli_input_t *in);
 /** A readable explanation of a status, for "message" and stderr. */
 const char *cli_status_message(sfit_status_t st);
 
+/** Print a JSON string literal (quotes, backslashes, control characters escaped). */
+void cli_print_json_string(const char *str);
+
 /** Print a JSON array of 3 floats (round-trip precision). */
 void cli_print_vec(const float *v);
 
@@ -56,9 +90,10 @@ int cli_json_error(const char *status, const char *message);
 
 /**
  * Stream `file` into a fresh accumulator; list rejected lines on stderr
- * unless json. Returns 0, or CLI_IO after reporting an open failure.
+ * unless json. Returns 0, or CLI_IO after reporting an open or format failure.
  */
-int cli_read_moments(const char *file, int json, sfit_moments_t *acc, cli_input_t *in);
+int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,
+                     cli_input_t *in);
 
 /**
  * Report a failed computation: JSON {"status","message","n","rejected"} or a
@@ -86,5 +121,7 @@ int cli_cmd_fit(int argc, char **argv);
 int cli_cmd_noise(int argc, char **argv);
 int cli_cmd_coverage(int argc, char **argv);
 int cli_cmd_track(int argc, char **argv);
+int cli_cmd_joint(int argc, char **argv);
+int cli_cmd_skeleton(int argc, char **argv);
 
 #endif /* SFIT_CLI_H */

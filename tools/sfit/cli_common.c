@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_common.c  CSV streaming and output helpers of the `sfit` tool. */
+/** @file cli_common.c  Input layer and output helpers of the `sfit` tool. */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+#include "table.h"
 
 int cli_parse_floats(const char *s, float *out, int n)
 {
@@ -42,54 +43,77 @@ static void note_reject(cli_input_t *in, unsigned long line, const char *why)
     in->rejected++;
 }
 
-int cli_read_csv(const char *path, cli_sample_fn fn, void *ctx, cli_input_t *in)
+int cli_input_opt(int argc, char **argv, int *i, cli_src_t *src)
 {
-    char buf[CLI_LINE_MAX];
-    unsigned long lineno = 0;
-    FILE *f = (strcmp(path, "-") == 0) ? stdin : fopen(path, "r");
-
-    memset(in, 0, sizeof *in);
-    if (f == NULL) {
+    if (strcmp(argv[*i], "--cols") != 0) {
+        return 0;
+    }
+    if (*i + 1 >= argc || argv[*i + 1][0] == '\0') {
+        fprintf(stderr, "sfit: --cols needs a list of column names or 1-based indices\n");
         return -1;
     }
-    while (fgets(buf, sizeof buf, f) != NULL) {
-        sfit_vec3_t x;
-        const size_t len = strlen(buf);
-        const int toolong = (len == sizeof buf - 1u && buf[len - 1u] != '\n');
+    src->cols = argv[++*i];
+    return 1;
+}
+
+int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
+                 cli_input_t *in, char *why)
+{
+    tab_t t;
+    float v[3];
+    int rc;
+
+    memset(in, 0, sizeof *in);
+    if (tab_open_file(&t, path) != 0) {
+        return -1;
+    }
+    if (tab_start(&t) != 0 || tab_select(&t, src->cols, 3) != 0) {
+        (void)snprintf(why, TAB_ERR_MAX, "%s", t.err);
+        tab_close(&t);
+        return -2;
+    }
+    while ((rc = tab_next(&t, v)) != TAB_EOF) {
         sfit_status_t st;
-        lineno++;
-        if (toolong) { /* swallow the rest of the line */
-            int ch;
-            do {
-                ch = fgetc(f);
-            } while (ch != '\n' && ch != EOF);
-        }
-        if (buf[strspn(buf, " \t\r\n")] == '\0') {
-            continue; /* blank line */
-        }
-        if (toolong || cli_parse_floats(buf, x.v, 3) != 0) {
-            if (lineno == 1u && !toolong) {
-                continue; /* header */
-            }
-            in->lines++;
-            note_reject(in, lineno, "does not parse as x,y,z");
+        sfit_vec3_t x;
+        in->lines++;
+        if (rc == TAB_ROW_BAD) {
+            note_reject(in, t.lineno, t.why);
             continue;
         }
-        in->lines++;
+        if (t.blank > 0) {
+            in->missing++;
+            continue;
+        }
+        x.v[0] = v[0];
+        x.v[1] = v[1];
+        x.v[2] = v[2];
         st = fn(ctx, &x);
         if (st == SFIT_OK) {
             in->accepted++;
         } else {
-            note_reject(in, lineno,
+            note_reject(in, t.lineno,
                         st == SFIT_E_NONFINITE ? "not finite"
                         : st == SFIT_E_RANGE   ? "out of range"
                                                : sfit_status_str(st));
         }
     }
-    if (f != stdin) {
-        fclose(f);
-    }
+    tab_close(&t);
     return 0;
+}
+
+int cli_input_failed(int rc, const char *file, const char *why, int json)
+{
+    if (rc == -1) {
+        return cli_open_failed(file, json);
+    }
+    if (json) {
+        printf("{\"status\":\"format_error\",\"message\":");
+        cli_print_json_string(why);
+        printf("}\n");
+    } else {
+        fprintf(stderr, "sfit: %s: %s\n", file, why);
+    }
+    return CLI_IO;
 }
 
 sfit_status_t cli_add_to_moments(void *ctx, const sfit_vec3_t *x)
@@ -105,6 +129,10 @@ void cli_report_rejects(const char *file, const cli_input_t *in)
     }
     if (in->rejected > CLI_REPORT_MAX) {
         fprintf(stderr, "sfit: ... %lu rejected lines in all\n", in->rejected);
+    }
+    if (in->missing > 0u) {
+        fprintf(stderr, "sfit: %s: %lu rows with a blank cell skipped (missing samples)\n", file,
+                in->missing);
     }
 }
 
@@ -125,6 +153,23 @@ const char *cli_status_message(sfit_status_t st)
     case SFIT_OK: return "ok";
     default: return "unknown error";
     }
+}
+
+/* A JSON string literal (quotes, backslashes and control characters escaped). */
+void cli_print_json_string(const char *str)
+{
+    const unsigned char *c = (const unsigned char *)str;
+    putchar('"');
+    for (; *c != '\0'; c++) {
+        if (*c == '"' || *c == '\\') {
+            printf("\\%c", *c);
+        } else if (*c < 0x20u) {
+            printf("\\u%04x", (unsigned)*c);
+        } else {
+            putchar(*c);
+        }
+    }
+    putchar('"');
 }
 
 void cli_print_vec(const float *v)
@@ -175,11 +220,15 @@ int cli_positional(const char *arg, const char **file)
     return 0;
 }
 
-int cli_read_moments(const char *file, int json, sfit_moments_t *acc, cli_input_t *in)
+int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,
+                     cli_input_t *in)
 {
+    char why[TAB_ERR_MAX];
+    int rc;
     (void)sfit_moments_init(acc);
-    if (cli_read_csv(file, cli_add_to_moments, acc, in) != 0) {
-        return cli_open_failed(file, json);
+    rc = cli_read_xyz(file, src, cli_add_to_moments, acc, in, why);
+    if (rc != 0) {
+        return cli_input_failed(rc, file, why, json);
     }
     if (!json) {
         cli_report_rejects(file, in);

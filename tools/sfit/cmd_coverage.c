@@ -24,6 +24,7 @@ typedef struct cov_opts {
     int have_noise;
     float noise_var;
     float rho_max;
+    cli_src_t src;
 } cov_opts_t;
 
 typedef struct cov_out {
@@ -40,11 +41,12 @@ typedef struct cov_out {
 
 static void cov_usage(FILE *f)
 {
-    fputs("usage: sfit coverage [--cap | --arc] [--noise-var V] [--rho-max R] [--json] FILE\n"
+    fputs("usage: sfit coverage [--cap | --arc] [--noise-var V] [--rho-max R] [--cols A,B,C]\n"
+          "                     [--json] FILE\n"
           "  Estimate the covered half-angle of a cap (sphere fit) or an arc (hinge,\n"
           "  planar fit) from the eigenvalues of the sample covariance, and the\n"
           "  largest noise sigma that coverage tolerates (trust ratio rho < 1).\n"
-          "  FILE  CSV of x,y,z samples (optional header line); '-' reads stdin\n"
+          CLI_INPUT_USAGE
           "  --cap / --arc    force the geometry (default: arc when the samples are\n"
           "                   near-planar, else cap)\n"
           "  --noise-var V    known noise variance sigma^2 (e.g. from `sfit noise`):\n"
@@ -64,7 +66,12 @@ static int cov_parse(int argc, char **argv, cov_opts_t *o)
     o->rho_max = 1.0f;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        const int io = cli_input_opt(argc, argv, &i, &o->src);
+        if (io < 0) {
+            return -1;
+        } else if (io > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return 1;
         } else if (strcmp(a, "--json") == 0) {
             o->json = 1;
@@ -227,7 +234,7 @@ int cli_cmd_coverage(int argc, char **argv)
         }
     }
     {
-        const int rrc = cli_read_moments(o.file, o.json, &acc, &in);
+        const int rrc = cli_read_moments(o.file, &o.src, o.json, &acc, &in);
         if (rrc != 0) {
             return rrc;
         }

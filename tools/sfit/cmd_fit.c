@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "table.h"
 #include "sfit/sfit_gate.h"
 #include "sfit/sfit_multi.h"
 #include "sfit/sfit_refine.h"
@@ -36,14 +37,15 @@ typedef struct fit_opts {
     int auto_noise; /* --noise-var auto */
     int refine;     /* --refine */
     float gate_k;   /* --gate K (0 = no gate) */
+    cli_src_t src;  /* --cols */
 } fit_opts_t;
 
 static void fit_usage(FILE *f)
 {
     fputs("usage: sfit fit [--noise-var V|auto | --noise-cov XX,YY,ZZ,XY,XZ,YZ] [--refine]\n"
           "                [--gate K] [--mode auto|sphere|planar] [--weight equal|samples]\n"
-          "                [--json] FILE [FILE ...]\n"
-          "  FILE  CSV of x,y,z samples (optional header line); '-' reads stdin\n"
+          "                [--cols A,B,C] [--json] FILE [FILE ...]\n"
+          CLI_INPUT_USAGE
           "        several FILEs: one marker each, common centre of all (MGDK)\n"
           "  --noise-var V    UGDK with isotropic measurement-noise variance V (unit^2)\n"
           "  --noise-var auto self-calibrated UGDK: V estimated from the radial residuals\n"
@@ -72,9 +74,15 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->auto_noise = 0;
     o->refine = 0;
     o->gate_k = 0.0f;
+    o->src.cols = NULL;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        const int io = cli_input_opt(argc, argv, &i, &o->src);
+        if (io < 0) {
+            return -1;
+        } else if (io > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return 1;
         } else if (strcmp(a, "--json") == 0) {
             o->json = 1;
@@ -217,8 +225,9 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
 {
     int i;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"n\":%lu,\"rejected\":%lu,"
-           "\"center\":",
-           method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected);
+           "\"missing\":%lu,\"center\":",
+           method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
+           in->missing);
     cli_print_vec(r->center.v);
     printf(",\"radius\":%.9g,\"eigenvalues\":", (double)r->radius);
     cli_print_vec(r->eigenvalues.v);
@@ -254,6 +263,9 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
 {
     printf("file         %s\n", file);
     printf("samples      %lu used, %lu rejected", (unsigned long)r->n, in->rejected);
+    if (in->missing > 0u) {
+        printf(", %lu missing (blank cells)", in->missing);
+    }
     if (x->outliers > 0u) {
         printf(", %lu outliers gated out", x->outliers);
     }
@@ -303,35 +315,18 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
     }
 }
 
-/* A JSON string literal (quotes, backslashes and control characters escaped). */
-static void print_json_string(const char *str)
-{
-    const unsigned char *c = (const unsigned char *)str;
-    putchar('"');
-    for (; *c != '\0'; c++) {
-        if (*c == '"' || *c == '\\') {
-            printf("\\%c", *c);
-        } else if (*c < 0x20u) {
-            printf("\\u%04x", (unsigned)*c);
-        } else {
-            putchar(*c);
-        }
-    }
-    putchar('"');
-}
-
 /* ---- several FILEs: one marker each, common centre (sfit_multi_solve) ---- */
 
 static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
                              const sfit_moments_t *acc, const float *radii,
-                             unsigned long rejected)
+                             unsigned long rejected, unsigned long missing)
 {
     int k;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"weight\":\"%s\","
-           "\"n\":%lu,\"rejected\":%lu,\"center\":",
+           "\"n\":%lu,\"rejected\":%lu,\"missing\":%lu,\"center\":",
            r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke", mode_name(r->mode),
            o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "samples" : "equal",
-           (unsigned long)r->n_total, rejected);
+           (unsigned long)r->n_total, rejected, missing);
     cli_print_vec(r->center.v);
     printf(",\"eigenvalues\":");
     cli_print_vec(r->eigenvalues.v);
@@ -346,7 +341,7 @@ static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
     printf(",\"markers\":[");
     for (k = 0; k < o->nfiles; k++) {
         printf("%s{\"file\":", k > 0 ? "," : "");
-        print_json_string(o->files[k]);
+        cli_print_json_string(o->files[k]);
         printf(",\"n\":%lu,\"radius\":", (unsigned long)sfit_moments_count(&acc[k]));
         if (radii[k] > 0.0f) {
             printf("%.9g}", (double)radii[k]);
@@ -445,7 +440,7 @@ static int fit_multi(const fit_opts_t *o)
     sfit_multi_cfg_t mc;
     sfit_multi_result_t r;
     sfit_status_t st;
-    unsigned long accepted = 0, rejected = 0;
+    unsigned long accepted = 0, rejected = 0, missing = 0;
     int k, rc = CLI_OK;
 
     acc = (sfit_moments_t *)calloc((size_t)o->nfiles, sizeof *acc);
@@ -458,9 +453,12 @@ static int fit_multi(const fit_opts_t *o)
     }
     for (k = 0; k < o->nfiles; k++) {
         cli_input_t in;
+        char why[TAB_ERR_MAX];
+        int rrc;
         (void)sfit_moments_init(&acc[k]);
-        if (cli_read_csv(o->files[k], cli_add_to_moments, &acc[k], &in) != 0) {
-            rc = cli_open_failed(o->files[k], o->json);
+        rrc = cli_read_xyz(o->files[k], &o->src, cli_add_to_moments, &acc[k], &in, why);
+        if (rrc != 0) {
+            rc = cli_input_failed(rrc, o->files[k], why, o->json);
             goto done;
         }
         if (!o->json) {
@@ -468,6 +466,7 @@ static int fit_multi(const fit_opts_t *o)
         }
         accepted += in.accepted;
         rejected += in.rejected;
+        missing += in.missing;
     }
     mc.fit = o->cfg;
     mc.weight = o->weight;
@@ -484,7 +483,7 @@ static int fit_multi(const fit_opts_t *o)
         goto done;
     }
     if (o->json) {
-        print_multi_json(o, &r, acc, radii, rejected);
+        print_multi_json(o, &r, acc, radii, rejected, missing);
     } else {
         print_multi_human(o, &r, acc, radii, rejected);
     }
@@ -632,9 +631,13 @@ int cli_cmd_fit(int argc, char **argv)
         }
         sink.gate = &gate;
     }
-    if (cli_read_csv(o.file, fit_sink_add, &sink, &in) != 0) {
-        free(sink.pts);
-        return cli_open_failed(o.file, o.json);
+    {
+        char why[TAB_ERR_MAX];
+        const int rrc = cli_read_xyz(o.file, &o.src, fit_sink_add, &sink, &in, why);
+        if (rrc != 0) {
+            free(sink.pts);
+            return cli_input_failed(rrc, o.file, why, o.json);
+        }
     }
     st = fit_single(&o, &sink, &r, &extra);
     free(sink.pts);

@@ -21,14 +21,15 @@ typedef struct noise_opts {
     int have_radius;
     sfit_vec3_t center;
     float radius;
+    cli_src_t src;
 } noise_opts_t;
 
 static void noise_usage(FILE *f)
 {
-    fputs("usage: sfit noise --center X,Y,Z --radius R [--json] FILE\n"
+    fputs("usage: sfit noise --center X,Y,Z --radius R [--cols A,B,C] [--json] FILE\n"
           "  Estimate the measurement-noise variance from samples of a sphere whose\n"
           "  centre and radius are known (a calibration jig; R = 0: a fixed point).\n"
-          "  FILE  CSV of x,y,z samples (optional header line); '-' reads stdin\n"
+          CLI_INPUT_USAGE
           "  --center X,Y,Z   known centre\n"
           "  --radius R       known radius (>= 0)\n"
           "  --json           one JSON object on stdout\n"
@@ -44,7 +45,12 @@ static int noise_parse(int argc, char **argv, noise_opts_t *o)
     memset(o, 0, sizeof *o);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        const int io = cli_input_opt(argc, argv, &i, &o->src);
+        if (io < 0) {
+            return -1;
+        } else if (io > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return 1;
         } else if (strcmp(a, "--json") == 0) {
             o->json = 1;
@@ -109,7 +115,7 @@ int cli_cmd_noise(int argc, char **argv)
         }
     }
     {
-        const int rrc = cli_read_moments(o.file, o.json, &acc, &in);
+        const int rrc = cli_read_moments(o.file, &o.src, o.json, &acc, &in);
         if (rrc != 0) {
             return rrc;
         }

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "table.h"
 #include "sfit/sfit_incr.h"
 
 /* Entry point of the sub-command (argv[0] = "track"); the dispatcher's
@@ -29,6 +30,7 @@ typedef struct track_opts {
     int json;
     unsigned long every;
     sfit_fit_cfg_t cfg;
+    cli_src_t src;
 } track_opts_t;
 
 typedef struct track_ctx {
@@ -39,8 +41,9 @@ typedef struct track_ctx {
 
 static void track_usage(FILE *f)
 {
-    fputs("usage: sfit track [--noise-var V] [--every K] [--json] FILE\n"
-          "  FILE  CSV of x,y,z samples in time order (optional header line); '-' reads stdin\n"
+    fputs("usage: sfit track [--noise-var V] [--every K] [--cols A,B,C] [--json] FILE\n"
+          "  (the samples in time order)\n"
+          CLI_INPUT_USAGE
           "  --noise-var V  UGDK with isotropic measurement-noise variance V (unit^2)\n"
           "  --every K      print an estimate after every K-th sample (default 1;\n"
           "                 0 = only at the end); always one after the last sample\n"
@@ -58,9 +61,15 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
     o->every = 1ul;
     o->cfg = sfit_fit_cfg_default;
     o->cfg.mode = SFIT_MODE_SPHERE;
+    o->src.cols = NULL;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        const int io = cli_input_opt(argc, argv, &i, &o->src);
+        if (io < 0) {
+            return -1;
+        } else if (io > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return 1;
         } else if (strcmp(a, "--json") == 0) {
             o->json = 1;
@@ -144,8 +153,12 @@ int cli_cmd_track(int argc, char **argv)
     if (!o.json) {
         printf("# n center_x center_y center_z radius\n");
     }
-    if (cli_read_csv(o.file, track_sample, &ctx, &in) != 0) {
-        return cli_open_failed(o.file, o.json);
+    {
+        char why[TAB_ERR_MAX];
+        const int rrc = cli_read_xyz(o.file, &o.src, track_sample, &ctx, &in, why);
+        if (rrc != 0) {
+            return cli_input_failed(rrc, o.file, why, o.json);
+        }
     }
     if (!o.json) {
         cli_report_rejects(o.file, &in);
