@@ -82,6 +82,9 @@ const char *cli_status_message(sfit_status_t st);
 /** Print a JSON string literal (quotes, backslashes, control characters escaped). */
 void cli_print_json_string(const char *str);
 
+/** Print the JSON array of a result's flag names (sfit_flag, SFIT_MULTI_FLAG_SKIPPED). */
+void cli_print_flags_json(uint32_t flags);
+
 /** Print a JSON array of 3 floats (round-trip precision). */
 void cli_print_vec(const float *v);
 

@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "table.h"
+#include "sfit/sfit_multi.h"
 
 int cli_parse_floats(const char *s, float *out, int n)
 {
@@ -170,6 +171,28 @@ void cli_print_json_string(const char *str)
         }
     }
     putchar('"');
+}
+
+void cli_print_flags_json(uint32_t flags)
+{
+    const char *sep = "";
+    printf("[");
+    if (flags & SFIT_FLAG_UNTRUSTED) {
+        printf("%s\"untrusted\"", sep);
+        sep = ",";
+    }
+    if (flags & SFIT_FLAG_FEW_SAMPLES) {
+        printf("%s\"few_samples\"", sep);
+        sep = ",";
+    }
+    if (flags & SFIT_FLAG_NEAR_PLANAR) {
+        printf("%s\"near_planar\"", sep);
+        sep = ",";
+    }
+    if (flags & SFIT_MULTI_FLAG_SKIPPED) {
+        printf("%s\"skipped_markers\"", sep);
+    }
+    printf("]");
 }
 
 void cli_print_vec(const float *v)

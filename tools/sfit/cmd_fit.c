@@ -178,28 +178,6 @@ static const char *mode_name(sfit_mode_t m)
     return (m == SFIT_MODE_PLANAR) ? "planar" : "sphere";
 }
 
-static void print_flags_json(uint32_t flags)
-{
-    const char *sep = "";
-    printf("[");
-    if (flags & SFIT_FLAG_UNTRUSTED) {
-        printf("%s\"untrusted\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_FEW_SAMPLES) {
-        printf("%s\"few_samples\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_NEAR_PLANAR) {
-        printf("%s\"near_planar\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_MULTI_FLAG_SKIPPED) {
-        printf("%s\"skipped_markers\"", sep);
-    }
-    printf("]");
-}
-
 /* What the single-file fit adds to sfit_result_t. */
 typedef struct fit_extra {
     int refined;          /* geometric refinement done */
@@ -238,7 +216,7 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
         cli_print_vec(r->axis.v);
     }
     printf(",\"flags\":");
-    print_flags_json(r->flags);
+    cli_print_flags_json(r->flags);
     if (x->has_noise) {
         printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)x->noise_var,
                x->noise_estimated ? "true" : "false");
@@ -337,7 +315,7 @@ static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
         cli_print_vec(r->axis.v);
     }
     printf(",\"flags\":");
-    print_flags_json(r->flags);
+    cli_print_flags_json(r->flags);
     printf(",\"markers\":[");
     for (k = 0; k < o->nfiles; k++) {
         printf("%s{\"file\":", k > 0 ? "," : "");

@@ -20,6 +20,8 @@ static const cli_command_t commands[] = {
     {"noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point"},
     {"track", cli_cmd_track, "incremental estimate: a new centre every K samples"},
     {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
+    {"joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table"},
+    {"skeleton", cli_cmd_skeleton, "every joint of a model, and an SVG of the skeleton"},
 };
 
 static void usage(FILE *f)

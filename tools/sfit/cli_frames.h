@@ -1,0 +1,54 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cli_frames.h
+ * @brief Marker trajectories for `sfit joint` and `sfit skeleton`: named
+ * markers loaded from a C3D file (c3d.h) or a wide delimited table with one
+ * x,y,z column triple per marker (table.h), frame by frame.
+ */
+#ifndef SFIT_CLI_FRAMES_H
+#define SFIT_CLI_FRAMES_H
+
+#include "sfit/sfit_types.h"
+
+#define CLI_FRAMES_ERR_MAX 256
+#define CLI_MARKERS_MAX 256 /* markers named in one command */
+
+typedef struct cli_frames {
+    int nmarkers;        /**< markers loaded (in the order asked) */
+    long nframes;        /**< frames (C3D frames or table data rows), index 0-based */
+    float rate;          /**< frames per second (0 unknown: tables) */
+    char units[16];      /**< "mm", "m" ... ("" unknown) */
+    int is_c3d;
+    long bad_rows;       /**< table rows that did not parse (all markers NaN there) */
+    sfit_vec3_t *xyz;    /**< nframes * nmarkers, frame-major; NaN = missing */
+    /* every labelled point of a C3D file (context for pictures); NULL for tables */
+    int nall;
+    char (*all_labels)[64];
+    float *all_xyz;      /**< nframes * nall * 3 */
+} cli_frames_t;
+
+/**
+ * Load `n` named markers of `path` (C3D when the file starts like one,
+ * else delimited text). 0 on success; -1 if the file cannot be opened
+ * (errno kept); -2 with a message in `why` (CLI_FRAMES_ERR_MAX) if it is
+ * malformed or lacks a marker.
+ */
+int cli_frames_load(const char *path, const char *const *names, int n, cli_frames_t *out,
+                    char *why);
+
+/** Release a cli_frames_t. */
+void cli_frames_free(cli_frames_t *fr);
+
+/** Marker k of frame f. */
+static inline const sfit_vec3_t *cli_frames_at(const cli_frames_t *fr, long f, int k)
+{
+    return &fr->xyz[(size_t)f * (size_t)fr->nmarkers + (size_t)k];
+}
+
+/**
+ * Split a comma-separated list in place into at most `max` items (empty
+ * items rejected). Returns the count, or -1.
+ */
+int cli_split_list(char *s, char **items, int max);
+
+#endif /* SFIT_CLI_FRAMES_H */

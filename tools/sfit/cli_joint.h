@@ -1,0 +1,81 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cli_joint.h
+ * @brief The functional joint centre over loaded trajectories, shared by
+ * `sfit joint` and `sfit skeleton` (library: sfit_cluster.h, sfit_joint.h).
+ *
+ * Parent frame: the template frame of the parent cluster, built by
+ * sfit_cluster_from_frames() over the frames used: its axes are the lab
+ * axes at the reference frame (the first frame of the range where every
+ * parent marker is seen), its origin the centroid of the parent markers'
+ * template (their positions averaged over the frames, in that frame).
+ */
+#ifndef SFIT_CLI_JOINT_H
+#define SFIT_CLI_JOINT_H
+
+#include <stdio.h>
+
+#include "cli_frames.h"
+#include "sfit/sfit_joint.h"
+
+/** Options of one joint. */
+typedef struct cli_joint_opts {
+    long first, last;   /**< frames used, inclusive, 0-based (clamped to the file) */
+    sfit_mode_t mode;   /**< auto, sphere or planar */
+    int noise;          /**< 0 none (MGDK), 1 given (noise_var), 2 auto (estimated) */
+    float noise_var;    /**< sigma^2 per axis (unit^2) when noise == 1 */
+} cli_joint_opts_t;
+
+/** Everything a joint run produces. */
+typedef struct cli_joint_out {
+    sfit_joint_t j;                     /**< state: template and accumulators */
+    sfit_joint_result_t res;            /**< centre, axis, ... in the parent frame */
+    float radii[SFIT_JOINT_MAX_CHILD];  /**< per child marker */
+    long used, rejected;                /**< frames of the range */
+    long ref_frame;                     /**< reference frame of the template (-1 none) */
+    unsigned long template_frames;      /**< frames averaged into the template */
+    unsigned long child_n[SFIT_JOINT_MAX_CHILD]; /**< samples per child marker */
+    int has_noise, noise_estimated;
+    float noise_var;
+    unsigned char *ok;                  /**< per frame of the file: 1 = accepted */
+    sfit_status_t st;                   /**< SFIT_OK or the failure */
+    const char *stage;                  /**< where it failed: "template", "frames", "solve" */
+} cli_joint_out_t;
+
+/**
+ * Run the joint: markers 0..np-1 of `fr` are the parent cluster, markers
+ * np..np+nc-1 the child markers. Returns out->st (SFIT_OK or the status of
+ * the stage that failed). Release out with cli_joint_free.
+ */
+sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_joint_opts_t *o,
+                            cli_joint_out_t *out);
+
+/** Release what cli_joint_run allocated. */
+void cli_joint_free(cli_joint_out_t *out);
+
+/**
+ * The joint centre in the lab frame at frame f (parent registered there).
+ * SFIT_OK or the registration's status.
+ */
+sfit_status_t cli_joint_lab(const cli_frames_t *fr, int np, const cli_joint_out_t *out, long f,
+                            sfit_vec3_t *center, sfit_vec3_t *axis);
+
+/**
+ * Parse the options shared by joint and skeleton: --frames F:L,
+ * --noise-var V|auto, --mode auto|sphere|planar. Same convention as
+ * cli_input_opt: 1 consumed, 0 not one, -1 bad value (message printed).
+ */
+int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o);
+
+/** Defaults: every frame, auto mode, no noise model. */
+void cli_joint_opts_default(cli_joint_opts_t *o);
+
+/** The usage lines of the shared joint options. */
+#define CLI_JOINT_USAGE                                                                     \
+    "  --frames F:L     use frames F to L (0-based, both included; default: all)\n"        \
+    "  --noise-var V    unbiased MGDK with the child markers' noise variance V (unit^2)\n"  \
+    "  --noise-var auto V estimated per child marker (self-calibrated UGDK), pooled\n"     \
+    "  --mode M         auto (default): ball joint, or hinge when the markers' arcs are\n" \
+    "                   near-planar; sphere / planar force one\n"
+
+#endif /* SFIT_CLI_JOINT_H */

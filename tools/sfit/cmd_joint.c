@@ -1,0 +1,332 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_joint.c
+ * @brief `sfit joint`: the functional joint centre from a recording.
+ *
+ *   sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]
+ *              [--noise-var V|auto] [--mode auto|sphere|planar]
+ *              [--trajectory OUT.csv] [--json]
+ *
+ * FILE is a C3D file or a wide table (cli_frames.h). The parent cluster is
+ * registered frame by frame on its template, every child marker is mapped
+ * into the parent frame and accumulated, and the multi-marker solve gives
+ * the centre (and the axis of a hinge) in the parent frame (cli_joint.h).
+ * --trajectory writes frame,x,y,z: the centre in the lab frame at every
+ * frame used (frame = 0-based index in the file).
+ *
+ * Exit status as `fit`: 0 ok, 1 the computation failed, 2 usage, 3 file
+ * error (cannot open, malformed, marker missing).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cli_joint.h"
+
+typedef struct joint_opts {
+    const char *file;
+    const char *trajectory;
+    int json;
+    char *names[CLI_MARKERS_MAX]; /* parent markers, then child markers */
+    int np, nc;
+    cli_joint_opts_t j;
+} joint_opts_t;
+
+static void joint_usage(FILE *f)
+{
+    fputs("usage: sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]\n"
+          "                  [--noise-var V|auto] [--mode auto|sphere|planar]\n"
+          "                  [--trajectory OUT.csv] [--json]\n"
+          "  FILE  a C3D file, or a table with a header and one x,y,z column triple per\n"
+          "        marker: NAME_X NAME_Y NAME_Z (also NAME.x, NAME:X, NAME-X, 'NAME X';\n"
+          "        any case); other columns (time, frame) are ignored; blank cell = missing\n"
+          "  --parent LIST    3 or more markers of the parent segment (a rigid cluster)\n"
+          "  --child LIST     markers of the child segment\n" CLI_JOINT_USAGE
+          "  --trajectory OUT write frame,x,y,z: the centre in the lab frame at every frame\n"
+          "                   used (frame: 0-based index in FILE)\n"
+          "  --json           one JSON object on stdout\n"
+          "The centre is given in the parent frame: the template frame of the parent\n"
+          "cluster (origin at the centroid of its markers' template, axes the lab axes\n"
+          "at the reference frame, the first frame of the range with every parent marker).\n",
+          f);
+}
+
+static int marker_list(char *arg, char **dst, int room, const char *what)
+{
+    const int n = cli_split_list(arg, dst, room);
+    if (n < 1) {
+        fprintf(stderr, "sfit: %s needs a comma-separated list of marker names\n", what);
+    }
+    return n;
+}
+
+static int joint_parse(int argc, char **argv, joint_opts_t *o)
+{
+    char *parent = NULL, *child = NULL;
+    int i;
+    memset(o, 0, sizeof *o);
+    cli_joint_opts_default(&o->j);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const int jo = cli_joint_opt(argc, argv, &i, &o->j);
+        if (jo < 0) {
+            return -1;
+        } else if (jo > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            return 1;
+        } else if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+        } else if (strcmp(a, "--parent") == 0 && i + 1 < argc) {
+            parent = argv[++i];
+        } else if (strcmp(a, "--child") == 0 && i + 1 < argc) {
+            child = argv[++i];
+        } else if (strcmp(a, "--trajectory") == 0 && i + 1 < argc) {
+            o->trajectory = argv[++i];
+        } else if (cli_positional(a, &o->file) != 0) {
+            return -1;
+        }
+    }
+    if (o->file == NULL || parent == NULL || child == NULL) {
+        fprintf(stderr, "sfit: FILE, --parent and --child are required\n");
+        return -1;
+    }
+    o->np = marker_list(parent, o->names, SFIT_CLUSTER_MAX_MARKERS, "--parent");
+    if (o->np < 0) {
+        return -1;
+    }
+    if (o->np < 3) {
+        fprintf(stderr, "sfit: --parent needs 3 to %d markers\n", SFIT_CLUSTER_MAX_MARKERS);
+        return -1;
+    }
+    o->nc = marker_list(child, o->names + o->np, SFIT_JOINT_MAX_CHILD, "--child");
+    if (o->nc < 0) {
+        fprintf(stderr, "sfit: --child takes 1 to %d markers\n", SFIT_JOINT_MAX_CHILD);
+        return -1;
+    }
+    return 0;
+}
+
+static const char *method_name(const sfit_multi_result_t *r)
+{
+    return r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke";
+}
+
+static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
+                       long last, const sfit_vec3_t *lab_ref)
+{
+    const sfit_multi_result_t *r = &jo->res.fit;
+    int k;
+    printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frame\":\"parent_template\","
+           "\"reference_frame\":%ld,\"first\":%ld,\"last\":%ld,\"frames_used\":%ld,"
+           "\"frames_rejected\":%ld,\"template_frames\":%lu,\"n\":%lu,\"center\":",
+           method_name(r), r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", jo->ref_frame,
+           o->j.first, last, jo->used, jo->rejected, jo->template_frames,
+           (unsigned long)r->n_total);
+    cli_print_vec(r->center.v);
+    printf(",\"center_lab_reference\":");
+    if (lab_ref != NULL) {
+        cli_print_vec(lab_ref->v);
+    } else {
+        printf("null");
+    }
+    if (r->mode == SFIT_MODE_PLANAR) {
+        printf(",\"axis\":");
+        cli_print_vec(r->axis.v);
+    }
+    printf(",\"eigenvalues\":");
+    cli_print_vec(r->eigenvalues.v);
+    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
+           (double)r->leontief_ratio);
+    cli_print_flags_json(r->flags);
+    if (jo->has_noise) {
+        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)jo->noise_var,
+               jo->noise_estimated ? "true" : "false");
+    } else {
+        printf(",\"noise_var\":null,\"noise_estimated\":false");
+    }
+    printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
+           (double)jo->res.residual_mean, (double)jo->res.residual_max);
+    cli_print_json_string(fr->units);
+    printf(",\"rate\":%.9g,\"parent\":[", (double)fr->rate);
+    for (k = 0; k < o->np; k++) {
+        printf("%s{\"name\":", k > 0 ? "," : "");
+        cli_print_json_string(o->names[k]);
+        printf(",\"template\":");
+        cli_print_vec(jo->j.parent.pos[k].v);
+        printf("}");
+    }
+    printf("],\"markers\":[");
+    for (k = 0; k < o->nc; k++) {
+        printf("%s{\"name\":", k > 0 ? "," : "");
+        cli_print_json_string(o->names[o->np + k]);
+        printf(",\"n\":%lu,\"radius\":", jo->child_n[k]);
+        if (jo->radii[k] > 0.0f) {
+            printf("%.9g}", (double)jo->radii[k]);
+        } else {
+            printf("null}");
+        }
+    }
+    printf("]}\n");
+}
+
+static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
+                        long last, const sfit_vec3_t *lab_ref)
+{
+    const sfit_multi_result_t *r = &jo->res.fit;
+    const char *u = fr->units[0] != '\0' ? fr->units : "units";
+    int k;
+    printf("file         %s (%s", o->file, fr->is_c3d ? "C3D" : "table");
+    if (fr->rate > 0.0f) {
+        printf(", %g Hz", (double)fr->rate);
+    }
+    printf(", %ld frames)\n", fr->nframes);
+    printf("frames       %ld to %ld: %ld used, %ld rejected (parent not registrable)\n",
+           o->j.first, last, jo->used, jo->rejected);
+    printf("parent       ");
+    for (k = 0; k < o->np; k++) {
+        printf("%s%s", k > 0 ? " " : "", o->names[k]);
+    }
+    printf("\nchild        ");
+    for (k = 0; k < o->nc; k++) {
+        printf("%s%s", k > 0 ? " " : "", o->names[o->np + k]);
+    }
+    printf("\nmethod       %s, %s\n",
+           r->method == SFIT_METHOD_UGDK ? "unbiased MGDK" : "MGDK",
+           r->mode == SFIT_MODE_PLANAR ? "hinge (planar solution: axis, centre on it)"
+                                       : "ball joint (sphere solution)");
+    printf("centre       %.4f %.4f %.4f %s (parent frame)\n", (double)r->center.v[0],
+           (double)r->center.v[1], (double)r->center.v[2], u);
+    if (r->mode == SFIT_MODE_PLANAR) {
+        printf("axis         %.5f %.5f %.5f (parent frame)\n", (double)r->axis.v[0],
+               (double)r->axis.v[1], (double)r->axis.v[2]);
+    }
+    printf("parent frame template frame of the parent cluster: origin at the centroid of\n"
+           "             its %d markers (template averaged over %lu frames), axes the lab\n"
+           "             axes at the reference frame %ld\n",
+           o->np, jo->template_frames, jo->ref_frame);
+    if (lab_ref != NULL) {
+        printf("centre (lab) %.4f %.4f %.4f at frame %ld\n", (double)lab_ref->v[0],
+               (double)lab_ref->v[1], (double)lab_ref->v[2], jo->ref_frame);
+    }
+    printf("registration RMS residual of the parent cluster: mean %.4g, max %.4g %s\n",
+           (double)jo->res.residual_mean, (double)jo->res.residual_max, u);
+    if (jo->has_noise) {
+        printf("noise var    %.6g %s^2 (%s)\n", (double)jo->noise_var, u,
+               jo->noise_estimated ? "estimated: self-calibrated UGDK per marker, pooled"
+                                   : "given");
+    }
+    printf("eigenvalues  %.6g %.6g %.6g (of sum_p w_p C_p)\n", (double)r->eigenvalues.v[0],
+           (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2]);
+    printf("per marker   %s about the %s:\n",
+           r->mode == SFIT_MODE_PLANAR ? "distance from the axis" : "radius",
+           r->mode == SFIT_MODE_PLANAR ? "axis" : "centre");
+    for (k = 0; k < o->nc; k++) {
+        if (jo->radii[k] > 0.0f) {
+            printf("  %-10s %10.4f (%lu samples)\n", o->names[o->np + k], (double)jo->radii[k],
+                   jo->child_n[k]);
+        } else {
+            printf("  %-10s    skipped (%lu samples)\n", o->names[o->np + k], jo->child_n[k]);
+        }
+    }
+    if (r->flags & SFIT_FLAG_UNTRUSTED) {
+        printf("warning      Leontief ratio %.3g >= 1: do not trust this fit\n",
+               (double)r->leontief_ratio);
+    }
+    if ((r->flags & SFIT_FLAG_NEAR_PLANAR) && r->mode == SFIT_MODE_SPHERE) {
+        printf("warning      the markers' arcs are near-planar: the sphere is ill-conditioned "
+               "(a hinge? try --mode planar)\n");
+    }
+}
+
+/* --trajectory: frame,x,y,z in the lab frame for every frame used. */
+static int write_trajectory(const joint_opts_t *o, const cli_frames_t *fr,
+                            const cli_joint_out_t *jo, long last)
+{
+    FILE *f = fopen(o->trajectory, "w");
+    long k;
+    if (f == NULL) {
+        fprintf(stderr, "sfit: cannot write %s: %s\n", o->trajectory, strerror(errno));
+        return -1;
+    }
+    fprintf(f, "frame,x,y,z\n");
+    for (k = o->j.first; k <= last; k++) {
+        sfit_vec3_t c;
+        if (jo->ok[k] && cli_joint_lab(fr, o->np, jo, k, &c, NULL) == SFIT_OK) {
+            fprintf(f, "%ld,%.9g,%.9g,%.9g\n", k, (double)c.v[0], (double)c.v[1], (double)c.v[2]);
+        }
+    }
+    if (fclose(f) != 0) {
+        fprintf(stderr, "sfit: cannot write %s\n", o->trajectory);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_cmd_joint(int argc, char **argv)
+{
+    joint_opts_t o;
+    cli_frames_t fr;
+    cli_joint_out_t jo;
+    char why[CLI_FRAMES_ERR_MAX];
+    sfit_vec3_t lab;
+    long last;
+    int rc;
+
+    {
+        const int prc = cli_parse_outcome(joint_parse(argc, argv, &o), joint_usage);
+        if (prc >= 0) {
+            return prc;
+        }
+    }
+    rc = cli_frames_load(o.file, (const char *const *)o.names, o.np + o.nc, &fr, why);
+    if (rc != 0) {
+        return cli_input_failed(rc, o.file, why, o.json);
+    }
+    last = (o.j.last < 0 || o.j.last >= fr.nframes) ? fr.nframes - 1 : o.j.last;
+    if (o.j.first >= fr.nframes) {
+        char msg[96];
+        (void)snprintf(msg, sizeof msg, "--frames starts at %ld; the file has %ld frames",
+                       o.j.first, fr.nframes);
+        cli_frames_free(&fr);
+        return cli_input_failed(-2, o.file, msg, o.json);
+    }
+    if (cli_joint_run(&fr, o.np, o.nc, &o.j, &jo) != SFIT_OK) {
+        const sfit_status_t st = jo.st;
+        if (o.json) {
+            printf("{\"status\":\"%s\",\"message\":\"%s\",\"stage\":\"%s\",\"frames_used\":%ld,"
+                   "\"frames_rejected\":%ld}\n",
+                   sfit_status_str(st),
+                   (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
+                       ? "no frame sees every parent marker"
+                       : cli_status_message(st),
+                   jo.stage, jo.used, jo.rejected);
+        } else {
+            fprintf(stderr, "sfit: joint failed at the %s stage (%s): %s (%ld frames used, %ld "
+                            "rejected)\n",
+                    jo.stage, sfit_status_str(st),
+                    (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
+                        ? "no frame sees every parent marker"
+                        : cli_status_message(st),
+                    jo.used, jo.rejected);
+        }
+        cli_joint_free(&jo);
+        cli_frames_free(&fr);
+        return CLI_FAIL;
+    }
+    rc = (jo.ref_frame >= 0 && cli_joint_lab(&fr, o.np, &jo, jo.ref_frame, &lab, NULL) == SFIT_OK);
+    if (o.json) {
+        print_json(&o, &fr, &jo, last, rc ? &lab : NULL);
+    } else {
+        print_human(&o, &fr, &jo, last, rc ? &lab : NULL);
+    }
+    rc = CLI_OK;
+    if (o.trajectory != NULL && write_trajectory(&o, &fr, &jo, last) != 0) {
+        rc = CLI_IO;
+    }
+    cli_joint_free(&jo);
+    cli_frames_free(&fr);
+    return rc;
+}

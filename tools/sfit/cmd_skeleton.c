@@ -1,0 +1,704 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_skeleton.c
+ * @brief `sfit skeleton`: every joint of a model over one recording, and an
+ * SVG picture of the skeleton at one frame.
+ *
+ *   sfit skeleton MODEL FILE [--frame K] [--frames F:L] [--noise-var V|auto]
+ *                 [--mode M] [--svg OUT.svg] [--json]
+ *
+ * MODEL is a text file, one joint per line (blank lines and # comments
+ * ignored):
+ *   joint NAME PARENT_MARKERS CHILD_MARKERS [auto|sphere|planar]
+ * with comma-separated marker lists. Two joints whose lists are the same
+ * share that segment. The joints are computed as `sfit joint` computes
+ * them (cli_joint.h), each over FILE.
+ *
+ * The picture (--svg): two orthographic views of frame K side by side,
+ * the lab's vertical axis (the one along which the markers spread most at
+ * that frame) pointing up, each view along one horizontal lab axis. Joint
+ * centres are red and labelled; a segment is a line between the centres of
+ * its joints, or from its one joint centre to the centroid of its markers;
+ * the model's markers are coloured dots, labelled; other C3D points are
+ * small grey dots.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cli_joint.h"
+
+#define SK_MAX_JOINTS 32
+#define SK_LINE 4096
+
+typedef struct sk_joint {
+    char name[64];
+    char *parent_list, *child_list; /* as written (for segment identity) */
+    char *own_line, *own_lists;     /* allocations the pointers point into */
+    char *names[CLI_MARKERS_MAX];
+    int np, nc;
+    sfit_mode_t mode;
+    int has_mode;
+    /* results */
+    sfit_status_t st;
+    const char *stage;
+    cli_joint_out_t out;
+    int lab_ok;
+    sfit_vec3_t lab;              /* centre in the lab frame at frame K */
+    sfit_vec3_t axis_lab;
+    sfit_vec3_t mk[CLI_MARKERS_MAX]; /* markers at frame K (parent, then child) */
+} sk_joint_t;
+
+typedef struct sk_model {
+    sk_joint_t j[SK_MAX_JOINTS];
+    int n;
+    char *text; /* the model file's lines, owned */
+} sk_model_t;
+
+typedef struct sk_opts {
+    const char *model, *file, *svg;
+    int json;
+    long frame; /* -1: first frame of the range */
+    cli_joint_opts_t j;
+} sk_opts_t;
+
+static void sk_usage(FILE *f)
+{
+    fputs("usage: sfit skeleton MODEL FILE [--frame K] [--frames F:L] [--noise-var V|auto]\n"
+          "                     [--mode auto|sphere|planar] [--svg OUT.svg] [--json]\n"
+          "  MODEL  text, one joint per line:  joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]\n"
+          "         (comma-separated marker lists; # starts a comment)\n"
+          "  FILE   C3D file or wide table, as for `sfit joint`\n" CLI_JOINT_USAGE
+          "         (a MODE in the model overrides --mode for that joint)\n"
+          "  --frame K        frame of the picture and of the lab-frame centres\n"
+          "                   (default: the first frame used)\n"
+          "  --svg OUT.svg    draw the skeleton at frame K (two orthographic views)\n"
+          "  --json           one JSON object on stdout\n",
+          f);
+}
+
+static int sk_parse(int argc, char **argv, sk_opts_t *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    o->frame = -1;
+    cli_joint_opts_default(&o->j);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const int jo = cli_joint_opt(argc, argv, &i, &o->j);
+        if (jo < 0) {
+            return -1;
+        } else if (jo > 0) {
+            continue;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            return 1;
+        } else if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+        } else if (strcmp(a, "--svg") == 0 && i + 1 < argc) {
+            o->svg = argv[++i];
+        } else if (strcmp(a, "--frame") == 0 && i + 1 < argc) {
+            char *end;
+            errno = 0;
+            o->frame = strtol(argv[++i], &end, 10);
+            if (*end != '\0' || end == argv[i] || o->frame < 0 || errno != 0) {
+                fprintf(stderr, "sfit: --frame needs a whole number >= 0\n");
+                return -1;
+            }
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
+            return -1;
+        } else if (o->model == NULL) {
+            o->model = a;
+        } else if (o->file == NULL) {
+            o->file = a;
+        } else {
+            fprintf(stderr, "sfit: MODEL and FILE expected\n");
+            return -1;
+        }
+    }
+    if (o->model == NULL || o->file == NULL) {
+        fprintf(stderr, "sfit: MODEL and FILE are required\n");
+        return -1;
+    }
+    return 0;
+}
+
+/* Read the model file. 0, -1 cannot open, -2 malformed (message in why). */
+static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whylen)
+{
+    FILE *f = fopen(path, "r");
+    char line[SK_LINE];
+    unsigned long lineno = 0;
+    memset(m, 0, sizeof *m);
+    if (f == NULL) {
+        return -1;
+    }
+    /* keep every line's text: the joints point into it */
+    while (fgets(line, sizeof line, f) != NULL) {
+        const size_t len = strlen(line);
+        char *tok[6];
+        int nt = 0;
+        char *p, *copy;
+        sk_joint_t *j;
+        lineno++;
+        if (len == sizeof line - 1u && line[len - 1u] != '\n') {
+            (void)snprintf(why, whylen, "%s:%lu: line too long", path, lineno);
+            fclose(f);
+            return -2;
+        }
+        p = strchr(line, '#');
+        if (p != NULL) {
+            *p = '\0';
+        }
+        if (line[strspn(line, " \t\r\n")] == '\0') {
+            continue;
+        }
+        if (m->n >= SK_MAX_JOINTS) {
+            (void)snprintf(why, whylen, "%s: more than %d joints", path, SK_MAX_JOINTS);
+            fclose(f);
+            return -2;
+        }
+        copy = malloc(len + 1u);
+        if (copy == NULL) {
+            (void)snprintf(why, whylen, "out of memory");
+            fclose(f);
+            return -2;
+        }
+        memcpy(copy, line, len + 1u);
+        for (p = strtok(copy, " \t\r\n"); p != NULL && nt < 6; p = strtok(NULL, " \t\r\n")) {
+            tok[nt++] = p;
+        }
+        j = &m->j[m->n];
+        memset(j, 0, sizeof *j);
+        if (nt < 4 || nt > 5 || strcmp(tok[0], "joint") != 0) {
+            (void)snprintf(why, whylen,
+                           "%s:%lu: expected: joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]",
+                           path, lineno);
+            free(copy);
+            fclose(f);
+            return -2;
+        }
+        (void)snprintf(j->name, sizeof j->name, "%s", tok[1]);
+        j->parent_list = tok[2];
+        j->child_list = tok[3];
+        if (nt == 5) {
+            j->has_mode = 1;
+            if (strcmp(tok[4], "auto") == 0) {
+                j->mode = SFIT_MODE_AUTO;
+            } else if (strcmp(tok[4], "sphere") == 0) {
+                j->mode = SFIT_MODE_SPHERE;
+            } else if (strcmp(tok[4], "planar") == 0) {
+                j->mode = SFIT_MODE_PLANAR;
+            } else {
+                (void)snprintf(why, whylen, "%s:%lu: MODE is auto, sphere or planar", path,
+                               lineno);
+                free(copy);
+                fclose(f);
+                return -2;
+            }
+        }
+        /* split copies of the lists (the originals name the segments) */
+        {
+            const size_t lp = strlen(tok[2]), lc = strlen(tok[3]);
+            char *lists = malloc(lp + lc + 2u);
+            if (lists == NULL) {
+                (void)snprintf(why, whylen, "out of memory");
+                free(copy);
+                fclose(f);
+                return -2;
+            }
+            memcpy(lists, tok[2], lp + 1u);
+            memcpy(lists + lp + 1u, tok[3], lc + 1u);
+            j->np = cli_split_list(lists, j->names, SFIT_CLUSTER_MAX_MARKERS);
+            j->nc = (j->np < 0) ? -1
+                                : cli_split_list(lists + lp + 1u, j->names + j->np,
+                                                 SFIT_JOINT_MAX_CHILD);
+            if (j->np < 3 || j->nc < 1) {
+                (void)snprintf(why, whylen,
+                               "%s:%lu: 3 to %d parent markers and 1 to %d child markers", path,
+                               lineno, SFIT_CLUSTER_MAX_MARKERS, SFIT_JOINT_MAX_CHILD);
+                free(lists);
+                free(copy);
+                fclose(f);
+                return -2;
+            }
+            j->own_lists = lists;
+        }
+        j->own_line = copy;
+        m->n++;
+    }
+    fclose(f);
+    if (m->n == 0) {
+        (void)snprintf(why, whylen, "%s: no joint", path);
+        return -2;
+    }
+    return 0;
+}
+
+static void sk_free(sk_model_t *m)
+{
+    int k;
+    for (k = 0; k < m->n; k++) {
+        free(m->j[k].own_line);
+        free(m->j[k].own_lists);
+        cli_joint_free(&m->j[k].out);
+    }
+}
+
+/* ------------------------------------------------------------------ SVG */
+
+typedef struct sk_view {
+    int h, v;     /* lab axes drawn horizontally and vertically */
+    double x0, y0; /* panel origin (px) */
+} sk_view_t;
+
+typedef struct sk_canvas {
+    double lo[3], hi[3]; /* bounds of what is drawn, per lab axis */
+    double scale;        /* px per unit */
+    double pw, ph;       /* panel size (px) */
+    sk_view_t view[2];
+} sk_canvas_t;
+
+static void bound(sk_canvas_t *c, const sfit_vec3_t *p)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        const double x = (double)p->v[i];
+        if (isfinite(x)) {
+            if (x < c->lo[i]) {
+                c->lo[i] = x;
+            }
+            if (x > c->hi[i]) {
+                c->hi[i] = x;
+            }
+        }
+    }
+}
+
+static int finite3(const sfit_vec3_t *p)
+{
+    return isfinite(p->v[0]) && isfinite(p->v[1]) && isfinite(p->v[2]);
+}
+
+static void proj(const sk_canvas_t *c, int w, const sfit_vec3_t *p, double *x, double *y)
+{
+    const sk_view_t *v = &c->view[w];
+    *x = v->x0 + 20.0 + ((double)p->v[v->h] - c->lo[v->h]) * c->scale;
+    *y = v->y0 + c->ph - 20.0 - ((double)p->v[v->v] - c->lo[v->v]) * c->scale;
+}
+
+static void svg_text(FILE *f, double x, double y, const char *cls, const char *s)
+{
+    fprintf(f, "<text class=\"%s\" x=\"%.1f\" y=\"%.1f\">", cls, x, y);
+    for (; *s != '\0'; s++) {
+        if (*s == '<') {
+            fputs("&lt;", f);
+        } else if (*s == '&') {
+            fputs("&amp;", f);
+        } else if (*s == '>') {
+            fputs("&gt;", f);
+        } else {
+            fputc(*s, f);
+        }
+    }
+    fputs("</text>\n", f);
+}
+
+static sfit_vec3_t centroid(const sfit_vec3_t *p, int n)
+{
+    sfit_vec3_t c = {{0.0f, 0.0f, 0.0f}};
+    int k, i, m = 0;
+    for (k = 0; k < n; k++) {
+        if (finite3(&p[k])) {
+            for (i = 0; i < 3; i++) {
+                c.v[i] += p[k].v[i];
+            }
+            m++;
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        c.v[i] = (m > 0) ? c.v[i] / (float)m : NAN;
+    }
+    return c;
+}
+
+static void line(FILE *f, const sk_canvas_t *c, int w, const sfit_vec3_t *a, const sfit_vec3_t *b,
+                 const char *cls)
+{
+    double x1, y1, x2, y2;
+    if (!finite3(a) || !finite3(b)) {
+        return;
+    }
+    proj(c, w, a, &x1, &y1);
+    proj(c, w, b, &x2, &y2);
+    fprintf(f, "<line class=\"%s\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", cls, x1,
+            y1, x2, y2);
+}
+
+/* Segment lines of view w: per distinct marker list, between its joints'
+ * centres, or from its only joint's centre to its markers' centroid. */
+static void draw_segments(FILE *f, const sk_canvas_t *c, int w, const sk_model_t *m)
+{
+    int a, b;
+    for (a = 0; a < m->n; a++) {
+        int side;
+        for (side = 0; side < 2; side++) {
+            const char *list = side == 0 ? m->j[a].parent_list : m->j[a].child_list;
+            int first = -1, cnt = 0, seen = 0;
+            /* draw each segment once: at its first occurrence */
+            for (b = 0; b < m->n && !seen; b++) {
+                int s2;
+                for (s2 = 0; s2 < 2; s2++) {
+                    const char *l2 = s2 == 0 ? m->j[b].parent_list : m->j[b].child_list;
+                    if ((b < a || (b == a && s2 < side)) && strcmp(l2, list) == 0) {
+                        seen = 1;
+                    }
+                }
+            }
+            if (seen) {
+                continue;
+            }
+            for (b = 0; b < m->n; b++) {
+                if (!m->j[b].lab_ok) {
+                    continue;
+                }
+                if (strcmp(m->j[b].parent_list, list) == 0 || strcmp(m->j[b].child_list, list) == 0) {
+                    if (first >= 0) {
+                        line(f, c, w, &m->j[first].lab, &m->j[b].lab, "seg");
+                    } else {
+                        first = b;
+                    }
+                    cnt++;
+                }
+            }
+            if (cnt == 1) {
+                const sk_joint_t *j = &m->j[first];
+                const int ofs = (strcmp(j->parent_list, list) == 0) ? 0 : j->np;
+                const int n = (ofs == 0) ? j->np : j->nc;
+                const sfit_vec3_t cen = centroid(&j->mk[ofs], n);
+                line(f, c, w, &j->lab, &cen, "seg");
+            }
+        }
+    }
+}
+
+static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model_t *m, long k)
+{
+    static const char *const axis_name[3] = {"X", "Y", "Z"};
+    sk_canvas_t c;
+    FILE *f;
+    int i, a, w, up = 2, h1, h2;
+    double span[3], best = -1.0, pan_w, pan_h;
+    for (i = 0; i < 3; i++) {
+        c.lo[i] = HUGE_VAL;
+        c.hi[i] = -HUGE_VAL;
+    }
+    if (all != NULL && all->all_xyz != NULL && k < all->nframes) {
+        for (i = 0; i < all->nall; i++) {
+            bound(&c, (const sfit_vec3_t *)(const void *)(all->all_xyz
+                                                          + ((size_t)k * (size_t)all->nall
+                                                             + (size_t)i) * 3u));
+        }
+    }
+    for (a = 0; a < m->n; a++) {
+        for (i = 0; i < m->j[a].np + m->j[a].nc; i++) {
+            bound(&c, &m->j[a].mk[i]);
+        }
+        if (m->j[a].lab_ok) {
+            bound(&c, &m->j[a].lab);
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        span[i] = (c.hi[i] >= c.lo[i]) ? c.hi[i] - c.lo[i] : 0.0;
+        if (span[i] > best) {
+            best = span[i];
+            up = i;
+        }
+    }
+    if (!(best > 0.0)) {
+        fprintf(stderr, "sfit: nothing to draw at frame %ld\n", k);
+        return -1;
+    }
+    h1 = (up + 1) % 3;
+    h2 = (up + 2) % 3;
+    if (h1 > h2) {
+        const int t = h1;
+        h1 = h2;
+        h2 = t;
+    }
+    /* 5 % margin around everything */
+    for (i = 0; i < 3; i++) {
+        const double pad = 0.05 * best;
+        c.lo[i] -= pad;
+        c.hi[i] += pad;
+        span[i] = c.hi[i] - c.lo[i];
+    }
+    c.scale = 560.0 / span[up];
+    pan_h = 560.0 + 40.0;
+    pan_w = (span[h1] > span[h2] ? span[h1] : span[h2]) * c.scale + 40.0;
+    if (pan_w < 260.0) {
+        pan_w = 260.0;
+    }
+    c.pw = pan_w;
+    c.ph = pan_h;
+    c.view[0].h = h2; /* view along h1 */
+    c.view[0].v = up;
+    c.view[0].x0 = 0.0;
+    c.view[0].y0 = 40.0;
+    c.view[1].h = h1; /* view along h2 */
+    c.view[1].v = up;
+    c.view[1].x0 = pan_w + 20.0;
+    c.view[1].y0 = 40.0;
+    f = fopen(o->svg, "w");
+    if (f == NULL) {
+        fprintf(stderr, "sfit: cannot write %s: %s\n", o->svg, strerror(errno));
+        return -1;
+    }
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
+               "viewBox=\"0 0 %.0f %.0f\">\n",
+            2.0 * pan_w + 20.0, pan_h + 70.0, 2.0 * pan_w + 20.0, pan_h + 70.0);
+    fputs("<style>\n"
+          "  text { font-family: sans-serif; }\n"
+          "  .title { font-size: 15px; font-weight: bold; }\n"
+          "  .view { font-size: 13px; fill: #333; }\n"
+          "  .lbl { font-size: 10px; fill: #225; }\n"
+          "  .jlbl { font-size: 13px; fill: #b00; font-weight: bold; }\n"
+          "  .seg { stroke: #444; stroke-width: 4; stroke-linecap: round; }\n"
+          "  .frame { fill: #fafafa; stroke: #ccc; }\n"
+          "  .ctx { fill: #bbb; }\n"
+          "  .par { fill: #2a6fdb; }\n"
+          "  .chi { fill: #1b9e4b; }\n"
+          "  .jc { fill: #d00; stroke: #fff; stroke-width: 1.5; }\n"
+          "</style>\n",
+          f);
+    {
+        char title[256];
+        (void)snprintf(title, sizeof title, "sfit skeleton: %s, frame %ld (lab frame, %s)",
+                       o->file, k, all != NULL && all->units[0] != '\0' ? all->units : "units");
+        svg_text(f, 10.0, 22.0, "title", title);
+    }
+    for (w = 0; w < 2; w++) {
+        const sk_view_t *v = &c.view[w];
+        char cap[96];
+        fprintf(f, "<rect class=\"frame\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\"/>\n",
+                v->x0, v->y0, pan_w, pan_h);
+        (void)snprintf(cap, sizeof cap, "view along %s: %s right, %s up",
+                       axis_name[w == 0 ? h1 : h2], axis_name[v->h], axis_name[v->v]);
+        svg_text(f, v->x0 + 8.0, v->y0 + pan_h + 20.0, "view", cap);
+        if (all != NULL && all->all_xyz != NULL && k < all->nframes) {
+            for (i = 0; i < all->nall; i++) {
+                const sfit_vec3_t *p = (const sfit_vec3_t *)(const void *)(
+                    all->all_xyz + ((size_t)k * (size_t)all->nall + (size_t)i) * 3u);
+                double x, y;
+                if (finite3(p)) {
+                    proj(&c, w, p, &x, &y);
+                    fprintf(f, "<circle class=\"ctx\" cx=\"%.1f\" cy=\"%.1f\" r=\"2.5\"/>\n", x, y);
+                }
+            }
+        }
+        draw_segments(f, &c, w, m);
+        for (a = 0; a < m->n; a++) {
+            const sk_joint_t *j = &m->j[a];
+            for (i = 0; i < j->np + j->nc; i++) {
+                double x, y;
+                if (!finite3(&j->mk[i])) {
+                    continue;
+                }
+                proj(&c, w, &j->mk[i], &x, &y);
+                fprintf(f, "<circle class=\"%s\" cx=\"%.1f\" cy=\"%.1f\" r=\"4\"/>\n",
+                        i < j->np ? "par" : "chi", x, y);
+                svg_text(f, x + 5.0, y - 4.0, "lbl", j->names[i]);
+            }
+        }
+        for (a = 0; a < m->n; a++) {
+            const sk_joint_t *j = &m->j[a];
+            double x, y;
+            if (!j->lab_ok) {
+                continue;
+            }
+            proj(&c, w, &j->lab, &x, &y);
+            fprintf(f, "<circle class=\"jc\" cx=\"%.1f\" cy=\"%.1f\" r=\"7\"/>\n", x, y);
+            svg_text(f, x + 10.0, y + 16.0, "jlbl", j->name);
+        }
+    }
+    fprintf(f, "<text class=\"view\" x=\"10\" y=\"%.0f\">red: joint centres (sfit); blue: "
+               "parent markers; green: child markers; grey: other markers</text>\n",
+            pan_h + 62.0);
+    fputs("</svg>\n", f);
+    if (fclose(f) != 0) {
+        fprintf(stderr, "sfit: cannot write %s\n", o->svg);
+        return -1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------- command */
+
+static void print_joint_json(const sk_joint_t *j)
+{
+    const sfit_multi_result_t *r = &j->out.res.fit;
+    int k;
+    printf("{\"name\":");
+    cli_print_json_string(j->name);
+    if (j->st != SFIT_OK) {
+        printf(",\"status\":\"%s\",\"message\":\"%s\",\"stage\":\"%s\"}", sfit_status_str(j->st),
+               cli_status_message(j->st), j->stage);
+        return;
+    }
+    printf(",\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frames_used\":%ld,"
+           "\"frames_rejected\":%ld,\"reference_frame\":%ld,\"center\":",
+           r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke",
+           r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", j->out.used, j->out.rejected,
+           j->out.ref_frame);
+    cli_print_vec(r->center.v);
+    if (r->mode == SFIT_MODE_PLANAR) {
+        printf(",\"axis\":");
+        cli_print_vec(r->axis.v);
+    }
+    printf(",\"center_lab\":");
+    if (j->lab_ok) {
+        cli_print_vec(j->lab.v);
+    } else {
+        printf("null");
+    }
+    printf(",\"residual_mean\":%.9g,\"radii\":[", (double)j->out.res.residual_mean);
+    for (k = 0; k < j->nc; k++) {
+        printf("%s%.9g", k > 0 ? "," : "", (double)j->out.radii[k]);
+    }
+    printf("]}");
+}
+
+static void print_joint_human(const sk_joint_t *j, long frame)
+{
+    const sfit_multi_result_t *r = &j->out.res.fit;
+    if (j->st != SFIT_OK) {
+        printf("%-12s failed at the %s stage (%s): %s\n", j->name, j->stage,
+               sfit_status_str(j->st), cli_status_message(j->st));
+        return;
+    }
+    printf("%-12s %s, %ld frames used, %ld rejected, registration residual %.3g\n", j->name,
+           r->mode == SFIT_MODE_PLANAR ? "hinge" : "ball joint", j->out.used, j->out.rejected,
+           (double)j->out.res.residual_mean);
+    printf("  centre       %.4f %.4f %.4f (parent frame: template frame, reference frame %ld)\n",
+           (double)r->center.v[0], (double)r->center.v[1], (double)r->center.v[2],
+           j->out.ref_frame);
+    if (r->mode == SFIT_MODE_PLANAR) {
+        printf("  axis         %.5f %.5f %.5f (parent frame)\n", (double)r->axis.v[0],
+               (double)r->axis.v[1], (double)r->axis.v[2]);
+    }
+    if (j->lab_ok) {
+        printf("  centre (lab) %.4f %.4f %.4f at frame %ld\n", (double)j->lab.v[0],
+               (double)j->lab.v[1], (double)j->lab.v[2], frame);
+    } else {
+        printf("  centre (lab) n/a at frame %ld (parent not registrable there)\n", frame);
+    }
+}
+
+int cli_cmd_skeleton(int argc, char **argv)
+{
+    sk_opts_t o;
+    sk_model_t *m;
+    cli_frames_t keep; /* the first joint's load: context points for the picture */
+    char why[CLI_FRAMES_ERR_MAX];
+    long frame = 0;
+    int a, rc = CLI_OK, failed = 0, have_keep = 0;
+
+    {
+        const int prc = cli_parse_outcome(sk_parse(argc, argv, &o), sk_usage);
+        if (prc >= 0) {
+            return prc;
+        }
+    }
+    m = calloc(1u, sizeof *m);
+    if (m == NULL) {
+        fprintf(stderr, "sfit: out of memory\n");
+        return CLI_FAIL;
+    }
+    rc = sk_load_model(o.model, m, why, sizeof why);
+    if (rc != 0) {
+        sk_free(m);
+        free(m);
+        return cli_input_failed(rc, o.model, why, o.json);
+    }
+    memset(&keep, 0, sizeof keep);
+    for (a = 0; a < m->n; a++) {
+        sk_joint_t *j = &m->j[a];
+        cli_joint_opts_t jo = o.j;
+        cli_frames_t fr;
+        int i;
+        rc = cli_frames_load(o.file, (const char *const *)j->names, j->np + j->nc, &fr, why);
+        if (rc != 0) {
+            if (have_keep) {
+                cli_frames_free(&keep);
+            }
+            sk_free(m);
+            free(m);
+            return cli_input_failed(rc, o.file, why, o.json);
+        }
+        if (a == 0) {
+            frame = (o.frame >= 0) ? o.frame : o.j.first;
+            if (frame >= fr.nframes || o.j.first >= fr.nframes) {
+                (void)snprintf(why, sizeof why, "frame %ld: the file has %ld frames",
+                               frame >= fr.nframes ? frame : o.j.first, fr.nframes);
+                cli_frames_free(&fr);
+                sk_free(m);
+                free(m);
+                return cli_input_failed(-2, o.file, why, o.json);
+            }
+        }
+        if (j->has_mode) {
+            jo.mode = j->mode;
+        }
+        j->st = cli_joint_run(&fr, j->np, j->nc, &jo, &j->out);
+        j->stage = j->out.stage;
+        for (i = 0; i < j->np + j->nc; i++) {
+            j->mk[i] = *cli_frames_at(&fr, frame, i);
+        }
+        if (j->st == SFIT_OK) {
+            j->lab_ok = (cli_joint_lab(&fr, j->np, &j->out, frame, &j->lab, &j->axis_lab) == SFIT_OK);
+        } else {
+            failed++;
+        }
+        if (a == 0) {
+            keep = fr;
+            have_keep = 1;
+        } else {
+            cli_frames_free(&fr);
+        }
+    }
+    if (o.json) {
+        printf("{\"status\":\"%s\",\"frame\":%ld,\"joints\":[", failed ? "joint_failed" : "ok",
+               frame);
+        for (a = 0; a < m->n; a++) {
+            if (a > 0) {
+                printf(",");
+            }
+            print_joint_json(&m->j[a]);
+        }
+        printf("]");
+        if (o.svg != NULL) {
+            printf(",\"svg\":");
+            cli_print_json_string(o.svg);
+        }
+        printf("}\n");
+    } else {
+        printf("file         %s, model %s, %d joints\n", o.file, o.model, m->n);
+        for (a = 0; a < m->n; a++) {
+            print_joint_human(&m->j[a], frame);
+        }
+    }
+    rc = failed ? CLI_FAIL : CLI_OK;
+    if (o.svg != NULL && write_svg(&o, &keep, m, frame) != 0) {
+        rc = CLI_IO;
+    }
+    if (o.svg != NULL && !o.json && rc != CLI_IO) {
+        printf("picture      %s (frame %ld)\n", o.svg, frame);
+    }
+    cli_frames_free(&keep);
+    sk_free(m);
+    free(m);
+    return rc;
+}
