@@ -22,5 +22,7 @@
 #include "sfit_refine.h"
 #include "sfit_uncert.h"
 #include "sfit_gate.h"
+#include "sfit_cluster.h"
+#include "sfit_joint.h"
 
 #endif /* SFIT_H */

@@ -108,6 +108,42 @@
 #define SFIT_COINCIDENT_ULPS 64.0f
 #endif
 
+/**
+ * @brief Most markers in one rigid cluster (sfit_cluster.h). Sets the size
+ * of ::sfit_cluster_t (12 B per marker) and bounds the loops over markers.
+ * Range 3..64.
+ */
+#ifndef SFIT_CLUSTER_MAX_MARKERS
+#define SFIT_CLUSTER_MAX_MARKERS 8
+#endif
+#if (SFIT_CLUSTER_MAX_MARKERS < 3) || (SFIT_CLUSTER_MAX_MARKERS > 64)
+#error "SFIT_CLUSTER_MAX_MARKERS must be in 3..64"
+#endif
+
+/**
+ * @brief A cluster whose markers are within this fraction of its size from
+ * a line is collinear: the rotation about that line is not determined and
+ * the registration returns ::SFIT_E_DEGENERATE. Tested on s2/s1, the ratio
+ * of the two largest singular values of the cross-covariance (for a rigid
+ * motion, lambda_mid/lambda_max of the template's scatter). The float
+ * resolution of s2/s1 is about 3e-4. Range [1e-3, 0.5).
+ */
+#ifndef SFIT_CLUSTER_COLLINEAR_RATIO
+#define SFIT_CLUSTER_COLLINEAR_RATIO 2e-3f
+#endif
+
+/**
+ * @brief Most child markers of one joint (sfit_joint.h). Sets the size of
+ * ::sfit_joint_t (one moments accumulator, about 140 B, per marker).
+ * Range 1..64.
+ */
+#ifndef SFIT_JOINT_MAX_CHILD
+#define SFIT_JOINT_MAX_CHILD 8
+#endif
+#if (SFIT_JOINT_MAX_CHILD < 1) || (SFIT_JOINT_MAX_CHILD > 64)
+#error "SFIT_JOINT_MAX_CHILD must be in 1..64"
+#endif
+
 /** @brief 1 enables internal invariant checks through SFIT_ASSERT. */
 #ifndef SFIT_ENABLE_ASSERT
 #define SFIT_ENABLE_ASSERT 0

@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_joint.h
+ * @brief Functional joint centre as a stream: register the parent cluster,
+ * express each child marker in the parent frame, accumulate, solve.
+ * @defgroup sfit_joint Functional joint centre
+ * @{
+ *
+ * Frames, conventions and the derivation: docs/joint.md.
+ *
+ * A joint links a parent segment (a rigid cluster of markers with a
+ * template, sfit_cluster.h) and a child segment (K markers,
+ * 1..SFIT_JOINT_MAX_CHILD). For each frame, sfit_joint_add() registers the
+ * parent (pose R, t), maps each child marker into the parent (template)
+ * frame, x_p = R^T (x - t), and adds it to that marker's moments
+ * accumulator. In the parent frame a child marker turns about the fixed
+ * joint centre, so each draws a sphere (ball joint) or a circle (hinge) and
+ * the common centre is the multi-marker solve of sfit_multi.h (MGDK,
+ * unbiased MGDK, planar with its axis). Memory is O(1) per marker whatever
+ * the number of frames; sfit_joint_solve() can be called at any time.
+ *
+ * The centre and axis are in the parent's template frame. For a trajectory,
+ * sfit_joint_center_at() registers a frame and maps them back to the
+ * global (lab) frame.
+ *
+ * Rejected frames (parent not registrable, a non-finite or out-of-range
+ * value) leave the state bit for bit unchanged, so the state does not count
+ * them: count the calls that did not return SFIT_OK. A child marker with a
+ * NaN coordinate in an accepted frame is skipped for that marker only.
+ *
+ * Noise: the noise model of the solve (cfg.solve.fit.noise) is the noise of
+ * a child marker expressed in the parent frame, i.e. the marker noise plus
+ * the part due to the parent pose error (docs/joint.md gives the first-order
+ * expression).
+ */
+#ifndef SFIT_JOINT_H
+#define SFIT_JOINT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sfit_cluster.h"
+#include "sfit_config.h"
+#include "sfit_moments.h"
+#include "sfit_multi.h"
+#include "sfit_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** @brief Options of a joint. Start from ::sfit_joint_cfg_default. */
+typedef struct sfit_joint_cfg {
+    uint32_t n_child;        /**< Child markers, 1..SFIT_JOINT_MAX_CHILD. */
+    sfit_multi_cfg_t solve;  /**< Multi-marker solve: mode (auto/sphere/planar),
+                                  noise model, marker weights. */
+} sfit_joint_cfg_t;
+
+/** @brief Defaults: 1 child marker, ::sfit_multi_cfg_default (auto, MGDK). */
+extern const sfit_joint_cfg_t sfit_joint_cfg_default;
+
+/**
+ * @brief Streaming joint-centre state. Caller-owned; members are private.
+ * Initialise with sfit_joint_init().
+ */
+typedef struct sfit_joint {
+    sfit_cluster_t parent;                        /**< Parent template (a copy). */
+    sfit_joint_cfg_t cfg;                         /**< Options (a copy). */
+    sfit_moments_t child[SFIT_JOINT_MAX_CHILD];   /**< One accumulator per child marker,
+                                                       parent frame. */
+    uint32_t frames;                              /**< Frames accepted. */
+    float res_mean;                               /**< Mean registration RMS residual. */
+    float res_max;                                /**< Largest registration RMS residual. */
+} sfit_joint_t;
+
+/** @brief A joint centre. Written only on SFIT_OK; always finite. */
+typedef struct sfit_joint_result {
+    sfit_multi_result_t fit;  /**< Common centre, axis (hinge), eigenvalues, flags,
+                                   mode: all in the parent template frame. */
+    uint32_t frames;          /**< Frames accepted so far. */
+    float residual_mean;      /**< Mean over accepted frames of the parent's RMS
+                                   registration residual. */
+    float residual_max;       /**< Largest such residual. */
+} sfit_joint_result_t;
+
+/**
+ * @brief Initialise a joint: copy the parent template and the options, clear
+ * the accumulators.
+ * @param[out] j       State; written only on SFIT_OK.
+ * @param[in]  parent  Parent cluster template (valid: 3..SFIT_CLUSTER_MAX_MARKERS markers).
+ * @param[in]  cfg     Options; NULL = ::sfit_joint_cfg_default.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  NULL j/parent, parent count out of range, n_child not in
+ *                     1..SFIT_JOINT_MAX_CHILD, or an invalid solve option
+ * @par Cost O(SFIT_JOINT_MAX_CHILD) stores.
+ */
+sfit_status_t sfit_joint_init(sfit_joint_t *j, const sfit_cluster_t *parent,
+                              const sfit_joint_cfg_t *cfg);
+
+/**
+ * @brief Forget every frame; keep the template and the options.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  j is NULL or its counters are not valid
+ */
+sfit_status_t sfit_joint_reset(sfit_joint_t *j);
+
+/**
+ * @brief Add one frame.
+ *
+ * Everything is validated before the state is touched: on any status but
+ * SFIT_OK the state is bit for bit unchanged.
+ * @param[in,out] j         State.
+ * @param[in]     parent    Parent markers (global), template order; NaN = occluded.
+ * @param[in]     n_parent  Must equal the template's marker count.
+ * @param[in]     child     Child markers (global); a marker with a NaN coordinate
+ *                          is skipped for this frame.
+ * @param[in]     n_child   Must equal cfg.n_child.
+ * @param[out]    pose      NULL, or the parent's pose in this frame; written only on SFIT_OK.
+ * @retval SFIT_OK            frame accepted
+ * @retval SFIT_E_ARG         NULL j/parent/child, a count mismatch, or garbage
+ *                            counters in the state
+ * @retval SFIT_E_TOO_FEW     fewer than 3 parent markers seen
+ * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
+ * @retval SFIT_E_NONFINITE   a parent or child coordinate is +-Inf
+ * @retval SFIT_E_RANGE       a coordinate (global or mapped) >= 2^SFIT_COORD_MAX_EXP,
+ *                            or a counter is full
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @par Cost one sfit_cluster_register(), then per seen child marker one
+ * sfit_pose_to_segment() and one sfit_moments_add() (docs/cost.md, "joint_frame").
+ */
+sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t n_parent,
+                             const sfit_vec3_t *child, size_t n_child, sfit_pose_t *pose);
+
+/**
+ * @brief Solve the joint centre from the frames so far (the state is not modified).
+ * @param[in]  j      State.
+ * @param[out] out    Result; written only on SFIT_OK.
+ * @param[out] radii  NULL, or cfg.n_child floats: each child marker's radius about
+ *                    the centre (distance to the axis for a hinge; 0 for a marker
+ *                    skipped for too few samples); written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL j/out, or garbage counters in the state
+ * @retval SFIT_E_TOO_FEW     no child marker has SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_DEGENERATE  as the multi-marker solve (coincident/collinear, or
+ *                            singular sphere system)
+ * @retval SFIT_E_NOT_POSDEF  as the multi-marker solve (noise-compensated system)
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost the multi-marker solve over cfg.n_child markers.
+ */
+sfit_status_t sfit_joint_solve(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
+
+/**
+ * @brief The joint centre (and axis) in the global frame for one frame:
+ * registers the parent markers of that frame with the joint's template and
+ * maps the result's centre (and axis) back.
+ * @param[in]  j         State (its template is used).
+ * @param[in]  res       A result of sfit_joint_solve().
+ * @param[in]  parent    That frame's parent markers (global); NaN = occluded.
+ * @param[in]  n_parent  Must equal the template's marker count.
+ * @param[out] center    Centre in the global frame; written only on SFIT_OK.
+ * @param[out] axis      NULL, or the axis (res->fit.axis) in the global frame;
+ *                       written only on SFIT_OK.
+ * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_TOO_FEW, SFIT_E_DEGENERATE, SFIT_E_NONFINITE,
+ *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
+ *         (SFIT_E_ARG also for a NULL res/center or garbage counters)
+ * @par Cost one sfit_cluster_register() + one sfit_pose_to_global().
+ */
+sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                   const sfit_vec3_t *parent, size_t n_parent,
+                                   sfit_vec3_t *center, sfit_vec3_t *axis);
+
+#ifdef __cplusplus
+}
+#endif
+
+/** @} */
+#endif /* SFIT_JOINT_H */

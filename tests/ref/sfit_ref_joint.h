@@ -1,0 +1,44 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_ref_joint.h
+ * @brief Double-precision oracle for rigid-cluster registration and the
+ * functional joint centre. Independent of lib/: the rotation comes from
+ * Horn's unit-quaternion method (the largest eigenvector of a 4x4 symmetric
+ * matrix, cyclic Jacobi in double), not from an SVD of the 3x3
+ * cross-covariance as in the library.
+ */
+#ifndef SFIT_REF_JOINT_H
+#define SFIT_REF_JOINT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Eigen-decomposition of a symmetric n x n matrix (n <= 4) by cyclic
+ *  Jacobi in double: a (row-major, n*n) -> w (unsorted) and the columns of
+ *  v (row-major, n*n). */
+void ref_jacobi_n(const double *a, int n, double *w, double *v);
+
+/**
+ * Least-squares proper rotation and translation x ~ R p + t (Horn 1987:
+ * quaternion = largest eigenvector of N(S), S = sum p q^T of the centred
+ * sets). seen[i] != 0 selects the markers (NULL = all). R row-major.
+ * rms = sqrt(mean |R p + t - x|^2) over the markers used (may be NULL).
+ * Returns 0, or nonzero when fewer than 3 markers are used.
+ */
+int ref_horn_pose(const double (*tpl)[3], const double (*x)[3], const int *seen, size_t n,
+                  double r[9], double t[3], double *rms);
+
+/** R^T (x - t) */
+void ref_pose_to_segment(const double r[9], const double t[3], const double x[3], double out[3]);
+
+/** R x + t */
+void ref_pose_to_global(const double r[9], const double t[3], const double x[3], double out[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SFIT_REF_JOINT_H */
