@@ -126,5 +126,6 @@ int cli_cmd_coverage(int argc, char **argv);
 int cli_cmd_track(int argc, char **argv);
 int cli_cmd_joint(int argc, char **argv);
 int cli_cmd_skeleton(int argc, char **argv);
+int cli_cmd_c3d(int argc, char **argv);
 
 #endif /* SFIT_CLI_H */

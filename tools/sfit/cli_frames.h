@@ -8,6 +8,8 @@
 #ifndef SFIT_CLI_FRAMES_H
 #define SFIT_CLI_FRAMES_H
 
+#include <stddef.h>
+
 #include "sfit/sfit_types.h"
 
 #define CLI_FRAMES_ERR_MAX 256

@@ -220,9 +220,8 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
     }
     printf("eigenvalues  %.6g %.6g %.6g (of sum_p w_p C_p)\n", (double)r->eigenvalues.v[0],
            (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2]);
-    printf("per marker   %s about the %s:\n",
-           r->mode == SFIT_MODE_PLANAR ? "distance from the axis" : "radius",
-           r->mode == SFIT_MODE_PLANAR ? "axis" : "centre");
+    printf("per marker   %s:\n",
+           r->mode == SFIT_MODE_PLANAR ? "distance from the axis" : "radius about the centre");
     for (k = 0; k < o->nc; k++) {
         if (jo->radii[k] > 0.0f) {
             printf("  %-10s %10.4f (%lu samples)\n", o->names[o->np + k], (double)jo->radii[k],

@@ -1,0 +1,202 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_c3d.c
+ * @brief `sfit c3d`: what a C3D file holds, and its markers as a wide table.
+ *
+ *   sfit c3d FILE [--json] [--export OUT.csv [--markers A,B,...] [--frames F:L]]
+ *
+ * Prints the processor type, point count, frame count, first frame number,
+ * rate, units, scale and labels. --export writes frame,A_X,A_Y,A_Z,... (the
+ * wide table `sfit joint` reads; frame = 0-based index; an invalid sample
+ * is a blank cell), every marker unless --markers.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "c3d.h"
+#include "cli.h"
+#include "cli_frames.h"
+
+typedef struct c3d_opts {
+    const char *file, *out;
+    char *markers;
+    long first, last;
+    int json;
+} c3d_opts_t;
+
+static void c3d_usage(FILE *f)
+{
+    fputs("usage: sfit c3d FILE [--json] [--export OUT.csv [--markers A,B,...] [--frames F:L]]\n"
+          "  Describe a C3D file: processor type, points, frames, rate, units, labels.\n"
+          "  --export OUT.csv  write frame,A_X,A_Y,A_Z,... (the wide table `sfit joint`\n"
+          "                    reads; frame = 0-based index; invalid sample = blank cells)\n"
+          "  --markers LIST    markers to export (default: all)\n"
+          "  --frames F:L      frames to export, 0-based, both included (default: all)\n"
+          "  --json            one JSON object on stdout\n",
+          f);
+}
+
+static int c3d_parse_args(int argc, char **argv, c3d_opts_t *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    o->last = -1;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            return 1;
+        } else if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+        } else if (strcmp(a, "--export") == 0 && i + 1 < argc) {
+            o->out = argv[++i];
+        } else if (strcmp(a, "--markers") == 0 && i + 1 < argc) {
+            o->markers = argv[++i];
+        } else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
+            char *end;
+            const char *s = argv[++i];
+            errno = 0;
+            o->first = strtol(s, &end, 10);
+            if (end == s || *end != ':' || o->first < 0) {
+                fprintf(stderr, "sfit: --frames needs F:L\n");
+                return -1;
+            }
+            s = end + 1;
+            o->last = strtol(s, &end, 10);
+            if (end == s || *end != '\0' || o->last < o->first || errno != 0) {
+                fprintf(stderr, "sfit: --frames needs F:L, 0 <= F <= L\n");
+                return -1;
+            }
+        } else if (cli_positional(a, &o->file) != 0) {
+            return -1;
+        }
+    }
+    if (o->file == NULL) {
+        fprintf(stderr, "sfit: FILE missing\n");
+        return -1;
+    }
+    return 0;
+}
+
+static void put_cell(FILE *f, float v)
+{
+    if (isfinite(v)) {
+        fprintf(f, ",%.9g", (double)v);
+    } else {
+        fputc(',', f);
+    }
+}
+
+static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
+{
+    int idx[CLI_MARKERS_MAX];
+    char *names[CLI_MARKERS_MAX];
+    int n = 0, k;
+    long fr, last = (o->last < 0 || o->last >= c->nframes) ? c->nframes - 1 : o->last;
+    FILE *f;
+    if (o->markers != NULL) {
+        n = cli_split_list(o->markers, names, CLI_MARKERS_MAX);
+        if (n < 1) {
+            (void)snprintf(why, C3D_ERR_MAX, "--markers: 1 to %d names", CLI_MARKERS_MAX);
+            return -2;
+        }
+        for (k = 0; k < n; k++) {
+            idx[k] = c3d_find(c, names[k]);
+            if (idx[k] < 0) {
+                (void)snprintf(why, C3D_ERR_MAX, "no marker labelled '%s'", names[k]);
+                return -2;
+            }
+        }
+    } else {
+        n = (c->npoints < CLI_MARKERS_MAX) ? c->npoints : CLI_MARKERS_MAX;
+        for (k = 0; k < n; k++) {
+            idx[k] = k;
+        }
+    }
+    f = fopen(o->out, "w");
+    if (f == NULL) {
+        (void)snprintf(why, C3D_ERR_MAX, "cannot write %s: %s", o->out, strerror(errno));
+        return -2;
+    }
+    fputs("frame", f);
+    for (k = 0; k < n; k++) {
+        const char *l = c->labels[idx[k]];
+        fprintf(f, ",%s_X,%s_Y,%s_Z", l, l, l);
+    }
+    fputc('\n', f);
+    for (fr = o->first; fr <= last; fr++) {
+        fprintf(f, "%ld", fr);
+        for (k = 0; k < n; k++) {
+            const float *p = c->xyz + ((size_t)fr * (size_t)c->npoints + (size_t)idx[k]) * 3u;
+            put_cell(f, p[0]);
+            put_cell(f, p[1]);
+            put_cell(f, p[2]);
+        }
+        fputc('\n', f);
+    }
+    if (fclose(f) != 0) {
+        (void)snprintf(why, C3D_ERR_MAX, "cannot write %s", o->out);
+        return -2;
+    }
+    return 0;
+}
+
+int cli_cmd_c3d(int argc, char **argv)
+{
+    c3d_opts_t o;
+    c3d_t c;
+    char err[C3D_ERR_MAX];
+    int k;
+    {
+        const int prc = cli_parse_outcome(c3d_parse_args(argc, argv, &o), c3d_usage);
+        if (prc >= 0) {
+            return prc;
+        }
+    }
+    if (c3d_read_file(o.file, &c, err) != 0) {
+        return cli_input_failed(-2, o.file, err, o.json);
+    }
+    if (o.out != NULL) {
+        if (o.first >= c.nframes && c.nframes > 0) {
+            (void)snprintf(err, sizeof err, "--frames starts at %ld; the file has %ld frames",
+                           o.first, c.nframes);
+            c3d_free(&c);
+            return cli_input_failed(-2, o.file, err, o.json);
+        }
+        if (export_table(&o, &c, err) != 0) {
+            c3d_free(&c);
+            return cli_input_failed(-2, o.file, err, o.json);
+        }
+    }
+    if (o.json) {
+        printf("{\"status\":\"ok\",\"processor\":%d,\"points\":%d,\"frames\":%ld,"
+               "\"first_frame\":%ld,\"rate\":%.9g,\"scale\":%.9g,\"units\":",
+               c.processor, c.npoints, c.nframes, c.first_frame, (double)c.rate,
+               (double)c.scale);
+        cli_print_json_string(c.units);
+        printf(",\"labels\":[");
+        for (k = 0; k < c.npoints; k++) {
+            if (k > 0) {
+                putchar(',');
+            }
+            cli_print_json_string(c.labels[k]);
+        }
+        printf("]}\n");
+    } else {
+        printf("file         %s\n", o.file);
+        printf("processor    %d (%s)\n", c.processor,
+               c.processor == 84 ? "Intel" : c.processor == 85 ? "DEC" : "MIPS");
+        printf("points       %d, %s storage (scale %g)\n", c.npoints,
+               c.scale < 0.0f ? "float" : "16-bit integer", (double)c.scale);
+        printf("frames       %ld (first frame number %ld), %g Hz, units '%s'\n", c.nframes,
+               c.first_frame, (double)c.rate, c.units);
+        printf("labels      ");
+        for (k = 0; k < c.npoints; k++) {
+            printf(" %s", c.labels[k]);
+        }
+        printf("\n");
+    }
+    c3d_free(&c);
+    return CLI_OK;
+}
