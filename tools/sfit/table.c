@@ -235,10 +235,61 @@ static int split(tab_t *t)
     }
 }
 
+/* Does a tab-separated cell of s hold a blank between other characters? */
+static int tab_cell_has_inner_blank(const char *s)
+{
+    while (*s != '\0') {
+        const size_t len = strcspn(s, "\t");
+        size_t a = 0, b = len, i;
+        while (a < b && (s[a] == ' ' || s[a] == '\r')) {
+            a++;
+        }
+        while (b > a && (s[b - 1u] == ' ' || s[b - 1u] == '\r')) {
+            b--;
+        }
+        for (i = a; i < b; i++) {
+            if (s[i] == ' ') {
+                return 1;
+            }
+        }
+        s += len;
+        if (*s == '\t') {
+            s++;
+        }
+    }
+    return 0;
+}
+
+/* Every blank-separated token of s is a number. */
+static int all_numbers(const char *s)
+{
+    for (;;) {
+        char tok[64];
+        size_t len;
+        float v;
+        s += strspn(s, " \t\r");
+        if (*s == '\0') {
+            return 1;
+        }
+        len = strcspn(s, " \t\r");
+        if (len >= sizeof tok) {
+            return 0;
+        }
+        memcpy(tok, s, len);
+        tok[len] = '\0';
+        if (tab_parse_number(tok, 0, &v) != 0) {
+            return 0;
+        }
+        s += len;
+    }
+}
+
+/* Tab, unless a tab cell holds blanks between numbers (a blank-separated
+ * line with tabs mixed in); then semicolon, comma, blanks. */
 static char detect_delim(const char *s)
 {
     if (strchr(s, '\t') != NULL) {
-        return '\t';
+        return (tab_cell_has_inner_blank(s) && all_numbers(s)) ? ' ' : '\t';
     }
     if (strchr(s, ';') != NULL) {
         return ';';
