@@ -459,7 +459,7 @@ static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model
     fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
                "viewBox=\"0 0 %.0f %.0f\">\n",
-            2.0 * pan_w + 20.0, pan_h + 70.0, 2.0 * pan_w + 20.0, pan_h + 70.0);
+            2.0 * pan_w + 20.0, pan_h + 100.0, 2.0 * pan_w + 20.0, pan_h + 100.0);
     fputs("<style>\n"
           "  text { font-family: sans-serif; }\n"
           "  .title { font-size: 15px; font-weight: bold; }\n"
@@ -526,7 +526,7 @@ static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model
     }
     fprintf(f, "<text class=\"view\" x=\"10\" y=\"%.0f\">red: joint centres (sfit); blue: "
                "parent markers; green: child markers; grey: other markers</text>\n",
-            pan_h + 62.0);
+            pan_h + 90.0);
     fputs("</svg>\n", f);
     if (fclose(f) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", o->svg);
