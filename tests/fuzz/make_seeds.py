@@ -381,9 +381,57 @@ def beyond_seeds():
     return s
 
 
+def c3d_seeds():
+    """Small C3D files from the independent writer of the CLI tests
+    (tests/scripts/mocap_ref.py): each processor type and storage, invalid
+    samples, analog words, a second label block; and broken ones."""
+    import tempfile
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "scripts"))
+    import mocap_ref as m
+    out = {}
+    pts = [[(100.0 + p + f, -50.0 * p, 900.0 - f) if (p + f) % 5 else None for p in range(3)]
+           for f in range(4)]
+    cases = {
+        "intel_float": dict(proc=m.INTEL, scale=-0.1),
+        "intel_int": dict(proc=m.INTEL, scale=0.05, nanalog=2),
+        "dec_float": dict(proc=m.DEC, scale=-1.0),
+        "mips_float": dict(proc=m.MIPS, scale=-1.0),
+        "mips_int": dict(proc=m.MIPS, scale=0.5, nanalog=1),
+        "labels2": dict(proc=m.INTEL, scale=-1.0, label_chunk=2),
+    }
+    with tempfile.TemporaryDirectory() as d:
+        for name, kw in cases.items():
+            path = os.path.join(d, name)
+            m.write_c3d(path, ["RASIS", "LASIS", "T1"], pts, **kw)
+            out[name] = open(path, "rb").read()
+    b = out["intel_float"]
+    out["truncated_data"] = b[:-20]
+    out["truncated_params"] = b[:600]
+    out["bad_processor"] = b[:515] + b"\x53" + b[516:]
+    return out
+
+
+def table_seeds():
+    """Delimited text, one selector byte first (fuzz_table.c)."""
+    rows = "1.5,2,3\n4,5,6.25\n7,8,9\n,1,2\n"
+    return {
+        "csv_header": b"\x00x,y,z\n" + rows.encode(),
+        "csv_noheader": b"\x00" + rows.encode(),
+        "tab_time": b"\x02t\tx\ty\tz\n0\t1\t2\t3\n0.01\t\t5\t6\n",
+        "semicolon_comma": b"\x01x;y;z\n1,5;2,5;3\n4;5;6\n",
+        "whitespace": b"\x00  1 2\t3\n4   5 6\n\n7 8 9 10\n",
+        "bom_crlf": b"\x00\xef\xbb\xbf\"x\",\"y\",\"z\"\r\n1,2,3\r\n",
+        "names_index": b"\x04A,b,c\n1,2,3\nnan,inf,-1e39\n",
+        "wide": b"\x05frame,M_X,M_Y,M_Z,N.x,N.y,N.z\n0,1,2,3,4,5,6\n1,,,,4,5,6\n",
+        "wide_variants": b"\x05M:x\tM:Y\tM Z\n1\t2\t3\n",
+        "one_col": b"\x03v\n1\n2\n\n3\n",
+    }
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
-    for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds())):
+    for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
+                       ("c3d", c3d_seeds()), ("table", table_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

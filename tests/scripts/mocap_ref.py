@@ -164,7 +164,7 @@ def write_c3d(path, labels, frames, proc=INTEL, scale=-1.0, rate=100.0, units='m
     nblocks = (4 + len(body) + BLOCK - 1) // BLOCK
     psec = bytes((1, 0x50, nblocks, proc)) + body
     psec += b'\0' * (nblocks * BLOCK - len(psec))
-    dblock = 2 + nblocks + 1
+    dblock = 2 + nblocks
     hdr = bytearray(BLOCK)
     hdr[0], hdr[1] = 2, 0x50
     hdr[2:10] = struct.pack(e + '4H', npts, nanalog, first, first + len(frames) - 1)
@@ -187,9 +187,8 @@ def write_c3d(path, labels, frames, proc=INTEL, scale=-1.0, rate=100.0, units='m
                 else:
                     data += struct.pack(e + '4h', *(int(round(v / scale)) for v in p), 0)
         data += b'\0' * (nanalog * word)
-    gap = b'\0' * ((dblock - 1) * BLOCK - BLOCK - len(psec))
     with open(path, 'wb') as f:
-        f.write(bytes(hdr) + psec + gap + bytes(data))
+        f.write(bytes(hdr) + psec + bytes(data))
 
 
 # ------------------------------------------------------------ registration

@@ -306,7 +306,7 @@ int c3d_sniff(const unsigned char *buf, size_t len)
     return len >= 2u && buf[1] == 0x50u && buf[0] >= 2u;
 }
 
-int c3d_parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
+static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
 {
     c3d_in_t in;
     c3d_point_group_t g;
@@ -440,6 +440,15 @@ int c3d_parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
         }
     }
     return 0;
+}
+
+int c3d_parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
+{
+    const int rc = parse(buf, len, out, err);
+    if (rc != 0) {
+        c3d_free(out); /* nothing half-filled on failure */
+    }
+    return rc;
 }
 
 int c3d_read_file(const char *path, c3d_t *out, char *err)
