@@ -146,7 +146,7 @@ static sfit_status_t prv_spread_check(const sfit_mat3_t *a, int pw, sfit_mat3_t 
  * (shifted sums). Writes the centred points to out (may alias in). */
 static sfit_status_t prv_centre_all(const sfit_vec3_t *in, size_t count, sfit_vec3_t *out)
 {
-    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
+    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS] = {0u};
     float ref[3], d[3];
     sfit_mat3_t sc;
     sfit_status_t st = SFIT_OK;
@@ -353,7 +353,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit)
 {
-    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
+    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS] = {0u};
     float xr[3], dx[3], pr[3], dp[3];
     float h[9], hmax, inv, e2, n;
     float v1[3], v2[3], v3[3], u1[3], u2[3], u3[3], a;

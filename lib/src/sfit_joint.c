@@ -153,7 +153,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
                              const sfit_vec3_t *child, size_t n_child, sfit_pose_t *pose)
 {
     sfit_vec3_t xs[SFIT_JOINT_MAX_CHILD];
-    uint8_t seen[SFIT_JOINT_MAX_CHILD];
+    uint8_t seen[SFIT_JOINT_MAX_CHILD] = {0u};
     sfit_pose_t ps;
     sfit_cluster_fit_t fit;
     sfit_status_t st;

@@ -380,6 +380,67 @@ def beyond_seeds():
                           + b_uncert_mom(operands=b_operands(radius=1e30, var=1e30)))
     return s
 
+# fuzz_joint.c opcodes (enum fz_jop)
+J_TPL_INIT, J_TPL_FRAME, J_TPL_FRAMES, J_JOINT_INIT, J_ADD, J_REGISTER, J_SOLVE, \
+    J_CENTER_AT, J_GARBAGE, J_RESET, J_NULLS = range(11)
+J_TPL = [(70.0, 40.0, 10.0), (-75.0, 35.0, 5.0), (-60.0, -50.0, 30.0), (65.0, -25.0, -45.0)]
+
+
+def j_motion(axis=0, ang=0, far=True):
+    return bytes([(axis & 7) | (8 if far else 0), ang & 255])
+
+
+def j_raw_marker(p):
+    return b"\x00" + b"".join(f(c) for c in p)
+
+
+def j_tpl_init(points, frame=False):
+    return bytes([J_TPL_FRAME if frame else J_TPL_INIT, len(points)]) + j_motion(0, 0, False) \
+        + b"".join(j_raw_marker(p) for p in points)
+
+
+def j_add(k, nc=3, par_sel=None, chi_sel=None):
+    """A frame: the parent moved by motion k, the child by another motion
+    (markers = template markers 0..nc-1 perturbed): in the parent frame the
+    child turns about the template origin."""
+    out = bytes([J_ADD, 0]) + j_motion(k % 8, (37 * k) % 256) + j_motion((3 * k + 1) % 8, (11 * k + 5) % 256)
+    for i in range(4):
+        sel = 2 if par_sel is None else par_sel(i)
+        out += bytes([sel])
+        if sel == 0:
+            out += f(INF) * 3
+    for i in range(nc):
+        sel = 6 if chi_sel is None else chi_sel(i)
+        out += bytes([sel])
+        if sel & 3 == 0:
+            out += f(NAN) * 3
+        elif sel & 3 == 2 and sel & 4:
+            out += bytes([(5 * i + k) % 256, (7 * i) % 256, (3 * k) % 256])
+    return out
+
+
+def joint_seeds():
+    s = {}
+    base = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 3, 0, 0])
+    ball = base + b"".join(j_add(k) for k in range(60))
+    s["ball"] = ball + bytes([J_SOLVE, J_CENTER_AT]) + j_motion(2, 40) + bytes([2, 2, 2, 2]) + bytes([J_NULLS])
+    s["occluded"] = base + b"".join(
+        j_add(k, par_sel=(lambda i, k=k: 1 if i == k % 4 else 2), chi_sel=(lambda i, k=k: 1 if i == k % 3 else 6))
+        for k in range(40)) + bytes([J_SOLVE])
+    s["rejects"] = base + j_add(1, par_sel=lambda i: 1 if i < 2 else 2) + j_add(2, par_sel=lambda i: 0 if i == 0 else 2) \
+        + j_add(3, chi_sel=lambda i: 0 if i == 1 else 6) + bytes([J_SOLVE, J_RESET, J_SOLVE])
+    s["collinear"] = j_tpl_init([(0.0, 0.0, 0.0), (100.0, 0.0, 0.0), (50.0, 0.0, 0.0), (-30.0, 0.0, 0.0)]) \
+        + j_tpl_init([(1.0, 2.0, 3.0)] * 4, frame=True) + bytes([J_REGISTER, 0]) + j_motion(1, 9) + bytes([2, 2, 2, 2])
+    s["garbage"] = ball + bytes([J_GARBAGE, 1, 0, 0, 4, 255, 255, 255, 255]) + j_add(61) + bytes([J_SOLVE]) \
+        + bytes([J_GARBAGE, 0, 0, 0, 4, 0, 0, 192, 127]) + bytes([J_REGISTER, 0]) + j_motion(1, 9) + bytes([2, 2, 2, 2])
+    frames = bytes([J_TPL_FRAMES, 3, 4]) + b"".join(j_motion(k, 20 * k) + bytes([2, 2, 2, 2]) for k in range(3))
+    s["frames"] = j_tpl_init(J_TPL) + frames + bytes([J_JOINT_INIT, 3, 0, 0]) + b"".join(j_add(k) for k in range(30)) \
+        + bytes([J_SOLVE])
+    s["hinge_planar"] = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 2, 2, 0]) \
+        + b"".join(bytes([J_ADD, 0]) + j_motion(k % 8, 17 * k) + j_motion(2, 3 * k) + bytes([2] * 4) + bytes([6, 1, 2, 3, 6, 4, 5, 6])
+                   for k in range(40)) + bytes([J_SOLVE, J_CENTER_AT]) + j_motion(0, 1) + bytes([2, 2, 2, 2])
+    return s
+
 
 def c3d_seeds():
     """Small C3D files from the independent writer of the CLI tests
@@ -431,7 +492,7 @@ def table_seeds():
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
-                       ("c3d", c3d_seeds()), ("table", table_seeds())):
+                       ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

@@ -18,6 +18,7 @@ void tt_multi(void);
 void tt_noise(void);
 void tt_incr(void);
 void tt_beyond(void);
+void tt_joint(void);
 
 typedef void (*tt_suite_fn)(void);
 static const struct {
@@ -31,6 +32,7 @@ static const struct {
     {"noise", tt_noise},
     {"incr", tt_incr},
     {"beyond", tt_beyond},
+    {"joint", tt_joint},
 };
 
 static unsigned tt_pass;

@@ -50,6 +50,9 @@
 #define FC_HAVE_INCR 1
 #endif
 #endif
+#include "sfit/sfit_cluster.h"
+#include "sfit/sfit_joint.h"
+#define FC_HAVE_JOINT 1
 #ifndef FC_HAVE_MULTI
 #define FC_HAVE_MULTI 0
 #endif
@@ -117,6 +120,24 @@ static float fc_radii[FC_NMARK];
 #endif
 #if FC_HAVE_NOISE
 static sfit_noise_est_t fc_nest;
+#endif
+#if FC_HAVE_JOINT
+/* Joint probe: a 4-marker parent cluster (pelvis-like, +-75 mm) and 5
+ * child markers turning about a centre, 2.7 m from the origin; FC_NJF
+ * frames (a whole number of moments blocks, so the amortised figure
+ * includes the block merges). */
+#define FC_NJP 4u
+#define FC_NJC 5u
+#define FC_NJF SFIT_MOMENTS_BLOCK
+static sfit_cluster_t fc_cl;
+static sfit_joint_t fc_jnt;
+static sfit_joint_result_t fc_jres;
+static sfit_pose_t fc_pose;
+static sfit_cluster_fit_t fc_cfit;
+static sfit_vec3_t fc_jpar[FC_NJF][FC_NJP];
+static sfit_vec3_t fc_jchi[FC_NJF][FC_NJC];
+static sfit_joint_cfg_t fc_jcfg5;
+static sfit_joint_cfg_t fc_jcfg1;
 #endif
 #if FC_HAVE_INCR
 static sfit_incr_t fc_inc;
@@ -232,6 +253,80 @@ static void fc_setup(void)
     }
 #endif
 }
+
+#if FC_HAVE_JOINT
+/* Rotation about a unit axis u by an angle with cosine c and sine s. */
+static void fc_rot_axis(const float u[3], float c, float s, float r[9])
+{
+    const float t = 1.0f - c;
+    r[0] = c + u[0] * u[0] * t;
+    r[1] = u[0] * u[1] * t - u[2] * s;
+    r[2] = u[0] * u[2] * t + u[1] * s;
+    r[3] = u[1] * u[0] * t + u[2] * s;
+    r[4] = c + u[1] * u[1] * t;
+    r[5] = u[1] * u[2] * t - u[0] * s;
+    r[6] = u[2] * u[0] * t - u[1] * s;
+    r[7] = u[2] * u[1] * t + u[0] * s;
+    r[8] = c + u[2] * u[2] * t;
+}
+
+static void fc_apply(const float r[9], const float x[3], const float t[3], float y[3])
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        y[k] = r[3 * k] * x[0] + r[3 * k + 1] * x[1] + r[3 * k + 2] * x[2] + t[k];
+    }
+}
+
+static void fc_setup_joint(void)
+{
+    static const float tpl[FC_NJP][3] = {
+        {70.0f, 40.0f, 10.0f}, {-75.0f, 35.0f, 5.0f}, {-60.0f, -50.0f, 30.0f}, {65.0f, -25.0f, -45.0f}};
+    static const float dk[FC_NJC][3] = {{30.0f, -20.0f, -150.0f}, {-35.0f, 25.0f, -220.0f},
+                                        {40.0f, 30.0f, -300.0f}, {-20.0f, -45.0f, -380.0f},
+                                        {45.0f, -10.0f, -420.0f}};
+    static const float jc[3] = {-80.0f, 90.0f, -70.0f};
+    sfit_vec3_t tv[FC_NJP];
+    unsigned f, i;
+    int k;
+    for (i = 0; i < FC_NJP; i++) {
+        for (k = 0; k < 3; k++) {
+            tv[i].v[k] = tpl[i][k];
+        }
+    }
+    if (sfit_cluster_init(&fc_cl, tv, FC_NJP) != SFIT_OK) {
+        fc_st = SFIT_E_ARG;
+    }
+    for (f = 0; f < FC_NJF; f++) {
+        float u[3], rp[9], rq[9], c, s, y[3];
+        fc_dir(u, -1.0f, 0);
+        c = 2.0f * fc_unif() - 1.0f;
+        s = __builtin_sqrtf(1.0f - c * c);
+        fc_rot_axis(u, c, s, rp);
+        fc_dir(u, -1.0f, 0);
+        c = 0.5f + 0.5f * fc_unif(); /* up to 60 degrees */
+        s = __builtin_sqrtf(1.0f - c * c);
+        fc_rot_axis(u, c, s, rq);
+        for (i = 0; i < FC_NJP; i++) {
+            fc_apply(rp, tpl[i], fc_centre, fc_jpar[f][i].v);
+            for (k = 0; k < 3; k++) {
+                fc_jpar[f][i].v[k] += fc_sigma * fc_noise();
+            }
+        }
+        for (i = 0; i < FC_NJC; i++) {
+            fc_apply(rq, dk[i], jc, y);
+            fc_apply(rp, y, fc_centre, fc_jchi[f][i].v);
+            for (k = 0; k < 3; k++) {
+                fc_jchi[f][i].v[k] += fc_sigma * fc_noise();
+            }
+        }
+    }
+    fc_jcfg5 = sfit_joint_cfg_default;
+    fc_jcfg5.n_child = FC_NJC;
+    fc_jcfg1 = sfit_joint_cfg_default;
+    fc_jcfg1.n_child = 1u;
+}
+#endif
 
 /* ---- operations ----------------------------------------------------------- */
 static void fc_keep(sfit_status_t st)
@@ -392,6 +487,59 @@ static void fc_incr_updates(void) /* FC_NHALF more samples, an estimate after ea
 }
 #endif
 
+#if FC_HAVE_JOINT
+static void fc_register(void)
+{
+    fc_keep(sfit_cluster_register(&fc_cl, fc_jpar[0], FC_NJP, &fc_pose, &fc_cfit));
+}
+
+static void fc_to_segment(void)
+{
+    fc_keep(sfit_pose_to_segment(&fc_pose, &fc_jchi[0][0], &fc_x));
+}
+
+static void fc_prep_joint5(void)
+{
+    fc_keep(sfit_joint_init(&fc_jnt, &fc_cl, &fc_jcfg5));
+}
+
+static void fc_prep_joint1(void)
+{
+    fc_keep(sfit_joint_init(&fc_jnt, &fc_cl, &fc_jcfg1));
+}
+
+static void fc_joint_frames(void) /* FC_NJF frames */
+{
+    unsigned f;
+    for (f = 0; f < FC_NJF; f++) {
+        fc_keep(sfit_joint_add(&fc_jnt, fc_jpar[f], FC_NJP, fc_jchi[f], fc_jnt.cfg.n_child, NULL));
+    }
+}
+
+static void fc_prep_joint5_full(void)
+{
+    fc_prep_joint5();
+    fc_joint_frames();
+}
+
+static void fc_joint_solve(void)
+{
+    fc_keep(sfit_joint_solve(&fc_jnt, &fc_jres, NULL));
+}
+
+static void fc_joint_center_at(void)
+{
+    sfit_vec3_t c;
+    fc_keep(sfit_joint_center_at(&fc_jnt, &fc_jres, fc_jpar[1], FC_NJP, &c, NULL));
+}
+
+static void fc_prep_joint_solved(void)
+{
+    fc_prep_joint5_full();
+    fc_joint_solve();
+}
+#endif
+
 /* ---- the table ------------------------------------------------------------ */
 static const fc_op_t fc_ops[] = {
     /* name, public function, prep, run, prep_base, base, div */
@@ -414,6 +562,14 @@ static const fc_op_t fc_ops[] = {
 #endif
 #if FC_HAVE_NOISE
     {"noise_calibration", "sfit_noise_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
+#endif
+#if FC_HAVE_JOINT
+    {"cluster_register", "sfit_cluster_register", NULL, fc_register, NULL, NULL, 1u},
+    {"pose_to_segment", "sfit_pose_to_segment", fc_register, fc_to_segment, NULL, NULL, 1u},
+    {"joint_frame", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, NULL, NULL, FC_NJF},
+    {"joint_per_child", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, fc_prep_joint1, fc_joint_frames, FC_NJF * (FC_NJC - 1u)},
+    {"joint_solve", "sfit_joint_solve", fc_prep_joint5_full, fc_joint_solve, NULL, NULL, 1u},
+    {"joint_center_at", "sfit_joint_center_at", fc_prep_joint_solved, fc_joint_center_at, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_INCR
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},
@@ -440,11 +596,15 @@ int main(void)
     int fails = 0;
 
     fc_setup();
+#if FC_HAVE_JOINT
+    fc_setup_joint();
+#endif
     printf("fcinfo moments_block %u\n", (unsigned)SFIT_MOMENTS_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);
     printf("fcinfo have_multi %d\nfcinfo have_noise %d\nfcinfo have_incr %d\n", FC_HAVE_MULTI,
            FC_HAVE_NOISE, FC_HAVE_INCR);
+    printf("fcinfo have_joint %d\n", FC_HAVE_JOINT);
     for (i = 0; i < sizeof fc_ops / sizeof fc_ops[0]; i++) {
         const fc_op_t *op = &fc_ops[i];
         printf("fcop %s %u %d %s\n", op->name, op->div, op->base != NULL ? 2 : 1, op->fn);

@@ -41,3 +41,8 @@ FC_SIZE(sfit_gate_cfg_t);
 FC_SIZE(sfit_selfcal_result_t);
 FC_SIZE(sfit_refine_result_t);
 FC_SIZE(sfit_uncert_t);
+FC_SIZE(sfit_cluster_t);
+FC_SIZE(sfit_pose_t);
+FC_SIZE(sfit_joint_t);
+FC_SIZE(sfit_joint_cfg_t);
+FC_SIZE(sfit_joint_result_t);
