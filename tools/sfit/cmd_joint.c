@@ -121,9 +121,10 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     int k;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frame\":\"parent_template\","
            "\"reference_frame\":%ld,\"first\":%ld,\"last\":%ld,\"frames_used\":%ld,"
-           "\"frames_rejected\":%ld,\"template_frames\":%lu,\"n\":%lu,\"center\":",
+           "\"frames_rejected\":%ld,\"bad_rows\":%ld,\"template_frames\":%lu,\"n\":%lu,"
+           "\"center\":",
            method_name(r), r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", jo->ref_frame,
-           o->j.first, last, jo->used, jo->rejected, jo->template_frames,
+           o->j.first, last, jo->used, jo->rejected, fr->bad_rows, jo->template_frames,
            (unsigned long)r->n_total);
     cli_print_vec(r->center.v);
     printf(",\"center_lab_reference\":");
@@ -185,6 +186,10 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
     printf(", %ld frames)\n", fr->nframes);
     printf("frames       %ld to %ld: %ld used, %ld rejected (parent not registrable)\n",
            o->j.first, last, jo->used, jo->rejected);
+    if (fr->bad_rows > 0) {
+        printf("warning      %ld table rows did not parse (read as missing markers)\n",
+               fr->bad_rows);
+    }
     printf("parent       ");
     for (k = 0; k < o->np; k++) {
         printf("%s%s", k > 0 ? " " : "", o->names[k]);
