@@ -8,7 +8,8 @@
 #   -fsanitize=address,undefined -fno-sanitize-recover=all
 # (without the last flag UBSan only prints and the test still passes) and
 # -DSFIT_WERROR=ON, builds it and runs its ctest without the script tests
-# (no recursion). Then replays the committed fuzz seed corpus through the
+# (no recursion), and the CLI scripts (tests/scripts/test_cli*.sh) with its
+# sanitized sfit. Then replays the committed fuzz seed corpus through the
 # harnesses built with gcc and the same sanitizers (tests/fuzz/replay_main.c),
 # so the harnesses also compile and hold under gcc.
 #
@@ -49,6 +50,18 @@ fi
 ntests=$(sed -n 's/.*tests passed, 0 tests failed out of \([0-9]*\).*/\1/p' "$out/ctest.log")
 grep -q "tests passed" "$out/ctest.log" || { cat "$out/ctest.log" >&2; exit 1; }
 
+# The CLI scripts (readers on real, written and corrupt files) with the
+# sanitized sfit binary.
+ncli=0
+for t in "$src"/tests/scripts/test_cli*.sh; do
+  if ! bash "$t" "$out" "$src" >"$out/$(basename "$t" .sh).log" 2>&1; then
+    cat "$out/$(basename "$t" .sh).log" >&2
+    echo "$name: FAIL: $(basename "$t") with the sanitized sfit" >&2
+    exit 1
+  fi
+  ncli=$((ncli + 1))
+done
+
 # Fuzz seed corpus through gcc-built harnesses (no libFuzzer needed).
 nrep=0
 if [ -d "$src/tests/fuzz" ]; then
@@ -69,4 +82,4 @@ if [ -d "$src/tests/fuzz" ]; then
     nrep=$((nrep + $(find "$corpus" -type f | wc -l)))
   done
 fi
-echo "$name: ok: ${ntests:-all} tests pass under $cc -fsanitize=address,undefined -fno-sanitize-recover=all; $nrep fuzz seeds replayed"
+echo "$name: ok: ${ntests:-all} tests pass under $cc -fsanitize=address,undefined -fno-sanitize-recover=all; $ncli CLI scripts with the sanitized sfit; $nrep fuzz seeds replayed"
