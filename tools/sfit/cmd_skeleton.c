@@ -17,7 +17,8 @@
  * The picture (--svg): two orthographic views of frame K side by side,
  * the lab's vertical axis (the one along which the markers spread most at
  * that frame) pointing up, each view along one horizontal lab axis. Joint
- * centres are red and labelled; a segment is a line between the centres of
+ * centres are red and labelled, a hinge's axis a dashed red line through
+ * its centre; a segment is a line between the centres of
  * its joints, or from its one joint centre to the centroid of its markers;
  * the model's markers are coloured dots, labelled; other C3D points are
  * small grey dots.
@@ -472,6 +473,7 @@ static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model
           "  .par { fill: #2a6fdb; }\n"
           "  .chi { fill: #1b9e4b; }\n"
           "  .jc { fill: #d00; stroke: #fff; stroke-width: 1.5; }\n"
+          "  .axis { stroke: #d00; stroke-width: 2; stroke-dasharray: 6 3; }\n"
           "</style>\n",
           f);
     {
@@ -519,12 +521,21 @@ static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model
             if (!j->lab_ok) {
                 continue;
             }
+            if (j->out.res.fit.mode == SFIT_MODE_PLANAR) { /* the hinge axis */
+                const float half = (float)(0.08 * span[up]);
+                sfit_vec3_t p0, p1;
+                for (i = 0; i < 3; i++) {
+                    p0.v[i] = j->lab.v[i] - half * j->axis_lab.v[i];
+                    p1.v[i] = j->lab.v[i] + half * j->axis_lab.v[i];
+                }
+                line(f, &c, w, &p0, &p1, "axis");
+            }
             proj(&c, w, &j->lab, &x, &y);
             fprintf(f, "<circle class=\"jc\" cx=\"%.1f\" cy=\"%.1f\" r=\"7\"/>\n", x, y);
             svg_text(f, x + 10.0, y + 16.0, "jlbl", j->name);
         }
     }
-    fprintf(f, "<text class=\"view\" x=\"10\" y=\"%.0f\">red: joint centres (sfit); blue: "
+    fprintf(f, "<text class=\"view\" x=\"10\" y=\"%.0f\">red: joint centres (sfit), dashed: hinge axis; blue: "
                "parent markers; green: child markers; grey: other markers</text>\n",
             pan_h + 90.0);
     fputs("</svg>\n", f);
