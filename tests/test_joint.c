@@ -948,6 +948,68 @@ static void test_template_from_frames(void **state)
     assert_true(worst < 5e-3); /* measured 3.5e-4 mm */
 }
 
+/* sfit_joint_noise_cov() against the double first-order expression at the
+ * true positions (effective_cov): they differ only by the noise in the
+ * mapped samples (relative 1e-4 here); tolerance 1e-2 of the largest
+ * entry. The solve in SFIT_JOINT_NOISE_MARKER mode is the solve with that
+ * covariance given explicitly, bit for bit. */
+static void test_noise_cov(void **state)
+{
+    tu_rng_t g;
+    sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_joint_result_t r1, r2;
+    sfit_mat3_t cov, sent;
+    double cov6[6], want[9], big = 0.0;
+    float rad1[K], rad2[K];
+    int k;
+    (void)state;
+    cfg.n_child = K;
+    cfg.solve.fit.noise = SFIT_NOISE_ISO;
+    cfg.solve.fit.noise_var = 0.25f;
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    make_motion(900, 300, 0);
+    tu_rng_seed(&g, 11);
+    make_noisy(&g, 0.5, 0.5);
+    assert_int_equal(lib_run(&cfg, &g_j, &r1, rad1), SFIT_OK);
+    assert_int_equal(r1.fit.method, SFIT_METHOD_UGDK);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_OK);
+    effective_cov(cov6);
+    want[0] = cov6[0]; want[4] = cov6[1]; want[8] = cov6[2];
+    want[1] = want[3] = cov6[3]; want[2] = want[6] = cov6[4]; want[5] = want[7] = cov6[5];
+    for (k = 0; k < 9; k++) {
+        want[k] *= 0.25;
+        big = fabs(want[k]) > big ? fabs(want[k]) : big;
+    }
+    printf("  effective noise in the parent frame (sigma 0.5 mm): diag %.3f %.3f %.3f mm^2 "
+           "(marker alone 0.25)\n", want[0], want[4], want[8]);
+    for (k = 0; k < 9; k++) {
+        assert_near(cov.m[k], want[k], 1e-2 * big, "noise cov");
+    }
+    /* the same solve with the covariance given */
+    cfg.noise_model = SFIT_JOINT_NOISE_SOLVE;
+    cfg.solve.fit.noise = SFIT_NOISE_COV;
+    cfg.solve.fit.noise_cov = cov;
+    assert_int_equal(lib_run(&cfg, &g_j, &r2, rad2), SFIT_OK);
+    assert_memory_equal(&r1, &r2, sizeof r1);
+    assert_memory_equal(rad1, rad2, sizeof rad1);
+    /* contract */
+    memset(&sent, 0xA5, sizeof sent);
+    cov = sent;
+    assert_int_equal(sfit_joint_noise_cov(NULL, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, -1.0f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, NAN, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+    /* options: MARKER needs SFIT_NOISE_ISO; an unknown model is rejected */
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    cfg.solve.fit.noise = SFIT_NOISE_NONE;
+    assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
+    cfg.noise_model = (sfit_joint_noise_t)5;
+    assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -959,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_reject_unchanged),
         cmocka_unit_test(test_contract),
         cmocka_unit_test(test_template_from_frames),
+        cmocka_unit_test(test_noise_cov),
     };
     return cmocka_run_group_tests_name("joint", tests, NULL, NULL);
 }

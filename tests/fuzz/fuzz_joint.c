@@ -185,6 +185,7 @@ static void fz_op_joint_init(fz_in_t *in)
     cfg.n_child = fz_u8(in) % (SFIT_JOINT_MAX_CHILD + 2u);
     fz_cfg_decode(in, &cfg.solve.fit, 0);
     cfg.solve.weight = (sfit_multi_weight_t)(fz_u8(in) % 3u);
+    cfg.noise_model = (sfit_joint_noise_t)(fz_u8(in) % 3u); /* 2 is invalid */
     before = fz_s.j;
     st = sfit_joint_init(&fz_s.j, &fz_s.cl, &cfg);
     FZ_CHECK(fz_status_defined(st), "joint_init: undefined status");
