@@ -92,9 +92,9 @@ static sfit_vec3_t vec_of(const double x[3])
     return v;
 }
 
-static sfit_fit_cfg_t cfg_of(const double *cov)
+static sfit_incr_cfg_t cfg_of(const double *cov)
 {
-    sfit_fit_cfg_t c = sfit_fit_cfg_default;
+    sfit_incr_cfg_t c = sfit_incr_cfg_default;
     if (cov == COV_ISO) {
         c.noise = SFIT_NOISE_ISO;
         c.noise_var = (float)cov[0];
@@ -234,7 +234,7 @@ static void run_float(size_t n, size_t from, double tol, int models, worst_t w[3
     memset(w, 0, 3 * sizeof w[0]);
     (void)sfit_moments_init(&mom);
     for (j = 0; j < models; j++) {
-        const sfit_fit_cfg_t cfg = cfg_of(covs[j]);
+        const sfit_incr_cfg_t cfg = cfg_of(covs[j]);
         assert_int_equal(sfit_incr_init(&s[j], &cfg), SFIT_OK);
         memset(&w[j], 0, sizeof w[j]);
     }
@@ -488,7 +488,7 @@ static void test_args(void **state)
     sfit_incr_t s;
     sfit_incr_est_t e;
     sfit_vec3_t x = {{1.0f, 2.0f, 3.0f}};
-    sfit_fit_cfg_t cfg;
+    sfit_incr_cfg_t cfg;
     (void)state;
     assert_int_equal(sfit_incr_init(NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_incr_init(&s, NULL), SFIT_OK);
@@ -509,16 +509,13 @@ static void test_args(void **state)
         sfit_incr_t before;
         assert_int_equal(sfit_incr_add(&s, &x), SFIT_OK);
         memcpy(&before, &s, sizeof s);
-        cfg = sfit_fit_cfg_default;
+        cfg = sfit_incr_cfg_default;
         cfg.noise = SFIT_NOISE_ISO;
         cfg.noise_var = -1.0f;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
         cfg.noise_var = NAN;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
-        cfg = sfit_fit_cfg_default;
-        cfg.mode = SFIT_MODE_PLANAR;
-        assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
-        cfg = sfit_fit_cfg_default;
+        cfg = sfit_incr_cfg_default;
         cfg.noise = (sfit_noise_kind_t)7;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
         assert_memory_equal(&before, &s, sizeof s);
@@ -591,7 +588,7 @@ static void test_degenerate(void **state)
     sfit_incr_t s, before;
     sfit_incr_est_t e;
     sfit_vec3_t v[40];
-    sfit_fit_cfg_t cfg = cfg_of(COV_ISO);
+    sfit_incr_cfg_t cfg = cfg_of(COV_ISO);
     int i, kind;
     (void)state;
     for (kind = 0; kind < 3; kind++) {
@@ -630,7 +627,7 @@ static void test_ugdk_not_posdef(void **state)
     sfit_incr_t s, before;
     sfit_incr_est_t e;
     sfit_vec3_t v[50];
-    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    sfit_incr_cfg_t cfg = sfit_incr_cfg_default;
     int i;
     (void)state;
     fill_cap(v, 50, 9u);
@@ -652,7 +649,7 @@ static void test_ugdk_not_posdef(void **state)
 static void test_start_update_reset(void **state)
 {
     static sfit_vec3_t v[3000];
-    const sfit_fit_cfg_t cfg = cfg_of(COV_ISO);
+    const sfit_incr_cfg_t cfg = cfg_of(COV_ISO);
     sfit_incr_t s, fresh, before;
     sfit_incr_est_t e, e2;
     ref_fit_t b;

@@ -214,6 +214,13 @@ static void test_bounds_and_contract(void **state)
     cfg.max_iters = 1u;
     assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
     assert_memory_equal(&r, &sentinel, sizeof r);
+    /* the same with accept_unconverged: the last accepted centre, converged 0 */
+    cfg.accept_unconverged = 1u;
+    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
+    assert_true(r.converged == 0u && r.iterations == 1u);
+    assert_true(tc_dist(&r.center, c) < 50.0 && isfinite(r.radius) && isfinite(r.noise_var));
+    cfg.accept_unconverged = 0u;
+    r = sentinel;
     cfg.max_iters = 0u;
     assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, c) < 0.5);
@@ -223,7 +230,7 @@ static void test_bounds_and_contract(void **state)
     assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_fit(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_fit(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &bad, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_fit(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);
     assert_int_equal(sfit_refine_fit(g_pf, 4, &far_start, NULL, &r), SFIT_E_TOO_FEW);
     g_pf[3].v[2] = INFINITY;
     assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, NULL, &r), SFIT_E_NONFINITE);

@@ -249,7 +249,7 @@ static void test_cap_safeguard(void **state)
 static void test_contract(void **state)
 {
     sfit_selfcal_result_t r, sentinel;
-    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    sfit_selfcal_cfg_t cfg = sfit_selfcal_cfg_default;
     float v = -7.0f;
     sfit_vec3_t c = {{0.0f, 0.0f, 0.0f}};
     tu_rng_t g;
@@ -261,7 +261,9 @@ static void test_contract(void **state)
     assert_int_equal(sfit_selfcal_fit(NULL, 50, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_selfcal_fit(g_pf, 50, NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_selfcal_fit(g_pf, 4, NULL, &r), SFIT_E_TOO_FEW);
-    cfg.mode = SFIT_MODE_PLANAR;
+    cfg.planar_ratio = 1.5f;
+    assert_int_equal(sfit_selfcal_fit(g_pf, 50, &cfg, &r), SFIT_E_ARG);
+    cfg.planar_ratio = NAN;
     assert_int_equal(sfit_selfcal_fit(g_pf, 50, &cfg, &r), SFIT_E_ARG);
     g_pf[7].v[1] = NAN;
     assert_int_equal(sfit_selfcal_fit(g_pf, 50, NULL, &r), SFIT_E_NONFINITE);

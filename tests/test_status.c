@@ -238,9 +238,9 @@ static void test_e_arg(void **state)
         memset(&e, TS_SENTINEL, sizeof e);
         assert_status(sfit_incr_init(&inc, NULL), SFIT_OK);
         memcpy(&before, &inc, sizeof inc);
-        cfg = sfit_fit_cfg_default;
-        cfg.mode = SFIT_MODE_PLANAR; /* the incremental estimator is a sphere fit */
-        assert_status(sfit_incr_init(&inc, &cfg), SFIT_E_ARG);
+        sfit_incr_cfg_t icfg = sfit_incr_cfg_default;
+        icfg.noise = (sfit_noise_kind_t)9;
+        assert_status(sfit_incr_init(&inc, &icfg), SFIT_E_ARG);
         assert_memory_equal(&before, &inc, sizeof inc);
         assert_status(sfit_incr_add(NULL, &pts[0]), SFIT_E_ARG);
         assert_status(sfit_incr_start(&inc, NULL, 5u, &e), SFIT_E_ARG);
@@ -376,10 +376,10 @@ static void test_e_not_posdef_noise_larger_than_spread(void **state)
         sfit_incr_t inc, before;
         sfit_incr_est_t e;
         memset(&e, TS_SENTINEL, sizeof e);
-        cfg = sfit_fit_cfg_default;
-        cfg.noise = SFIT_NOISE_ISO;
-        cfg.noise_var = 25.0f;
-        assert_status(sfit_incr_init(&inc, &cfg), SFIT_OK);
+        sfit_incr_cfg_t icfg = sfit_incr_cfg_default;
+        icfg.noise = SFIT_NOISE_ISO;
+        icfg.noise_var = 25.0f;
+        assert_status(sfit_incr_init(&inc, &icfg), SFIT_OK);
         memcpy(&before, &inc, sizeof inc);
         assert_status(sfit_incr_start(&inc, pts, TS_NPTS, &e), SFIT_E_NOT_POSDEF);
         assert_memory_equal(&before, &inc, sizeof inc); /* failed start: unchanged */

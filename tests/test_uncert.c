@@ -296,7 +296,11 @@ static void test_contract(void **state)
     assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, -1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_ARG);
     assert_int_equal(sfit_uncert_moments(&m, &cbad, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
-                     SFIT_E_ARG);
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_moments(&m, &c, NAN, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, INFINITY, SFIT_UNCERT_NOISE_KNOWN, &u),
+                     SFIT_E_NONFINITE);
     assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, 1.0f, (sfit_uncert_noise_t)7, &u),
                      SFIT_E_ARG);
     /* sigma^2 above lambda_min(C): C - sigma^2 I not PD */
@@ -312,7 +316,7 @@ static void test_contract(void **state)
     assert_int_equal(sfit_uncert_geometric(NULL, 100, &c, &u), SFIT_E_ARG);
     assert_int_equal(sfit_uncert_geometric(g_pf, 100, NULL, &u), SFIT_E_ARG);
     assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &cbad, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &cbad, &u), SFIT_E_NONFINITE);
     assert_int_equal(sfit_uncert_geometric(g_pf, 4, &c, &u), SFIT_E_TOO_FEW);
     g_pf[9] = c;
     assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_DEGENERATE);

@@ -59,10 +59,8 @@
 #include "sfit/sfit_incr.h"
 
 #include <float.h>
-#include <stdint.h>
-#include <string.h>
 
-#include "sfit_internal.h"
+#include "sfit_solve.h"
 
 /* Fold the inner level into the outer one and move the frame origin p to
  * the current mean. 82 FLOPs, once every SFIT_INCR_BLOCK samples (and
@@ -162,33 +160,25 @@ static void prv_add(sfit_incr_t *s, const float x[3])
     }
 }
 
-sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_fit_cfg_t *cfg)
+const sfit_incr_cfg_t sfit_incr_cfg_default = {.noise = SFIT_NOISE_NONE, .noise_var = 0.0f};
+
+sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg)
 {
     sfit_mat3_t sg;
-    sfit_status_t st;
 
     if (s == NULL) {
         return SFIT_E_ARG;
     }
     if (cfg == NULL) {
-        cfg = &sfit_fit_cfg_default;
+        cfg = &sfit_incr_cfg_default;
     }
-    st = sfit_i_check_cfg(cfg);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (cfg->mode == SFIT_MODE_PLANAR) {
+    if (sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov) != SFIT_OK) {
         return SFIT_E_ARG;
     }
-    sfit_i_sigma(cfg, &sg);
+    sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sg);
     memset(s, 0, sizeof *s);
     s->noise = cfg->noise;
-    s->sig[0] = sg.m[0];
-    s->sig[1] = sg.m[4];
-    s->sig[2] = sg.m[8];
-    s->sig[3] = sg.m[3];
-    s->sig[4] = sg.m[6];
-    s->sig[5] = sg.m[7];
+    sfit_i_sym_pack(&sg, s->sig);
     s->sig_tr = sg.m[0] + sg.m[4] + sg.m[8];
     return SFIT_OK;
 }
@@ -258,19 +248,9 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     if (s == NULL || (pts == NULL && n > 0u)) {
         return SFIT_E_ARG;
     }
-#if SIZE_MAX > UINT32_MAX
-    if (n > (size_t)UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-#endif
-    for (i = 0; i < n; i++) {
-        st = sfit_i_check_sample(pts[i].v);
-        if (st != SFIT_OK) {
-            return st;
-        }
-    }
-    if (n < (size_t)SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
+    st = sfit_i_check_points(pts, n, (size_t)SFIT_MIN_SAMPLES);
+    if (st != SFIT_OK) {
+        return st;
     }
     /* The batch fit decides whether the start is usable (eigenvalue checks:
      * coincident, collinear, planar; C' positive definite). */

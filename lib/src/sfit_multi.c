@@ -35,17 +35,11 @@
 
 #include <string.h>
 
-#include "sfit_internal.h"
+#include "sfit_solve.h"
 
 const sfit_multi_cfg_t sfit_multi_cfg_default = {
-    {SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f,
-     {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}}, 0.0f},
-    SFIT_MULTI_WEIGHT_EQUAL};
-
-static float prv_dot(const float *a, const float *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+    .fit = {.mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .planar_ratio = 0.0f},
+    .weight = SFIT_MULTI_WEIGHT_EQUAL};
 
 /* Per-marker quantities relative to the reference o = origin_ref + d_ref. */
 typedef struct prv_marker {
@@ -59,16 +53,10 @@ static void prv_marker(const sfit_moments_t *m, const float origin_ref[3], const
                        prv_marker_t *pm)
 {
     sfit_cmom_t t;
-    float p[6], inv;
     int i;
     sfit_i_moments_total(m, &t);
-    inv = 1.0f / (float)(t.n - 1u);
-    for (i = 0; i < 6; i++) {
-        p[i] = t.m2[i] * inv;
-    }
-    sfit_i_sym_unpack(p, &pm->c);
+    sfit_i_cmom_system(&t, &pm->c, pm->s2);
     for (i = 0; i < 3; i++) {
-        pm->s2[i] = (0.5f * inv) * t.m3[i];
         pm->dm[i] = (m->origin[i] - origin_ref[i]) + (t.d[i] - d_ref[i]);
     }
     pm->n = t.n;
@@ -101,15 +89,15 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
         const float *a = sol->axis.v;
         float ca[3], ea;
         for (i = 0; i < 3; i++) {
-            ca[i] = prv_dot(&cp[3 * i], a);
+            ca[i] = sfit_i_dot3(&cp[3 * i], a);
         }
-        tr -= prv_dot(a, ca);
-        ea = prv_dot(e, a);
+        tr -= sfit_i_dot3(a, ca);
+        ea = sfit_i_dot3(e, a);
         for (i = 0; i < 3; i++) {
             e[i] -= ea * a[i];
         }
     }
-    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + prv_dot(e, e);
+    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + sfit_i_dot3(e, e);
     return r2;
 }
 
@@ -185,7 +173,7 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
-    sfit_i_sigma(&cfg->fit, &sg);
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
     memset(&sys, 0, sizeof sys);
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
@@ -229,7 +217,7 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
         for (i = 0; i < 3; i++) {
             dbar[i] /= sw;
         }
-        k = prv_dot(sol.axis.v, dbar);
+        k = sfit_i_dot3(sol.axis.v, dbar);
         for (i = 0; i < 3; i++) {
             wc[i] += k * sol.axis.v[i];
         }

@@ -41,9 +41,7 @@
 
 #include <float.h>
 
-#include <string.h>
-
-#include "sfit_internal.h"
+#include "sfit_moments_i.h"
 
 #define PRV_PI_F 3.14159265f /* rounds to 3.14159274f, just above pi */
 #define PRV_SIN_TERMS 8      /* Taylor terms of sin(x), x <= pi/2: error < 1e-11 */
@@ -185,12 +183,7 @@ sfit_status_t sfit_noise_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c
     if (m == NULL || c0 == NULL || out == NULL) {
         return SFIT_E_ARG;
     }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(c0->v[i])) {
-            return SFIT_E_NONFINITE;
-        }
-    }
-    if (!sfit_i_isfinite(r0)) {
+    if (!sfit_i_finite3(c0->v) || !sfit_i_isfinite(r0)) {
         return SFIT_E_NONFINITE;
     }
     if (r0 < 0.0f) {
@@ -324,14 +317,11 @@ sfit_status_t sfit_coverage_estimate_theta(sfit_coverage_kind_t kind, const sfit
                                            float *theta)
 {
     float num, den, q;
-    int i;
     if (eig == NULL || theta == NULL || !prv_kind_ok(kind)) {
         return SFIT_E_ARG;
     }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(eig->v[i])) {
-            return SFIT_E_NONFINITE;
-        }
+    if (!sfit_i_finite3(eig->v)) {
+        return SFIT_E_NONFINITE;
     }
     if (eig->v[0] > eig->v[1] || eig->v[1] > eig->v[2] || !(eig->v[2] > 0.0f)) {
         return SFIT_E_ARG;

@@ -428,6 +428,8 @@ static void fz_selfcal(fz_state_t *s, fz_in_t *in)
     size_t n;
     sfit_fit_cfg_t cfg;
     const sfit_fit_cfg_t *pc;
+    sfit_selfcal_cfg_t sc;
+    int valid;
     sfit_selfcal_result_t r;
     sfit_status_t st;
     unsigned bad;
@@ -436,19 +438,25 @@ static void fz_selfcal(fz_state_t *s, fz_in_t *in)
     n = win.n;
     fz_cfg(in, &cfg);
     pc = ((fz_u8(in) & 7u) == 0u) ? NULL : &cfg;
+    /* The same input bytes as before; only the planar ratio is an option
+     * of the self-calibration now. */
+    sc.planar_ratio = cfg.planar_ratio;
+    cfg.mode = SFIT_MODE_SPHERE;
+    cfg.noise = SFIT_NOISE_NONE;
+    valid = (pc == NULL) || fz_cfg_valid(pc);
     memset(&r, FZ_SENTINEL, sizeof r);
     bad = fz_bad_kinds(w, n);
-    if (n >= FZ_MIN5 && bad == 0u && (pc == NULL || (fz_cfg_valid(pc) && pc->mode != SFIT_MODE_PLANAR))) {
+    if (n >= FZ_MIN5 && bad == 0u && valid) {
         if (s->heavy >= FZ_MAX_HEAVY) {
             return; /* budget spent */
         }
         s->heavy++;
     }
-    st = sfit_selfcal_fit(w, n, pc, &r);
+    st = sfit_selfcal_fit(w, n, (pc != NULL) ? &sc : NULL, &r);
     FZ_CHECK_OUT(st, r, "sfit_selfcal_fit");
     fz_check_window(s, &win, "sfit_selfcal_fit wrote its samples");
-    if (pc != NULL && (!fz_cfg_valid(pc) || pc->mode == SFIT_MODE_PLANAR)) {
-        FZ_CHECK(st == SFIT_E_ARG, "sfit_selfcal_fit: invalid option or planar mode accepted");
+    if (!valid) {
+        FZ_CHECK(st == SFIT_E_ARG, "sfit_selfcal_fit: invalid option accepted");
     } else if (n < FZ_MIN5) {
         FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_selfcal_fit: too few samples not reported");
     } else if (bad != 0u) {

@@ -64,11 +64,11 @@
 #define FC_NHALF (FC_NPTS / 2u)    /* the smaller batch */
 #define FC_NMARK 8u                /* markers of the multi-marker probe */
 #define FC_NPERMARK 64u            /* samples per marker */
-#if SFIT_MOMENTS_BLOCK > FC_NHALF
-#error "flopcount: SFIT_MOMENTS_BLOCK larger than the probe size; raise FC_NPTS"
+#if SFIT_SUM_BLOCK > FC_NHALF
+#error "flopcount: SFIT_SUM_BLOCK larger than the probe size; raise FC_NPTS"
 #endif
 /* Amortised moments add: a whole number of blocks. */
-#define FC_NAMORT ((FC_NPTS / SFIT_MOMENTS_BLOCK) * SFIT_MOMENTS_BLOCK)
+#define FC_NAMORT ((FC_NPTS / SFIT_SUM_BLOCK) * SFIT_SUM_BLOCK)
 
 typedef void (*fc_fn_t)(void);
 
@@ -256,12 +256,12 @@ static void fc_add_amortised(void)
 
 static void fc_prep_mid_block(void) /* one full block merged, 3 samples open */
 {
-    fc_moments_of(&fc_acc, fc_pts, SFIT_MOMENTS_BLOCK + 3u);
+    fc_moments_of(&fc_acc, fc_pts, SFIT_SUM_BLOCK + 3u);
 }
 
 static void fc_prep_block_end(void) /* the next add closes the second block */
 {
-    fc_moments_of(&fc_acc, fc_pts, 2u * SFIT_MOMENTS_BLOCK - 1u);
+    fc_moments_of(&fc_acc, fc_pts, 2u * SFIT_SUM_BLOCK - 1u);
 }
 
 static void fc_add_one(void)
@@ -354,7 +354,13 @@ static void fc_noise_calib(void)
  * SFIT_INCR_BLOCK samples: moments_add-like amortisation, see docs/cost.md). */
 static void fc_prep_incr(const sfit_fit_cfg_t *cfg)
 {
-    (void)sfit_incr_init(&fc_inc, cfg);
+    sfit_incr_cfg_t ic = sfit_incr_cfg_default;
+    if (cfg != NULL) {
+        ic.noise = cfg->noise;
+        ic.noise_var = cfg->noise_var;
+        ic.noise_cov = cfg->noise_cov;
+    }
+    (void)sfit_incr_init(&fc_inc, &ic);
     fc_keep(sfit_incr_start(&fc_inc, fc_pts, FC_NHALF, NULL));
 }
 
@@ -440,7 +446,7 @@ int main(void)
     int fails = 0;
 
     fc_setup();
-    printf("fcinfo moments_block %u\n", (unsigned)SFIT_MOMENTS_BLOCK);
+    printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);
     printf("fcinfo have_multi %d\nfcinfo have_noise %d\nfcinfo have_incr %d\n", FC_HAVE_MULTI,

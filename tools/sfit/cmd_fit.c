@@ -544,7 +544,9 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         acc = sfit_gate_moments(k->gate);
     } else if (o->auto_noise) {
         sfit_selfcal_result_t sc;
-        st = sfit_selfcal_fit(k->pts, k->n, &o->cfg, &sc);
+        sfit_selfcal_cfg_t scc = sfit_selfcal_cfg_default;
+        scc.planar_ratio = o->cfg.planar_ratio;
+        st = sfit_selfcal_fit(k->pts, k->n, &scc, &sc);
         if (st == SFIT_OK) {
             *r = sc.fit;
             x->has_noise = 1;

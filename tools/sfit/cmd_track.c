@@ -135,7 +135,14 @@ int cli_cmd_track(int argc, char **argv)
             return prc;
         }
     }
-    if (sfit_incr_init(&ctx.inc, &o.cfg) != SFIT_OK) {
+    {
+        sfit_incr_cfg_t ic = sfit_incr_cfg_default;
+        ic.noise = o.cfg.noise;
+        ic.noise_var = o.cfg.noise_var;
+        ic.noise_cov = o.cfg.noise_cov;
+        st = sfit_incr_init(&ctx.inc, &ic);
+    }
+    if (st != SFIT_OK) {
         fprintf(stderr, "sfit: invalid noise model\n");
         return CLI_USAGE;
     }

@@ -60,47 +60,6 @@
 extern "C" {
 #endif
 
-/**
- * @brief Samples buffered in the gate for the robust start (12 bytes each).
- * More samples give a safer start on small caps, fewer save RAM. The
- * buffer must span the motion: at 100 Hz, 64 samples are 0.64 s. With 5 %
- * gross outliers, 32 let about one stream in 100 start on a wrong sphere
- * (measured, docs/beyond.md), 64 about one in 1000. Range 16..256, a
- * multiple of 8.
- */
-#ifndef SFIT_GATE_WARMUP
-#define SFIT_GATE_WARMUP 64
-#endif
-#if (SFIT_GATE_WARMUP < 16) || (SFIT_GATE_WARMUP > 256) || (SFIT_GATE_WARMUP % 8 != 0)
-#error "SFIT_GATE_WARMUP must be a multiple of 8 in 16..256"
-#endif
-
-/** @brief Default gate width in sigmas (cfg.k = 0). Float; not range-checked. */
-#ifndef SFIT_GATE_K
-#define SFIT_GATE_K 4.0f
-#endif
-
-/** @brief Residuals needed in a window before sigma^2 is re-estimated. Range >= 5. */
-#ifndef SFIT_GATE_MIN_WINDOW
-#define SFIT_GATE_MIN_WINDOW 16u
-#endif
-#if SFIT_GATE_MIN_WINDOW < 5
-#error "SFIT_GATE_MIN_WINDOW must be >= 5"
-#endif
-
-/**
- * @brief Rejection rate (percent of the samples offered between two
- * refreshes) above which the gate widens (sigma^2 x 4) instead of trusting
- * its noise estimate. Gross outliers above this rate cannot be told from a
- * wrong noise level. Range 1..99.
- */
-#ifndef SFIT_GATE_MAX_REJECT_PCT
-#define SFIT_GATE_MAX_REJECT_PCT 25u
-#endif
-#if (SFIT_GATE_MAX_REJECT_PCT < 1) || (SFIT_GATE_MAX_REJECT_PCT > 99)
-#error "SFIT_GATE_MAX_REJECT_PCT must be in 1..99"
-#endif
-
 /** @brief Options of a gate. */
 typedef struct sfit_gate_cfg {
     sfit_fit_cfg_t fit; /**< Options of the running fit. In planar mode the residual

@@ -50,21 +50,6 @@ extern "C" {
 #endif
 
 /**
- * @brief Samples summed in the inner level of the incremental state before
- * it is folded into the outer level and the frame origin is moved to the
- * current mean (every n/8 samples while n < 8 SFIT_INCR_BLOCK, then every
- * SFIT_INCR_BLOCK samples). The rounding error of the centre grows like
- * sqrt(SFIT_INCR_BLOCK) + sqrt(N / SFIT_INCR_BLOCK); 256..4096 measure alike
- * (within 1e-5 r at N = 10^6). A fold costs 82 FLOPs. Range 2..65536.
- */
-#ifndef SFIT_INCR_BLOCK
-#define SFIT_INCR_BLOCK 1024u
-#endif
-#if (SFIT_INCR_BLOCK < 2) || (SFIT_INCR_BLOCK > 65536)
-#error "SFIT_INCR_BLOCK must be in 2..65536"
-#endif
-
-/**
  * @brief Incremental state. Caller-owned, fixed size; members are private.
  * Initialise with sfit_incr_init().
  *
@@ -89,6 +74,16 @@ typedef struct sfit_incr {
     float sig_tr;         /**< trace(Sigma_hat). */
 } sfit_incr_t;
 
+/** @brief Options of an incremental estimator: its noise model only. */
+typedef struct sfit_incr_cfg {
+    sfit_noise_kind_t noise; /**< SFIT_NOISE_NONE (GDKE), _ISO or _COV (UGDK). */
+    float noise_var;         /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
+    sfit_mat3_t noise_cov;   /**< Sigma for SFIT_NOISE_COV (as sfit_fit_cfg_t::noise_cov). */
+} sfit_incr_cfg_t;
+
+/** @brief Defaults: no noise model (GDKE). */
+extern const sfit_incr_cfg_t sfit_incr_cfg_default;
+
 /** @brief An incremental estimate. Written only on SFIT_OK; always finite. */
 typedef struct sfit_incr_est {
     sfit_vec3_t center; /**< Sphere centre. */
@@ -108,7 +103,7 @@ typedef struct sfit_incr_est {
  * @retval SFIT_E_ARG  s is NULL, or an invalid option (including SFIT_MODE_PLANAR);
  *                     s unchanged
  */
-sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_fit_cfg_t *cfg);
+sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg);
 
 /**
  * @brief Forget every sample, keep the noise model.

@@ -11,11 +11,11 @@
  *
  * Float stability (DESIGN.md section 2): samples are summed as differences
  * from a per-block reference point (exact in float for a far-away centre),
- * in blocks of SFIT_MOMENTS_BLOCK samples; each full block is turned into
+ * in blocks of SFIT_SUM_BLOCK samples; each full block is turned into
  * centred moments and merged into the total with the exact shift formulas.
  * The total keeps its mean as (reference point + small offset) so the large
  * coordinate never enters a cancellation. Cost per sample: 26 FLOPs
- * (3 sub, 9 mul, 14 add) plus a block merge every SFIT_MOMENTS_BLOCK samples.
+ * (3 sub, 9 mul, 14 add) plus a block merge every SFIT_SUM_BLOCK samples.
  */
 #ifndef SFIT_MOMENTS_H
 #define SFIT_MOMENTS_H
@@ -63,7 +63,7 @@ sfit_status_t sfit_moments_reset(sfit_moments_t *m);
 
 /**
  * @brief Add one sample. O(1), 26 FLOPs (plus a block merge every
- * SFIT_MOMENTS_BLOCK samples).
+ * SFIT_SUM_BLOCK samples).
  * @param[in,out] m  Accumulator.
  * @param[in]     x  Sample.
  * @retval SFIT_OK           success

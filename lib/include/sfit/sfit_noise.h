@@ -55,19 +55,6 @@
 extern "C" {
 #endif
 
-/**
- * @brief Iteration bound of the coverage inverses (bisection on theta in
- * [0, pi]). Each step halves the bracket; the loop also stops as soon as the
- * bracket no longer shrinks in float, which happens after at most ~40 steps
- * for any theta > 1e-5 rad. Range 8..128.
- */
-#ifndef SFIT_COVERAGE_BISECT_ITERS
-#define SFIT_COVERAGE_BISECT_ITERS 64
-#endif
-#if (SFIT_COVERAGE_BISECT_ITERS < 8) || (SFIT_COVERAGE_BISECT_ITERS > 128)
-#error "SFIT_COVERAGE_BISECT_ITERS must be in 8..128"
-#endif
-
 /** @brief Flags of a noise calibration (bit mask). */
 enum sfit_noise_flag {
     /** The estimate is negative (possible by chance when sigma is small

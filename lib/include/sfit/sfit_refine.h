@@ -38,35 +38,13 @@
 extern "C" {
 #endif
 
-/** @brief Iteration bound (linearisations) of the refinement. Range 1..200. */
-#ifndef SFIT_REFINE_MAX_ITERS
-#define SFIT_REFINE_MAX_ITERS 30
-#endif
-#if (SFIT_REFINE_MAX_ITERS < 1) || (SFIT_REFINE_MAX_ITERS > 200)
-#error "SFIT_REFINE_MAX_ITERS must be in 1..200"
-#endif
-
-/** @brief Damping trials per iteration (lambda x10 each). Range 1..20. */
-#ifndef SFIT_REFINE_MAX_TRIALS
-#define SFIT_REFINE_MAX_TRIALS 8
-#endif
-#if (SFIT_REFINE_MAX_TRIALS < 1) || (SFIT_REFINE_MAX_TRIALS > 20)
-#error "SFIT_REFINE_MAX_TRIALS must be in 1..20"
-#endif
-
-/**
- * @brief Default convergence threshold: the centre step, relative to the
- * radius. 1e-5 is ~ 170 float epsilons: above the rounding noise of the
- * steps, below any statistical error worth reporting. Range [1e-7, 1e-2].
- */
-#ifndef SFIT_REFINE_TOL
-#define SFIT_REFINE_TOL 1e-5f
-#endif
-
 /** @brief Run-time options; start from ::sfit_refine_cfg_default. */
 typedef struct sfit_refine_cfg {
     uint32_t max_iters; /**< 0 = SFIT_REFINE_MAX_ITERS; larger values are clamped to it. */
     float tol;          /**< 0 = SFIT_REFINE_TOL; else in [1e-7, 1e-2]. */
+    uint32_t accept_unconverged; /**< 1: at the iteration bound return the last
+                                      accepted centre with converged = 0 (SFIT_OK);
+                                      0: SFIT_E_NO_CONVERGENCE there. */
 } sfit_refine_cfg_t;
 
 /** @brief Defaults (compile-time bound and tolerance). */
@@ -81,7 +59,8 @@ typedef struct sfit_refine_result {
                               corrected for curvature (as sfit_selfcal.h). */
     uint32_t n;          /**< Samples used. */
     uint32_t iterations; /**< Linearisations done (>= 1). */
-    uint32_t converged;  /**< 1 (a result is only written when converged). */
+    uint32_t converged;  /**< 1 when the last step was below tol * r; 0 only with
+                              sfit_refine_cfg_t::accept_unconverged at the bound. */
 } sfit_refine_result_t;
 
 /**

@@ -53,41 +53,21 @@
 extern "C" {
 #endif
 
-/**
- * @brief Iteration bound of the self-calibration (each iteration = one pass
- * over the samples + one solve). Range 1..100.
- */
-#ifndef SFIT_SELFCAL_MAX_ITERS
-#define SFIT_SELFCAL_MAX_ITERS 12
-#endif
-#if (SFIT_SELFCAL_MAX_ITERS < 1) || (SFIT_SELFCAL_MAX_ITERS > 100)
-#error "SFIT_SELFCAL_MAX_ITERS must be in 1..100"
-#endif
-
-/**
- * @brief Convergence: stop when |sigma^2_new - sigma^2_old| <= this times
- * sigma^2_new. Much below the estimate's own spread (sqrt(2/N)). Range
- * (0, 0.1].
- */
-#ifndef SFIT_SELFCAL_REL_TOL
-#define SFIT_SELFCAL_REL_TOL 1e-4f
-#endif
-
-/**
- * @brief Cap on the estimated noise: sigma^2 <= SFIT_SELFCAL_MAX_TRUST *
- * lambda_min(C), i.e. a trust ratio of at most this (0.5 = the Leontief
- * bound of eq. 194; C' keeps half of C's smallest eigenvalue). Range (0, 0.9].
- */
-#ifndef SFIT_SELFCAL_MAX_TRUST
-#define SFIT_SELFCAL_MAX_TRUST 0.5f
-#endif
-
 /** @brief Flags of a self-calibrated result (bit mask). */
 enum sfit_selfcal_flag {
     SFIT_SELFCAL_FLAG_CAPPED = 1u /**< sigma^2 hit the SFIT_SELFCAL_MAX_TRUST cap: the
                                        data cannot tell the noise from the geometry;
                                        the fit is not to be trusted. */
 };
+
+/** @brief Options of a self-calibration. */
+typedef struct sfit_selfcal_cfg {
+    float planar_ratio; /**< lambda_min/lambda_max threshold of SFIT_FLAG_NEAR_PLANAR;
+                             0 = SFIT_PLANAR_RATIO. */
+} sfit_selfcal_cfg_t;
+
+/** @brief Defaults: planar_ratio = SFIT_PLANAR_RATIO. */
+extern const sfit_selfcal_cfg_t sfit_selfcal_cfg_default;
 
 /** @brief A self-calibrated fit. Written only on SFIT_OK. */
 typedef struct sfit_selfcal_result {
@@ -117,7 +97,7 @@ typedef struct sfit_selfcal_result {
  * @retval SFIT_E_NO_CONVERGENCE  sigma^2 still moving after SFIT_SELFCAL_MAX_ITERS
  *                                (or the eigen-solver hit its bound)
  */
-sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out);
 
 /**

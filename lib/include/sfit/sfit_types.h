@@ -8,6 +8,8 @@
 
 #include <stdint.h>
 
+#include "sfit_config.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
