@@ -10,7 +10,7 @@
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f};
 
-sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
     sfit_cmom_t t;
@@ -76,7 +76,7 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
     return SFIT_OK;
 }
 
-sfit_status_t sfit_fit_batch(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
     sfit_moments_t acc;
@@ -90,5 +90,5 @@ sfit_status_t sfit_fit_batch(const sfit_vec3_t *pts, size_t n, const sfit_fit_cf
     if (st != SFIT_OK) {
         return st;
     }
-    return sfit_fit_solve(&acc, cfg, out);
+    return sfit_moments_fit(&acc, cfg, out);
 }

@@ -235,13 +235,13 @@ static void prv_cfg(const sfit_incr_t *s, sfit_fit_cfg_t *cfg)
 }
 
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
-                              sfit_incr_est_t *out)
+                              sfit_sphere_t *out)
 {
     sfit_moments_t acc;
     sfit_fit_cfg_t cfg;
     sfit_result_t batch;
     sfit_incr_t tmp;
-    sfit_incr_est_t est;
+    sfit_sphere_t est;
     sfit_status_t st;
     size_t i;
 
@@ -263,10 +263,10 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
      * degenerate whatever the noise model; then the state's own model. */
     prv_cfg(s, &cfg);
     cfg.noise = SFIT_NOISE_NONE;
-    st = sfit_fit_solve(&acc, &cfg, &batch);
+    st = sfit_moments_fit(&acc, &cfg, &batch);
     if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE) {
         prv_cfg(s, &cfg);
-        st = sfit_fit_solve(&acc, &cfg, &batch);
+        st = sfit_moments_fit(&acc, &cfg, &batch);
     }
     if (st != SFIT_OK) {
         return st;
@@ -277,7 +277,7 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     for (i = 0; i < n; i++) {
         prv_add(&tmp, pts[i].v);
     }
-    st = sfit_incr_solve(&tmp, &est);
+    st = sfit_incr_fit(&tmp, &est);
     if (st != SFIT_OK) {
         return st;
     }
@@ -318,12 +318,12 @@ static sfit_status_t prv_why_singular(const sfit_incr_t *s, float tol)
 /* Tally: 65 FLOPs for GDKE (6 div, 1 sqrt); UGDK isotropic +6 = 71;
  * UGDK full covariance +33 = 98 (the "iso +" / "cov +" lines). Measured
  * identical on the Cortex-M4F by tools/flopcount (docs/incremental.md). */
-sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
+sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
 {
     float m[6], t[3], q, b[3], a[3], w[3];
     float dmax, amax, sc, tol, nm1, l10, l20, l21, d1, d2, tt, y1, y2, z0, z1, z2;
     float tr, r2;
-    sfit_incr_est_t r;
+    sfit_sphere_t r;
     int i;
 
     if (s == NULL || out == NULL) {
@@ -342,7 +342,7 @@ sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
     q = s->q + s->q_lo;                                            /* [1]    : 10 */
 
     /* Geometry: coincident when the largest per-axis spread is rounding
-     * noise of the coordinates (as sfit_fit_solve, SFIT_COINCIDENT_ULPS);
+     * noise of the coordinates (as sfit_moments_fit, SFIT_COINCIDENT_ULPS);
      * coincident, collinear or planar also when an LDL^T pivot is
      * <= SFIT_CHOL_PIVOT_EPS * the largest diagonal entry (below). */
     dmax = m[0];
@@ -437,7 +437,7 @@ sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
     return SFIT_OK;
 }
 
-sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_est_t *out)
+sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out)
 {
     sfit_status_t st;
     if (out == NULL) {
@@ -447,5 +447,5 @@ sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_e
     if (st != SFIT_OK) {
         return st;
     }
-    return sfit_incr_solve(s, out);
+    return sfit_incr_fit(s, out);
 }

@@ -20,7 +20,7 @@
  * The system is handed to sfit_i_solve() as c = sum w_p C_p and
  * sigma = (sum w_p) Sigma_hat, exactly the single-marker problem when
  * M = 1 (w_1 = 1, m_1 - o = 0): the centre origin_1 + (d_1 + w) and the
- * radius are then computed by the same float operations as sfit_fit_solve()
+ * radius are then computed by the same float operations as sfit_moments_fit()
  * in sphere mode.
  *
  * Planar: the pseudo-inverse gives the solution with no component along
@@ -101,7 +101,7 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
     return r2;
 }
 
-sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii)
 {
@@ -169,7 +169,7 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
         return SFIT_E_RANGE;
     }
     if (skipped > 0u) {
-        flags |= SFIT_MULTI_FLAG_SKIPPED;
+        flags |= (uint32_t)SFIT_MULTI_FLAG_SKIPPED;
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */

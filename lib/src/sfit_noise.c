@@ -171,7 +171,7 @@ sfit_status_t sfit_noise_calib_std(float noise_var, float r0, uint32_t n, float 
     return SFIT_OK;
 }
 
-sfit_status_t sfit_noise_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
+sfit_status_t sfit_moments_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
                                    sfit_noise_est_t *out)
 {
     sfit_cmom_t t;

@@ -228,7 +228,7 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
     return (int)SFIT_E_NO_CONVERGENCE;
 }
 
-sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
 {
     prv_stats_t cur;
@@ -268,4 +268,33 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_
         return prv_finish(c0, p, &cur, n, maxit, 0u, out);
     }
     return SFIT_E_NO_CONVERGENCE;
+}
+
+const sfit_refined_cfg_t sfit_refined_cfg_default = {
+    .selfcal = {.planar_ratio = 0.0f},
+    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u}};
+
+sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
+                                      const sfit_refined_cfg_t *cfg, sfit_refined_t *out)
+{
+    sfit_refined_t r;
+    sfit_status_t st;
+
+    if (out == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (cfg == NULL) {
+        cfg = &sfit_refined_cfg_default;
+    }
+    st = sfit_points_selfcal(pts, n, &cfg->selfcal, &r.start);
+    if (st == SFIT_OK) {
+        st = sfit_points_refine(pts, n, &r.start.fit.center, &cfg->refine, &r.geometric);
+    }
+    if (st == SFIT_OK) {
+        st = sfit_points_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
+    }
+    if (st == SFIT_OK) {
+        *out = r;
+    }
+    return st;
 }

@@ -48,7 +48,7 @@ static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_
     return SFIT_OK;
 }
 
-sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var)
 {
     sfit_status_t st;
@@ -62,7 +62,7 @@ sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfi
     return (st == SFIT_OK) ? prv_noise_var(pts, n, center, radius, noise_var) : st;
 }
 
-sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
+sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out)
 {
     sfit_moments_t acc;
@@ -87,7 +87,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_self
     }
     (void)sfit_moments_init(&acc);
     (void)sfit_moments_add_block(&acc, pts, n, NULL); /* validated above */
-    st = sfit_fit_solve(&acc, &fc, &fit); /* GDKE start */
+    st = sfit_moments_fit(&acc, &fc, &fit); /* GDKE start */
     if (st != SFIT_OK) {
         return st;
     }
@@ -115,7 +115,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_self
         var = v;
         fc.noise = SFIT_NOISE_ISO;
         fc.noise_var = var;
-        st = sfit_fit_solve(&acc, &fc, &fit);
+        st = sfit_moments_fit(&acc, &fc, &fit);
         if (st != SFIT_OK) {
             return st;
         }

@@ -32,20 +32,21 @@ static sfit_status_t prv_finish(const sfit_mat3_t *cov, float radius_var, const 
     return SFIT_OK;
 }
 
-/* Fit and noise level handed in: NaN/Inf NONFINITE, out of domain ARG. */
+/* Fit and noise level handed in: any NaN/Inf NONFINITE, else out of domain ARG. */
 static sfit_status_t prv_check_fit(const sfit_vec3_t *center, float radius, float noise_var)
 {
-    const sfit_status_t st = sfit_i_check_fit(center, &radius);
-    if (st != SFIT_OK) {
-        return st;
-    }
+    sfit_status_t st;
     if (!sfit_i_isfinite(noise_var)) {
         return SFIT_E_NONFINITE;
+    }
+    st = sfit_i_check_fit(center, &radius);
+    if (st != SFIT_OK) {
+        return st;
     }
     return (noise_var < 0.0f) ? SFIT_E_ARG : SFIT_OK;
 }
 
-sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
+sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
                                   sfit_uncert_t *out)
 {
@@ -149,7 +150,7 @@ static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t
     sfit_i_sum_end(s, k);
 }
 
-sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out)
 {
     sfit_i_sum_t s;
@@ -191,7 +192,7 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
     return prv_finish(&k, noise_var * (1.0f / nf + sfit_i_dot3(ub, q)), crc, noise_var, out);
 }
 
-sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out)
 {
     sfit_i_sum_t s;

@@ -57,14 +57,6 @@ typedef struct sfit_fit_cfg {
 /** @brief Defaults: auto mode, no noise compensation (GDKE). */
 extern const sfit_fit_cfg_t sfit_fit_cfg_default;
 
-/** @brief Result flags (bit mask). */
-enum sfit_flag {
-    SFIT_FLAG_UNTRUSTED = 1u,   /**< leontief_ratio >= 1 (trust_ratio >= 1/2): the
-                                     Leontief condition of eq. 194 fails. */
-    SFIT_FLAG_FEW_SAMPLES = 2u, /**< N < SFIT_FEW_SAMPLES. */
-    SFIT_FLAG_NEAR_PLANAR = 4u  /**< lambda_min/lambda_max < planar_ratio. */
-};
-
 /** @brief Which estimator produced a result. */
 typedef enum sfit_method {
     SFIT_METHOD_GDKE = 0, /**< No noise compensation. */
@@ -110,7 +102,7 @@ typedef struct sfit_result {
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
  */
-sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 /**
@@ -119,9 +111,9 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
  * @param[in]  n    Sample count.
  * @param[in]  cfg  Options; NULL = defaults.
  * @param[out] out  Result; written only on SFIT_OK.
- * @retval as sfit_fit_solve(), plus SFIT_E_NONFINITE / SFIT_E_RANGE for a bad sample.
+ * @retval as sfit_moments_fit(), plus SFIT_E_NONFINITE / SFIT_E_RANGE for a bad sample.
  */
-sfit_status_t sfit_fit_batch(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 #ifdef __cplusplus

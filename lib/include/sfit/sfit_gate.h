@@ -138,21 +138,21 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  * SFIT_MIN_SAMPLES + 1 samples are buffered).
  * @retval SFIT_OK  a fit now gates the samples
  * @retval SFIT_E_ARG  g NULL
- * @retval other    the fit's status (sfit_fit_solve()); the gate keeps its previous fit
+ * @retval other    the fit's status (sfit_moments_fit()); the gate keeps its previous fit
  */
 sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
 
 /**
- * @brief Fit the accepted samples (as sfit_fit_solve() on the accumulator; the
+ * @brief Fit the accepted samples (as sfit_moments_fit() on the accumulator; the
  * warm-up buffer, if still filling, is fitted as it is).
  * @param[in]  g    Gate.
  * @param[out] out  Written only on SFIT_OK.
- * @retval as sfit_fit_solve()
+ * @retval as sfit_moments_fit()
  */
-sfit_status_t sfit_gate_solve(const sfit_gate_t *g, sfit_result_t *out);
+sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 
 /**
- * @brief The accumulator of the accepted samples (for sfit_uncert_moments()
+ * @brief The accumulator of the accepted samples (for sfit_moments_uncert()
  * and friends); NULL while the warm-up buffer is still filling, or for NULL g.
  */
 const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g);

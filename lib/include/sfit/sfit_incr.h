@@ -8,12 +8,12 @@
  *
  * The state is a fixed-size struct (148 bytes). Each sample costs one
  * sfit_incr_add() (40 FLOPs) and, when a new estimate is wanted, one
- * sfit_incr_solve() (65 FLOPs for GDKE, 71 for UGDK with isotropic noise):
+ * sfit_incr_fit() (65 FLOPs for GDKE, 71 for UGDK with isotropic noise):
  * 105 / 111 FLOPs per sample against the chapter's 123 (eq. 233, D = 3).
  * Every SFIT_INCR_BLOCK samples an add also folds and re-centres the state
  * (82 FLOPs, 0.08 per sample amortised).
  *
- * The estimate equals the batch GDKE / UGDK fit (sfit_fit_solve() in sphere
+ * The estimate equals the batch GDKE / UGDK fit (sfit_moments_fit() in sphere
  * mode) of the same samples; in float it stays within 1e-5 r of a
  * double-precision batch fit for 10^6 samples with the centre 2700 mm from
  * the origin (tests/test_incr.c). How: see docs/incremental.md and the
@@ -27,7 +27,7 @@
  * Typical use:
  * @code
  * sfit_incr_t inc;
- * sfit_incr_est_t est;
+ * sfit_sphere_t est;
  * sfit_incr_init(&inc, NULL);                      // GDKE
  * sfit_incr_start(&inc, first, 10, &est);          // batch start, checks the geometry
  * for (;;) {
@@ -84,12 +84,6 @@ typedef struct sfit_incr_cfg {
 /** @brief Defaults: no noise model (GDKE). */
 extern const sfit_incr_cfg_t sfit_incr_cfg_default;
 
-/** @brief An incremental estimate. Written only on SFIT_OK; always finite. */
-typedef struct sfit_incr_est {
-    sfit_vec3_t center; /**< Sphere centre. */
-    float radius;       /**< Sphere radius. */
-    uint32_t n;         /**< Samples behind the estimate. */
-} sfit_incr_est_t;
 
 /**
  * @brief Initialise (or clear) the state and choose the estimator.
@@ -115,7 +109,7 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
 /**
  * @brief (Re)start from a batch of samples: the chapter's "batch fit of the
  * first few samples". Replaces any samples the state held by pts[0..n-1]
- * and checks the batch fit with sfit_fit_solve() (sphere mode, the state's
+ * and checks the batch fit with sfit_moments_fit() (sphere mode, the state's
  * noise model), which also rejects coincident, collinear and planar sets.
  * On any failure the state is left bit for bit unchanged.
  * @param[in,out] s    Initialised state.
@@ -133,7 +127,7 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
-                              sfit_incr_est_t *out);
+                              sfit_sphere_t *out);
 
 /**
  * @brief Add one sample (O(1), 40 FLOPs; every SFIT_INCR_BLOCK-th call also
@@ -163,19 +157,19 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
  * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
  */
-sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out);
+sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
 
 /**
- * @brief sfit_incr_add() then sfit_incr_solve(): the per-sample recursion
+ * @brief sfit_incr_add() then sfit_incr_fit(): the per-sample recursion
  * (105 FLOPs for GDKE).
  *
  * A sample that sfit_incr_add() rejects leaves s unchanged and its status
  * is returned. A valid sample is always kept; if the solve then fails
  * (::SFIT_E_TOO_FEW, ::SFIT_E_DEGENERATE, ::SFIT_E_NOT_POSDEF,
  * ::SFIT_E_RANGE) that status is returned and out is not written.
- * @retval as sfit_incr_add(), then as sfit_incr_solve()
+ * @retval as sfit_incr_add(), then as sfit_incr_fit()
  */
-sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_est_t *out);
+sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out);
 
 /** @brief Number of samples added (0 for NULL). */
 uint32_t sfit_incr_count(const sfit_incr_t *s);

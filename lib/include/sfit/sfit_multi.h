@@ -35,7 +35,7 @@
  * from the axis within that plane:
  *   r_p^2 = (N_p-1)/N_p tr(P C'_p P) + |P (m_p - c)|^2,  P = I - a a^T,
  * (the same minimisation with every residual projected on the plane).
- * With one marker all of this is the single-marker fit of sfit_fit_solve()
+ * With one marker all of this is the single-marker fit of sfit_moments_fit()
  * (the same numbers, rounding aside).
  *
  * Markers with fewer than SFIT_MIN_SAMPLES samples (an occluded marker) are
@@ -75,9 +75,6 @@ typedef struct sfit_multi_cfg {
 
 /** @brief Defaults: ::sfit_fit_cfg_default (auto, GDKE) and equal weights. */
 extern const sfit_multi_cfg_t sfit_multi_cfg_default;
-
-/** @brief Extra result flag: at least one marker had too few samples and was skipped. */
-#define SFIT_MULTI_FLAG_SKIPPED 0x100u
 
 /** @brief A common centre. Written only when the solve returns SFIT_OK; always finite. */
 typedef struct sfit_multi_result {
@@ -121,7 +118,7 @@ typedef struct sfit_multi_result {
  * @retval SFIT_E_RANGE       the result would not be finite, or the total
  *                            sample count exceeds UINT32_MAX
  */
-sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii);
 

@@ -55,16 +55,6 @@
 extern "C" {
 #endif
 
-/** @brief Flags of a noise calibration (bit mask). */
-enum sfit_noise_flag {
-    /** The estimate is negative (possible by chance when sigma is small
-     *  relative to r0 / sqrt(N)); it is reported unclamped. */
-    SFIT_NOISE_FLAG_NEGATIVE = 1u,
-    /** The estimate is smaller than twice its own predicted standard
-     *  deviation: sigma^2 is not significantly different from 0. */
-    SFIT_NOISE_FLAG_IMPRECISE = 2u
-};
-
 /** @brief Result of a noise calibration. Written only on SFIT_OK; finite. */
 typedef struct sfit_noise_est {
     uint32_t n;          /**< Samples used. */
@@ -73,7 +63,7 @@ typedef struct sfit_noise_est {
                               may be negative (see ::SFIT_NOISE_FLAG_NEGATIVE). */
     float noise_var_std; /**< Predicted standard deviation of noise_var, eq. 190
                               evaluated at |noise_var| (plug-in, Gaussian noise). */
-    uint32_t flags;      /**< Bit mask of ::sfit_noise_flag. */
+    uint32_t flags;      /**< SFIT_NOISE_FLAG_* bits of ::sfit_flag. */
 } sfit_noise_est_t;
 
 /**
@@ -95,7 +85,7 @@ typedef struct sfit_noise_est {
  * @retval SFIT_E_RANGE      the result would not be finite
  * @par Cost  about 25 FLOPs and 1 square root (independent of N).
  */
-sfit_status_t sfit_noise_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
+sfit_status_t sfit_moments_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
                                    sfit_noise_est_t *out);
 
 /**

@@ -20,7 +20,7 @@
  * small), so a centre thousands of radii away costs no accuracy. Converged
  * when the step is below tol * r.
  *
- * The covariance of the result: sfit_uncert_geometric() (sfit_uncert.h).
+ * The covariance of the result: sfit_points_uncert_geometric() (sfit_uncert.h).
  *
  * Cost per iteration: two passes over the samples (one for ubar, dbar and
  * the cost, one for the centred sums) plus one pass per damping trial;
@@ -32,7 +32,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sfit_selfcal.h"
 #include "sfit_types.h"
+#include "sfit_uncert.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -80,8 +82,39 @@ typedef struct sfit_refine_result {
  * @retval SFIT_E_NO_CONVERGENCE  the step is still above tol after max_iters, or
  *                                no damping made the cost decrease
  */
-sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out);
+
+/** @brief Options of sfit_points_fit_refined(). */
+typedef struct sfit_refined_cfg {
+    sfit_selfcal_cfg_t selfcal; /**< Options of the self-calibrated start. */
+    sfit_refine_cfg_t refine;   /**< Options of the refinement. */
+} sfit_refined_cfg_t;
+
+/** @brief Defaults of both steps. */
+extern const sfit_refined_cfg_t sfit_refined_cfg_default;
+
+/** @brief Result of the combined recipe: each part from the step that made it. */
+typedef struct sfit_refined {
+    sfit_selfcal_result_t start;    /**< Self-calibrated UGDK fit: noise estimate, start centre. */
+    sfit_refine_result_t geometric; /**< Geometric fit started from start.fit.center. */
+    sfit_uncert_t uncert;           /**< Sandwich covariance of the geometric fit. */
+} sfit_refined_t;
+
+/**
+ * @brief The combined recipe over a caller's array: noise estimate and
+ * start (sfit_points_selfcal()), geometric refinement (sfit_points_refine())
+ * and its covariance (sfit_points_uncert_geometric()).
+ * @param[in]  pts  n samples (read only).
+ * @param[in]  n    Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  cfg  Options; NULL = ::sfit_refined_cfg_default.
+ * @param[out] out  Written only on SFIT_OK.
+ * @retval SFIT_OK  every step succeeded
+ * @retval other    the status of the first step that failed (see those functions)
+ * @par Cost  the sum of the three steps.
+ */
+sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
+                                      const sfit_refined_cfg_t *cfg, sfit_refined_t *out);
 
 #ifdef __cplusplus
 }

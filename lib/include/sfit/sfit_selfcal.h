@@ -38,7 +38,7 @@
  * loses it when sigma/r < ~1e-2 (docs/beyond.md).
  *
  * Cost per iteration: one pass over the samples (3 sub, 3 mul, 2 add,
- * 1 sqrt, 3 add/mul for the sums per sample) plus one sfit_fit_solve().
+ * 1 sqrt, 3 add/mul for the sums per sample) plus one sfit_moments_fit().
  */
 #ifndef SFIT_SELFCAL_H
 #define SFIT_SELFCAL_H
@@ -52,13 +52,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** @brief Flags of a self-calibrated result (bit mask). */
-enum sfit_selfcal_flag {
-    SFIT_SELFCAL_FLAG_CAPPED = 1u /**< sigma^2 hit the SFIT_SELFCAL_MAX_TRUST cap: the
-                                       data cannot tell the noise from the geometry;
-                                       the fit is not to be trusted. */
-};
 
 /** @brief Options of a self-calibration. */
 typedef struct sfit_selfcal_cfg {
@@ -74,7 +67,7 @@ typedef struct sfit_selfcal_result {
     sfit_result_t fit;   /**< The UGDK fit with the final noise_var (method UGDK). */
     float noise_var;     /**< Estimated isotropic noise variance sigma^2 (unit^2). */
     uint32_t iterations; /**< Residual passes done (1..SFIT_SELFCAL_MAX_ITERS). */
-    uint32_t flags;      /**< Bit mask of ::sfit_selfcal_flag. */
+    uint32_t flags;      /**< ::SFIT_SELFCAL_FLAG_CAPPED or 0 (::sfit_flag). */
 } sfit_selfcal_result_t;
 
 /**
@@ -97,7 +90,7 @@ typedef struct sfit_selfcal_result {
  * @retval SFIT_E_NO_CONVERGENCE  sigma^2 still moving after SFIT_SELFCAL_MAX_ITERS
  *                                (or the eigen-solver hit its bound)
  */
-sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
+sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out);
 
 /**
@@ -115,7 +108,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_self
  * @retval SFIT_E_RANGE       the estimate would not be finite
  * @retval SFIT_E_DEGENERATE  a sample lies at the centre (its radial direction is undefined)
  */
-sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var);
 
 #ifdef __cplusplus

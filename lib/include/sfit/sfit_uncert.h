@@ -22,10 +22,10 @@
  *   Cov(c) += 7.5 sigma^4 M^-1 + N sigma^4 M^-1 (r^2 I + s a a^T) M^-1
  * with s = +1 when sigma^2 is a known constant (calibrated beforehand) and
  * s = -1 when sigma^2 was estimated from the same samples (self-calibrated
- * UGDK, sfit_selfcal_fit()): the estimate co-varies with the centre error
+ * UGDK, sfit_points_selfcal()): the estimate co-varies with the centre error
  * and cancels most of the a a^T term.
  *
- * For the geometric fit (sfit_refine_fit()) use sfit_uncert_geometric(): the
+ * For the geometric fit (sfit_points_refine()) use sfit_points_uncert_geometric(): the
  * sandwich A^-1 B A^-1 of its own estimating equation, from the samples.
  * It holds at any noise level to leading order in 1/N (the UGDK formula
  * above over-reports the refined fit's covariance by up to 1.3x where
@@ -75,7 +75,7 @@ typedef struct sfit_uncert {
  *                            ill-posed: near-planar samples, or the noise too large)
  * @retval SFIT_E_RANGE       a result would not be finite
  */
-sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
+sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
                                   sfit_uncert_t *out);
 
@@ -97,7 +97,7 @@ sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *ce
  *                            less than 3 dimensions (J^T J singular)
  * @retval SFIT_E_RANGE       a result would not be finite
  */
-sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out);
 
 /**
@@ -132,7 +132,7 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
  *                            swamps the curvature of the data
  * @retval SFIT_E_RANGE       n > UINT32_MAX, or a result would not be finite
  */
-sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out);
 
 #ifdef __cplusplus
