@@ -7,6 +7,8 @@
  */
 #include "sfit_solve.h"
 
+#include <string.h>
+
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f};
 
@@ -21,20 +23,13 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     int i;
     sfit_status_t st;
 
-    if (m == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_fit_cfg_default;
-    }
-    st = sfit_i_check_cfg(cfg);
+    cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
+    st = (m == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_enough(sfit_i_check_cfg(cfg), m);
     if (st != SFIT_OK) {
         return st;
     }
-    if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
-    }
     sfit_i_moments_total(m, &t);
+    memset(&sys, 0, sizeof sys);
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
     sfit_i_cmom_system(&t, &sys.c, sys.rhs.v);
     sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sys.sigma);
@@ -54,11 +49,8 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     r.radius = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
         r.center.v[i] = m->origin[i] + (t.d[i] + sol.w.v[i]);
-        if (!sfit_i_isfinite(r.center.v[i])) {
-            return SFIT_E_RANGE;
-        }
     }
-    if (!sfit_i_isfinite(r.radius)) {
+    if (!sfit_i_sphere_finite(&r.center, r.radius)) {
         return SFIT_E_RANGE;
     }
     r.n = t.n;
@@ -82,13 +74,6 @@ sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_c
     sfit_moments_t acc;
     sfit_status_t st;
 
-    if (out == NULL || (pts == NULL && n > 0u)) {
-        return SFIT_E_ARG;
-    }
-    (void)sfit_moments_init(&acc);
-    st = sfit_moments_add_block(&acc, pts, n, NULL);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    return sfit_moments_fit(&acc, cfg, out);
+    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG : sfit_i_moments_of(pts, n, &acc);
+    return (st == SFIT_OK) ? sfit_moments_fit(&acc, cfg, out) : st;
 }

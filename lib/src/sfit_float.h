@@ -66,6 +66,18 @@ sfit_status_t sfit_i_check_points(const sfit_vec3_t *pts, size_t n, size_t nmin)
  */
 sfit_status_t sfit_i_check_fit(const sfit_vec3_t *center, const float *radius);
 
+/** @brief One sample offered to a state: SFIT_E_ARG for NULL, else as sfit_i_check_sample(). */
+SFIT_INLINE sfit_status_t sfit_i_check_add(const void *state, const sfit_vec3_t *x)
+{
+    return (state == NULL || x == NULL) ? SFIT_E_ARG : sfit_i_check_sample(x->v);
+}
+
+/** @brief 1 when a centre and radius are finite (a result may be written). */
+SFIT_INLINE int sfit_i_sphere_finite(const sfit_vec3_t *c, float r)
+{
+    return sfit_i_finite3(c->v) && sfit_i_isfinite(r);
+}
+
 /** @brief a . b for 3-vectors. */
 SFIT_INLINE float sfit_i_dot3(const float a[3], const float b[3])
 {
@@ -117,23 +129,6 @@ typedef struct sfit_i_sum {
     uint32_t inblk;            /**< terms in the inner level */
 } sfit_i_sum_t;
 
-/** @brief Add one term of k quantities. */
-SFIT_INLINE void sfit_i_sum_add(sfit_i_sum_t *s, const float *v, int k)
-{
-    int j;
-    SFIT_ASSERT(k <= SFIT_I_SUM_MAX);
-    for (j = 0; j < k; j++) {
-        s->blk[j] += v[j];
-    }
-    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
-        for (j = 0; j < k; j++) {
-            s->tot[j] += s->blk[j];
-            s->blk[j] = 0.0f;
-        }
-        s->inblk = 0u;
-    }
-}
-
 /** @brief Fold the inner level into tot (the sums are then in tot). */
 SFIT_INLINE void sfit_i_sum_end(sfit_i_sum_t *s, int k)
 {
@@ -143,6 +138,19 @@ SFIT_INLINE void sfit_i_sum_end(sfit_i_sum_t *s, int k)
         s->blk[j] = 0.0f;
     }
     s->inblk = 0u;
+}
+
+/** @brief Add one term of k quantities. */
+SFIT_INLINE void sfit_i_sum_add(sfit_i_sum_t *s, const float *v, int k)
+{
+    int j;
+    SFIT_ASSERT(k <= SFIT_I_SUM_MAX);
+    for (j = 0; j < k; j++) {
+        s->blk[j] += v[j];
+    }
+    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
+        sfit_i_sum_end(s, k);
+    }
 }
 
 #endif /* SFIT_FLOAT_H */

@@ -356,14 +356,23 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
     return SFIT_OK;
 }
 
+/* A sample was judged: count it, refresh when due, report the verdict. */
+static sfit_status_t prv_judged(sfit_gate_t *g, int *accepted, int verdict)
+{
+    g->since++;
+    if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
+        (void)sfit_gate_refresh(g);
+    }
+    if (accepted != NULL) {
+        *accepted = verdict;
+    }
+    return SFIT_OK;
+}
+
 sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
 {
-    sfit_status_t st;
     float e = 0.0f, h1 = 1.0f;
-    if (g == NULL || x == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = sfit_i_check_sample(x->v);
+    sfit_status_t st = sfit_i_check_add(g, x);
     if (st != SFIT_OK) {
         return st;
     }
@@ -386,14 +395,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
             }
             g->outliers++;
             g->wrej++;
-            g->since++;
-            if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
-                (void)sfit_gate_refresh(g);
-            }
-            if (accepted != NULL) {
-                *accepted = 0;
-            }
-            return SFIT_OK;
+            return prv_judged(g, accepted, 0);
         }
     }
     st = sfit_moments_add(&g->acc, x);
@@ -404,14 +406,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
         g->ws2 += e * e / h1;
         g->wn++;
     }
-    g->since++;
-    if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
-        (void)sfit_gate_refresh(g);
-    }
-    if (accepted != NULL) {
-        *accepted = 1;
-    }
-    return SFIT_OK;
+    return prv_judged(g, accepted, 1);
 }
 
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)

@@ -166,13 +166,8 @@ sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg)
 {
     sfit_mat3_t sg;
 
-    if (s == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_incr_cfg_default;
-    }
-    if (sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov) != SFIT_OK) {
+    cfg = (cfg != NULL) ? cfg : &sfit_incr_cfg_default;
+    if (s == NULL || sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov) != SFIT_OK) {
         return SFIT_E_ARG;
     }
     sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sg);
@@ -208,20 +203,14 @@ uint32_t sfit_incr_count(const sfit_incr_t *s)
 
 sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x)
 {
-    sfit_status_t st;
-
-    if (s == NULL || x == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = sfit_i_check_sample(x->v);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (s->n == UINT32_MAX) {
+    const sfit_status_t st = sfit_i_check_add(s, x);
+    if (st == SFIT_OK && s->n == UINT32_MAX) {
         return SFIT_E_RANGE;
     }
-    prv_add(s, x->v);
-    return SFIT_OK;
+    if (st == SFIT_OK) {
+        prv_add(s, x->v);
+    }
+    return st;
 }
 
 /* The state's noise model as a fit configuration (sphere mode). */
@@ -254,11 +243,7 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     }
     /* The batch fit decides whether the start is usable (eigenvalue checks:
      * coincident, collinear, planar; C' positive definite). */
-    (void)sfit_moments_init(&acc);
-    st = sfit_moments_add_block(&acc, pts, n, NULL);
-    if (st != SFIT_OK) {
-        return st;
-    }
+    (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
     /* Geometry first (GDKE), so that a planar set is reported as
      * degenerate whatever the noise model; then the state's own model. */
     prv_cfg(s, &cfg);
@@ -326,11 +311,8 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     sfit_sphere_t r;
     int i;
 
-    if (s == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (s->n < SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
+    if (s == NULL || out == NULL || s->n < SFIT_MIN_SAMPLES) {
+        return (s == NULL || out == NULL) ? SFIT_E_ARG : SFIT_E_TOO_FEW;
     }
     nm1 = (float)(s->n - 1u);
     for (i = 0; i < 6; i++) {
@@ -425,12 +407,7 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     }
     r.radius = SFIT_SQRTF(r2);                                      /* [1]    : 65 */
     r.n = s->n;
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r.center.v[i])) {
-            return SFIT_E_RANGE;
-        }
-    }
-    if (!sfit_i_isfinite(r.radius)) {
+    if (!sfit_i_sphere_finite(&r.center, r.radius)) {
         return SFIT_E_RANGE;
     }
     *out = r;

@@ -39,7 +39,7 @@ void sfit_i_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv)
     float p[6];
     int j;
     for (j = 0; j < 3; j++) {
-        sfit_vec3_t e = {{0.0f, 0.0f, 0.0f}}, x;
+        sfit_vec3_t e = {{0.0f, 0.0f, 0.0f}}, x = {{0.0f, 0.0f, 0.0f}};
         e.v[j] = 1.0f;
         (void)sfit_mat3_chol_solve(l, &e, &x);
         inv->m[j] = x.v[0];

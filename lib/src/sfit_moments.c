@@ -200,19 +200,20 @@ static void prv_add(sfit_moments_t *m, const float x[3])
 
 sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x)
 {
-    sfit_status_t st;
-    if (m == NULL || x == NULL) {
-        return SFIT_E_ARG;
+    sfit_status_t st = sfit_i_check_add(m, x);
+    if (st == SFIT_OK && sfit_moments_count(m) == UINT32_MAX) {
+        st = SFIT_E_RANGE;
     }
-    st = sfit_i_check_sample(x->v);
-    if (st != SFIT_OK) {
-        return st;
+    if (st == SFIT_OK) {
+        prv_add(m, x->v);
     }
-    if (sfit_moments_count(m) == UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-    prv_add(m, x->v);
-    return SFIT_OK;
+    return st;
+}
+
+sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t *m)
+{
+    (void)sfit_moments_init(m);
+    return sfit_moments_add_block(m, pts, n, NULL);
 }
 
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
@@ -290,11 +291,8 @@ sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfi
     float inv;
     int i;
 
-    if (m == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (sfit_moments_count(m) < 2u) {
-        return SFIT_E_TOO_FEW;
+    if (m == NULL || sfit_moments_count(m) < 2u) {
+        return (m == NULL) ? SFIT_E_ARG : SFIT_E_TOO_FEW;
     }
     sfit_i_moments_total(m, &t);
     inv = 1.0f / (float)(t.n - 1u);

@@ -62,6 +62,17 @@ static void prv_marker(const sfit_moments_t *m, const float origin_ref[3], const
     pm->n = t.n;
 }
 
+/* 1 with pm filled when the marker has enough samples to be used. */
+static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const float d_ref[3],
+                    prv_marker_t *pm)
+{
+    if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
+        return 0;
+    }
+    prv_marker(m, origin_ref, d_ref, pm);
+    return 1;
+}
+
 /* Weight of a marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1 when
  * every count is the same). */
 static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, uint64_t sum_n1)
@@ -118,13 +129,8 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     int i;
     sfit_status_t st;
 
-    if (markers == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_multi_cfg_default;
-    }
-    st = sfit_i_check_cfg(&cfg->fit);
+    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
+    st = (markers == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_check_cfg(&cfg->fit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -178,10 +184,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
         float w;
-        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
-        prv_marker(&markers[p], origin_ref, d_ref, &pm);
         w = prv_weight(cfg, pm.n, used, sum_n1);
         sw += w;
         for (i = 0; i < 9; i++) {
@@ -227,10 +232,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
         float r2;
-        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
-        prv_marker(&markers[p], origin_ref, d_ref, &pm);
         r2 = prv_radius2(&pm, &sg, wc, &sol);
         if (!(r2 > 0.0f)) {
             return SFIT_E_NOT_POSDEF;
@@ -243,9 +247,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     memset(&r, 0, sizeof r);
     for (i = 0; i < 3; i++) {
         r.center.v[i] = origin_ref[i] + (d_ref[i] + wc[i]);
-        if (!sfit_i_isfinite(r.center.v[i])) {
-            return SFIT_E_RANGE;
-        }
+    }
+    if (!sfit_i_finite3(r.center.v)) {
+        return SFIT_E_RANGE;
     }
     r.n_total = (uint32_t)n_total;
     r.markers = used;
@@ -262,12 +266,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     if (radii != NULL) {
         for (p = 0u; p < count; p++) {
             prv_marker_t pm;
-            if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
-                radii[p] = 0.0f;
-                continue;
-            }
-            prv_marker(&markers[p], origin_ref, d_ref, &pm);
-            radii[p] = SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol));
+            radii[p] = prv_used(&markers[p], origin_ref, d_ref, &pm)
+                           ? SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol))
+                           : 0.0f;
         }
     }
     *out = r;

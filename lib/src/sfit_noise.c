@@ -102,15 +102,21 @@ static void prv_arc(float theta, float *rad, float *tng)
     *tng = st;
 }
 
+/* Normalised eigenvalues of either kind. */
+static void prv_eigs(sfit_coverage_kind_t kind, float theta, float *lo, float *hi)
+{
+    if (kind == SFIT_COVERAGE_CAP) {
+        prv_cap(theta, lo, hi);
+    } else {
+        prv_arc(theta, lo, hi);
+    }
+}
+
 /* g(theta): the normalised smaller eigenvalue, or the eigenvalue ratio. */
 static float prv_g(sfit_coverage_kind_t kind, prv_what_t what, float theta)
 {
     float lo, hi;
-    if (kind == SFIT_COVERAGE_CAP) {
-        prv_cap(theta, &lo, &hi);
-    } else {
-        prv_arc(theta, &lo, &hi);
-    }
+    prv_eigs(kind, theta, &lo, &hi);
     if (what == PRV_MIN) {
         return lo;
     }
@@ -139,8 +145,11 @@ static float prv_bisect(sfit_coverage_kind_t kind, prv_what_t what, float target
     return hi;
 }
 
-static sfit_status_t prv_check_theta_r(float theta, float r)
+static sfit_status_t prv_check_theta_r(sfit_coverage_kind_t kind, float theta, float r)
 {
+    if (!prv_kind_ok(kind)) {
+        return SFIT_E_ARG;
+    }
     if (!sfit_i_isfinite(theta) || !sfit_i_isfinite(r)) {
         return SFIT_E_NONFINITE;
     }
@@ -227,18 +236,11 @@ sfit_status_t sfit_coverage_eigs(sfit_coverage_kind_t kind, float theta, float r
 {
     float a, b, rr;
     sfit_status_t st;
-    if (!prv_kind_ok(kind)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_check_theta_r(theta, r);
+    st = prv_check_theta_r(kind, theta, r);
     if (st != SFIT_OK) {
         return st;
     }
-    if (kind == SFIT_COVERAGE_CAP) {
-        prv_cap(theta, &a, &b);
-    } else {
-        prv_arc(theta, &a, &b);
-    }
+    prv_eigs(kind, theta, &a, &b);
     rr = r * r;
     a *= rr;
     b *= rr;
@@ -269,10 +271,7 @@ sfit_status_t sfit_coverage_max_sigma(sfit_coverage_kind_t kind, float theta, fl
 {
     float g;
     sfit_status_t st;
-    if (sigma_max == NULL || !prv_kind_ok(kind)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_check_theta_r(theta, r);
+    st = (sigma_max == NULL) ? SFIT_E_ARG : prv_check_theta_r(kind, theta, r);
     if (st != SFIT_OK) {
         return st;
     }

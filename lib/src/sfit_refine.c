@@ -236,13 +236,9 @@ sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_ve
     uint32_t maxit = 0u, it;
     sfit_status_t st;
 
-    if (pts == NULL || c0 == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_refine_cfg_default;
-    }
-    st = prv_check_args(pts, n, c0, cfg, &tol, &maxit);
+    cfg = (cfg != NULL) ? cfg : &sfit_refine_cfg_default;
+    st = (pts == NULL || c0 == NULL || out == NULL) ? SFIT_E_ARG
+                                                    : prv_check_args(pts, n, c0, cfg, &tol, &maxit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -280,13 +276,8 @@ sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
     sfit_refined_t r;
     sfit_status_t st;
 
-    if (out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_refined_cfg_default;
-    }
-    st = sfit_points_selfcal(pts, n, &cfg->selfcal, &r.start);
+    cfg = (cfg != NULL) ? cfg : &sfit_refined_cfg_default;
+    st = (out == NULL) ? SFIT_E_ARG : sfit_points_selfcal(pts, n, &cfg->selfcal, &r.start);
     if (st == SFIT_OK) {
         st = sfit_points_refine(pts, n, &r.start.fit.center, &cfg->refine, &r.geometric);
     }

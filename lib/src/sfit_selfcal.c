@@ -85,8 +85,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
     if (st != SFIT_OK) {
         return st;
     }
-    (void)sfit_moments_init(&acc);
-    (void)sfit_moments_add_block(&acc, pts, n, NULL); /* validated above */
+    (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
     st = sfit_moments_fit(&acc, &fc, &fit); /* GDKE start */
     if (st != SFIT_OK) {
         return st;

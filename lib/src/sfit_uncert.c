@@ -62,12 +62,9 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
     if (kind != SFIT_UNCERT_NOISE_KNOWN && kind != SFIT_UNCERT_NOISE_ESTIMATED) {
         return SFIT_E_ARG;
     }
-    st = prv_check_fit(center, radius, noise_var);
+    st = sfit_i_enough(prv_check_fit(center, radius, noise_var), m);
     if (st != SFIT_OK) {
         return st;
-    }
-    if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
     }
     (void)sfit_moments_stats(m, &mean, &c, NULL);
     for (i = 0; i < 3; i++) {
@@ -101,10 +98,6 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_GEO_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
 
-/* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
-static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
-static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
-
 /* Pass 1 over the samples: sums of u (tot[0..2]) and of d - d0
  * (tot[3], d0 the first distance); SFIT_E_DEGENERATE for a sample at c. */
 static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
@@ -132,6 +125,9 @@ static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_
 static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                              const float ub[3], float dbar, int k, sfit_i_sum_t *s)
 {
+    /* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
+    static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
+    static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     size_t i;
     int j;
     memset(s, 0, sizeof *s);
@@ -150,6 +146,25 @@ static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t
     sfit_i_sum_end(s, k);
 }
 
+/* After the checks of the fit (st): samples checked (at least nmin),
+ * pass 1 done, ubar = mean direction. */
+static sfit_status_t prv_start(sfit_status_t st, const sfit_vec3_t *pts, size_t n,
+                               const sfit_vec3_t *c, size_t nmin, float *d0, sfit_i_sum_t *s,
+                               float ub[3])
+{
+    int j;
+    if (st == SFIT_OK) {
+        st = sfit_i_check_points(pts, n, nmin);
+    }
+    if (st == SFIT_OK) {
+        st = prv_pass_dirs(pts, n, c, d0, s);
+    }
+    for (j = 0; j < 3 && st == SFIT_OK; j++) {
+        ub[j] = s->tot[j] / (float)n;
+    }
+    return st;
+}
+
 sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out)
 {
@@ -159,23 +174,13 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
     int j;
     sfit_status_t st;
 
-    if (pts == NULL || center == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = prv_check_fit(center, radius, noise_var);
-    if (st == SFIT_OK) {
-        st = sfit_i_check_points(pts, n, (size_t)SFIT_MIN_SAMPLES);
-    }
-    if (st == SFIT_OK) {
-        st = prv_pass_dirs(pts, n, center, &d0, &s);
-    }
+    st = (pts == NULL || center == NULL || out == NULL) ? SFIT_E_ARG
+                                                        : prv_check_fit(center, radius, noise_var);
+    st = prv_start(st, pts, n, center, (size_t)SFIT_MIN_SAMPLES, &d0, &s, ub);
     if (st != SFIT_OK) {
         return st;
     }
     nf = (float)n;
-    for (j = 0; j < 3; j++) {
-        ub[j] = s.tot[j] / nf;
-    }
     prv_pass_centred(pts, n, center, ub, d0, 6, &s);
     sfit_i_sym_unpack(s.tot, &a);
     if (sfit_mat3_chol(&a, &l) != SFIT_OK) {
@@ -201,23 +206,12 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     int j;
     sfit_status_t st;
 
-    if (pts == NULL || center == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = sfit_i_check_fit(center, NULL);
-    if (st == SFIT_OK) {
-        st = sfit_i_check_points(pts, n, PRV_GEO_MIN_N);
-    }
-    if (st == SFIT_OK) {
-        st = prv_pass_dirs(pts, n, center, &d0, &s);
-    }
+    st = (pts == NULL || center == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_check_fit(center, NULL);
+    st = prv_start(st, pts, n, center, PRV_GEO_MIN_N, &d0, &s, ub);
     if (st != SFIT_OK) {
         return st;
     }
     nf = (float)n;
-    for (j = 0; j < 3; j++) {
-        ub[j] = s.tot[j] / nf;
-    }
     dbar = d0 + s.tot[3] / nf;
     prv_pass_centred(pts, n, center, ub, dbar, 13, &s);
     s2 = s.tot[12] / (nf - 4.0f);
