@@ -19,7 +19,7 @@
  *  - the mean as p + d, p a frame origin near the mean, d small;
  *    d += (z - d)/n with z = x - p computed directly from the sample
  *    (never d = n (m_{n+1} - m_n), which multiplies the rounding of the
- *    mean by n, DESIGN.md section 2);
+ *    mean by n);
  *  - M2 = sum y y^T about the running mean, by Welford's rank-one update
  *    M2 += e delta^T, e = x - m_n, delta = x - m_{n+1} = e - e/n (the
  *    unscaled form of eq. 227);

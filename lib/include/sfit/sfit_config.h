@@ -125,7 +125,7 @@
  * current mean (every n/8 samples while n < 8 SFIT_INCR_BLOCK, then every
  * SFIT_INCR_BLOCK samples). The rounding error of the centre grows like
  * sqrt(SFIT_INCR_BLOCK) + sqrt(N / SFIT_INCR_BLOCK); 256..4096 measure alike
- * (within 1e-5 r at N = 10^6). A fold costs 82 FLOPs. Range 2..65536.
+ * (within 1e-5 r at N = 10^6). Range 2..65536.
  */
 #ifndef SFIT_INCR_BLOCK
 #define SFIT_INCR_BLOCK 1024u
@@ -174,7 +174,7 @@
 /**
  * @brief Cap on the estimated noise: sigma^2 <= SFIT_SELFCAL_MAX_TRUST *
  * lambda_min(C), i.e. a trust ratio of at most this (0.5 = the Leontief
- * bound of eq. 194; C' keeps half of C's smallest eigenvalue). Range (0, 0.9].
+ * bound; C' keeps half of C's smallest eigenvalue). Range (0, 0.9].
  */
 #ifndef SFIT_SELFCAL_MAX_TRUST
 #define SFIT_SELFCAL_MAX_TRUST 0.5f
@@ -210,7 +210,7 @@
 /* ---- Outlier gate (sfit_gate.h) ---- */
 
 /**
- * @brief Samples buffered in the gate for the robust start (12 bytes each).
+ * @brief Samples buffered in the gate for the robust start.
  * More samples give a safer start on small caps, fewer save RAM. The
  * buffer must span the motion: at 100 Hz, 64 samples are 0.64 s. With 5 %
  * gross outliers, 32 let about one stream in 100 start on a wrong sphere

@@ -5,15 +5,7 @@
  * @defgroup sfit_fit Sphere / circle fit
  * @{
  *
- * With the chapter's notation (mean m, C = sum y y^T/(N-1),
- * S = sum |y|^2 y/(N-1), y = x - m):
- *  - GDKE (generalised Delogne-Kasa, identical to the Kasa algebraic fit):
- *    c = m + C^-1 S / 2,  r = sqrt((N-1)/N tr C + |m - c|^2).
- *  - UGDK (eq. 171-176): the same with C' = C - Sigma_hat, where Sigma_hat is
- *    the measurement-noise covariance (sigma^2 I or a full symmetric 3x3).
- *  - Planar (eq. 214-218): when the samples lie near a plane (a hinge), the
- *    inverse is replaced by the pseudo-inverse over the two largest
- *    eigen-directions of C (or C'); the dropped eigenvector is the axis.
+ * Derivation and notes: docs/api.md#fit
  */
 #ifndef SFIT_FIT_H
 #define SFIT_FIT_H
@@ -73,11 +65,11 @@ typedef struct sfit_result {
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
     float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
-                                  (eq. 193; 0 for GDKE). It is also the factor by which
+                                  (0 for GDKE). It is also the factor by which
                                   GDKE shrinks the centre offset along the weakest
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
     float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
-                                  eq. 194's rho(C0^-1 Sigma) (C0 = noise-free covariance,
+                                  the Leontief ratio rho(C0^-1 Sigma) (C0 = noise-free covariance,
                                   estimated by C'); SFIT_FLAG_UNTRUSTED when >= 1. */
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */

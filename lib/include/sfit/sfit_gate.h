@@ -7,45 +7,7 @@
  * @defgroup sfit_gate Outlier gate
  * @{
  *
- * Life of a gate:
- *  - Warm-up: the first SFIT_GATE_WARMUP valid samples are buffered in the
- *    gate. When the buffer is full a robust start runs once: fit the
- *    buffer, drop the sample farthest from the sphere if its residual
- *    exceeds k robust sigmas (1.4826 x median absolute deviation of the
- *    residuals), refit, at most SFIT_GATE_WARMUP/4 times; the kept samples
- *    seed the accumulator, the dropped ones count as outliers. The gate's
- *    sigma^2 is then cfg.noise_var if given, else the residual variance of
- *    the kept samples (divisor n - 4).
- *    If that first fit fails (coincident, collinear or planar samples: the
- *    device has not moved enough yet), the buffer is flushed into the
- *    accumulator unfiltered and samples are accepted ungated until a
- *    refresh produces a fit.
- *  - Gated: with a fit (c, r) of N samples with mean m and scatter
- *    M = (N - 1) C, sample x is rejected when
- *      (|x - c| - r)^2 > k^2 sigma^2 (1 + h),  h = 1/N + (x - m)^T M^-1 (x - m),
- *    otherwise it is added. sigma^2 (1 + h) is the variance of the residual
- *    of a new sample: its own noise plus the fit's prediction error there
- *    (to first order, sigma^2 [1/N + (r u - a)^T M^-1 (r u - a)] with
- *    r u - a = x - m; see sfit_uncert.h). h is the leverage: a sample
- *    outside the region covered so far (a stream that sweeps a joint's
- *    range) is judged leniently until the fit has seen that region; a
- *    plain k-sigma gate locks a sweeping stream out after a warm-up on a
- *    short arc (measured on the hip data: 978 of 1400 samples rejected).
- *    Cost per sample: 26 FLOPs of the accumulator + about 30 for the
- *    residual and leverage, 1 sqrt. Every cfg.refresh offered samples (or
- *    on sfit_gate_refresh()) the fit is re-solved from the accumulator and,
- *    when sigma^2 is estimated, replaced by mean e^2 / (1 + h) of the
- *    residuals accepted since the previous refresh (at least
- *    SFIT_GATE_MIN_WINDOW of them). If more than SFIT_GATE_MAX_REJECT_PCT %
- *    of the samples offered since the previous refresh were rejected, the
- *    gate's sigma^2 is not credible (real streams have correlated errors: a
- *    short warm-up arc underestimates the noise of the whole motion) and is
- *    multiplied by 4 instead; refreshes count offered samples, so a gate
- *    that rejects everything still refreshes.
- *
- * A gate never forgets: if the sphere itself moves (a new magnetic
- * environment), everything may be rejected; watch sfit_gate_stats() and
- * call sfit_gate_reset().
+ * Derivation and notes: docs/api.md#gate
  */
 #ifndef SFIT_GATE_H
 #define SFIT_GATE_H

@@ -1,39 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_incr.h
- * @brief Incremental estimator (chapter section 5.4, eq. 224-233): a new
+ * @brief Incremental estimator: a new
  * sphere centre and radius after every sample, in constant memory.
  * @defgroup sfit_incr Incremental estimator
  * @{
  *
- * The state is a fixed-size struct (148 bytes). Each sample costs one
- * sfit_incr_add() (40 FLOPs) and, when a new estimate is wanted, one
- * sfit_incr_fit() (65 FLOPs for GDKE, 71 for UGDK with isotropic noise):
- * 105 / 111 FLOPs per sample against the chapter's 123 (eq. 233, D = 3).
- * Every SFIT_INCR_BLOCK samples an add also folds and re-centres the state
- * (82 FLOPs, 0.08 per sample amortised).
- *
- * The estimate equals the batch GDKE / UGDK fit (sfit_moments_fit() in sphere
- * mode) of the same samples; in float it stays within 1e-5 r of a
- * double-precision batch fit for 10^6 samples with the centre 2700 mm from
- * the origin (tests/test_incr.c). How: see docs/incremental.md and the
- * notes at the top of lib/src/sfit_incr.c. In short, the chapter's
- * recursion for C^-1 and S (eq. 229, 230) is replaced by two-level sums of
- * the centred second moments and of the third moments about a frame origin
- * that follows the mean, and the 3x3 system is solved (LDL^T) at each
- * estimate; this is cheaper, and in float about 2000 times closer to the
- * batch fit after 10^6 samples (2.8e-3 r for the recursion, 1.3e-6 r here).
- *
- * Typical use:
- * @code
- * sfit_incr_t inc;
- * sfit_sphere_t est;
- * sfit_incr_init(&inc, NULL);                      // GDKE
- * sfit_incr_start(&inc, first, 10, &est);          // batch start, checks the geometry
- * for (;;) {
- *     if (sfit_incr_update(&inc, &x, &est) == SFIT_OK) { use(est.center, est.radius); }
- * }
- * @endcode
+ * Derivation and notes: docs/api.md#incr
  */
 #ifndef SFIT_INCR_H
 #define SFIT_INCR_H
@@ -90,7 +63,7 @@ extern const sfit_incr_cfg_t sfit_incr_cfg_default;
  * @param[out] s    State.
  * @param[in]  cfg  Options; NULL = GDKE. Only the noise model is used
  *                  (noise, noise_var, noise_cov: SFIT_NOISE_ISO / _COV give
- *                  UGDK, eq. 228); mode must be SFIT_MODE_AUTO or
+ *                  UGDK); mode must be SFIT_MODE_AUTO or
  *                  SFIT_MODE_SPHERE (the incremental estimator is a sphere
  *                  fit); planar_ratio is ignored.
  * @retval SFIT_OK     success
@@ -107,7 +80,7 @@ sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg);
 sfit_status_t sfit_incr_reset(sfit_incr_t *s);
 
 /**
- * @brief (Re)start from a batch of samples: the chapter's "batch fit of the
+ * @brief (Re)start from a batch of samples: the "batch fit of the
  * first few samples". Replaces any samples the state held by pts[0..n-1]
  * and checks the batch fit with sfit_moments_fit() (sphere mode, the state's
  * noise model), which also rejects coincident, collinear and planar sets.
@@ -130,8 +103,8 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
                               sfit_sphere_t *out);
 
 /**
- * @brief Add one sample (O(1), 40 FLOPs; every SFIT_INCR_BLOCK-th call also
- * folds, +82 FLOPs).
+ * @brief Add one sample (O(1); every SFIT_INCR_BLOCK-th call also folds).
+ * @par Cost 40 FLOPs (tools/flopcount: incremental_add).
  * @retval SFIT_OK           success
  * @retval SFIT_E_ARG        NULL pointer
  * @retval SFIT_E_NONFINITE  a coordinate is NaN or Inf; s unchanged (bit for bit)
@@ -143,9 +116,8 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
 /**
  * @brief The estimate for the samples added so far (s is not modified).
  * GDKE: centre = mean + C^-1 S / 2, r^2 = (N-1)/N tr C + |centre - mean|^2;
- * UGDK: the same with C' = C - Sigma_hat (eq. 228, 231, 232).
- * @par Cost 65 FLOPs (GDKE), 71 (UGDK isotropic), 98 (UGDK full covariance);
- * 6 of them divisions, 1 square root (measured by tools/flopcount).
+ * UGDK: the same with C' = C - Sigma_hat 
+ * @par Cost 65 FLOPs for GDKE (tools/flopcount: incremental_solve).
  * @param[in]  s    State.
  * @param[out] out  Estimate; written only on SFIT_OK.
  * @retval SFIT_OK            success
@@ -161,7 +133,9 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
 
 /**
  * @brief sfit_incr_add() then sfit_incr_fit(): the per-sample recursion
- * (105 FLOPs for GDKE).
+ * .
+ * @par Cost 105 FLOPs for GDKE, 111 for UGDK (tools/flopcount:
+ * incremental_update, incremental_update_ugdk).
  *
  * A sample that sfit_incr_add() rejects leaves s unchanged and its status
  * is returned. A valid sample is always kept; if the solve then fails

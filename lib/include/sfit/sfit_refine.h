@@ -6,25 +6,7 @@
  * @defgroup sfit_refine Geometric refinement
  * @{
  *
- * Minimises sum (|x_i - c| - r)^2. The radius is eliminated exactly (for a
- * given centre the best radius is the mean distance dbar), leaving a
- * 3-parameter problem in the centre (variable projection):
- *   rho_i(c) = d_i - dbar, d_i = |x_i - c|, Jacobian rows -(u_i - ubar)^T,
- *   u_i = (x_i - c)/d_i.
- * Each iteration solves (A + lambda diag A) delta = g with
- * A = sum (u - ubar)(u - ubar)^T and g = sum (u - ubar)(d - dbar) (3x3
- * Cholesky), accepts the step if the cost does not grow, and adapts lambda
- * (divided by 10 on success, multiplied by 10 on failure, at most
- * SFIT_REFINE_MAX_TRIALS tries per iteration). Work is done relative to the
- * start centre (x_i - c0 once per sample and pass; the centre offset is
- * small), so a centre thousands of radii away costs no accuracy. Converged
- * when the step is below tol * r.
- *
- * The covariance of the result: sfit_points_uncert_geometric() (sfit_uncert.h).
- *
- * Cost per iteration: two passes over the samples (one for ubar, dbar and
- * the cost, one for the centred sums) plus one pass per damping trial;
- * about 2 sqrt and 40 FLOPs per sample and pass.
+ * Derivation and notes: docs/api.md#refine
  */
 #ifndef SFIT_REFINE_H
 #define SFIT_REFINE_H

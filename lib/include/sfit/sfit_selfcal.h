@@ -6,39 +6,7 @@
  * @defgroup sfit_selfcal Self-calibrated noise
  * @{
  *
- * Fixed-point iteration over a caller-owned array (the samples are read,
- * never written):
- *  1. GDKE (sigma^2 = 0) from the moments.
- *  2. Radial residuals d_i = |x_i - c| - r; s^2 = sum (d_i - dbar)^2 / (N - 4).
- *     N - 4: the residuals are orthogonal (to first order) to the 4
- *     directions of the sphere's parameters (3 centre, 1 radius; removing
- *     dbar is the radius' share), so s^2 is unbiased for the radial noise
- *     variance whatever the fit, provided it agrees with the geometric fit
- *     to first order (UGDK does; GDKE does not on a cap, which is why the
- *     iteration continues).
- *  3. Curvature: with e = t v + e_perp (t = v.e),
- *     |r v + e| = (r + t) + |e_perp|^2 / (2 (r + t)) + ..., whose variance
- *     is sigma^2 + sigma^4/r^2 (the |e_perp|^2 term) - 2 sigma^4/r^2 (its
- *     covariance with t through 1/(r + t)): E s^2 = sigma^2 - sigma^4/r^2;
- *     solved for sigma^2: sigma^2 = 2 s^2 / (1 + sqrt(1 - 4 s^2/r^2))
- *     (the root is clamped at 0: sigma^2 <= 2 s^2).
- *  4. Safeguard: sigma^2 is capped at SFIT_SELFCAL_MAX_TRUST * lambda_min(C),
- *     so C' = C - sigma^2 I keeps at least (1 - SFIT_SELFCAL_MAX_TRUST) of
- *     C's smallest eigenvalue (stays positive definite); the result is then
- *     flagged ::SFIT_SELFCAL_FLAG_CAPPED.
- *  5. UGDK with sigma^2; repeat from 2 until sigma^2 changes by less than
- *     SFIT_SELFCAL_REL_TOL (relative), at most SFIT_SELFCAL_MAX_ITERS times.
- *
- * The map converges fast: an error e in sigma^2 moves the centre by
- * ~ r e / lambda_min along the cap axis and raises s^2 only by ~ e^2/lambda_min
- * (quadratic), so 2-4 iterations suffice when the trust ratio is below 1/2.
- *
- * A streaming form from moments alone (a fourth-moment accumulator) was
- * rejected: sigma^2 is then the small difference of terms ~ r^4, and float
- * loses it when sigma/r < ~1e-2 (docs/beyond.md).
- *
- * Cost per iteration: one pass over the samples (3 sub, 3 mul, 2 add,
- * 1 sqrt, 3 add/mul for the sums per sample) plus one sfit_moments_fit().
+ * Derivation and notes: docs/api.md#selfcal
  */
 #ifndef SFIT_SELFCAL_H
 #define SFIT_SELFCAL_H
