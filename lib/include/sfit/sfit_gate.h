@@ -79,7 +79,11 @@ typedef struct sfit_gate_stats {
  */
 sfit_status_t sfit_gate_init(sfit_gate_t *g, const sfit_gate_cfg_t *cfg);
 
-/** @brief Forget every sample and counter, keep the options. @retval SFIT_OK, SFIT_E_ARG */
+/**
+ * @brief Forget every sample and counter, keep the options.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  g is NULL
+ */
 sfit_status_t sfit_gate_reset(sfit_gate_t *g);
 
 /**
@@ -100,7 +104,9 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  * SFIT_MIN_SAMPLES + 1 samples are buffered).
  * @retval SFIT_OK  a fit now gates the samples
  * @retval SFIT_E_ARG  g NULL
- * @retval other    the fit's status (sfit_moments_fit()); the gate keeps its previous fit
+ * @retval SFIT_E_TOO_FEW  warm-up with fewer than SFIT_MIN_SAMPLES + 1 samples
+ * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
+ *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous fit
  */
 sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
 
@@ -109,7 +115,13 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
  * warm-up buffer, if still filling, is fitted as it is).
  * @param[in]  g    Gate.
  * @param[out] out  Written only on SFIT_OK.
- * @retval as sfit_moments_fit()
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         g or out is NULL
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES accepted samples
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
+ * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @retval SFIT_E_RANGE       the result would not be finite
  */
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 
@@ -119,7 +131,11 @@ sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
  */
 const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g);
 
-/** @brief Counters. @retval SFIT_OK, SFIT_E_ARG (NULL) */
+/**
+ * @brief Counters.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  g or out is NULL
+ */
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out);
 
 #ifdef __cplusplus

@@ -141,7 +141,14 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
  * is returned. A valid sample is always kept; if the solve then fails
  * (::SFIT_E_TOO_FEW, ::SFIT_E_DEGENERATE, ::SFIT_E_NOT_POSDEF,
  * ::SFIT_E_RANGE) that status is returned and out is not written.
- * @retval as sfit_incr_add(), then as sfit_incr_fit()
+ * @retval SFIT_OK            the sample was added and a new estimate written
+ * @retval SFIT_E_ARG         NULL pointer
+ * @retval SFIT_E_NONFINITE   NaN / Inf coordinate: s unchanged
+ * @retval SFIT_E_RANGE       coordinate out of range or counter full (s unchanged),
+ *                            or the estimate would not be finite
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples (sample kept)
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples (sample kept)
+ * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat not positive definite (sample kept)
  */
 sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out);
 

@@ -44,7 +44,8 @@ typedef struct sfit_moments {
 
 /**
  * @brief Initialise (or clear) an accumulator to zero samples.
- * @retval SFIT_OK  success   @retval SFIT_E_ARG  m is NULL
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  m is NULL
  */
 sfit_status_t sfit_moments_init(sfit_moments_t *m);
 
@@ -74,7 +75,11 @@ sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x);
  * @param[in]     n    Number of samples.
  * @param[out]    bad  If not NULL, receives the index of the first rejected
  *                     sample (written only on failure caused by a sample).
- * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_NONFINITE, SFIT_E_RANGE as sfit_moments_add()
+ * @retval SFIT_OK           success
+ * @retval SFIT_E_ARG        m NULL, or pts NULL with n > 0
+ * @retval SFIT_E_NONFINITE  a sample holds NaN or Inf; m unchanged
+ * @retval SFIT_E_RANGE      a coordinate out of range, or the count would pass
+ *                           UINT32_MAX; m unchanged
  */
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
                                      size_t *bad);

@@ -96,10 +96,16 @@ typedef enum sfit_coverage_kind {
 sfit_status_t sfit_coverage_eigs(sfit_coverage_kind_t kind, float theta, float r, float *lmin,
                                  float *lmax);
 
-/** @brief sfit_coverage_eigs() for a cap; same statuses. */
+/**
+ * @brief sfit_coverage_eigs() for a cap.
+ * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_NONFINITE, SFIT_E_RANGE  as sfit_coverage_eigs()
+ */
 sfit_status_t sfit_coverage_cap_eigs(float theta, float r, float *lmin, float *lmax);
 
-/** @brief sfit_coverage_eigs() for an arc; same statuses. */
+/**
+ * @brief sfit_coverage_eigs() for an arc.
+ * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_NONFINITE, SFIT_E_RANGE  as sfit_coverage_eigs()
+ */
 sfit_status_t sfit_coverage_arc_eigs(float theta, float r, float *lmin, float *lmax);
 
 /**
@@ -111,7 +117,9 @@ sfit_status_t sfit_coverage_arc_eigs(float theta, float r, float *lmin, float *l
  * @param[in]  theta      Half-angle in radians, 0 < theta <= pi.
  * @param[in]  r          Radius (> 0).
  * @param[out] sigma_max  Written only on SFIT_OK (same unit as r).
- * @retval as sfit_coverage_eigs(); SFIT_E_ARG also for a NULL sigma_max
+ * @retval SFIT_OK           success
+ * @retval SFIT_E_ARG        NULL sigma_max, invalid kind, theta outside (0, pi], r <= 0
+ * @retval SFIT_E_NONFINITE  theta or r is NaN or Inf
  */
 sfit_status_t sfit_coverage_max_sigma(sfit_coverage_kind_t kind, float theta, float r,
                                       float *sigma_max);
