@@ -379,7 +379,7 @@ static sfit_status_t lib_run(const sfit_joint_cfg_t *cfg, sfit_joint_t *j, sfit_
     for (f = 0; f < g_nf; f++) {
         assert_int_equal(sfit_joint_add(j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    return sfit_joint_solve(j, res, radii);
+    return sfit_joint_fit(j, res, radii);
 }
 
 static sfit_joint_t g_j;
@@ -852,23 +852,23 @@ static void test_contract(void **state)
     memset(rsent, 0x33, sizeof rsent);
     res = sent;
     memcpy(radii, rsent, sizeof radii);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_E_TOO_FEW);
     make_motion(700, 40, 0);
     tu_rng_seed(&g, 9);
     make_noisy(&g, 0.5, 0.5);
     for (f = 0; f < 3; f++) {
         assert_int_equal(sfit_joint_add(&g_j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_E_TOO_FEW);
     assert_memory_equal(&res, &sent, sizeof res);
     assert_memory_equal(radii, rsent, sizeof radii);
     for (f = 3; f < 40; f++) {
         assert_int_equal(sfit_joint_add(&g_j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_OK);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, NULL), SFIT_OK);
-    assert_int_equal(sfit_joint_solve(NULL, &res, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_joint_solve(&g_j, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, NULL), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(NULL, &res, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_fit(&g_j, NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, &c, &a), SFIT_OK);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, &c, NULL), SFIT_OK);
     assert_int_equal(sfit_joint_center_at(NULL, &res, g_parf[0], P, &c, &a), SFIT_E_ARG);
@@ -891,7 +891,7 @@ static void test_contract(void **state)
             default: j2.res_max = -1.0f; break;
             }
             assert_int_equal(sfit_joint_add(&j2, g_parf[0], P, g_chif[0], K, NULL), SFIT_E_ARG);
-            assert_int_equal(sfit_joint_solve(&j2, &res, NULL), SFIT_E_ARG);
+            assert_int_equal(sfit_joint_fit(&j2, &res, NULL), SFIT_E_ARG);
             assert_int_equal(sfit_joint_reset(&j2), SFIT_E_ARG);
             assert_int_equal(sfit_joint_center_at(&j2, &res, g_parf[0], P, &c, NULL), SFIT_E_ARG);
         }
@@ -900,7 +900,7 @@ static void test_contract(void **state)
     assert_int_equal(sfit_joint_reset(NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(g_j.frames, 0);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, NULL), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, NULL), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_joint_init(&j2, &cl, &cfg), SFIT_OK);
     assert_memory_equal(&g_j, &j2, sizeof j2);
 }
@@ -933,7 +933,7 @@ static void test_template_from_frames(void **state)
     for (f = 0; f < g_nf; f++) {
         assert_int_equal(sfit_joint_add(&j2, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&j2, &r2, NULL), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(&j2, &r2, NULL), SFIT_OK);
     assert_int_equal(lib_run(&cfg, &g_j, &r1, NULL), SFIT_OK);
     for (f = 0; f < g_nf; f++) {
         sfit_vec3_t c1, c2;

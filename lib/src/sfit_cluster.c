@@ -26,14 +26,14 @@
  * carry the markers' relative precision, not that of 3 m.
  *
  * Calls into other modules are gathered in prv_eig() (sfit_mat3) and the
- * internal sample check (sfit_internal.h).
+ * internal sample check (sfit_float.h).
  */
 #include "sfit/sfit_cluster.h"
 
 #include <string.h>
 
 #include "sfit/sfit_mat3.h"
-#include "sfit_internal.h"
+#include "sfit_float.h"
 
 /* ---- the only calls into other modules ---- */
 static sfit_status_t prv_eig(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v)

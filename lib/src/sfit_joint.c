@@ -22,7 +22,8 @@
 #include <string.h>
 
 #include "sfit/sfit_mat3.h"
-#include "sfit_internal.h"
+#include "sfit_float.h"
+#include "sfit_solve.h"
 
 const sfit_joint_cfg_t sfit_joint_cfg_default = {
     1u,
@@ -67,7 +68,7 @@ static sfit_status_t prv_multi(const sfit_moments_t *acc, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii)
 {
-    return sfit_multi_solve(acc, count, cfg, out, radii);
+    return sfit_multi_fit(acc, count, cfg, out, radii);
 }
 
 static sfit_status_t prv_check_solve_cfg(const sfit_multi_cfg_t *cfg)
@@ -239,7 +240,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
     return SFIT_OK;
 }
 
-sfit_status_t sfit_joint_solve(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii)
+sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii)
 {
     sfit_joint_result_t r;
     sfit_multi_cfg_t cfg;

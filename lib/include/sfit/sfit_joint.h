@@ -17,7 +17,7 @@
  * joint centre, so each draws a sphere (ball joint) or a circle (hinge) and
  * the common centre is the multi-marker solve of sfit_multi.h (MGDK,
  * unbiased MGDK, planar with its axis). Memory is O(1) per marker whatever
- * the number of frames; sfit_joint_solve() can be called at any time.
+ * the number of frames; sfit_joint_fit() can be called at any time.
  *
  * The centre and axis are in the parent's template frame. For a trajectory,
  * sfit_joint_center_at() registers a frame and maps them back to the
@@ -164,7 +164,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  * @retval SFIT_E_RANGE       the result would not be finite
  * @par Cost the multi-marker solve over cfg.n_child markers.
  */
-sfit_status_t sfit_joint_solve(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
+sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
 /**
  * @brief Noise covariance of a child marker in the parent frame, to first
@@ -193,7 +193,7 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
  * registers the parent markers of that frame with the joint's template and
  * maps the result's centre (and axis) back.
  * @param[in]  j         State (its template is used).
- * @param[in]  res       A result of sfit_joint_solve().
+ * @param[in]  res       A result of sfit_joint_fit().
  * @param[in]  parent    That frame's parent markers (global); NaN = occluded.
  * @param[in]  n_parent  Must equal the template's marker count.
  * @param[out] center    Centre in the global frame; written only on SFIT_OK.
