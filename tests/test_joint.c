@@ -379,7 +379,7 @@ static sfit_status_t lib_run(const sfit_joint_cfg_t *cfg, sfit_joint_t *j, sfit_
     for (f = 0; f < g_nf; f++) {
         assert_int_equal(sfit_joint_add(j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    return sfit_joint_solve(j, res, radii);
+    return sfit_joint_fit(j, res, radii);
 }
 
 static sfit_joint_t g_j;
@@ -852,23 +852,23 @@ static void test_contract(void **state)
     memset(rsent, 0x33, sizeof rsent);
     res = sent;
     memcpy(radii, rsent, sizeof radii);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_E_TOO_FEW);
     make_motion(700, 40, 0);
     tu_rng_seed(&g, 9);
     make_noisy(&g, 0.5, 0.5);
     for (f = 0; f < 3; f++) {
         assert_int_equal(sfit_joint_add(&g_j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_E_TOO_FEW);
     assert_memory_equal(&res, &sent, sizeof res);
     assert_memory_equal(radii, rsent, sizeof radii);
     for (f = 3; f < 40; f++) {
         assert_int_equal(sfit_joint_add(&g_j, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&g_j, &res, radii), SFIT_OK);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, NULL), SFIT_OK);
-    assert_int_equal(sfit_joint_solve(NULL, &res, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_joint_solve(&g_j, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, radii), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, NULL), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(NULL, &res, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_fit(&g_j, NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, &c, &a), SFIT_OK);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, &c, NULL), SFIT_OK);
     assert_int_equal(sfit_joint_center_at(NULL, &res, g_parf[0], P, &c, &a), SFIT_E_ARG);
@@ -891,7 +891,7 @@ static void test_contract(void **state)
             default: j2.res_max = -1.0f; break;
             }
             assert_int_equal(sfit_joint_add(&j2, g_parf[0], P, g_chif[0], K, NULL), SFIT_E_ARG);
-            assert_int_equal(sfit_joint_solve(&j2, &res, NULL), SFIT_E_ARG);
+            assert_int_equal(sfit_joint_fit(&j2, &res, NULL), SFIT_E_ARG);
             assert_int_equal(sfit_joint_reset(&j2), SFIT_E_ARG);
             assert_int_equal(sfit_joint_center_at(&j2, &res, g_parf[0], P, &c, NULL), SFIT_E_ARG);
         }
@@ -900,7 +900,7 @@ static void test_contract(void **state)
     assert_int_equal(sfit_joint_reset(NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(g_j.frames, 0);
-    assert_int_equal(sfit_joint_solve(&g_j, &res, NULL), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_joint_fit(&g_j, &res, NULL), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_joint_init(&j2, &cl, &cfg), SFIT_OK);
     assert_memory_equal(&g_j, &j2, sizeof j2);
 }
@@ -933,7 +933,7 @@ static void test_template_from_frames(void **state)
     for (f = 0; f < g_nf; f++) {
         assert_int_equal(sfit_joint_add(&j2, g_parf[f], P, g_chif[f], K, NULL), SFIT_OK);
     }
-    assert_int_equal(sfit_joint_solve(&j2, &r2, NULL), SFIT_OK);
+    assert_int_equal(sfit_joint_fit(&j2, &r2, NULL), SFIT_OK);
     assert_int_equal(lib_run(&cfg, &g_j, &r1, NULL), SFIT_OK);
     for (f = 0; f < g_nf; f++) {
         sfit_vec3_t c1, c2;
@@ -948,6 +948,68 @@ static void test_template_from_frames(void **state)
     assert_true(worst < 5e-3); /* measured 3.5e-4 mm */
 }
 
+/* sfit_joint_noise_cov() against the double first-order expression at the
+ * true positions (effective_cov): they differ only by the noise in the
+ * mapped samples (relative 1e-4 here); tolerance 1e-2 of the largest
+ * entry. The solve in SFIT_JOINT_NOISE_MARKER mode is the solve with that
+ * covariance given explicitly, bit for bit. */
+static void test_noise_cov(void **state)
+{
+    tu_rng_t g;
+    sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_joint_result_t r1, r2;
+    sfit_mat3_t cov, sent;
+    double cov6[6], want[9], big = 0.0;
+    float rad1[K], rad2[K];
+    int k;
+    (void)state;
+    cfg.n_child = K;
+    cfg.solve.fit.noise = SFIT_NOISE_ISO;
+    cfg.solve.fit.noise_var = 0.25f;
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    make_motion(900, 300, 0);
+    tu_rng_seed(&g, 11);
+    make_noisy(&g, 0.5, 0.5);
+    assert_int_equal(lib_run(&cfg, &g_j, &r1, rad1), SFIT_OK);
+    assert_int_equal(r1.fit.method, SFIT_METHOD_UGDK);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_OK);
+    effective_cov(cov6);
+    want[0] = cov6[0]; want[4] = cov6[1]; want[8] = cov6[2];
+    want[1] = want[3] = cov6[3]; want[2] = want[6] = cov6[4]; want[5] = want[7] = cov6[5];
+    for (k = 0; k < 9; k++) {
+        want[k] *= 0.25;
+        big = fabs(want[k]) > big ? fabs(want[k]) : big;
+    }
+    printf("  effective noise in the parent frame (sigma 0.5 mm): diag %.3f %.3f %.3f mm^2 "
+           "(marker alone 0.25)\n", want[0], want[4], want[8]);
+    for (k = 0; k < 9; k++) {
+        assert_near(cov.m[k], want[k], 1e-2 * big, "noise cov");
+    }
+    /* the same solve with the covariance given */
+    cfg.noise_model = SFIT_JOINT_NOISE_SOLVE;
+    cfg.solve.fit.noise = SFIT_NOISE_COV;
+    cfg.solve.fit.noise_cov = cov;
+    assert_int_equal(lib_run(&cfg, &g_j, &r2, rad2), SFIT_OK);
+    assert_memory_equal(&r1, &r2, sizeof r1);
+    assert_memory_equal(rad1, rad2, sizeof rad1);
+    /* contract */
+    memset(&sent, 0xA5, sizeof sent);
+    cov = sent;
+    assert_int_equal(sfit_joint_noise_cov(NULL, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, -1.0f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, NAN, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+    /* options: MARKER needs SFIT_NOISE_ISO; an unknown model is rejected */
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    cfg.solve.fit.noise = SFIT_NOISE_NONE;
+    assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
+    cfg.noise_model = (sfit_joint_noise_t)5;
+    assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -959,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_reject_unchanged),
         cmocka_unit_test(test_contract),
         cmocka_unit_test(test_template_from_frames),
+        cmocka_unit_test(test_noise_cov),
     };
     return cmocka_run_group_tests_name("joint", tests, NULL, NULL);
 }

@@ -26,14 +26,14 @@
  * carry the markers' relative precision, not that of 3 m.
  *
  * Calls into other modules are gathered in prv_eig() (sfit_mat3) and the
- * internal sample check (sfit_internal.h).
+ * internal sample check (sfit_float.h).
  */
 #include "sfit/sfit_cluster.h"
 
 #include <string.h>
 
 #include "sfit/sfit_mat3.h"
-#include "sfit_internal.h"
+#include "sfit_float.h"
 
 /* ---- the only calls into other modules ---- */
 static sfit_status_t prv_eig(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v)
@@ -146,13 +146,14 @@ static sfit_status_t prv_spread_check(const sfit_mat3_t *a, int pw, sfit_mat3_t 
  * (shifted sums). Writes the centred points to out (may alias in). */
 static sfit_status_t prv_centre_all(const sfit_vec3_t *in, size_t count, sfit_vec3_t *out)
 {
-    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS] = {0u};
+    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
     float ref[3], d[3];
     sfit_mat3_t sc;
     sfit_status_t st = SFIT_OK;
     size_t i;
     int k, l;
 
+    memset(seen, 0, sizeof seen);
     for (i = 0; i < count; i++) {
         sfit_status_t si = sfit_i_check_sample(in[i].v);
         if (si == SFIT_E_NONFINITE) {
@@ -353,7 +354,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit)
 {
-    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS] = {0u};
+    uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
     float xr[3], dx[3], pr[3], dp[3];
     float h[9], hmax, inv, e2, n;
     float v1[3], v2[3], v3[3], u1[3], u2[3], u3[3], a;
@@ -363,6 +364,7 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     size_t i, nseen = 0;
     int ii, jj;
 
+    memset(seen, 0, sizeof seen);
     if (cl == NULL || meas == NULL || pose == NULL || !prv_count_ok(cl->count)
         || count != (size_t)cl->count) {
         return SFIT_E_ARG;

@@ -185,6 +185,7 @@ static void fz_op_joint_init(fz_in_t *in)
     cfg.n_child = fz_u8(in) % (SFIT_JOINT_MAX_CHILD + 2u);
     fz_cfg_decode(in, &cfg.solve.fit, 0);
     cfg.solve.weight = (sfit_multi_weight_t)(fz_u8(in) % 3u);
+    cfg.noise_model = (sfit_joint_noise_t)(fz_u8(in) % 3u); /* 2 is invalid */
     before = fz_s.j;
     st = sfit_joint_init(&fz_s.j, &fz_s.cl, &cfg);
     FZ_CHECK(fz_status_defined(st), "joint_init: undefined status");
@@ -260,7 +261,7 @@ static void fz_op_solve(void)
     before = fz_s.j;
     memset(&res, FZ_SENTINEL, sizeof res);
     memset(radii, FZ_SENTINEL, sizeof radii);
-    st = sfit_joint_solve(&fz_s.j, &res, radii);
+    st = sfit_joint_fit(&fz_s.j, &res, radii);
     FZ_CHECK_OUT(st, res, "joint_solve result");
     FZ_CHECK_OUT(st, radii, "joint_solve radii");
     FZ_CHECK(memcmp(&before, &fz_s.j, sizeof before) == 0, "solve changed the state");
@@ -280,7 +281,7 @@ static void fz_op_center_at(fz_in_t *in)
     const uint32_t n = fz_s.j.parent.count % (FZ_MAXM + 1u);
     sfit_status_t st;
     memset(&res, 0, sizeof res);
-    if (sfit_joint_solve(&fz_s.j, &res, NULL) != SFIT_OK) {
+    if (sfit_joint_fit(&fz_s.j, &res, NULL) != SFIT_OK) {
         res.fit.center.v[0] = fz_float(in); /* a result that is not a solve's */
         res.fit.axis.v[2] = fz_float(in);
     }
@@ -331,8 +332,8 @@ static void fz_op_nulls(void)
     FZ_CHECK(sfit_joint_add(NULL, x, 4, x, 1, NULL) == SFIT_E_ARG, "add NULL");
     FZ_CHECK(sfit_joint_add(&fz_s.j, NULL, 4, x, 1, NULL) == SFIT_E_ARG, "add NULL parent");
     FZ_CHECK(sfit_joint_add(&fz_s.j, x, 4, NULL, 1, NULL) == SFIT_E_ARG, "add NULL child");
-    FZ_CHECK(sfit_joint_solve(NULL, &res, NULL) == SFIT_E_ARG, "solve NULL");
-    FZ_CHECK(sfit_joint_solve(&fz_s.j, NULL, NULL) == SFIT_E_ARG, "solve NULL out");
+    FZ_CHECK(sfit_joint_fit(NULL, &res, NULL) == SFIT_E_ARG, "solve NULL");
+    FZ_CHECK(sfit_joint_fit(&fz_s.j, NULL, NULL) == SFIT_E_ARG, "solve NULL out");
     FZ_CHECK(sfit_joint_center_at(NULL, &res, x, 4, &c, NULL) == SFIT_E_ARG, "center_at NULL");
     FZ_CHECK(sfit_joint_center_at(&fz_s.j, NULL, x, 4, &c, NULL) == SFIT_E_ARG, "center_at NULL res");
     FZ_CHECK(sfit_joint_center_at(&fz_s.j, &res, x, 4, NULL, NULL) == SFIT_E_ARG, "center_at NULL c");

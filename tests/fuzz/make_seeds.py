@@ -421,7 +421,7 @@ def j_add(k, nc=3, par_sel=None, chi_sel=None):
 
 def joint_seeds():
     s = {}
-    base = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 3, 0, 0])
+    base = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 3, 0, 0, 0])
     ball = base + b"".join(j_add(k) for k in range(60))
     s["ball"] = ball + bytes([J_SOLVE, J_CENTER_AT]) + j_motion(2, 40) + bytes([2, 2, 2, 2]) + bytes([J_NULLS])
     s["occluded"] = base + b"".join(
@@ -434,11 +434,13 @@ def joint_seeds():
     s["garbage"] = ball + bytes([J_GARBAGE, 1, 0, 0, 4, 255, 255, 255, 255]) + j_add(61) + bytes([J_SOLVE]) \
         + bytes([J_GARBAGE, 0, 0, 0, 4, 0, 0, 192, 127]) + bytes([J_REGISTER, 0]) + j_motion(1, 9) + bytes([2, 2, 2, 2])
     frames = bytes([J_TPL_FRAMES, 3, 4]) + b"".join(j_motion(k, 20 * k) + bytes([2, 2, 2, 2]) for k in range(3))
-    s["frames"] = j_tpl_init(J_TPL) + frames + bytes([J_JOINT_INIT, 3, 0, 0]) + b"".join(j_add(k) for k in range(30)) \
+    s["frames"] = j_tpl_init(J_TPL) + frames + bytes([J_JOINT_INIT, 3, 0, 0, 0]) + b"".join(j_add(k) for k in range(30)) \
         + bytes([J_SOLVE])
-    s["hinge_planar"] = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 2, 2, 0]) \
+    s["hinge_planar"] = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 2, 2, 0, 0]) \
         + b"".join(bytes([J_ADD, 0]) + j_motion(k % 8, 17 * k) + j_motion(2, 3 * k) + bytes([2] * 4) + bytes([6, 1, 2, 3, 6, 4, 5, 6])
                    for k in range(40)) + bytes([J_SOLVE, J_CENTER_AT]) + j_motion(0, 1) + bytes([2, 2, 2, 2])
+    s["marker_noise"] = j_tpl_init(J_TPL) + bytes([J_JOINT_INIT, 3, 4]) + f(0.25) + bytes([0, 1]) \
+        + b"".join(j_add(k) for k in range(40)) + bytes([J_SOLVE])
     return s
 
 

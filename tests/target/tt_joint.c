@@ -222,7 +222,7 @@ void tt_joint(void)
             xs[i] = &tt_xs[i][0][0];
             ns[i] = TT_JF;
         }
-        if (TT_EQ_INT(sfit_joint_solve(&j, &res, radii), SFIT_OK)
+        if (TT_EQ_INT(sfit_joint_fit(&j, &res, radii), SFIT_OK)
             && TT_EQ_INT(ref_fit_multi(xs, ns, TT_JC, NULL, c, radii_ref), 0)) {
             for (k = 0; k < 3; k++) {
                 TT_NEAR(res.fit.center.v[k], c[k], 2e-2);
@@ -271,6 +271,6 @@ void tt_joint(void)
         TT_EQ_INT(sfit_joint_add(&j, p, TT_JP, ch, TT_JC + 1, NULL), SFIT_E_ARG);
         TT_TRUE(memcmp(&before, &j, sizeof j) == 0);
         j.frames = 1u; /* garbage counter */
-        TT_EQ_INT(sfit_joint_solve(&j, &res, NULL), SFIT_E_ARG);
+        TT_EQ_INT(sfit_joint_fit(&j, &res, NULL), SFIT_E_ARG);
     }
 }

@@ -164,7 +164,7 @@ static sfit_status_t estimate_noise(const sfit_vec3_t *keep, const size_t *nkeep
     int k;
     for (k = 0; k < nc; k++) {
         sfit_selfcal_result_t sc;
-        if (sfit_selfcal_fit(keep + (size_t)k * stride, nkeep[k], NULL, &sc) == SFIT_OK
+        if (sfit_points_selfcal(keep + (size_t)k * stride, nkeep[k], NULL, &sc) == SFIT_OK
             && (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) == 0u) {
             sum += (double)sc.noise_var * (double)nkeep[k];
             w += (double)nkeep[k];
@@ -220,7 +220,8 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     out->template_frames = (unsigned long)used_tpl;
     cfg.n_child = (uint32_t)nc;
     cfg.solve.fit.mode = o->mode;
-    if (o->noise == 1) {
+    if (o->noise == 1) { /* the measured markers' noise, propagated by the library */
+        cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
         cfg.solve.fit.noise = SFIT_NOISE_ISO;
         cfg.solve.fit.noise_var = o->noise_var;
         out->has_noise = 1;
@@ -257,7 +258,7 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     }
     (void)feed(fr, np, nc, first, last, out, NULL, NULL);
     out->stage = "solve";
-    st = sfit_joint_solve(&out->j, &out->res, out->radii);
+    st = sfit_joint_fit(&out->j, &out->res, out->radii);
     return out->st = st;
 }
 

@@ -23,7 +23,8 @@ typedef struct cli_joint_opts {
     long first, last;   /**< frames used, inclusive, 0-based (clamped to the file) */
     sfit_mode_t mode;   /**< auto, sphere or planar */
     int noise;          /**< 0 none (MGDK), 1 given (noise_var), 2 auto (estimated) */
-    float noise_var;    /**< sigma^2 per axis (unit^2) when noise == 1 */
+    float noise_var;    /**< noise == 1: sigma^2 per coordinate of every measured marker
+                             (unit^2), SFIT_JOINT_NOISE_MARKER */
 } cli_joint_opts_t;
 
 /** Everything a joint run produces. */
@@ -73,8 +74,10 @@ void cli_joint_opts_default(cli_joint_opts_t *o);
 /** The usage lines of the shared joint options. */
 #define CLI_JOINT_USAGE                                                                     \
     "  --frames F:L     use frames F to L (0-based, both included; default: all)\n"        \
-    "  --noise-var V    unbiased MGDK with the child markers' noise variance V (unit^2)\n"  \
-    "  --noise-var auto V estimated per child marker (self-calibrated UGDK), pooled\n"     \
+    "  --noise-var V    unbiased MGDK; V = noise variance of each measured marker\n"       \
+    "                   coordinate (unit^2), propagated through the parent pose\n"        \
+    "  --noise-var auto the child markers' noise in the parent frame, estimated per\n"   \
+    "                   marker (self-calibrated UGDK) and pooled\n"                       \
     "  --mode M         auto (default): ball joint, or hinge when the markers' arcs are\n" \
     "                   near-planar; sphere / planar force one\n"
 

@@ -220,8 +220,9 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
            (double)jo->res.residual_mean, (double)jo->res.residual_max, u);
     if (jo->has_noise) {
         printf("noise var    %.6g %s^2 (%s)\n", (double)jo->noise_var, u,
-               jo->noise_estimated ? "estimated: self-calibrated UGDK per marker, pooled"
-                                   : "given");
+               jo->noise_estimated
+                   ? "child markers in the parent frame, estimated: self-calibrated UGDK, pooled"
+                   : "given, per marker coordinate; propagated through the parent pose");
     }
     printf("eigenvalues  %.6g %.6g %.6g (of sum_p w_p C_p)\n", (double)r->eigenvalues.v[0],
            (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2]);

@@ -17,7 +17,7 @@
  * joint centre, so each draws a sphere (ball joint) or a circle (hinge) and
  * the common centre is the multi-marker solve of sfit_multi.h (MGDK,
  * unbiased MGDK, planar with its axis). Memory is O(1) per marker whatever
- * the number of frames; sfit_joint_solve() can be called at any time.
+ * the number of frames; sfit_joint_fit() can be called at any time.
  *
  * The centre and axis are in the parent's template frame. For a trajectory,
  * sfit_joint_center_at() registers a frame and maps them back to the
@@ -31,7 +31,8 @@
  * Noise: the noise model of the solve (cfg.solve.fit.noise) is the noise of
  * a child marker expressed in the parent frame, i.e. the marker noise plus
  * the part due to the parent pose error (docs/joint.md gives the first-order
- * expression).
+ * expression); with cfg.noise_model = SFIT_JOINT_NOISE_MARKER the caller
+ * gives the marker noise and the solve propagates it (sfit_joint_noise_cov()).
  */
 #ifndef SFIT_JOINT_H
 #define SFIT_JOINT_H
@@ -49,14 +50,27 @@
 extern "C" {
 #endif
 
+/** @brief What the noise options of the solve describe. */
+typedef enum sfit_joint_noise {
+    SFIT_JOINT_NOISE_SOLVE = 0,  /**< cfg.solve.fit is used as given: its Sigma_hat is the
+                                      noise of a child marker in the parent frame. */
+    SFIT_JOINT_NOISE_MARKER = 1  /**< cfg.solve.fit.noise must be SFIT_NOISE_ISO and
+                                      noise_var is the variance of each coordinate of every
+                                      measured marker (parent and child); the solve uses its
+                                      propagation through the parent pose,
+                                      sfit_joint_noise_cov(), as Sigma_hat. */
+} sfit_joint_noise_t;
+
 /** @brief Options of a joint. Start from ::sfit_joint_cfg_default. */
 typedef struct sfit_joint_cfg {
     uint32_t n_child;        /**< Child markers, 1..SFIT_JOINT_MAX_CHILD. */
     sfit_multi_cfg_t solve;  /**< Multi-marker solve: mode (auto/sphere/planar),
                                   noise model, marker weights. */
+    sfit_joint_noise_t noise_model; /**< Meaning of the solve's noise options. */
 } sfit_joint_cfg_t;
 
-/** @brief Defaults: 1 child marker, ::sfit_multi_cfg_default (auto, MGDK). */
+/** @brief Defaults: 1 child marker, ::sfit_multi_cfg_default (auto, MGDK),
+ * SFIT_JOINT_NOISE_SOLVE. */
 extern const sfit_joint_cfg_t sfit_joint_cfg_default;
 
 /**
@@ -144,18 +158,42 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  * @retval SFIT_E_DEGENERATE  as the multi-marker solve (coincident/collinear, or
  *                            singular sphere system)
  * @retval SFIT_E_NOT_POSDEF  as the multi-marker solve (noise-compensated system)
+ * @retval SFIT_E_TOO_FEW     (also) SFIT_JOINT_NOISE_MARKER with no child marker
+ *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
  * @par Cost the multi-marker solve over cfg.n_child markers.
  */
-sfit_status_t sfit_joint_solve(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
+sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
+
+/**
+ * @brief Noise covariance of a child marker in the parent frame, to first
+ * order, for isotropic noise of variance @p marker_var on every coordinate
+ * of every measured marker:
+ *   marker_var ((1 + 1/P) I + mean [y]x J^-1 [y]x^T),
+ * P the parent's marker count, J = sum_i (|p_i|^2 I - p_i p_i^T) over the
+ * template centred on its centroid, y a child sample relative to that
+ * centroid; the mean is over each child marker's samples (from its moments:
+ * E[y y^T] = m m^T + (N-1)/N C), then over the markers with samples, equally
+ * weighted. The rotation term grows with the lever arm |y| (docs/joint.md).
+ * Occlusion of parent markers is not modelled (all P assumed seen).
+ * @param[in]  j           State.
+ * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
+ * @param[out] cov         Covariance (symmetric); written only on SFIT_OK.
+ * @retval SFIT_OK         success
+ * @retval SFIT_E_ARG      NULL j/cov, garbage counters, or marker_var negative or not finite
+ * @retval SFIT_E_TOO_FEW  no child marker has 2 samples
+ * @retval SFIT_E_RANGE    the result would not be finite
+ * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
+ */
+sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit_mat3_t *cov);
 
 /**
  * @brief The joint centre (and axis) in the global frame for one frame:
  * registers the parent markers of that frame with the joint's template and
  * maps the result's centre (and axis) back.
  * @param[in]  j         State (its template is used).
- * @param[in]  res       A result of sfit_joint_solve().
+ * @param[in]  res       A result of sfit_joint_fit().
  * @param[in]  parent    That frame's parent markers (global); NaN = occluded.
  * @param[in]  n_parent  Must equal the template's marker count.
  * @param[out] center    Centre in the global frame; written only on SFIT_OK.
