@@ -685,6 +685,11 @@ static void test_statuses(void **state)
     mv[1] = tv[1];
     mv[1].v[0] = 2e9f;
     assert_int_equal(sfit_cluster_register(&cl, mv, 4, &pose, &fit), SFIT_E_RANGE);
+    mv[0].v[0] = NAN; /* status rule: TOO_FEW before RANGE */
+    mv[3].v[0] = NAN;
+    assert_int_equal(sfit_cluster_register(&cl, mv, 4, &pose, &fit), SFIT_E_TOO_FEW);
+    mv[0] = tv[0];
+    mv[3] = tv[3];
     mv[1] = tv[1];
     /* measured markers collinear */
     assert_int_equal(sfit_cluster_register(&cl, lv, 4, &pose, &fit), SFIT_E_DEGENERATE);

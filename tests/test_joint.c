@@ -779,6 +779,12 @@ static void test_reject_unchanged(void **state)
     REJECT(sfit_joint_add(&g_j, par, P, chi, K, &pose), SFIT_E_NONFINITE);
     chi[3].v[1] = 3e9f;
     REJECT(sfit_joint_add(&g_j, par, P, chi, K, &pose), SFIT_E_RANGE);
+    /* the status rule's order: TOO_FEW before RANGE before DEGENERATE */
+    REJECT(sfit_joint_add(&g_j, col, P, chi, K, &pose), SFIT_E_RANGE);
+    par[0].v[0] = NAN;
+    par[2].v[1] = NAN;
+    REJECT(sfit_joint_add(&g_j, par, P, chi, K, &pose), SFIT_E_TOO_FEW);
+    memcpy(par, g_parf[20], sizeof par);
     memcpy(chi, g_chif[20], sizeof chi);
     /* arguments */
     REJECT(sfit_joint_add(&g_j, NULL, P, chi, K, &pose), SFIT_E_ARG);
@@ -998,7 +1004,7 @@ static void test_noise_cov(void **state)
     assert_int_equal(sfit_joint_noise_cov(NULL, 0.25f, &cov), SFIT_E_ARG);
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_noise_cov(&g_j, -1.0f, &cov), SFIT_E_ARG);
-    assert_int_equal(sfit_joint_noise_cov(&g_j, NAN, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_noise_cov(&g_j, NAN, &cov), SFIT_E_NONFINITE);
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);

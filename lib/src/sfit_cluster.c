@@ -390,11 +390,11 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         seen[i] = 1u;
         nseen++;
     }
+    if (nseen < 3u) {
+        return SFIT_E_TOO_FEW; /* the status rule: TOO_FEW before RANGE */
+    }
     if (st != SFIT_OK) {
         return st;
-    }
-    if (nseen < 3u) {
-        return SFIT_E_TOO_FEW;
     }
     prv_centroid(meas, count, seen, xr, dx);
     prv_centroid(cl->pos, count, seen, pr, dp);

@@ -183,7 +183,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
     uint8_t seen[SFIT_JOINT_MAX_CHILD];
     sfit_pose_t ps;
     sfit_cluster_fit_t fit;
-    sfit_status_t st;
+    sfit_status_t st, child_st = SFIT_OK;
     size_t i;
     float nf;
 
@@ -196,19 +196,31 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
     if (j->frames == UINT32_MAX) {
         return SFIT_E_RANGE;
     }
-    /* Child coordinates first: Inf or out of range rejects the frame. */
+    /* Child coordinates: Inf rejects the frame at once; out of range is
+     * reported in the order of the status rule (after the parent's
+     * NONFINITE and TOO_FEW, before its DEGENERATE). */
     for (i = 0; i < n_child; i++) {
+        sfit_status_t si;
         seen[i] = 0u;
         if (prv_has_nan(child[i].v)) {
             continue;
         }
-        st = sfit_i_check_sample(child[i].v);
-        if (st != SFIT_OK) {
-            return st;
+        si = sfit_i_check_sample(child[i].v);
+        if (si == SFIT_E_NONFINITE) {
+            return si;
+        }
+        if (si != SFIT_OK) {
+            child_st = si;
         }
         seen[i] = 1u;
     }
     st = sfit_cluster_register(&j->parent, parent, n_parent, &ps, &fit);
+    if (st == SFIT_E_NONFINITE || st == SFIT_E_TOO_FEW || st == SFIT_E_ARG) {
+        return st;
+    }
+    if (child_st != SFIT_OK) {
+        return child_st;
+    }
     if (st != SFIT_OK) {
         return st;
     }
@@ -393,8 +405,13 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
     float pb[3], np;
     int a, b;
 
-    if (j == NULL || cov == NULL || !prv_state_ok(j) || !sfit_i_isfinite(marker_var)
-        || marker_var < 0.0f) {
+    if (j == NULL || cov == NULL || !prv_state_ok(j)) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(marker_var)) {
+        return SFIT_E_NONFINITE;
+    }
+    if (marker_var < 0.0f) {
         return SFIT_E_ARG;
     }
     if (prv_inertia_inv(&j->parent, pb, &ji) != SFIT_OK) {

@@ -29,11 +29,15 @@
 #if SFIT_GATE_WARMUP != 32 || SFIT_GATE_MIN_WINDOW != 20u || SFIT_GATE_MAX_REJECT_PCT != 30u
 #error "user configuration not seen (gate knobs)"
 #endif
+#if SFIT_CLUSTER_MAX_MARKERS != 12 || SFIT_JOINT_MAX_CHILD != 6
+#error "user configuration not seen (cluster / joint knobs)"
+#endif
 
 /* The float knobs, read once so that a typo in a default is compiled. */
 float sfit_test_float_knobs(void);
 float sfit_test_float_knobs(void)
 {
     return SFIT_CHOL_PIVOT_EPS + SFIT_PLANAR_RATIO + SFIT_COLLINEAR_RATIO + SFIT_COINCIDENT_ULPS
-           + SFIT_SELFCAL_REL_TOL + SFIT_SELFCAL_MAX_TRUST + SFIT_REFINE_TOL + SFIT_GATE_K;
+           + SFIT_SELFCAL_REL_TOL + SFIT_SELFCAL_MAX_TRUST + SFIT_REFINE_TOL + SFIT_GATE_K
+           + SFIT_CLUSTER_COLLINEAR_RATIO;
 }

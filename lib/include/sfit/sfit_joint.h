@@ -6,33 +6,21 @@
  * @defgroup sfit_joint Functional joint centre
  * @{
  *
- * Frames, conventions and the derivation: docs/joint.md.
+ * A parent segment carries a rigid cluster (template, sfit_cluster.h); a
+ * child segment carries 1..SFIT_JOINT_MAX_CHILD markers. Each frame
+ * (sfit_joint_add) registers the parent, maps every child marker into the
+ * parent's template frame and adds it to that marker's moments accumulator
+ * (O(1) memory per marker). sfit_joint_fit() is the multi-marker fit
+ * (sfit_multi.h) of those accumulators: the joint centre (ball) or the
+ * hinge axis and a centre on it, in the parent's template frame; it leaves
+ * the state unchanged and can be called at any time.
+ * sfit_joint_center_at() gives the centre in the global frame of one frame.
  *
- * A joint links a parent segment (a rigid cluster of markers with a
- * template, sfit_cluster.h) and a child segment (K markers,
- * 1..SFIT_JOINT_MAX_CHILD). For each frame, sfit_joint_add() registers the
- * parent (pose R, t), maps each child marker into the parent (template)
- * frame, x_p = R^T (x - t), and adds it to that marker's moments
- * accumulator. In the parent frame a child marker turns about the fixed
- * joint centre, so each draws a sphere (ball joint) or a circle (hinge) and
- * the common centre is the multi-marker solve of sfit_multi.h (MGDK,
- * unbiased MGDK, planar with its axis). Memory is O(1) per marker whatever
- * the number of frames; sfit_joint_fit() can be called at any time.
+ * A rejected frame leaves the state bit for bit unchanged (so rejected
+ * frames are not counted in the state). A child marker with a NaN
+ * coordinate is skipped for that frame only.
  *
- * The centre and axis are in the parent's template frame. For a trajectory,
- * sfit_joint_center_at() registers a frame and maps them back to the
- * global (lab) frame.
- *
- * Rejected frames (parent not registrable, a non-finite or out-of-range
- * value) leave the state bit for bit unchanged, so the state does not count
- * them: count the calls that did not return SFIT_OK. A child marker with a
- * NaN coordinate in an accepted frame is skipped for that marker only.
- *
- * Noise: the noise model of the solve (cfg.solve.fit.noise) is the noise of
- * a child marker expressed in the parent frame, i.e. the marker noise plus
- * the part due to the parent pose error (docs/joint.md gives the first-order
- * expression); with cfg.noise_model = SFIT_JOINT_NOISE_MARKER the caller
- * gives the marker noise and the solve propagates it (sfit_joint_noise_cov()).
+ * Frames, conventions, derivation and notes: docs/joint.md
  */
 #ifndef SFIT_JOINT_H
 #define SFIT_JOINT_H
@@ -133,14 +121,15 @@ sfit_status_t sfit_joint_reset(sfit_joint_t *j);
  * @retval SFIT_OK            frame accepted
  * @retval SFIT_E_ARG         NULL j/parent/child, a count mismatch, or garbage
  *                            counters in the state
- * @retval SFIT_E_TOO_FEW     fewer than 3 parent markers seen
- * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
  * @retval SFIT_E_NONFINITE   a parent or child coordinate is +-Inf
+ * @retval SFIT_E_TOO_FEW     fewer than 3 parent markers seen
  * @retval SFIT_E_RANGE       a coordinate (global or mapped) >= 2^SFIT_COORD_MAX_EXP,
  *                            or a counter is full
+ * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost one sfit_cluster_register(), then per seen child marker one
- * sfit_pose_to_segment() and one sfit_moments_add() (docs/cost.md, "joint_frame").
+ * @par Cost 4 parent + 5 child markers: 1242 FLOPs, 6535 M4F instructions per
+ * frame, amortised (tools/flopcount "joint_frame"); 45 FLOPs per further child
+ * marker ("joint_per_child").
  */
 sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t n_parent,
                              const sfit_vec3_t *child, size_t n_child, sfit_pose_t *pose);
@@ -162,7 +151,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost the multi-marker solve over cfg.n_child markers.
+ * @par Cost 5 child markers: 942 FLOPs, 5958 M4F instructions (tools/flopcount "joint_fit").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
@@ -181,8 +170,9 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
  * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
  * @param[out] cov         Covariance (symmetric); written only on SFIT_OK.
  * @retval SFIT_OK         success
- * @retval SFIT_E_ARG      NULL j/cov, garbage counters, or marker_var negative or not finite
- * @retval SFIT_E_TOO_FEW  no child marker has 2 samples
+ * @retval SFIT_E_ARG        NULL j/cov, garbage counters, or marker_var negative
+ * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
+ * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
  * @retval SFIT_E_RANGE    the result would not be finite
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
@@ -202,7 +192,8 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
  * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_TOO_FEW, SFIT_E_DEGENERATE, SFIT_E_NONFINITE,
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
  *         (SFIT_E_ARG also for a NULL res/center or garbage counters)
- * @par Cost one sfit_cluster_register() + one sfit_pose_to_global().
+ * @par Cost 4 parent markers: 1047 FLOPs, 5274 M4F instructions (tools/flopcount
+ * "joint_center_at").
  */
 sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,
                                    const sfit_vec3_t *parent, size_t n_parent,
