@@ -187,6 +187,16 @@ static int pts_get(PyObject *obj, pts_t *p, const char *what, int allow_one)
         return -1;
     }
     nd = PyArray_NDIM(any);
+    if (nd == 1 && PyArray_DIM(any, 0) == 0) { /* [] : no samples */
+        npy_intp dims[2] = {0, 3};
+        Py_DECREF(any);
+        p->arr = (PyArrayObject *)PyArray_ZEROS(2, dims, NPY_FLOAT32, 0);
+        if (p->arr == NULL) {
+            return -1;
+        }
+        p->v = (const sfit_vec3_t *)PyArray_DATA(p->arr);
+        return 0;
+    }
     if (!((nd == 2 && PyArray_DIM(any, 1) == 3) || (allow_one && nd == 1 && PyArray_DIM(any, 0) == 3))) {
         PyObject *shape = PyObject_GetAttrString((PyObject *)any, "shape");
         Py_DECREF(any);
@@ -948,7 +958,8 @@ static PyObject *Moments_reset(MomentsObject *self, PyObject *unused)
 
 static PyObject *Moments_copy(MomentsObject *self, PyObject *unused)
 {
-    MomentsObject *c = PyObject_New(MomentsObject, &MomentsType);
+    /* same (sub)type as self */
+    MomentsObject *c = (MomentsObject *)PyObject_CallNoArgs((PyObject *)Py_TYPE(self));
     (void)unused;
     if (c != NULL) {
         c->m = self->m;
