@@ -77,7 +77,8 @@ class _Record:
     def to_dict(self) -> dict:
         """The fields as a dict (arrays are copied)."""
         return {k: (v.copy() if isinstance(v, _np.ndarray) else v)
-                for k, v in ((k, getattr(self, k)) for k in self.__slots__)}
+                for k, v in ((k, getattr(self, k)) for k in self.__slots__)
+                if not k.startswith("_")}
 
     def __repr__(self):
         parts = []
@@ -386,3 +387,139 @@ def uncertainty(points, center, radius=None, noise_var=None) -> Uncertainty:
     if radius is None:
         raise _arg_error("uncertainty: radius is needed with noise_var")
     return Uncertainty(_sfit.uncertainty(points, center, float(radius), noise_var))
+
+
+# ---------------------------------------------------------------------------
+# Functional joint centre (present when the C library has sfit_joint.h)
+# ---------------------------------------------------------------------------
+
+class Pose(_Record):
+    """A rigid pose x_global = rotation @ x_segment + translation: rotation
+    (3, 3) proper (det +1), translation (3,), rms (registration residual over
+    the markers used), used (markers seen)."""
+
+    __slots__ = ("rotation", "translation", "rms", "used")
+    _repr_fields = __slots__
+
+    def to_global(self, points):
+        """Map (..., 3) segment-frame points to the global frame (float64)."""
+        return _np.asarray(points, dtype=_np.float64) @ self.rotation.T + self.translation
+
+    def to_segment(self, points):
+        """Map (..., 3) global points to the segment frame (float64)."""
+        return (_np.asarray(points, dtype=_np.float64) - self.translation) @ self.rotation
+
+
+class JointResult(_Record):
+    """A functional joint centre.
+
+    center, axis, eigenvalues: in the parent's template (segment) frame;
+    radii (K,): each child marker's radius (distance to the axis for a
+    hinge; 0 for a marker skipped for too few samples); marker_n (K,);
+    n, markers, skipped, trust_ratio, leontief_ratio, flags, flags_mask,
+    method, mode (as MultiResult); frames (accepted), rejected_frames,
+    residual_mean / residual_max (parent registration RMS). From
+    :func:`joint_center` also: center_global (F, 3) and axis_global (F, 3)
+    (NaN in frames whose parent cannot be registered), valid (F,) bool,
+    cluster (the parent template used).
+    """
+
+    __slots__ = ("center", "axis", "eigenvalues", "radii", "marker_n", "n", "markers",
+                 "skipped", "trust_ratio", "leontief_ratio", "flags", "flags_mask", "method",
+                 "mode", "frames", "rejected_frames", "residual_mean", "residual_max",
+                 "center_global", "axis_global", "valid", "cluster", "_raw")
+    _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
+
+
+if hasattr(_sfit, "Joint"):
+    CLUSTER_MAX_MARKERS = _sfit.CLUSTER_MAX_MARKERS
+    JOINT_MAX_CHILD = _sfit.JOINT_MAX_CHILD
+
+    class Cluster(_sfit.Cluster):
+        """Template of a rigid marker cluster (3..CLUSTER_MAX_MARKERS markers).
+
+        ``Cluster(template)`` takes (M, 3) positions in the segment frame;
+        ``Cluster.from_frames(frames)`` builds one from measured frames
+        ((M, 3) or (F, M, 3), NaN = occluded; segment frame = centroid origin,
+        global axes of the first complete frame). ``register(frame)`` gives
+        the least-squares :class:`Pose` of one (M, 3) frame (NaN markers skipped).
+        """
+
+        __slots__ = ()
+
+        @classmethod
+        def from_frames(cls, frames) -> "Cluster":
+            """Template averaged over measured frames (frames_used tells how many)."""
+            return cls._from_frames(frames)
+
+        def register(self, frame) -> Pose:
+            """Pose of the template on one (M, 3) measured frame."""
+            return Pose(self._register(frame))
+
+    class Joint(_sfit.Joint):
+        """Streaming functional joint centre: register the parent cluster in
+        every frame, express the child markers in the parent frame, accumulate
+        one moments state per child marker, solve the common centre (MGDK).
+
+        ``Joint(parent: Cluster, n_child, noise_var=None, noise_cov=None,
+        mode="auto", weight="equal")``; ``add(parent, child)`` one frame
+        ((Mp, 3), (K, 3)) or many ((F, Mp, 3), (F, K, 3)), NaN = occluded,
+        returns the frames accepted (frames whose parent cannot be registered
+        are skipped and counted in ``rejected_frames``); ``solve()``;
+        ``center_at(result, parent_frames)``; ``frames``; ``reset()``.
+        """
+
+        __slots__ = ()
+
+        def add(self, parent, child) -> int:
+            """Add one frame or F frames; returns how many were accepted."""
+            return self._add(parent, child)
+
+        def solve(self) -> JointResult:
+            """The joint centre from the frames so far (parent template frame)."""
+            return JointResult(self._solve())
+
+        fit = solve
+
+        def center_at(self, result: JointResult, parent):
+            """Centre and axis in the global frame, per frame of ``parent``
+            ((Mp, 3) or (F, Mp, 3)): (centers (F, 3), axes (F, 3), valid (F,));
+            NaN rows where the parent cannot be registered."""
+            return self._center_at(result._raw, parent)
+
+    def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
+                     weight="equal") -> JointResult:
+        """Functional joint centre from trajectories.
+
+        Args:
+            parent: (F, Mp, 3) parent-segment markers (global frame), NaN = occluded.
+            child: (F, K, 3) child-segment markers, NaN = occluded.
+            template: None (built from the parent frames, Cluster.from_frames),
+                a Cluster, or (Mp, 3) positions in the parent's segment frame.
+            noise_var, noise_cov, mode, weight: as :func:`fit_multi`.
+
+        Returns:
+            JointResult (centre in the parent frame) with center_global and
+            axis_global (F, 3) per frame (NaN where the parent is not
+            registrable) and valid (F,).
+        """
+        if template is None:
+            cl = Cluster.from_frames(parent)
+        elif isinstance(template, _sfit.Cluster):
+            cl = template
+        else:
+            cl = Cluster(template)
+        child_arr = _np.asarray(child)
+        k = child_arr.shape[1] if child_arr.ndim == 3 else -1
+        if k < 1:
+            raise _arg_error("joint_center: child must be (frames, markers, 3)")
+        j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight)
+        j.add(parent, child_arr)
+        res = j.solve()
+        c, a, v = j.center_at(res, parent)
+        d = {k2: getattr(res, k2) for k2 in JointResult.__slots__}
+        d.update(center_global=c, axis_global=a, valid=v, cluster=cl)
+        return JointResult(d)
+
+    __all__ += ["Cluster", "Joint", "Pose", "JointResult", "joint_center",
+                "CLUSTER_MAX_MARKERS", "JOINT_MAX_CHILD"]

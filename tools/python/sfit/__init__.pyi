@@ -169,3 +169,73 @@ def refine(points: ArrayLike, center: ArrayLike, max_iters: int = 0,
            tol: float = 0.0) -> RefineResult: ...
 def uncertainty(points: ArrayLike, center: ArrayLike, radius: Optional[float] = None,
                 noise_var: Optional[float] = None) -> Uncertainty: ...
+
+# Joint-centre API (present when the C library has sfit_joint.h)
+CLUSTER_MAX_MARKERS: int
+JOINT_MAX_CHILD: int
+
+class Pose:
+    rotation: Mat3
+    translation: Vec3
+    rms: float
+    used: int
+    def to_global(self, points: ArrayLike) -> npt.NDArray[np.float64]: ...
+    def to_segment(self, points: ArrayLike) -> npt.NDArray[np.float64]: ...
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Cluster:
+    def __init__(self, template: ArrayLike) -> None: ...
+    @classmethod
+    def from_frames(cls, frames: ArrayLike) -> Cluster: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def frames_used(self) -> int: ...
+    def register(self, frame: ArrayLike) -> Pose: ...
+
+class JointResult:
+    center: Vec3
+    axis: Vec3
+    eigenvalues: Vec3
+    radii: npt.NDArray[np.float64]
+    marker_n: npt.NDArray[np.int64]
+    n: int
+    markers: int
+    skipped: int
+    trust_ratio: float
+    leontief_ratio: float
+    flags: list[str]
+    flags_mask: int
+    method: Literal["gdke", "ugdk"]
+    mode: Literal["sphere", "planar"]
+    frames: int
+    rejected_frames: int
+    residual_mean: float
+    residual_max: float
+    center_global: Optional[npt.NDArray[np.float64]]
+    axis_global: Optional[npt.NDArray[np.float64]]
+    valid: Optional[npt.NDArray[np.bool_]]
+    cluster: Optional[Cluster]
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Joint:
+    def __init__(self, parent: Cluster, n_child: int, noise_var: Optional[float] = None,
+                 noise_cov: Optional[ArrayLike] = None, mode: Mode = "auto",
+                 weight: Literal["equal", "samples"] = "equal",
+                 planar_ratio: float = 0.0) -> None: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def rejected_frames(self) -> int: ...
+    def add(self, parent: ArrayLike, child: ArrayLike) -> int: ...
+    def solve(self) -> JointResult: ...
+    def fit(self) -> JointResult: ...
+    def center_at(self, result: JointResult, parent: ArrayLike
+                  ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
+    def reset(self) -> None: ...
+
+def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Cluster, ArrayLike] = None,
+                 noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
+                 mode: Mode = "auto", weight: Literal["equal", "samples"] = "equal") -> JointResult: ...

@@ -30,6 +30,19 @@
 
 #include "sfit/sfit.h"
 
+/* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
+ * library has it. */
+#if defined(__has_include)
+#if __has_include("sfit/sfit_joint.h")
+#include "sfit/sfit_cluster.h"
+#include "sfit/sfit_joint.h"
+#define SFIT_PY_HAVE_JOINT 1
+#endif
+#endif
+#ifndef SFIT_PY_HAVE_JOINT
+#define SFIT_PY_HAVE_JOINT 0
+#endif
+
 /* ------------------------------------------------------------------------ */
 /* Exceptions                                                               */
 /* ------------------------------------------------------------------------ */
@@ -420,6 +433,26 @@ static int result_into(PyObject *d, const sfit_result_t *r)
     return 0;
 }
 
+/* The fields of a sfit_multi_result_t into d. */
+static int multi_into(PyObject *d, const sfit_multi_result_t *r)
+{
+    if (put(d, "center", vec3_out(r->center.v)) < 0
+        || put(d, "n", PyLong_FromUnsignedLong((unsigned long)r->n_total)) < 0
+        || put(d, "markers", PyLong_FromUnsignedLong((unsigned long)r->markers)) < 0
+        || put(d, "skipped", PyLong_FromUnsignedLong((unsigned long)r->skipped)) < 0
+        || put(d, "eigenvalues", vec3_out(r->eigenvalues.v)) < 0
+        || put(d, "axis", vec3_out(r->axis.v)) < 0
+        || put(d, "trust_ratio", flt(r->trust_ratio)) < 0
+        || put(d, "leontief_ratio", flt(r->leontief_ratio)) < 0
+        || put(d, "flags", flag_names(r->flags, g_fit_flags)) < 0
+        || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r->flags)) < 0
+        || put(d, "method", PyUnicode_FromString(r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke")) < 0
+        || put(d, "mode", PyUnicode_FromString(mode_name(r->mode))) < 0) {
+        return -1;
+    }
+    return 0;
+}
+
 static int uncert_into(PyObject *d, const sfit_uncert_t *u)
 {
     if (put(d, "center_cov", sym6_out(u->center_cov)) < 0
@@ -549,6 +582,19 @@ static int cfg_get(PyObject *noise_var, PyObject *noise_cov, PyObject *mode, dou
         return -1;
     }
     cfg->planar_ratio = (float)planar_ratio;
+    return 0;
+}
+
+static int weight_get(const char *w, sfit_multi_weight_t *out)
+{
+    if (strcmp(w, "equal") == 0) {
+        *out = SFIT_MULTI_WEIGHT_EQUAL;
+    } else if (strcmp(w, "samples") == 0) {
+        *out = SFIT_MULTI_WEIGHT_SAMPLES;
+    } else {
+        raise_arg("weight must be 'equal' or 'samples', got '%s'", w);
+        return -1;
+    }
     return 0;
 }
 
@@ -762,12 +808,8 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
     if (cfg_get(noise_var, noise_cov, mode, planar_ratio, &mc.fit) < 0) {
         return NULL;
     }
-    if (strcmp(weight, "equal") == 0) {
-        mc.weight = SFIT_MULTI_WEIGHT_EQUAL;
-    } else if (strcmp(weight, "samples") == 0) {
-        mc.weight = SFIT_MULTI_WEIGHT_SAMPLES;
-    } else {
-        return raise_arg("weight must be 'equal' or 'samples', got '%s'", weight);
+    if (weight_get(weight, &mc.weight) < 0) {
+        return NULL;
     }
     if (PyArray_Check(markers) && PyArray_NDIM((PyArrayObject *)markers) != 3) {
         return raise_arg("fit_multi: markers must be a list of (N, 3) arrays or one (M, N, 3) array");
@@ -833,19 +875,7 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
         }
     }
     d = PyDict_New();
-    if (d == NULL || put(d, "center", vec3_out(r.center.v)) < 0
-        || put(d, "n", PyLong_FromUnsignedLong((unsigned long)r.n_total)) < 0
-        || put(d, "markers", PyLong_FromUnsignedLong((unsigned long)r.markers)) < 0
-        || put(d, "skipped", PyLong_FromUnsignedLong((unsigned long)r.skipped)) < 0
-        || put(d, "eigenvalues", vec3_out(r.eigenvalues.v)) < 0
-        || put(d, "axis", vec3_out(r.axis.v)) < 0
-        || put(d, "trust_ratio", flt(r.trust_ratio)) < 0
-        || put(d, "leontief_ratio", flt(r.leontief_ratio)) < 0
-        || put(d, "flags", flag_names(r.flags, g_fit_flags)) < 0
-        || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r.flags)) < 0
-        || put(d, "method", PyUnicode_FromString(r.method == SFIT_METHOD_UGDK ? "ugdk" : "gdke")) < 0
-        || put(d, "mode", PyUnicode_FromString(mode_name(r.mode))) < 0
-        || put(d, "weight", PyUnicode_FromString(weight)) < 0
+    if (d == NULL || multi_into(d, &r) < 0 || put(d, "weight", PyUnicode_FromString(weight)) < 0
         || put(d, "rejected", PyLong_FromLong(rejected)) < 0
         || PyDict_SetItemString(d, "radii", ra) < 0
         || PyDict_SetItemString(d, "marker_n", na) < 0
@@ -1614,6 +1644,498 @@ static PyObject *py_status_name(PyObject *self, PyObject *arg)
 }
 
 /* ------------------------------------------------------------------------ */
+/* Joint centre: Cluster and Joint (when the library has sfit_joint.h)      */
+/* ------------------------------------------------------------------------ */
+#if SFIT_PY_HAVE_JOINT
+
+/* A frame-major (F, M, 3) float32 view (or (M, 3) as one frame). */
+typedef struct frames {
+    PyArrayObject *arr;
+    const sfit_vec3_t *v;
+    size_t nframes, count;
+} frames_t;
+
+static int frames_get(PyObject *obj, frames_t *f, const char *what, int allow_one)
+{
+    PyArrayObject *any, *a;
+    char kind;
+    int nd;
+    f->arr = NULL;
+    any = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
+    if (any == NULL) {
+        PyErr_Clear();
+        raise_arg("%s: not an array of numbers", what);
+        return -1;
+    }
+    kind = PyArray_DESCR(any)->kind;
+    nd = PyArray_NDIM(any);
+    if (kind != 'f' && kind != 'i' && kind != 'u') {
+        Py_DECREF(any);
+        raise_arg("%s: not a real number type (use float32 or float64)", what);
+        return -1;
+    }
+    if (!((nd == 3 && PyArray_DIM(any, 2) == 3) || (allow_one && nd == 2 && PyArray_DIM(any, 1) == 3))) {
+        PyObject *shape = PyObject_GetAttrString((PyObject *)any, "shape");
+        Py_DECREF(any);
+        if (shape != NULL) {
+            raise_arg("%s: expected shape %s, got %R", what,
+                      allow_one ? "(markers, 3) or (frames, markers, 3)" : "(frames, markers, 3)",
+                      shape);
+            Py_DECREF(shape);
+        }
+        return -1;
+    }
+    a = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT32,
+                                          NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    Py_DECREF(any);
+    if (a == NULL) {
+        return -1;
+    }
+    f->arr = a;
+    f->v = (const sfit_vec3_t *)PyArray_DATA(a);
+    f->nframes = (nd == 3) ? (size_t)PyArray_DIM(a, 0) : 1u;
+    f->count = (size_t)PyArray_DIM(a, nd - 2);
+    return 0;
+}
+
+typedef struct {
+    PyObject_HEAD
+    sfit_cluster_t cl;
+    long frames_used;
+} ClusterObject;
+
+static PyTypeObject ClusterType;
+
+static int Cluster_init(ClusterObject *self, PyObject *args, PyObject *kw)
+{
+    static char *kwlist[] = {"template", NULL};
+    PyObject *tpl;
+    frames_t f;
+    sfit_status_t st;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O", kwlist, &tpl)
+        || frames_get(tpl, &f, "Cluster(template)", 1) < 0) {
+        return -1;
+    }
+    if (f.nframes != 1u) {
+        Py_DECREF(f.arr);
+        raise_arg("Cluster(template): expected one (markers, 3) array");
+        return -1;
+    }
+    st = sfit_cluster_init(&self->cl, f.v, f.count);
+    Py_DECREF(f.arr);
+    if (st != SFIT_OK) {
+        raise_status(st, "Cluster", -1, -1);
+        return -1;
+    }
+    self->frames_used = 1;
+    return 0;
+}
+
+/* Cluster._from_frames(frames): a template from one (M, 3) or several
+ * (F, M, 3) measured frames (NaN = occluded). */
+static PyObject *Cluster_from_frames(PyObject *cls, PyObject *arg)
+{
+    frames_t f;
+    sfit_cluster_t cl;
+    size_t used = 1;
+    sfit_status_t st;
+    ClusterObject *o;
+    if (frames_get(arg, &f, "Cluster.from_frames", 1) < 0) {
+        return NULL;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    if (PyArray_NDIM(f.arr) == 2) {
+        st = sfit_cluster_from_frame(&cl, f.v, f.count);
+    } else if (f.nframes == 0u) {
+        st = SFIT_E_TOO_FEW;
+    } else {
+        st = sfit_cluster_from_frames(&cl, f.v, f.nframes, f.count, &used);
+    }
+    Py_END_ALLOW_THREADS
+    Py_DECREF(f.arr);
+    if (st != SFIT_OK) {
+        return raise_status(st, "Cluster.from_frames", -1, -1);
+    }
+    o = (ClusterObject *)PyObject_CallOneArg(cls, Py_None);
+    if (o == NULL) {
+        return NULL;
+    }
+    o->cl = cl;
+    o->frames_used = (long)used;
+    return (PyObject *)o;
+}
+
+static PyObject *pose_out(const sfit_pose_t *p, const sfit_cluster_fit_t *fit)
+{
+    return Py_BuildValue("{s:N,s:N,s:N,s:k}", "rotation", mat3_out(&p->r), "translation",
+                         vec3_out(p->t.v), "rms", flt(fit->rms), "used", (unsigned long)fit->used);
+}
+
+static PyObject *Cluster_register(ClusterObject *self, PyObject *arg)
+{
+    frames_t f;
+    sfit_pose_t pose;
+    sfit_cluster_fit_t fit;
+    sfit_status_t st;
+    if (frames_get(arg, &f, "Cluster.register", 1) < 0) {
+        return NULL;
+    }
+    if (PyArray_NDIM(f.arr) != 2) {
+        Py_DECREF(f.arr);
+        return raise_arg("Cluster.register: expected one frame (markers, 3)");
+    }
+    if (f.count != (size_t)self->cl.count) {
+        Py_DECREF(f.arr);
+        return raise_arg("Cluster.register: %zu markers, the template has %lu", f.count,
+                         (unsigned long)self->cl.count);
+    }
+    st = sfit_cluster_register(&self->cl, f.v, f.count, &pose, &fit);
+    Py_DECREF(f.arr);
+    if (st != SFIT_OK) {
+        return raise_status(st, "Cluster.register", -1, -1);
+    }
+    return pose_out(&pose, &fit);
+}
+
+static PyObject *Cluster_get_positions(ClusterObject *self, void *closure)
+{
+    npy_intp dim[2];
+    PyObject *a;
+    uint32_t i;
+    (void)closure;
+    dim[0] = (npy_intp)self->cl.count;
+    dim[1] = 3;
+    a = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
+    if (a != NULL) {
+        double *d = (double *)PyArray_DATA((PyArrayObject *)a);
+        for (i = 0; i < self->cl.count; i++) {
+            d[3 * i] = (double)self->cl.pos[i].v[0];
+            d[3 * i + 1] = (double)self->cl.pos[i].v[1];
+            d[3 * i + 2] = (double)self->cl.pos[i].v[2];
+        }
+    }
+    return a;
+}
+
+static PyObject *Cluster_get_count(ClusterObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromUnsignedLong((unsigned long)self->cl.count);
+}
+
+static PyObject *Cluster_get_frames_used(ClusterObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromLong(self->frames_used);
+}
+
+/* tp_new/tp_init for the classmethod path: Cluster(None) is an empty shell */
+static int Cluster_init_any(ClusterObject *self, PyObject *args, PyObject *kw)
+{
+    if (kw == NULL && PyTuple_GET_SIZE(args) == 1 && PyTuple_GET_ITEM(args, 0) == Py_None) {
+        memset(&self->cl, 0, sizeof self->cl);
+        self->frames_used = 0;
+        return 0;
+    }
+    return Cluster_init(self, args, kw);
+}
+
+static PyMethodDef Cluster_methods[] = {
+    {"_from_frames", (PyCFunction)Cluster_from_frames, METH_O | METH_CLASS,
+     "Internal: see Cluster.from_frames."},
+    {"_register", (PyCFunction)Cluster_register, METH_O, "Internal: see Cluster.register."},
+    {NULL, NULL, 0, NULL}};
+
+static PyGetSetDef Cluster_getset[] = {
+    {"positions", (getter)Cluster_get_positions, NULL,
+     "(markers, 3) template positions in the segment frame.", NULL},
+    {"count", (getter)Cluster_get_count, NULL, "Markers of the template.", NULL},
+    {"frames_used", (getter)Cluster_get_frames_used, NULL,
+     "Frames averaged into the template (from_frames).", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyTypeObject ClusterType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sfit._sfit.Cluster",
+    .tp_basicsize = sizeof(ClusterObject),
+    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,
+    .tp_doc = "Rigid marker cluster template (the library's sfit_cluster_t).",
+    .tp_new = PyType_GenericNew,
+    .tp_init = (initproc)Cluster_init_any,
+    .tp_methods = Cluster_methods,
+    .tp_getset = Cluster_getset,
+};
+
+typedef struct {
+    PyObject_HEAD
+    sfit_joint_t j;
+    long rejected_frames;
+    int ready;
+} JointObject;
+
+static PyTypeObject JointType;
+
+static int Joint_init(JointObject *self, PyObject *args, PyObject *kw)
+{
+    static char *kwlist[] = {"parent", "n_child", "noise_var", "noise_cov", "mode", "weight",
+                             "planar_ratio", NULL};
+    PyObject *parent, *noise_var = Py_None, *noise_cov = Py_None, *mode = NULL;
+    unsigned long n_child = 1;
+    const char *weight = "equal";
+    double planar_ratio = 0.0;
+    sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_status_t st;
+    self->ready = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "Ok|OOOsd", kwlist, &parent, &n_child, &noise_var,
+                                     &noise_cov, &mode, &weight, &planar_ratio)) {
+        return -1;
+    }
+    if (!PyObject_TypeCheck(parent, &ClusterType) || ((ClusterObject *)parent)->cl.count == 0u) {
+        raise_arg("Joint: parent must be a sfit.Cluster");
+        return -1;
+    }
+    if (n_child < 1ul || n_child > (unsigned long)SFIT_JOINT_MAX_CHILD) {
+        raise_arg("Joint: n_child must be in 1..%d", (int)SFIT_JOINT_MAX_CHILD);
+        return -1;
+    }
+    if (is_auto(noise_var)) {
+        raise_arg("Joint: noise_var='auto' is not supported (give a number)");
+        return -1;
+    }
+    if (cfg_get(noise_var, noise_cov, mode, planar_ratio, &cfg.solve.fit) < 0
+        || weight_get(weight, &cfg.solve.weight) < 0) {
+        return -1;
+    }
+    cfg.n_child = (uint32_t)n_child;
+    st = sfit_joint_init(&self->j, &((ClusterObject *)parent)->cl, &cfg);
+    if (st != SFIT_OK) {
+        raise_status(st, "Joint", -1, -1);
+        return -1;
+    }
+    self->rejected_frames = 0;
+    self->ready = 1;
+    return 0;
+}
+
+/* Joint._add(parent_frames, child_frames) -> accepted frame count. One frame
+ * ((M, 3) each) or F frames ((F, M, 3) each). A frame the library rejects
+ * (parent not registrable, Inf, out of range) is skipped and counted. */
+static PyObject *Joint_add(JointObject *self, PyObject *args)
+{
+    PyObject *po, *co;
+    frames_t pf, cf;
+    size_t i;
+    long accepted = 0, rejected = 0;
+    int arg_error = 0;
+    if (!self->ready) {
+        return raise_arg("Joint: not initialised");
+    }
+    if (!PyArg_ParseTuple(args, "OO", &po, &co)) {
+        return NULL;
+    }
+    if (frames_get(po, &pf, "Joint.add(parent)", 1) < 0) {
+        return NULL;
+    }
+    if (frames_get(co, &cf, "Joint.add(child)", 1) < 0) {
+        Py_DECREF(pf.arr);
+        return NULL;
+    }
+    if (PyArray_NDIM(pf.arr) != PyArray_NDIM(cf.arr) || pf.nframes != cf.nframes) {
+        Py_DECREF(pf.arr);
+        Py_DECREF(cf.arr);
+        return raise_arg("Joint.add: parent and child must have the same number of frames");
+    }
+    if (pf.count != (size_t)self->j.parent.count || cf.count != (size_t)self->j.cfg.n_child) {
+        PyObject *e = raise_arg("Joint.add: %zu parent / %zu child markers, expected %lu / %lu",
+                                pf.count, cf.count, (unsigned long)self->j.parent.count,
+                                (unsigned long)self->j.cfg.n_child);
+        Py_DECREF(pf.arr);
+        Py_DECREF(cf.arr);
+        return e;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    for (i = 0; i < pf.nframes; i++) {
+        const sfit_status_t st = sfit_joint_add(&self->j, pf.v + i * pf.count, pf.count,
+                                                cf.v + i * cf.count, cf.count, NULL);
+        if (st == SFIT_OK) {
+            accepted++;
+        } else if (st == SFIT_E_ARG) {
+            arg_error = 1;
+            break;
+        } else {
+            rejected++;
+        }
+    }
+    Py_END_ALLOW_THREADS
+    Py_DECREF(pf.arr);
+    Py_DECREF(cf.arr);
+    self->rejected_frames += rejected;
+    if (arg_error) {
+        return raise_status(SFIT_E_ARG, "Joint.add", -1, -1);
+    }
+    return PyLong_FromLong(accepted);
+}
+
+static PyObject *Joint_solve(JointObject *self, PyObject *unused)
+{
+    sfit_joint_result_t r;
+    float radii[SFIT_JOINT_MAX_CHILD];
+    sfit_status_t st;
+    PyObject *d, *ra, *na;
+    npy_intp dim;
+    uint32_t k;
+    (void)unused;
+    if (!self->ready) {
+        return raise_arg("Joint: not initialised");
+    }
+    st = sfit_joint_solve(&self->j, &r, radii);
+    if (st != SFIT_OK) {
+        return raise_status(st, "Joint.solve", (long)self->j.frames, self->rejected_frames);
+    }
+    dim = (npy_intp)self->j.cfg.n_child;
+    ra = PyArray_SimpleNew(1, &dim, NPY_FLOAT64);
+    na = PyArray_SimpleNew(1, &dim, NPY_INT64);
+    if (ra == NULL || na == NULL) {
+        Py_XDECREF(ra);
+        Py_XDECREF(na);
+        return NULL;
+    }
+    for (k = 0; k < self->j.cfg.n_child; k++) {
+        ((double *)PyArray_DATA((PyArrayObject *)ra))[k] = (double)radii[k];
+        ((npy_int64 *)PyArray_DATA((PyArrayObject *)na))[k] =
+            (npy_int64)sfit_moments_count(&self->j.child[k]);
+    }
+    d = PyDict_New();
+    if (d == NULL || multi_into(d, &r.fit) < 0
+        || put(d, "frames", PyLong_FromUnsignedLong((unsigned long)r.frames)) < 0
+        || put(d, "rejected_frames", PyLong_FromLong(self->rejected_frames)) < 0
+        || put(d, "residual_mean", flt(r.residual_mean)) < 0
+        || put(d, "residual_max", flt(r.residual_max)) < 0
+        || put(d, "radii", ra) < 0 || put(d, "marker_n", na) < 0) {
+        Py_XDECREF(d);
+        return NULL;
+    }
+    /* keep the raw result for center_at */
+    if (put(d, "_raw", PyBytes_FromStringAndSize((const char *)&r, (Py_ssize_t)sizeof r)) < 0) {
+        Py_DECREF(d);
+        return NULL;
+    }
+    return d;
+}
+
+/* Joint._center_at(raw, parent_frames) -> (centers (F, 3), axes (F, 3),
+ * valid (F,)): the centre in the global frame of every frame; rows of the
+ * frames whose parent cannot be registered are NaN and valid is False. */
+static PyObject *Joint_center_at(JointObject *self, PyObject *args)
+{
+    const char *raw;
+    Py_ssize_t rawlen;
+    PyObject *po, *ca, *aa, *va;
+    frames_t pf;
+    sfit_joint_result_t r;
+    npy_intp dim[2];
+    size_t i;
+    if (!self->ready) {
+        return raise_arg("Joint: not initialised");
+    }
+    if (!PyArg_ParseTuple(args, "y#O", &raw, &rawlen, &po)) {
+        return NULL;
+    }
+    if (rawlen != (Py_ssize_t)sizeof r) {
+        return raise_arg("Joint.center_at: not a result of this joint's solve()");
+    }
+    memcpy(&r, raw, sizeof r);
+    if (frames_get(po, &pf, "Joint.center_at(parent)", 1) < 0) {
+        return NULL;
+    }
+    if (pf.count != (size_t)self->j.parent.count) {
+        Py_DECREF(pf.arr);
+        return raise_arg("Joint.center_at: %zu parent markers, expected %lu", pf.count,
+                         (unsigned long)self->j.parent.count);
+    }
+    dim[0] = (npy_intp)pf.nframes;
+    dim[1] = 3;
+    ca = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
+    aa = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
+    va = PyArray_SimpleNew(1, dim, NPY_BOOL);
+    if (ca == NULL || aa == NULL || va == NULL) {
+        Py_XDECREF(ca);
+        Py_XDECREF(aa);
+        Py_XDECREF(va);
+        Py_DECREF(pf.arr);
+        return NULL;
+    }
+    {
+        double *cd = (double *)PyArray_DATA((PyArrayObject *)ca);
+        double *ad = (double *)PyArray_DATA((PyArrayObject *)aa);
+        npy_bool *vd = (npy_bool *)PyArray_DATA((PyArrayObject *)va);
+        Py_BEGIN_ALLOW_THREADS
+        for (i = 0; i < pf.nframes; i++) {
+            sfit_vec3_t c, a;
+            const sfit_status_t st =
+                sfit_joint_center_at(&self->j, &r, pf.v + i * pf.count, pf.count, &c, &a);
+            int k;
+            vd[i] = (npy_bool)(st == SFIT_OK);
+            for (k = 0; k < 3; k++) {
+                cd[3 * i + (size_t)k] = (st == SFIT_OK) ? (double)c.v[k] : NAN;
+                ad[3 * i + (size_t)k] = (st == SFIT_OK) ? (double)a.v[k] : NAN;
+            }
+        }
+        Py_END_ALLOW_THREADS
+    }
+    Py_DECREF(pf.arr);
+    return Py_BuildValue("(NNN)", ca, aa, va);
+}
+
+static PyObject *Joint_reset(JointObject *self, PyObject *unused)
+{
+    (void)unused;
+    if (self->ready) {
+        (void)sfit_joint_reset(&self->j);
+    }
+    self->rejected_frames = 0;
+    Py_RETURN_NONE;
+}
+
+static PyObject *Joint_get_frames(JointObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromUnsignedLong(self->ready ? (unsigned long)self->j.frames : 0ul);
+}
+
+static PyObject *Joint_get_rejected(JointObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromLong(self->rejected_frames);
+}
+
+static PyMethodDef Joint_methods[] = {
+    {"_add", (PyCFunction)Joint_add, METH_VARARGS, "Internal: see Joint.add."},
+    {"_solve", (PyCFunction)Joint_solve, METH_NOARGS, "Internal: see Joint.solve."},
+    {"_center_at", (PyCFunction)Joint_center_at, METH_VARARGS, "Internal: see Joint.center_at."},
+    {"reset", (PyCFunction)Joint_reset, METH_NOARGS,
+     "reset() -> None\n\nForget every frame; keep the template and the options."},
+    {NULL, NULL, 0, NULL}};
+
+static PyGetSetDef Joint_getset[] = {
+    {"frames", (getter)Joint_get_frames, NULL, "Frames accepted.", NULL},
+    {"rejected_frames", (getter)Joint_get_rejected, NULL,
+     "Frames rejected (parent not registrable, Inf or out-of-range values).", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyTypeObject JointType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sfit._sfit.Joint",
+    .tp_basicsize = sizeof(JointObject),
+    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,
+    .tp_doc = "Streaming functional joint centre (the library's sfit_joint_t).",
+    .tp_new = PyType_GenericNew,
+    .tp_init = (initproc)Joint_init,
+    .tp_methods = Joint_methods,
+    .tp_getset = Joint_getset,
+};
+
+#endif /* SFIT_PY_HAVE_JOINT */
+
+/* ------------------------------------------------------------------------ */
 /* Module                                                                   */
 /* ------------------------------------------------------------------------ */
 
@@ -1690,6 +2212,16 @@ PyMODINIT_FUNC PyInit__sfit(void)
             return NULL;
         }
     }
+#if SFIT_PY_HAVE_JOINT
+    if (PyType_Ready(&ClusterType) < 0 || PyType_Ready(&JointType) < 0
+        || PyModule_AddObjectRef(m, "Cluster", (PyObject *)&ClusterType) < 0
+        || PyModule_AddObjectRef(m, "Joint", (PyObject *)&JointType) < 0
+        || PyModule_AddIntConstant(m, "CLUSTER_MAX_MARKERS", SFIT_CLUSTER_MAX_MARKERS) < 0
+        || PyModule_AddIntConstant(m, "JOINT_MAX_CHILD", SFIT_JOINT_MAX_CHILD) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+#endif
     if (PyModule_AddObjectRef(m, "Moments", (PyObject *)&MomentsType) < 0
         || PyModule_AddObjectRef(m, "Incremental", (PyObject *)&IncrType) < 0
         || PyModule_AddIntConstant(m, "VERSION_MAJOR", SFIT_VERSION_MAJOR) < 0
