@@ -295,3 +295,32 @@ def test_published_kasa_fits(name):
     res = sfit.fit(x, mode="sphere")
     assert np.allclose(res.center, c, atol=tol)
     assert res.radius == pytest.approx(r, abs=tol)
+
+
+def test_gate_removes_outliers(rng):
+    """fit(gate=K): with 3 % gross outliers the gated fit is the reference fit
+    of the clean samples, and the outliers are counted."""
+    x = ref.sphere_samples(rng, 3000, (300.0, -100.0, 50.0), 200.0, 0.5, 1.2, axis=(1, 1, 0))
+    bad = rng.choice(np.arange(100, 3000), 90, replace=False)  # after the warm-up
+    y = x.copy()
+    y[bad] += rng.normal(0, 60.0, (90, 3))
+    y = ref.as_f32(y)
+    clean = np.delete(y, bad, axis=0).astype(np.float64)
+    c, rad = ref.sphere(clean)[:2]
+    g = sfit.fit(y, gate=4.0)
+    plain = sfit.fit(y)
+    assert 80 <= g.outliers <= 110
+    assert np.linalg.norm(g.center - c) < 0.05 * np.linalg.norm(plain.center - c)
+    assert np.linalg.norm(g.center - c) < 0.5
+    gi = sfit.fit(y, gate=4.0, noise_var=0.25)  # fixed gate sigma, UGDK fit
+    assert gi.method == "ugdk" and gi.center_cov is not None and gi.outliers >= 80
+
+
+def test_noise_cov_forms_agree(rng):
+    x = far_cap(rng)
+    full = [[0.3, 0.05, 0.01], [0.05, 0.2, 0.02], [0.01, 0.02, 0.25]]
+    packed = [0.3, 0.2, 0.25, 0.05, 0.01, 0.02]
+    a, b = sfit.fit(x, noise_cov=full), sfit.fit(x, noise_cov=packed)
+    assert np.array_equal(a.center, b.center) and a.radius == b.radius
+    iso = sfit.fit(x, noise_cov=np.eye(3) * 0.25)
+    assert np.allclose(iso.center, sfit.fit(x, noise_var=0.25).center, atol=1e-4)
