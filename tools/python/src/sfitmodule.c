@@ -18,7 +18,9 @@
  *    the library's float32 values exactly (the Python layer wraps them);
  *  - a status other than SFIT_OK raises the sfit.Error subclass of that
  *    status, carrying the status name, the code and a message.
- * The GIL is released around the loops over samples.
+ * The GIL is released around the loops over samples of the functions on
+ * arrays; methods that change an object's state keep it (no two threads
+ * ever update one state at once).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -946,7 +948,6 @@ static PyObject *Moments_add(MomentsObject *self, PyObject *x)
     if ((uint64_t)sfit_moments_count(&self->m) + (uint64_t)p.n > (uint64_t)UINT32_MAX) {
         full = 1;
     } else {
-        Py_BEGIN_ALLOW_THREADS
         for (i = 0; i < p.n; i++) {
             if (sfit_moments_add(&self->m, &p.v[i]) == SFIT_OK) {
                 added++;
@@ -954,7 +955,6 @@ static PyObject *Moments_add(MomentsObject *self, PyObject *x)
                 rej++;
             }
         }
-        Py_END_ALLOW_THREADS
     }
     pts_release(&p);
     if (full) {
@@ -1252,7 +1252,6 @@ static PyObject *Incr_add(IncrObject *self, PyObject *x)
     if (pts_get(x, &p, "Incremental.add", 1) < 0) {
         return NULL;
     }
-    Py_BEGIN_ALLOW_THREADS
     for (i = 0; i < p.n; i++) {
         if (sfit_incr_add(&self->s, &p.v[i]) == SFIT_OK) {
             added++;
@@ -1260,7 +1259,6 @@ static PyObject *Incr_add(IncrObject *self, PyObject *x)
             rej++;
         }
     }
-    Py_END_ALLOW_THREADS
     pts_release(&p);
     self->rejected += rej;
     return PyLong_FromLong(added);
@@ -1303,7 +1301,6 @@ static PyObject *Incr_track(IncrObject *self, PyObject *points)
         npy_int64 *nd = (npy_int64 *)PyArray_DATA((PyArrayObject *)na);
         double *cd = (double *)PyArray_DATA((PyArrayObject *)ca);
         double *rd = (double *)PyArray_DATA((PyArrayObject *)ra);
-        Py_BEGIN_ALLOW_THREADS
         for (i = 0; i < p.n; i++) {
             sfit_incr_est_t e;
             const uint32_t before = sfit_incr_count(&self->s);
@@ -1319,7 +1316,6 @@ static PyObject *Incr_track(IncrObject *self, PyObject *points)
                 rej++; /* rejected by the add: state unchanged */
             }
         }
-        Py_END_ALLOW_THREADS
     }
     pts_release(&p);
     self->rejected += rej;
@@ -1952,7 +1948,6 @@ static PyObject *Joint_add(JointObject *self, PyObject *args)
         Py_DECREF(cf.arr);
         return e;
     }
-    Py_BEGIN_ALLOW_THREADS
     for (i = 0; i < pf.nframes; i++) {
         const sfit_status_t st = sfit_joint_add(&self->j, pf.v + i * pf.count, pf.count,
                                                 cf.v + i * cf.count, cf.count, NULL);
@@ -1965,7 +1960,6 @@ static PyObject *Joint_add(JointObject *self, PyObject *args)
             rejected++;
         }
     }
-    Py_END_ALLOW_THREADS
     Py_DECREF(pf.arr);
     Py_DECREF(cf.arr);
     self->rejected_frames += rejected;
