@@ -4,22 +4,21 @@
  * @brief The platform contract. The library includes only this header for
  * platform services; it pulls the chosen port's sfit_port_impl.h (the port
  * directory, port/<SFIT_PORT>/, is on the include path) and supplies a
- * fallback for every hook the port leaves undefined.
+ * fallback for every hook the port leaves undefined. It depends on nothing
+ * of the library.
  *
- * Hooks (all optional; each may also come from SFIT_USER_CONFIG):
+ * Hooks used by the library (each may also come from -D or SFIT_USER_CONFIG):
  *  - SFIT_SQRTF(x)   single-precision square root (never sqrt on a double)
  *  - SFIT_FABSF(x)   single-precision absolute value
- *  - SFIT_INLINE     keyword(s) for small internal helpers
- *  - SFIT_RESTRICT   the C99 restrict qualifier, or nothing
+ *  - SFIT_INLINE     keyword(s) of the small helpers in lib/src/sfit_float.h
  *  - SFIT_ASSERT(c)  internal-invariant check; active only when
- *                    SFIT_ENABLE_ASSERT is 1 (host tests route it to cmocka)
- *  - SFIT_CYCLES()   a cycle counter, for tools and benchmarks only
- * The library never includes a device header.
+ *                    SFIT_ENABLE_ASSERT is defined to 1
+ * A port may add tool-only hooks (the Cortex-M4F port's SFIT_CYCLES(), read
+ * by its QEMU smoke test); the library never calls them.
  */
 #ifndef SFIT_PORT_H
 #define SFIT_PORT_H
 
-#include "sfit/sfit_config.h"
 #include "sfit_port_impl.h"
 
 #ifndef SFIT_SQRTF
@@ -36,12 +35,8 @@
 #define SFIT_INLINE static inline
 #endif
 
-#ifndef SFIT_RESTRICT
-#define SFIT_RESTRICT restrict
-#endif
-
 #ifndef SFIT_ASSERT
-#if SFIT_ENABLE_ASSERT
+#if defined(SFIT_ENABLE_ASSERT) && SFIT_ENABLE_ASSERT
 #include <assert.h>
 #define SFIT_ASSERT(c) assert(c)
 #else

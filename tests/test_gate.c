@@ -61,14 +61,14 @@ static void gate_mc(double theta_deg, int n, int trials, int kind, uint64_t seed
             (void)sfit_moments_add(&dirty, &v);
             assert_int_equal(sfit_gate_add(&gt, &v, NULL), SFIT_OK);
         }
-        assert_int_equal(sfit_fit_solve(&clean, &fc, &a), SFIT_OK);
-        assert_int_equal(sfit_gate_solve(&gt, &b), SFIT_OK);
+        assert_int_equal(sfit_moments_fit(&clean, &fc, &a), SFIT_OK);
+        assert_int_equal(sfit_gate_fit(&gt, &b), SFIT_OK);
         assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
         assert_int_equal(gs.accepted + gs.outliers, (uint32_t)n);
         flagged += gs.outliers;
         ec += tc_dist(&a.center, k_c);
         eg += tc_dist(&b.center, k_c);
-        eu += (sfit_fit_solve(&dirty, &fc, &d) == SFIT_OK) ? tc_dist(&d.center, k_c) : 1e3;
+        eu += (sfit_moments_fit(&dirty, &fc, &d) == SFIT_OK) ? tc_dist(&d.center, k_c) : 1e3;
     }
     print_message("gate: theta %.0f N %d T %d kind %d: mean centre error clean %.3f gated %.3f "
                   "(x%.2f) ungated %.1f; outliers flagged %lu of %lu injected\n",
@@ -137,7 +137,7 @@ static void test_counts_and_floor(void **state)
     }
     assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
     assert_int_equal(gs.outliers, 1);
-    assert_int_equal(sfit_gate_solve(&gt, &r), SFIT_OK);
+    assert_int_equal(sfit_gate_fit(&gt, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, k_c) < 0.05);
     assert_int_equal(sfit_gate_reset(&gt), SFIT_OK);
     assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
@@ -209,7 +209,7 @@ static void test_contract(void **state)
     }
     assert_int_equal(sfit_gate_add(&gt, NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_gate_refresh(NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_gate_solve(&gt, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_gate_fit(&gt, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_gate_stats(NULL, NULL), SFIT_E_ARG);
 }
 

@@ -92,9 +92,9 @@ static sfit_vec3_t vec_of(const double x[3])
     return v;
 }
 
-static sfit_fit_cfg_t cfg_of(const double *cov)
+static sfit_incr_cfg_t cfg_of(const double *cov)
 {
-    sfit_fit_cfg_t c = sfit_fit_cfg_default;
+    sfit_incr_cfg_t c = sfit_incr_cfg_default;
     if (cov == COV_ISO) {
         c.noise = SFIT_NOISE_ISO;
         c.noise_var = (float)cov[0];
@@ -234,7 +234,7 @@ static void run_float(size_t n, size_t from, double tol, int models, worst_t w[3
     memset(w, 0, 3 * sizeof w[0]);
     (void)sfit_moments_init(&mom);
     for (j = 0; j < models; j++) {
-        const sfit_fit_cfg_t cfg = cfg_of(covs[j]);
+        const sfit_incr_cfg_t cfg = cfg_of(covs[j]);
         assert_int_equal(sfit_incr_init(&s[j], &cfg), SFIT_OK);
         memset(&w[j], 0, sizeof w[j]);
     }
@@ -250,11 +250,11 @@ static void run_float(size_t n, size_t from, double tol, int models, worst_t w[3
         if (k < N_CHECKS && CHECKS[k] == i + 1u && i + 1u >= from) {
             for (j = 0; j < models; j++) {
                 ref_fit_t b;
-                sfit_incr_est_t e;
+                sfit_sphere_t e;
                 double ec, er;
                 char what[96];
                 assert_int_equal(ref_fit_sphere(REF_C3(g_x), i + 1u, covs[j], &b), 0);
-                assert_int_equal(sfit_incr_solve(&s[j], &e), SFIT_OK);
+                assert_int_equal(sfit_incr_fit(&s[j], &e), SFIT_OK);
                 assert_int_equal(e.n, (uint32_t)(i + 1u));
                 ec = tc_dist(&e.center, b.center) / R0;
                 er = fabs((double)e.radius - b.radius) / R0;
@@ -275,7 +275,7 @@ static void run_float(size_t n, size_t from, double tol, int models, worst_t w[3
                     sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
                     sfit_result_t fr;
                     cfg.mode = SFIT_MODE_SPHERE;
-                    if (sfit_fit_solve(&mom, &cfg, &fr) == SFIT_OK
+                    if (sfit_moments_fit(&mom, &cfg, &fr) == SFIT_OK
                         && tc_dist(&fr.center, b.center) / R0 > w[0].batch_c) {
                         w[0].batch_c = tc_dist(&fr.center, b.center) / R0;
                     }
@@ -451,7 +451,7 @@ static void test_exact_sphere(void **state)
         {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
         {-1, -1, 1}, {-1, -1, -1}};
     sfit_incr_t s;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     double x[3];
     int i, k;
     (void)state;
@@ -465,7 +465,7 @@ static void test_exact_sphere(void **state)
         v = vec_of(x);
         assert_int_equal(sfit_incr_add(&s, &v), SFIT_OK);
     }
-    assert_int_equal(sfit_incr_solve(&s, &e), SFIT_OK);
+    assert_int_equal(sfit_incr_fit(&s, &e), SFIT_OK);
     assert_vec3_near(e.center.v, C0, 1e-5 * R0, "exact sphere centre");
     assert_near(e.radius, R0, 1e-5 * R0, "exact sphere radius");
     assert_int_equal(e.n, 14);
@@ -486,17 +486,17 @@ static void fill_cap(sfit_vec3_t *v, size_t n, uint64_t seed)
 static void test_args(void **state)
 {
     sfit_incr_t s;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     sfit_vec3_t x = {{1.0f, 2.0f, 3.0f}};
-    sfit_fit_cfg_t cfg;
+    sfit_incr_cfg_t cfg;
     (void)state;
     assert_int_equal(sfit_incr_init(NULL, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_incr_init(&s, NULL), SFIT_OK);
     assert_int_equal(sfit_incr_reset(NULL), SFIT_E_ARG);
     assert_int_equal(sfit_incr_add(NULL, &x), SFIT_E_ARG);
     assert_int_equal(sfit_incr_add(&s, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_incr_solve(NULL, &e), SFIT_E_ARG);
-    assert_int_equal(sfit_incr_solve(&s, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_incr_fit(NULL, &e), SFIT_E_ARG);
+    assert_int_equal(sfit_incr_fit(&s, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_incr_update(&s, &x, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_incr_update(NULL, &x, &e), SFIT_E_ARG);
     assert_int_equal(sfit_incr_start(NULL, &x, 1, NULL), SFIT_E_ARG);
@@ -509,16 +509,13 @@ static void test_args(void **state)
         sfit_incr_t before;
         assert_int_equal(sfit_incr_add(&s, &x), SFIT_OK);
         memcpy(&before, &s, sizeof s);
-        cfg = sfit_fit_cfg_default;
+        cfg = sfit_incr_cfg_default;
         cfg.noise = SFIT_NOISE_ISO;
         cfg.noise_var = -1.0f;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
         cfg.noise_var = NAN;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
-        cfg = sfit_fit_cfg_default;
-        cfg.mode = SFIT_MODE_PLANAR;
-        assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
-        cfg = sfit_fit_cfg_default;
+        cfg = sfit_incr_cfg_default;
         cfg.noise = (sfit_noise_kind_t)7;
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_E_ARG);
         assert_memory_equal(&before, &s, sizeof s);
@@ -528,7 +525,7 @@ static void test_args(void **state)
 static void test_too_few(void **state)
 {
     sfit_incr_t s;
-    sfit_incr_est_t e, sentinel;
+    sfit_sphere_t e, sentinel;
     sfit_vec3_t v[4];
     int i;
     (void)state;
@@ -537,7 +534,7 @@ static void test_too_few(void **state)
     assert_int_equal(sfit_incr_init(&s, NULL), SFIT_OK);
     for (i = 0; i < 4; i++) {
         e = sentinel;
-        assert_int_equal(sfit_incr_solve(&s, &e), SFIT_E_TOO_FEW);
+        assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_TOO_FEW);
         assert_memory_equal(&e, &sentinel, sizeof e);
         /* update keeps a valid sample even when it cannot solve yet */
         assert_int_equal(sfit_incr_update(&s, &v[i], &e),
@@ -557,7 +554,7 @@ static void test_reject_sample(void **state)
                                   SFIT_E_RANGE};
     static sfit_vec3_t v[2 * SFIT_INCR_BLOCK];
     sfit_incr_t s, before;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     size_t a, i;
     int b, k;
     (void)state;
@@ -589,9 +586,9 @@ static void test_reject_sample(void **state)
 static void test_degenerate(void **state)
 {
     sfit_incr_t s, before;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     sfit_vec3_t v[40];
-    sfit_fit_cfg_t cfg = cfg_of(COV_ISO);
+    sfit_incr_cfg_t cfg = cfg_of(COV_ISO);
     int i, kind;
     (void)state;
     for (kind = 0; kind < 3; kind++) {
@@ -612,12 +609,12 @@ static void test_degenerate(void **state)
         for (i = 0; i < 40; i++) {
             assert_int_equal(sfit_incr_add(&s, &v[i]), SFIT_OK);
         }
-        assert_int_equal(sfit_incr_solve(&s, &e), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_DEGENERATE);
         assert_int_equal(sfit_incr_init(&s, &cfg), SFIT_OK);
         for (i = 0; i < 40; i++) {
             assert_int_equal(sfit_incr_add(&s, &v[i]), SFIT_OK);
         }
-        assert_int_equal(sfit_incr_solve(&s, &e), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_DEGENERATE);
         /* A degenerate start leaves the state as it was. */
         memcpy(&before, &s, sizeof s);
         assert_int_equal(sfit_incr_start(&s, v, 40, &e), SFIT_E_DEGENERATE);
@@ -628,9 +625,9 @@ static void test_degenerate(void **state)
 static void test_ugdk_not_posdef(void **state)
 {
     sfit_incr_t s, before;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     sfit_vec3_t v[50];
-    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    sfit_incr_cfg_t cfg = sfit_incr_cfg_default;
     int i;
     (void)state;
     fill_cap(v, 50, 9u);
@@ -640,7 +637,7 @@ static void test_ugdk_not_posdef(void **state)
     for (i = 0; i < 50; i++) {
         assert_int_equal(sfit_incr_add(&s, &v[i]), SFIT_OK);
     }
-    assert_int_equal(sfit_incr_solve(&s, &e), SFIT_E_NOT_POSDEF);
+    assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_NOT_POSDEF);
     memcpy(&before, &s, sizeof s);
     assert_int_equal(sfit_incr_start(&s, v, 50, &e), SFIT_E_NOT_POSDEF);
     assert_memory_equal(&before, &s, sizeof s);
@@ -652,9 +649,9 @@ static void test_ugdk_not_posdef(void **state)
 static void test_start_update_reset(void **state)
 {
     static sfit_vec3_t v[3000];
-    const sfit_fit_cfg_t cfg = cfg_of(COV_ISO);
+    const sfit_incr_cfg_t cfg = cfg_of(COV_ISO);
     sfit_incr_t s, fresh, before;
-    sfit_incr_est_t e, e2;
+    sfit_sphere_t e, e2;
     ref_fit_t b;
     size_t i;
     (void)state;
@@ -690,8 +687,8 @@ static void test_start_update_reset(void **state)
         assert_int_equal(sfit_incr_add(&s, &v[i]), SFIT_OK);
         assert_int_equal(sfit_incr_add(&fresh, &v[i]), SFIT_OK);
     }
-    assert_int_equal(sfit_incr_solve(&s, &e), SFIT_OK);
-    assert_int_equal(sfit_incr_solve(&fresh, &e2), SFIT_OK);
+    assert_int_equal(sfit_incr_fit(&s, &e), SFIT_OK);
+    assert_int_equal(sfit_incr_fit(&fresh, &e2), SFIT_OK);
     assert_memory_equal(&e, &e2, sizeof e);
 }
 

@@ -175,7 +175,7 @@ static void test_rejected_sample_leaves_state(void **state)
     make_cap(6, 200, 1.0, 1.0);
     /* Empty, mid-block, and exactly at a block boundary. */
     for (stage = 0; stage < 3; stage++) {
-        const size_t nprior = (stage == 0) ? 0 : (stage == 1) ? 37 : SFIT_MOMENTS_BLOCK;
+        const size_t nprior = (stage == 0) ? 0 : (stage == 1) ? 37 : SFIT_SUM_BLOCK;
         for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
             sfit_moments_t m, before;
             sfit_vec3_t x;

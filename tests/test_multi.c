@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_multi.c
- * @brief Tests of sfit_multi_solve(): MGDK / unbiased MGDK, weighting,
+ * @brief Tests of sfit_multi_fit(): MGDK / unbiased MGDK, weighting,
  * planar (hinge) case, real hip / elbow / knee markers, contract.
  *
  * Oracles: ref_fit_multi / ref_fit_multi_weighted (sfit_ref.h, sphere) and
@@ -71,7 +71,7 @@ static void make_caps(tu_rng_t *g, size_t m, const double c[3], const double *ra
 }
 
 /* ---------------------------------------------------------------------- */
-/* 1. One marker: the same numbers as sfit_fit_solve().                    */
+/* 1. One marker: the same numbers as sfit_moments_fit().                    */
 
 static void check_one_marker(const sfit_fit_cfg_t *fc, int bit_exact_radius)
 {
@@ -81,11 +81,11 @@ static void check_one_marker(const sfit_fit_cfg_t *fc, int bit_exact_radius)
     float rad = 0.0f;
     int wgt;
 
-    assert_int_equal(sfit_fit_solve(&g_acc[0], fc, &sr), SFIT_OK);
+    assert_int_equal(sfit_moments_fit(&g_acc[0], fc, &sr), SFIT_OK);
     for (wgt = 0; wgt < 2; wgt++) {
         mc.fit = *fc;
         mc.weight = wgt ? SFIT_MULTI_WEIGHT_SAMPLES : SFIT_MULTI_WEIGHT_EQUAL;
-        assert_int_equal(sfit_multi_solve(g_acc, 1, &mc, &mr, &rad), SFIT_OK);
+        assert_int_equal(sfit_multi_fit(g_acc, 1, &mc, &mr, &rad), SFIT_OK);
         /* Same system, same float operations: the centre is bit-identical
          * (sphere and planar), as are eigenvalues, axis and trust. */
         assert_memory_equal(mr.center.v, sr.center.v, sizeof sr.center.v);
@@ -198,7 +198,7 @@ static void test_synthetic_vs_reference(void **state)
         } else {
             assert_int_equal(ref_fit_multi(g_xs, g_n, 4, cv, rc, rr), 0);
         }
-        assert_int_equal(sfit_multi_solve(g_acc, 4, &mc, &r, radii), SFIT_OK);
+        assert_int_equal(sfit_multi_fit(g_acc, 4, &mc, &r, radii), SFIT_OK);
         assert_int_equal(r.mode, SFIT_MODE_SPHERE);
         assert_int_equal(r.method, cv ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE);
         assert_int_equal(r.markers, 4);
@@ -254,7 +254,7 @@ static void test_monte_carlo_unbiased(void **state)
         for (k = 0; k < 2; k++) {
             sfit_multi_result_t r;
             double cd[3], e[3], ea;
-            assert_int_equal(sfit_multi_solve(g_acc, 3, &mc[k], &r, NULL), SFIT_OK);
+            assert_int_equal(sfit_multi_fit(g_acc, 3, &mc[k], &r, NULL), SFIT_OK);
             tc_to_double3(&r.center, cd);
             e[0] = cd[0] - c[0];
             e[1] = cd[1] - c[1];
@@ -312,7 +312,7 @@ static void weighting_rmse(double sigma, const size_t *n, double rmse[2], int T)
         for (k = 0; k < 2; k++) {
             sfit_multi_result_t r;
             double cd[3], d;
-            assert_int_equal(sfit_multi_solve(g_acc, 4, &mc[k], &r, NULL), SFIT_OK);
+            assert_int_equal(sfit_multi_fit(g_acc, 4, &mc[k], &r, NULL), SFIT_OK);
             tc_to_double3(&r.center, cd);
             d = dist3(cd, c);
             s2[k] += d * d;
@@ -372,7 +372,7 @@ static void check_real(const char *const *files, size_t m, sfit_mode_t want)
     for (p = 0; p < m; p++) {
         assert_int_equal(load_marker(p, files[p]), 0);
     }
-    assert_int_equal(sfit_multi_solve(g_acc, m, &mc, &r, radii), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, m, &mc, &r, radii), SFIT_OK);
     assert_int_equal(r.mode, want);
     assert_int_equal(r.markers, m);
     tc_to_double3(&r.center, cd);
@@ -399,7 +399,7 @@ static void check_real(const char *const *files, size_t m, sfit_mode_t want)
     }
     /* Equal counts in these recordings: the two weightings coincide. */
     mc.weight = SFIT_MULTI_WEIGHT_SAMPLES;
-    assert_int_equal(sfit_multi_solve(g_acc, m, &mc, &rw, NULL), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, m, &mc, &rw, NULL), SFIT_OK);
     assert_memory_equal(rw.center.v, r.center.v, sizeof r.center.v);
 }
 
@@ -422,7 +422,7 @@ static void occlusion_rms(const char *const *files, size_t m, int contig, double
     for (p = 0; p < m; p++) {
         assert_int_equal(load_marker(p, files[p]), 0);
     }
-    assert_int_equal(sfit_multi_solve(g_acc, m, &mc, &full, NULL), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, m, &mc, &full, NULL), SFIT_OK);
     tc_to_double3(&full.center, cf);
     for (q = 0; q < m; q++) {
         const size_t i0 = contig ? g_n[q] / 2u : 0u, step = contig ? 1u : 20u;
@@ -439,7 +439,7 @@ static void occlusion_rms(const char *const *files, size_t m, int contig, double
         for (k = 0; k < 2; k++) {
             double d;
             mc.weight = k ? SFIT_MULTI_WEIGHT_SAMPLES : SFIT_MULTI_WEIGHT_EQUAL;
-            assert_int_equal(sfit_multi_solve(acc2, m, &mc, &r, NULL), SFIT_OK);
+            assert_int_equal(sfit_multi_fit(acc2, m, &mc, &r, NULL), SFIT_OK);
             tc_to_double3(&r.center, cd);
             d = dist3(cd, cf);
             s2[k] += d * d;
@@ -540,7 +540,7 @@ static void test_hinge_exact(void **state)
     for (i = 0; i < 3; i++) {
         want[i] = c0[i] + mh * ax[i];
     }
-    assert_int_equal(sfit_multi_solve(g_acc, 4, &mc, &r, radii), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, 4, &mc, &r, radii), SFIT_OK);
     assert_int_equal(r.mode, SFIT_MODE_PLANAR);
     assert_true((r.flags & SFIT_FLAG_NEAR_PLANAR) != 0u);
     tc_to_double3(&r.center, cd);
@@ -576,7 +576,7 @@ static void test_hinge_exact(void **state)
                 assert_int_equal(
                     ref_fit_multi_planar(g_xs, g_n, 4, cov, (int)i, rc, rax, rr), 0);
             }
-            assert_int_equal(sfit_multi_solve(g_acc, 4, &mc, &r, radii), SFIT_OK);
+            assert_int_equal(sfit_multi_fit(g_acc, 4, &mc, &r, radii), SFIT_OK);
             assert_int_equal(r.mode, SFIT_MODE_PLANAR);
             assert_int_equal(r.method, SFIT_METHOD_UGDK);
             tc_to_double3(&r.center, cd);
@@ -620,8 +620,8 @@ static void test_skip_few(void **state)
     four[1] = g_acc[0];
     four[2] = g_acc[1];
     four[3] = g_acc[2];
-    assert_int_equal(sfit_multi_solve(four, 4, NULL, &r, radii), SFIT_OK);
-    assert_int_equal(sfit_multi_solve(g_acc, 3, NULL, &r2, radii2), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(four, 4, NULL, &r, radii), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, 3, NULL, &r2, radii2), SFIT_OK);
     assert_true((r.flags & SFIT_MULTI_FLAG_SKIPPED) != 0u);
     assert_true((r2.flags & SFIT_MULTI_FLAG_SKIPPED) == 0u);
     assert_int_equal(r.markers, 3);
@@ -632,12 +632,12 @@ static void test_skip_few(void **state)
     assert_memory_equal(r.center.v, r2.center.v, sizeof r.center.v);
     assert_memory_equal(&radii[1], radii2, sizeof radii2);
     /* Nothing usable: too few. */
-    assert_int_equal(sfit_multi_solve(four, 1, NULL, &r, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_multi_fit(four, 1, NULL, &r, radii), SFIT_E_TOO_FEW);
     /* Few (< SFIT_FEW_SAMPLES) but enough: used and flagged. */
     {
         sfit_vec3_t v = {{3.0f, -1.0f, 0.5f}};
         assert_int_equal(sfit_moments_add(&four[0], &v), SFIT_OK);
-        assert_int_equal(sfit_multi_solve(four, 4, NULL, &r, radii), SFIT_OK);
+        assert_int_equal(sfit_multi_fit(four, 4, NULL, &r, radii), SFIT_OK);
         assert_int_equal(r.markers, 4);
         assert_true((r.flags & SFIT_FLAG_FEW_SAMPLES) != 0u);
     }
@@ -662,21 +662,21 @@ static void test_contract(void **state)
     r = sentinel;
     radii[0] = radii[1] = radii[2] = -7.0f;
 
-    assert_int_equal(sfit_multi_solve(NULL, 2, NULL, &r, radii), SFIT_E_ARG);
-    assert_int_equal(sfit_multi_solve(g_acc, 2, NULL, NULL, radii), SFIT_E_ARG);
-    assert_int_equal(sfit_multi_solve(g_acc, 0, NULL, &r, radii), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_multi_fit(NULL, 2, NULL, &r, radii), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, NULL, NULL, radii), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_fit(g_acc, 0, NULL, &r, radii), SFIT_E_TOO_FEW);
     mc.weight = (sfit_multi_weight_t)7;
-    assert_int_equal(sfit_multi_solve(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
     mc = sfit_multi_cfg_default;
     mc.fit.mode = (sfit_mode_t)9;
-    assert_int_equal(sfit_multi_solve(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
     mc = sfit_multi_cfg_default;
     mc.fit.noise = SFIT_NOISE_ISO;
     mc.fit.noise_var = -1.0f;
-    assert_int_equal(sfit_multi_solve(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, &mc, &r, radii), SFIT_E_ARG);
     /* Noise larger than the spread: sum C'_p not positive definite. */
     mc.fit.noise_var = 1e6f;
-    assert_int_equal(sfit_multi_solve(g_acc, 2, &mc, &r, radii), SFIT_E_NOT_POSDEF);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, &mc, &r, radii), SFIT_E_NOT_POSDEF);
     assert_memory_equal(&r, &sentinel, sizeof r);
     assert_true(radii[0] == -7.0f && radii[1] == -7.0f);
 
@@ -691,15 +691,15 @@ static void test_contract(void **state)
                 assert_int_equal(sfit_moments_add(&same[k], &v), SFIT_OK);
             }
         }
-        assert_int_equal(sfit_multi_solve(same, 2, NULL, &r, radii), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_multi_fit(same, 2, NULL, &r, radii), SFIT_E_DEGENERATE);
         assert_memory_equal(&r, &sentinel, sizeof r);
     }
     /* Success writes exactly count radii (the third stays a sentinel). */
-    assert_int_equal(sfit_multi_solve(g_acc, 2, NULL, &r, radii), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, NULL, &r, radii), SFIT_OK);
     assert_true(radii[0] > 0.0f && radii[1] > 0.0f);
     assert_true(radii[2] == -7.0f);
     /* radii may be NULL. */
-    assert_int_equal(sfit_multi_solve(g_acc, 2, NULL, &r, NULL), SFIT_OK);
+    assert_int_equal(sfit_multi_fit(g_acc, 2, NULL, &r, NULL), SFIT_OK);
     assert_true(isfinite(r.center.v[0]) && isfinite(r.center.v[1]) && isfinite(r.center.v[2]));
 }
 

@@ -50,8 +50,8 @@ static void test_matches_oracle_far(void **state)
     (void)state;
     tu_rng_seed(&g, 5u);
     gen(&g, c, 100.0, 40.0 * TU_PI / 180.0, 1.0, 1000);
-    assert_int_equal(sfit_selfcal_fit(g_pf, 1000, NULL, &s), SFIT_OK);
-    assert_int_equal(sfit_refine_fit(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_points_refine(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
     tc_to_double3(&s.fit.center, ci);
     assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
     assert_true(tc_dist(&r.center, cg) < 2e-3);
@@ -65,6 +65,45 @@ static void test_matches_oracle_far(void **state)
     assert_int_equal(r.n, 1000);
 }
 
+/* The combined recipe (sfit_points_fit_refined): each part equals the step
+ * that makes it, bit for bit, and the geometric centre agrees with the
+ * double oracle as in test_matches_oracle_far; failures write nothing. */
+static void test_recipe(void **state)
+{
+    const double c[3] = {2500.0, -900.0, 450.0};
+    sfit_selfcal_result_t s;
+    sfit_refine_result_t r;
+    sfit_uncert_t u;
+    sfit_refined_t f, sentinel;
+    double ci[3], cg[3], rg;
+    int it;
+    tu_rng_t g;
+    (void)state;
+    tu_rng_seed(&g, 5u);
+    gen(&g, c, 100.0, 40.0 * TU_PI / 180.0, 1.0, 1000);
+    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &f), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_points_refine(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_uncert_geometric(g_pf, 1000, &r.center, &u), SFIT_OK);
+    assert_memory_equal(&f.start, &s, sizeof s);
+    assert_memory_equal(&f.geometric, &r, sizeof r);
+    assert_memory_equal(&f.uncert, &u, sizeof u);
+    tc_to_double3(&s.fit.center, ci);
+    assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
+    assert_true(tc_dist(&f.geometric.center, cg) < 2e-3);
+    assert_near(f.geometric.radius, rg, 2e-3, "recipe radius vs oracle");
+    assert_true(f.geometric.converged == 1u);
+    /* contract */
+    memset(&sentinel, 0x6B, sizeof sentinel);
+    f = sentinel;
+    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_points_fit_refined(NULL, 1000, NULL, &f), SFIT_E_ARG);
+    assert_int_equal(sfit_points_fit_refined(g_pf, 4, NULL, &f), SFIT_E_TOO_FEW);
+    g_pf[17].v[1] = NAN;
+    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &f), SFIT_E_NONFINITE);
+    assert_memory_equal(&f, &sentinel, sizeof f);
+}
+
 static void test_exact_data(void **state)
 {
     const double c[3] = {-300.0, 150.0, 1000.0};
@@ -74,7 +113,7 @@ static void test_exact_data(void **state)
     (void)state;
     tu_rng_seed(&g, 6u);
     gen(&g, c, 80.0, 70.0 * TU_PI / 180.0, 0.0, 300);
-    assert_int_equal(sfit_refine_fit(g_pf, 300, &start, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_refine(g_pf, 300, &start, NULL, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, c) < 5e-3);
     assert_near(r.radius, 80.0, 5e-3, "radius");
     assert_true(r.rms < 1e-3f);
@@ -97,8 +136,8 @@ static double efficiency(double theta_deg, double rho, int n, int trials, uint64
         sfit_refine_result_t r;
         double cr[4][4], e;
         gen(&g, c, r0, theta, sqrt(s2), n);
-        assert_int_equal(sfit_selfcal_fit(g_pf, (size_t)n, NULL, &s), SFIT_OK);
-        assert_int_equal(sfit_refine_fit(g_pf, (size_t)n, &s.fit.center, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &s), SFIT_OK);
+        assert_int_equal(sfit_points_refine(g_pf, (size_t)n, &s.fit.center, NULL, &r), SFIT_OK);
         e = tc_dist(&r.center, c);
         mse += e * e;
         ref_crlb_sphere(REF_C3(g_xt), (size_t)n, c, r0, s2, cr);
@@ -170,8 +209,8 @@ static void check_hip(const char *marker, const double geo[3], double geo_r, dou
     for (k = 0; k < 3; k++) {
         se[k] = sqrt(cr[k][k]);
     }
-    assert_int_equal(sfit_selfcal_fit(p, n, NULL, &s), SFIT_OK);
-    assert_int_equal(sfit_refine_fit(p, n, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(p, n, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_points_refine(p, n, &s.fit.center, NULL, &r), SFIT_OK);
     print_message("%s: SE (%.3f %.3f %.3f); selfcal (%.3f %.3f %.3f) sigma %.3f trust %.3f; "
                   "refined (%.3f %.3f %.3f) r %.3f rms %.3f it %u\n",
                   marker, se[0], se[1], se[2], (double)s.fit.center.v[0],
@@ -212,25 +251,32 @@ static void test_bounds_and_contract(void **state)
     r = sentinel;
     /* one iteration from 50 mm off cannot converge: no output */
     cfg.max_iters = 1u;
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
     assert_memory_equal(&r, &sentinel, sizeof r);
+    /* the same with accept_unconverged: the last accepted centre, converged 0 */
+    cfg.accept_unconverged = 1u;
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
+    assert_true(r.converged == 0u && r.iterations == 1u);
+    assert_true(tc_dist(&r.center, c) < 50.0 && isfinite(r.radius) && isfinite(r.noise_var));
+    cfg.accept_unconverged = 0u;
+    r = sentinel;
     cfg.max_iters = 0u;
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, c) < 0.5);
     assert_true(r.iterations > 1u && r.iterations <= SFIT_REFINE_MAX_ITERS);
     r = sentinel;
     cfg.tol = 0.5f;
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_refine_fit(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_refine_fit(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &bad, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_refine_fit(g_pf, 4, &far_start, NULL, &r), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_points_refine(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_points_refine(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_points_refine(g_pf, 4, &far_start, NULL, &r), SFIT_E_TOO_FEW);
     g_pf[3].v[2] = INFINITY;
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, NULL, &r), SFIT_E_NONFINITE);
     g_pf[3].v[2] = 0.0f;
     /* a sample exactly at the start centre */
     g_pf[5] = far_start;
-    assert_int_equal(sfit_refine_fit(g_pf, 200, &far_start, NULL, &r), SFIT_E_DEGENERATE);
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, NULL, &r), SFIT_E_DEGENERATE);
     assert_memory_equal(&r, &sentinel, sizeof r);
     /* planar data: the centre is free along the normal */
     {
@@ -242,7 +288,7 @@ static void test_bounds_and_contract(void **state)
             ring[i].v[1] = 10.0f * (float)sin(0.15 * i);
             ring[i].v[2] = 0.0f;
         }
-        assert_int_equal(sfit_refine_fit(ring, 40, &s0, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_points_refine(ring, 40, &s0, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
 }
@@ -263,7 +309,7 @@ static void test_coincident_is_degenerate(void **state)
     memset(&sentinel, 0x3C, sizeof sentinel);
     r = sentinel;
     for (i = 5; i <= 12; i++) {
-        assert_int_equal(sfit_refine_fit(p, i, &c0, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_points_refine(p, i, &c0, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
 }
@@ -272,6 +318,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_oracle_far),
+        cmocka_unit_test(test_recipe),
         cmocka_unit_test(test_exact_data),
         cmocka_unit_test(test_efficiency),
         cmocka_unit_test(test_efficiency_wide),

@@ -52,7 +52,7 @@ static void test_exact_data(void **state)
     (void)state;
     tu_rng_seed(&g, 1u);
     gen(&g, 40.0 * TU_PI / 180.0, 0.0, 200);
-    assert_int_equal(sfit_selfcal_fit(g_pf, 200, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(g_pf, 200, NULL, &r), SFIT_OK);
     /* float rounding of |x| ~ 1500 is ~1e-4: sigma^2 at the 1e-7 level */
     assert_true(r.noise_var < 1e-5f);
     assert_true(tc_dist(&r.fit.center, k_c) < 2e-2);
@@ -76,7 +76,7 @@ static void test_matches_oracle(void **state)
     (void)state;
     tu_rng_seed(&g, 2u);
     gen(&g, 35.0 * TU_PI / 180.0, 1.5, n);
-    assert_int_equal(sfit_selfcal_fit(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
     for (i = 0; i < n; i++) {
         tc_to_double3(&g_pf[i], g_xn[i]); /* the float data, exactly */
     }
@@ -117,7 +117,7 @@ static void check_noise_unbiased(double theta_deg, double rho, int trials, uint6
     for (t = 0; t < trials; t++) {
         sfit_selfcal_result_t r;
         gen(&g, theta, sqrt(s2), n);
-        assert_int_equal(sfit_selfcal_fit(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
         sum += (double)r.noise_var;
     }
     print_message("noise: theta %.0f rho %.2f N %d: mean sigma_hat^2 / sigma^2 = %.4f\n",
@@ -163,7 +163,7 @@ static double efficiency(double theta_deg, double rho, int n, int trials, uint64
         sfit_selfcal_result_t r;
         double cr[4][4], e;
         gen(&g, theta, sqrt(s2), n);
-        assert_int_equal(sfit_selfcal_fit(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
         e = tc_dist(&r.fit.center, k_c);
         mse += e * e;
         ref_crlb_sphere(REF_C3(g_xt), (size_t)n, k_c, K_R, s2, cr);
@@ -239,7 +239,7 @@ static void test_cap_safeguard(void **state)
     (void)state;
     tu_rng_seed(&g, 3u);
     gen(&g, 8.0 * TU_PI / 180.0, 3.0, 300);
-    assert_int_equal(sfit_selfcal_fit(g_pf, 300, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_points_selfcal(g_pf, 300, NULL, &r), SFIT_OK);
     assert_true((r.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     assert_true(r.fit.trust_ratio <= SFIT_SELFCAL_MAX_TRUST * 1.001f);
     assert_true(r.noise_var <= SFIT_SELFCAL_MAX_TRUST * r.fit.eigenvalues.v[0] * 1.0001f);
@@ -249,7 +249,7 @@ static void test_cap_safeguard(void **state)
 static void test_contract(void **state)
 {
     sfit_selfcal_result_t r, sentinel;
-    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    sfit_selfcal_cfg_t cfg = sfit_selfcal_cfg_default;
     float v = -7.0f;
     sfit_vec3_t c = {{0.0f, 0.0f, 0.0f}};
     tu_rng_t g;
@@ -258,13 +258,15 @@ static void test_contract(void **state)
     gen(&g, 60.0 * TU_PI / 180.0, 0.5, 50);
     memset(&sentinel, 0xA5, sizeof sentinel);
     r = sentinel;
-    assert_int_equal(sfit_selfcal_fit(NULL, 50, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_selfcal_fit(g_pf, 50, NULL, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_selfcal_fit(g_pf, 4, NULL, &r), SFIT_E_TOO_FEW);
-    cfg.mode = SFIT_MODE_PLANAR;
-    assert_int_equal(sfit_selfcal_fit(g_pf, 50, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_points_selfcal(NULL, 50, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_points_selfcal(g_pf, 50, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_points_selfcal(g_pf, 4, NULL, &r), SFIT_E_TOO_FEW);
+    cfg.planar_ratio = 1.5f;
+    assert_int_equal(sfit_points_selfcal(g_pf, 50, &cfg, &r), SFIT_E_ARG);
+    cfg.planar_ratio = NAN;
+    assert_int_equal(sfit_points_selfcal(g_pf, 50, &cfg, &r), SFIT_E_ARG);
     g_pf[7].v[1] = NAN;
-    assert_int_equal(sfit_selfcal_fit(g_pf, 50, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_points_selfcal(g_pf, 50, NULL, &r), SFIT_E_NONFINITE);
     g_pf[7].v[1] = 0.0f;
     g_pf[8] = g_pf[9] = g_pf[10] = g_pf[0]; /* still fine: not degenerate */
     assert_memory_equal(&r, &sentinel, sizeof r);
@@ -277,12 +279,12 @@ static void test_contract(void **state)
             line[i].v[1] = 2.0f * (float)i;
             line[i].v[2] = 1.0f;
         }
-        assert_int_equal(sfit_selfcal_fit(line, 20, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_points_selfcal(line, 20, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
-    assert_int_equal(sfit_selfcal_noise_var(g_pf, 4, &c, 1.0f, &v), SFIT_E_TOO_FEW);
-    assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, &c, 0.0f, &v), SFIT_E_ARG);
-    assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, NULL, 1.0f, &v), SFIT_E_ARG);
+    assert_int_equal(sfit_points_noise_var(g_pf, 4, &c, 1.0f, &v), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_points_noise_var(g_pf, 50, &c, 0.0f, &v), SFIT_E_ARG);
+    assert_int_equal(sfit_points_noise_var(g_pf, 50, NULL, 1.0f, &v), SFIT_E_ARG);
     assert_true(v == -7.0f);
 }
 

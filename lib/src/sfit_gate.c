@@ -12,10 +12,7 @@
  */
 #include "sfit/sfit_gate.h"
 
-#include <string.h>
-
-#include "sfit/sfit_mat3.h"
-#include "sfit_internal.h"
+#include "sfit_solve.h"
 
 /** Gate sigma is at least this fraction of the radius (rounding noise). */
 #define SFIT_GATE_VAR_FLOOR_REL 1e-5f
@@ -28,11 +25,10 @@
 #define SFIT_GATE_MAD_SIGMA 1.4826f
 
 const sfit_gate_cfg_t sfit_gate_cfg_default = {
-    {SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f, {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}},
-     0.0f},
-    0.0f,
-    0.0f,
-    64u};
+    .fit = {.mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .planar_ratio = 0.0f},
+    .k = 0.0f,
+    .noise_var = 0.0f,
+    .refresh = 64u};
 
 static float prv_floor(float r)
 {
@@ -42,8 +38,12 @@ static float prv_floor(float r)
 
 static float prv_resid(const sfit_vec3_t *x, const sfit_vec3_t *c, float r)
 {
-    const float d0 = x->v[0] - c->v[0], d1 = x->v[1] - c->v[1], d2 = x->v[2] - c->v[2];
-    return SFIT_SQRTF(d0 * d0 + d1 * d1 + d2 * d2) - r;
+    float d[3];
+    int i;
+    for (i = 0; i < 3; i++) {
+        d[i] = x->v[i] - c->v[i];
+    }
+    return SFIT_SQRTF(sfit_i_dot3(d, d)) - r;
 }
 
 /* Median of a[0..n-1] (sorted in place, insertion sort, n <= SFIT_GATE_WARMUP). */
@@ -114,35 +114,20 @@ static void prv_buffer_moments(const sfit_gate_t *g, const uint8_t *keep, sfit_m
 static sfit_status_t prv_leverage(sfit_gate_t *g, const sfit_moments_t *m)
 {
     sfit_vec3_t mean;
-    sfit_mat3_t c, l;
-    float inv[9];
+    sfit_mat3_t c, l, inv;
     uint32_t n = sfit_moments_count(m);
     int j;
     if (n < 2u || sfit_moments_stats(m, &mean, &c, NULL) != SFIT_OK
         || sfit_mat3_chol(&c, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
     }
-    for (j = 0; j < 3; j++) {
-        sfit_vec3_t e, x;
-        e.v[0] = (j == 0) ? 1.0f : 0.0f;
-        e.v[1] = (j == 1) ? 1.0f : 0.0f;
-        e.v[2] = (j == 2) ? 1.0f : 0.0f;
-        (void)sfit_mat3_chol_solve(&l, &e, &x);
-        inv[j] = x.v[0];
-        inv[3 + j] = x.v[1];
-        inv[6 + j] = x.v[2];
+    sfit_i_chol_inverse(&l, &inv);
+    sfit_i_sym_pack(&inv, g->minv);
+    for (j = 0; j < 6; j++) {
+        g->minv[j] *= 1.0f / (float)(n - 1u);
     }
     g->mean = mean;
     g->inv_n = 1.0f / (float)n;
-    {
-        const float s = 1.0f / (float)(n - 1u);
-        g->minv[0] = s * inv[0];
-        g->minv[1] = s * inv[4];
-        g->minv[2] = s * inv[8];
-        g->minv[3] = s * 0.5f * (inv[1] + inv[3]);
-        g->minv[4] = s * 0.5f * (inv[2] + inv[6]);
-        g->minv[5] = s * 0.5f * (inv[5] + inv[7]);
-    }
     return SFIT_OK;
 }
 
@@ -180,7 +165,7 @@ static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfi
     uint32_t i;
     sfit_status_t st;
     prv_buffer_moments(g, keep, m);
-    st = sfit_fit_solve(m, &g->cfg.fit, fit);
+    st = sfit_moments_fit(m, &g->cfg.fit, fit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -351,7 +336,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
         }
         return prv_warm_start(g);
     }
-    st = sfit_fit_solve(&g->acc, &g->cfg.fit, &fit);
+    st = sfit_moments_fit(&g->acc, &g->cfg.fit, &fit);
     if (st != SFIT_OK) {
         g->since = 0u;
         g->wrej = 0u;
@@ -371,14 +356,23 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
     return SFIT_OK;
 }
 
+/* A sample was judged: count it, refresh when due, report the verdict. */
+static sfit_status_t prv_judged(sfit_gate_t *g, int *accepted, int verdict)
+{
+    g->since++;
+    if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
+        (void)sfit_gate_refresh(g);
+    }
+    if (accepted != NULL) {
+        *accepted = verdict;
+    }
+    return SFIT_OK;
+}
+
 sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
 {
-    sfit_status_t st;
     float e = 0.0f, h1 = 1.0f;
-    if (g == NULL || x == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = sfit_i_check_sample(x->v);
+    sfit_status_t st = sfit_i_check_add(g, x);
     if (st != SFIT_OK) {
         return st;
     }
@@ -401,14 +395,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
             }
             g->outliers++;
             g->wrej++;
-            g->since++;
-            if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
-                (void)sfit_gate_refresh(g);
-            }
-            if (accepted != NULL) {
-                *accepted = 0;
-            }
-            return SFIT_OK;
+            return prv_judged(g, accepted, 0);
         }
     }
     st = sfit_moments_add(&g->acc, x);
@@ -419,17 +406,10 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
         g->ws2 += e * e / h1;
         g->wn++;
     }
-    g->since++;
-    if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
-        (void)sfit_gate_refresh(g);
-    }
-    if (accepted != NULL) {
-        *accepted = 1;
-    }
-    return SFIT_OK;
+    return prv_judged(g, accepted, 1);
 }
 
-sfit_status_t sfit_gate_solve(const sfit_gate_t *g, sfit_result_t *out)
+sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)
 {
     if (g == NULL || out == NULL) {
         return SFIT_E_ARG;
@@ -437,9 +417,9 @@ sfit_status_t sfit_gate_solve(const sfit_gate_t *g, sfit_result_t *out)
     if (g->phase == 0u) {
         sfit_moments_t m;
         prv_buffer_moments(g, NULL, &m);
-        return sfit_fit_solve(&m, &g->cfg.fit, out);
+        return sfit_moments_fit(&m, &g->cfg.fit, out);
     }
-    return sfit_fit_solve(&g->acc, &g->cfg.fit, out);
+    return sfit_moments_fit(&g->acc, &g->cfg.fit, out);
 }
 
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)

@@ -19,7 +19,7 @@
  *  - the mean as p + d, p a frame origin near the mean, d small;
  *    d += (z - d)/n with z = x - p computed directly from the sample
  *    (never d = n (m_{n+1} - m_n), which multiplies the rounding of the
- *    mean by n, DESIGN.md section 2);
+ *    mean by n);
  *  - M2 = sum y y^T about the running mean, by Welford's rank-one update
  *    M2 += e delta^T, e = x - m_n, delta = x - m_{n+1} = e - e/n (the
  *    unscaled form of eq. 227);
@@ -59,10 +59,8 @@
 #include "sfit/sfit_incr.h"
 
 #include <float.h>
-#include <stdint.h>
-#include <string.h>
 
-#include "sfit_internal.h"
+#include "sfit_solve.h"
 
 /* Fold the inner level into the outer one and move the frame origin p to
  * the current mean. 82 FLOPs, once every SFIT_INCR_BLOCK samples (and
@@ -162,33 +160,20 @@ static void prv_add(sfit_incr_t *s, const float x[3])
     }
 }
 
-sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_fit_cfg_t *cfg)
+const sfit_incr_cfg_t sfit_incr_cfg_default = {.noise = SFIT_NOISE_NONE, .noise_var = 0.0f};
+
+sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg)
 {
     sfit_mat3_t sg;
-    sfit_status_t st;
 
-    if (s == NULL) {
+    cfg = (cfg != NULL) ? cfg : &sfit_incr_cfg_default;
+    if (s == NULL || sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov) != SFIT_OK) {
         return SFIT_E_ARG;
     }
-    if (cfg == NULL) {
-        cfg = &sfit_fit_cfg_default;
-    }
-    st = sfit_i_check_cfg(cfg);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (cfg->mode == SFIT_MODE_PLANAR) {
-        return SFIT_E_ARG;
-    }
-    sfit_i_sigma(cfg, &sg);
+    sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sg);
     memset(s, 0, sizeof *s);
     s->noise = cfg->noise;
-    s->sig[0] = sg.m[0];
-    s->sig[1] = sg.m[4];
-    s->sig[2] = sg.m[8];
-    s->sig[3] = sg.m[3];
-    s->sig[4] = sg.m[6];
-    s->sig[5] = sg.m[7];
+    sfit_i_sym_pack(&sg, s->sig);
     s->sig_tr = sg.m[0] + sg.m[4] + sg.m[8];
     return SFIT_OK;
 }
@@ -218,20 +203,14 @@ uint32_t sfit_incr_count(const sfit_incr_t *s)
 
 sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x)
 {
-    sfit_status_t st;
-
-    if (s == NULL || x == NULL) {
-        return SFIT_E_ARG;
-    }
-    st = sfit_i_check_sample(x->v);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (s->n == UINT32_MAX) {
+    const sfit_status_t st = sfit_i_check_add(s, x);
+    if (st == SFIT_OK && s->n == UINT32_MAX) {
         return SFIT_E_RANGE;
     }
-    prv_add(s, x->v);
-    return SFIT_OK;
+    if (st == SFIT_OK) {
+        prv_add(s, x->v);
+    }
+    return st;
 }
 
 /* The state's noise model as a fit configuration (sphere mode). */
@@ -245,48 +224,34 @@ static void prv_cfg(const sfit_incr_t *s, sfit_fit_cfg_t *cfg)
 }
 
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
-                              sfit_incr_est_t *out)
+                              sfit_sphere_t *out)
 {
     sfit_moments_t acc;
     sfit_fit_cfg_t cfg;
     sfit_result_t batch;
     sfit_incr_t tmp;
-    sfit_incr_est_t est;
+    sfit_sphere_t est;
     sfit_status_t st;
     size_t i;
 
     if (s == NULL || (pts == NULL && n > 0u)) {
         return SFIT_E_ARG;
     }
-#if SIZE_MAX > UINT32_MAX
-    if (n > (size_t)UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-#endif
-    for (i = 0; i < n; i++) {
-        st = sfit_i_check_sample(pts[i].v);
-        if (st != SFIT_OK) {
-            return st;
-        }
-    }
-    if (n < (size_t)SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
-    }
-    /* The batch fit decides whether the start is usable (eigenvalue checks:
-     * coincident, collinear, planar; C' positive definite). */
-    (void)sfit_moments_init(&acc);
-    st = sfit_moments_add_block(&acc, pts, n, NULL);
+    st = sfit_i_check_points(pts, n, (size_t)SFIT_MIN_SAMPLES);
     if (st != SFIT_OK) {
         return st;
     }
+    /* The batch fit decides whether the start is usable (eigenvalue checks:
+     * coincident, collinear, planar; C' positive definite). */
+    (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
     /* Geometry first (GDKE), so that a planar set is reported as
      * degenerate whatever the noise model; then the state's own model. */
     prv_cfg(s, &cfg);
     cfg.noise = SFIT_NOISE_NONE;
-    st = sfit_fit_solve(&acc, &cfg, &batch);
+    st = sfit_moments_fit(&acc, &cfg, &batch);
     if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE) {
         prv_cfg(s, &cfg);
-        st = sfit_fit_solve(&acc, &cfg, &batch);
+        st = sfit_moments_fit(&acc, &cfg, &batch);
     }
     if (st != SFIT_OK) {
         return st;
@@ -297,7 +262,7 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     for (i = 0; i < n; i++) {
         prv_add(&tmp, pts[i].v);
     }
-    st = sfit_incr_solve(&tmp, &est);
+    st = sfit_incr_fit(&tmp, &est);
     if (st != SFIT_OK) {
         return st;
     }
@@ -338,19 +303,16 @@ static sfit_status_t prv_why_singular(const sfit_incr_t *s, float tol)
 /* Tally: 65 FLOPs for GDKE (6 div, 1 sqrt); UGDK isotropic +6 = 71;
  * UGDK full covariance +33 = 98 (the "iso +" / "cov +" lines). Measured
  * identical on the Cortex-M4F by tools/flopcount (docs/incremental.md). */
-sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
+sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
 {
     float m[6], t[3], q, b[3], a[3], w[3];
     float dmax, amax, sc, tol, nm1, l10, l20, l21, d1, d2, tt, y1, y2, z0, z1, z2;
     float tr, r2;
-    sfit_incr_est_t r;
+    sfit_sphere_t r;
     int i;
 
-    if (s == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (s->n < SFIT_MIN_SAMPLES) {
-        return SFIT_E_TOO_FEW;
+    if (s == NULL || out == NULL || s->n < SFIT_MIN_SAMPLES) {
+        return (s == NULL || out == NULL) ? SFIT_E_ARG : SFIT_E_TOO_FEW;
     }
     nm1 = (float)(s->n - 1u);
     for (i = 0; i < 6; i++) {
@@ -362,7 +324,7 @@ sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
     q = s->q + s->q_lo;                                            /* [1]    : 10 */
 
     /* Geometry: coincident when the largest per-axis spread is rounding
-     * noise of the coordinates (as sfit_fit_solve, SFIT_COINCIDENT_ULPS);
+     * noise of the coordinates (as sfit_moments_fit, SFIT_COINCIDENT_ULPS);
      * coincident, collinear or planar also when an LDL^T pivot is
      * <= SFIT_CHOL_PIVOT_EPS * the largest diagonal entry (below). */
     dmax = m[0];
@@ -445,19 +407,14 @@ sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out)
     }
     r.radius = SFIT_SQRTF(r2);                                      /* [1]    : 65 */
     r.n = s->n;
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r.center.v[i])) {
-            return SFIT_E_RANGE;
-        }
-    }
-    if (!sfit_i_isfinite(r.radius)) {
+    if (!sfit_i_sphere_finite(&r.center, r.radius)) {
         return SFIT_E_RANGE;
     }
     *out = r;
     return SFIT_OK;
 }
 
-sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_est_t *out)
+sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out)
 {
     sfit_status_t st;
     if (out == NULL) {
@@ -467,5 +424,5 @@ sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_e
     if (st != SFIT_OK) {
         return st;
     }
-    return sfit_incr_solve(s, out);
+    return sfit_incr_fit(s, out);
 }

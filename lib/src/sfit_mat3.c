@@ -7,22 +7,7 @@
 
 #include <string.h>
 
-#include "sfit/sfit_config.h"
-#include "sfit_internal.h"
-
-void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a)
-{
-    a->m[0] = p[0]; a->m[1] = p[3]; a->m[2] = p[4];
-    a->m[3] = p[3]; a->m[4] = p[1]; a->m[5] = p[5];
-    a->m[6] = p[4]; a->m[7] = p[5]; a->m[8] = p[2];
-}
-
-int sfit_i_isfinite(float x)
-{
-    uint32_t u;
-    memcpy(&u, &x, sizeof u);
-    return ((u >> 23) & 0xFFu) != 0xFFu;
-}
+#include "sfit_mat3_i.h"
 
 sfit_status_t sfit_mat3_chol(const sfit_mat3_t *a, sfit_mat3_t *l)
 {
@@ -75,10 +60,13 @@ sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, s
         return SFIT_E_ARG;
     }
     L = l->m;
-    /* Forward: L y = b. */
-    y0 = b->v[0] / L[0];
-    y1 = (b->v[1] - L[3] * y0) / L[4];
-    y2 = (b->v[2] - L[6] * y0 - L[7] * y1) / L[8];
+    {
+        float y[3];
+        sfit_i_chol_forward(l, b->v, y); /* L y = b */
+        y0 = y[0];
+        y1 = y[1];
+        y2 = y[2];
+    }
     /* Backward: L^T x = y. */
     x2 = y2 / L[8];
     x1 = (y1 - L[7] * x2) / L[4];

@@ -26,25 +26,7 @@
 
 #include <string.h>
 
-#include "sfit_internal.h"
-
-sfit_status_t sfit_i_check_sample(const float x[3])
-{
-    sfit_status_t st = SFIT_OK;
-    int i;
-    for (i = 0; i < 3; i++) {
-        uint32_t u, e;
-        memcpy(&u, &x[i], sizeof u);
-        e = (u >> 23) & 0xFFu;
-        if (e == 0xFFu) {
-            return SFIT_E_NONFINITE;
-        }
-        if (e >= (uint32_t)(127 + SFIT_COORD_MAX_EXP)) {
-            st = SFIT_E_RANGE;
-        }
-    }
-    return st;
-}
+#include "sfit_moments_i.h"
 
 sfit_status_t sfit_moments_init(sfit_moments_t *m)
 {
@@ -211,26 +193,27 @@ static void prv_add(sfit_moments_t *m, const float x[3])
     m->bm3[1] += q * z1;
     m->bm3[2] += q * z2;
     m->bn++;
-    if (m->bn >= SFIT_MOMENTS_BLOCK) {
+    if (m->bn >= SFIT_SUM_BLOCK) {
         prv_flush(m);
     }
 }
 
 sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x)
 {
-    sfit_status_t st;
-    if (m == NULL || x == NULL) {
-        return SFIT_E_ARG;
+    sfit_status_t st = sfit_i_check_add(m, x);
+    if (st == SFIT_OK && sfit_moments_count(m) == UINT32_MAX) {
+        st = SFIT_E_RANGE;
     }
-    st = sfit_i_check_sample(x->v);
-    if (st != SFIT_OK) {
-        return st;
+    if (st == SFIT_OK) {
+        prv_add(m, x->v);
     }
-    if (sfit_moments_count(m) == UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-    prv_add(m, x->v);
-    return SFIT_OK;
+    return st;
+}
+
+sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t *m)
+{
+    (void)sfit_moments_init(m);
+    return sfit_moments_add_block(m, pts, n, NULL);
 }
 
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
@@ -287,6 +270,20 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
     return SFIT_OK;
 }
 
+void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
+{
+    const float inv = 1.0f / (float)(t->n - 1u);
+    float p[6];
+    int i;
+    for (i = 0; i < 6; i++) {
+        p[i] = t->m2[i] * inv;
+    }
+    sfit_i_sym_unpack(p, c);
+    for (i = 0; i < 3; i++) {
+        b[i] = (0.5f * inv) * t->m3[i];
+    }
+}
+
 sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,
                                  sfit_vec3_t *s)
 {
@@ -294,17 +291,17 @@ sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfi
     float inv;
     int i;
 
-    if (m == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (sfit_moments_count(m) < 2u) {
-        return SFIT_E_TOO_FEW;
+    if (m == NULL || sfit_moments_count(m) < 2u) {
+        return (m == NULL) ? SFIT_E_ARG : SFIT_E_TOO_FEW;
     }
     sfit_i_moments_total(m, &t);
     inv = 1.0f / (float)(t.n - 1u);
-    if (mean != NULL) {
-        for (i = 0; i < 3; i++) {
+    for (i = 0; i < 3; i++) {
+        if (mean != NULL) {
             mean->v[i] = m->origin[i] + t.d[i];
+        }
+        if (s != NULL) {
+            s->v[i] = t.m3[i] * inv;
         }
     }
     if (c != NULL) {
@@ -313,11 +310,6 @@ sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfi
             p[i] = t.m2[i] * inv;
         }
         sfit_i_sym_unpack(p, c);
-    }
-    if (s != NULL) {
-        for (i = 0; i < 3; i++) {
-            s->v[i] = t.m3[i] * inv;
-        }
     }
     return SFIT_OK;
 }

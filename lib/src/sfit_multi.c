@@ -20,7 +20,7 @@
  * The system is handed to sfit_i_solve() as c = sum w_p C_p and
  * sigma = (sum w_p) Sigma_hat, exactly the single-marker problem when
  * M = 1 (w_1 = 1, m_1 - o = 0): the centre origin_1 + (d_1 + w) and the
- * radius are then computed by the same float operations as sfit_fit_solve()
+ * radius are then computed by the same float operations as sfit_moments_fit()
  * in sphere mode.
  *
  * Planar: the pseudo-inverse gives the solution with no component along
@@ -35,17 +35,11 @@
 
 #include <string.h>
 
-#include "sfit_internal.h"
+#include "sfit_solve.h"
 
 const sfit_multi_cfg_t sfit_multi_cfg_default = {
-    {SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f,
-     {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}}, 0.0f},
-    SFIT_MULTI_WEIGHT_EQUAL};
-
-static float prv_dot(const float *a, const float *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+    .fit = {.mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .planar_ratio = 0.0f},
+    .weight = SFIT_MULTI_WEIGHT_EQUAL};
 
 /* Per-marker quantities relative to the reference o = origin_ref + d_ref. */
 typedef struct prv_marker {
@@ -59,19 +53,24 @@ static void prv_marker(const sfit_moments_t *m, const float origin_ref[3], const
                        prv_marker_t *pm)
 {
     sfit_cmom_t t;
-    float p[6], inv;
     int i;
     sfit_i_moments_total(m, &t);
-    inv = 1.0f / (float)(t.n - 1u);
-    for (i = 0; i < 6; i++) {
-        p[i] = t.m2[i] * inv;
-    }
-    sfit_i_sym_unpack(p, &pm->c);
+    sfit_i_cmom_system(&t, &pm->c, pm->s2);
     for (i = 0; i < 3; i++) {
-        pm->s2[i] = (0.5f * inv) * t.m3[i];
         pm->dm[i] = (m->origin[i] - origin_ref[i]) + (t.d[i] - d_ref[i]);
     }
     pm->n = t.n;
+}
+
+/* 1 with pm filled when the marker has enough samples to be used. */
+static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const float d_ref[3],
+                    prv_marker_t *pm)
+{
+    if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
+        return 0;
+    }
+    prv_marker(m, origin_ref, d_ref, pm);
+    return 1;
 }
 
 /* Weight of a marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1 when
@@ -101,19 +100,19 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
         const float *a = sol->axis.v;
         float ca[3], ea;
         for (i = 0; i < 3; i++) {
-            ca[i] = prv_dot(&cp[3 * i], a);
+            ca[i] = sfit_i_dot3(&cp[3 * i], a);
         }
-        tr -= prv_dot(a, ca);
-        ea = prv_dot(e, a);
+        tr -= sfit_i_dot3(a, ca);
+        ea = sfit_i_dot3(e, a);
         for (i = 0; i < 3; i++) {
             e[i] -= ea * a[i];
         }
     }
-    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + prv_dot(e, e);
+    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + sfit_i_dot3(e, e);
     return r2;
 }
 
-sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii)
 {
@@ -130,13 +129,8 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     int i;
     sfit_status_t st;
 
-    if (markers == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_multi_cfg_default;
-    }
-    st = sfit_i_check_cfg(&cfg->fit);
+    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
+    st = (markers == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_check_cfg(&cfg->fit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -181,19 +175,18 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
         return SFIT_E_RANGE;
     }
     if (skipped > 0u) {
-        flags |= SFIT_MULTI_FLAG_SKIPPED;
+        flags |= (uint32_t)SFIT_MULTI_FLAG_SKIPPED;
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
-    sfit_i_sigma(&cfg->fit, &sg);
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
     memset(&sys, 0, sizeof sys);
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
         float w;
-        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
-        prv_marker(&markers[p], origin_ref, d_ref, &pm);
         w = prv_weight(cfg, pm.n, used, sum_n1);
         sw += w;
         for (i = 0; i < 9; i++) {
@@ -229,7 +222,7 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
         for (i = 0; i < 3; i++) {
             dbar[i] /= sw;
         }
-        k = prv_dot(sol.axis.v, dbar);
+        k = sfit_i_dot3(sol.axis.v, dbar);
         for (i = 0; i < 3; i++) {
             wc[i] += k * sol.axis.v[i];
         }
@@ -239,10 +232,9 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
         float r2;
-        if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
+        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
-        prv_marker(&markers[p], origin_ref, d_ref, &pm);
         r2 = prv_radius2(&pm, &sg, wc, &sol);
         if (!(r2 > 0.0f)) {
             return SFIT_E_NOT_POSDEF;
@@ -255,9 +247,9 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     memset(&r, 0, sizeof r);
     for (i = 0; i < 3; i++) {
         r.center.v[i] = origin_ref[i] + (d_ref[i] + wc[i]);
-        if (!sfit_i_isfinite(r.center.v[i])) {
-            return SFIT_E_RANGE;
-        }
+    }
+    if (!sfit_i_finite3(r.center.v)) {
+        return SFIT_E_RANGE;
     }
     r.n_total = (uint32_t)n_total;
     r.markers = used;
@@ -274,12 +266,9 @@ sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
     if (radii != NULL) {
         for (p = 0u; p < count; p++) {
             prv_marker_t pm;
-            if (sfit_moments_count(&markers[p]) < SFIT_MIN_SAMPLES) {
-                radii[p] = 0.0f;
-                continue;
-            }
-            prv_marker(&markers[p], origin_ref, d_ref, &pm);
-            radii[p] = SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol));
+            radii[p] = prv_used(&markers[p], origin_ref, d_ref, &pm)
+                           ? SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol))
+                           : 0.0f;
         }
     }
     *out = r;

@@ -41,9 +41,7 @@
 
 #include <float.h>
 
-#include <string.h>
-
-#include "sfit_internal.h"
+#include "sfit_moments_i.h"
 
 #define PRV_PI_F 3.14159265f /* rounds to 3.14159274f, just above pi */
 #define PRV_SIN_TERMS 8      /* Taylor terms of sin(x), x <= pi/2: error < 1e-11 */
@@ -104,15 +102,21 @@ static void prv_arc(float theta, float *rad, float *tng)
     *tng = st;
 }
 
+/* Normalised eigenvalues of either kind. */
+static void prv_eigs(sfit_coverage_kind_t kind, float theta, float *lo, float *hi)
+{
+    if (kind == SFIT_COVERAGE_CAP) {
+        prv_cap(theta, lo, hi);
+    } else {
+        prv_arc(theta, lo, hi);
+    }
+}
+
 /* g(theta): the normalised smaller eigenvalue, or the eigenvalue ratio. */
 static float prv_g(sfit_coverage_kind_t kind, prv_what_t what, float theta)
 {
     float lo, hi;
-    if (kind == SFIT_COVERAGE_CAP) {
-        prv_cap(theta, &lo, &hi);
-    } else {
-        prv_arc(theta, &lo, &hi);
-    }
+    prv_eigs(kind, theta, &lo, &hi);
     if (what == PRV_MIN) {
         return lo;
     }
@@ -141,8 +145,11 @@ static float prv_bisect(sfit_coverage_kind_t kind, prv_what_t what, float target
     return hi;
 }
 
-static sfit_status_t prv_check_theta_r(float theta, float r)
+static sfit_status_t prv_check_theta_r(sfit_coverage_kind_t kind, float theta, float r)
 {
+    if (!prv_kind_ok(kind)) {
+        return SFIT_E_ARG;
+    }
     if (!sfit_i_isfinite(theta) || !sfit_i_isfinite(r)) {
         return SFIT_E_NONFINITE;
     }
@@ -173,7 +180,7 @@ sfit_status_t sfit_noise_calib_std(float noise_var, float r0, uint32_t n, float 
     return SFIT_OK;
 }
 
-sfit_status_t sfit_noise_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
+sfit_status_t sfit_moments_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c0, float r0,
                                    sfit_noise_est_t *out)
 {
     sfit_cmom_t t;
@@ -185,12 +192,7 @@ sfit_status_t sfit_noise_calibrate(const sfit_moments_t *m, const sfit_vec3_t *c
     if (m == NULL || c0 == NULL || out == NULL) {
         return SFIT_E_ARG;
     }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(c0->v[i])) {
-            return SFIT_E_NONFINITE;
-        }
-    }
-    if (!sfit_i_isfinite(r0)) {
+    if (!sfit_i_finite3(c0->v) || !sfit_i_isfinite(r0)) {
         return SFIT_E_NONFINITE;
     }
     if (r0 < 0.0f) {
@@ -234,18 +236,11 @@ sfit_status_t sfit_coverage_eigs(sfit_coverage_kind_t kind, float theta, float r
 {
     float a, b, rr;
     sfit_status_t st;
-    if (!prv_kind_ok(kind)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_check_theta_r(theta, r);
+    st = prv_check_theta_r(kind, theta, r);
     if (st != SFIT_OK) {
         return st;
     }
-    if (kind == SFIT_COVERAGE_CAP) {
-        prv_cap(theta, &a, &b);
-    } else {
-        prv_arc(theta, &a, &b);
-    }
+    prv_eigs(kind, theta, &a, &b);
     rr = r * r;
     a *= rr;
     b *= rr;
@@ -276,10 +271,7 @@ sfit_status_t sfit_coverage_max_sigma(sfit_coverage_kind_t kind, float theta, fl
 {
     float g;
     sfit_status_t st;
-    if (sigma_max == NULL || !prv_kind_ok(kind)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_check_theta_r(theta, r);
+    st = (sigma_max == NULL) ? SFIT_E_ARG : prv_check_theta_r(kind, theta, r);
     if (st != SFIT_OK) {
         return st;
     }
@@ -324,14 +316,11 @@ sfit_status_t sfit_coverage_estimate_theta(sfit_coverage_kind_t kind, const sfit
                                            float *theta)
 {
     float num, den, q;
-    int i;
     if (eig == NULL || theta == NULL || !prv_kind_ok(kind)) {
         return SFIT_E_ARG;
     }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(eig->v[i])) {
-            return SFIT_E_NONFINITE;
-        }
+    if (!sfit_i_finite3(eig->v)) {
+        return SFIT_E_NONFINITE;
     }
     if (eig->v[0] > eig->v[1] || eig->v[1] > eig->v[2] || !(eig->v[2] > 0.0f)) {
         return SFIT_E_ARG;

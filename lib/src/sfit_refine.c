@@ -3,81 +3,35 @@
  * @file sfit_refine.c
  * @brief Bounded Levenberg-Marquardt orthogonal-distance sphere fit (float).
  *
- * Implementation notes
- * --------------------
  * Parameters: the offset p of the centre from the start centre c0 (the
- * radius is profiled out). Samples are used as z_i = (x_i - c0) - p.
- * Sums are two-level (blocks of SFIT_REFINE_BLOCK samples). The cost
- * sum (d - dbar)^2 is summed as e = d - rref with rref the previous mean
- * distance, so the one-pass variance formula does not cancel.
+ * radius is profiled out); samples are used as z_i = (x_i - c0) - p. The
+ * cost sum (d - dbar)^2 is summed as e = d - rref with rref the previous
+ * mean distance, so the one-pass variance formula does not cancel.
  */
 #include "sfit/sfit_refine.h"
 
 #include <float.h>
-#include <string.h>
 
-#include "sfit/sfit_config.h"
-#include "sfit/sfit_mat3.h"
-#include "sfit_internal.h"
+#include "sfit_mat3_i.h"
 
-#define SFIT_REFINE_BLOCK 64u
-#define PRV_NSUM 9
 /* A step is accepted while the cost grows by less than this many float
  * epsilons (relative): near the minimum the change is below the rounding
  * of the summed cost and a strict comparison would stall the iteration. */
 #define SFIT_REFINE_COST_ULPS 32.0f
 
+const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u};
 
-const sfit_refine_cfg_t sfit_refine_cfg_default = {0u, 0.0f};
-
-/* Two-level sum of up to PRV_NSUM quantities. */
-typedef struct prv_sum {
-    float tot[PRV_NSUM];
-    float blk[PRV_NSUM];
-    uint32_t inblk;
-} prv_sum_t;
-
-static void prv_sum_add(prv_sum_t *s, const float *v, int k)
-{
-    int j;
-    for (j = 0; j < k; j++) {
-        s->blk[j] += v[j];
-    }
-    if (++s->inblk == SFIT_REFINE_BLOCK) {
-        for (j = 0; j < k; j++) {
-            s->tot[j] += s->blk[j];
-            s->blk[j] = 0.0f;
-        }
-        s->inblk = 0u;
-    }
-}
-
-static void prv_sum_end(prv_sum_t *s, int k)
-{
-    int j;
-    for (j = 0; j < k; j++) {
-        s->tot[j] += s->blk[j];
-    }
-}
-
-/* Distance and direction of sample i from c0 + p; 0 if at the centre. */
+/* Distance and direction of sample x from c0 + p; 0 if at the centre. */
 static int prv_dist(const sfit_vec3_t *x, const sfit_vec3_t *c0, const float p[3], float u[3],
                     float *d)
 {
-    float dd;
+    float z[3];
+    const float zero[3] = {0.0f, 0.0f, 0.0f};
     int j;
     for (j = 0; j < 3; j++) {
-        u[j] = (x->v[j] - c0->v[j]) - p[j];
+        z[j] = (x->v[j] - c0->v[j]) - p[j];
     }
-    dd = SFIT_SQRTF(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (!(dd > 0.0f)) {
-        return 0;
-    }
-    for (j = 0; j < 3; j++) {
-        u[j] /= dd;
-    }
-    *d = dd;
-    return 1;
+    return sfit_i_dist_dir(z, zero, d, u);
 }
 
 /* Pass A: mean direction, mean distance, cost. */
@@ -90,7 +44,7 @@ typedef struct prv_stats {
 static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                                 const float p[3], float rref, prv_stats_t *st)
 {
-    prv_sum_t s;
+    sfit_i_sum_t s;
     float nf = (float)n, e1;
     size_t i;
     int j;
@@ -106,9 +60,9 @@ static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec
         v[2] = u[2];
         v[3] = d - rref;
         v[4] = v[3] * v[3];
-        prv_sum_add(&s, v, 5);
+        sfit_i_sum_add(&s, v, 5);
     }
-    prv_sum_end(&s, 5);
+    sfit_i_sum_end(&s, 5);
     for (j = 0; j < 3; j++) {
         st->ubar[j] = s.tot[j] / nf;
     }
@@ -128,7 +82,7 @@ static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec
 static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, const float p[3],
                        const prv_stats_t *st, float a[6], float g[3])
 {
-    prv_sum_t s;
+    sfit_i_sum_t s;
     size_t i;
     int j;
 
@@ -149,22 +103,15 @@ static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, 
         v[6] = u[0] * e;
         v[7] = u[1] * e;
         v[8] = u[2] * e;
-        prv_sum_add(&s, v, 9);
+        sfit_i_sum_add(&s, v, 9);
     }
-    prv_sum_end(&s, 9);
+    sfit_i_sum_end(&s, 9);
     for (j = 0; j < 6; j++) {
         a[j] = s.tot[j];
     }
     for (j = 0; j < 3; j++) {
         g[j] = s.tot[6 + j];
     }
-}
-
-static float prv_corrected_var(float cost, float nf, float r)
-{
-    float v = cost / (nf - 4.0f), q;
-    q = 4.0f * v / (r * r);
-    return 2.0f * v / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
 }
 
 /* Fewest samples a refinement accepts: 4 parameters plus one residual. */
@@ -174,14 +121,6 @@ static float prv_corrected_var(float cost, float nf, float r)
 static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                                     const sfit_refine_cfg_t *cfg, float *tol, uint32_t *maxit)
 {
-    size_t i;
-    int j;
-    sfit_status_t st;
-    for (j = 0; j < 3; j++) {
-        if (!sfit_i_isfinite(c0->v[j])) {
-            return SFIT_E_ARG;
-        }
-    }
     if (!sfit_i_isfinite(cfg->tol)
         || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
         return SFIT_E_ARG;
@@ -190,24 +129,16 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
     *maxit = (cfg->max_iters == 0u || cfg->max_iters > (uint32_t)SFIT_REFINE_MAX_ITERS)
                  ? (uint32_t)SFIT_REFINE_MAX_ITERS
                  : cfg->max_iters;
-    if (n < PRV_REFINE_MIN_N) {
-        return SFIT_E_TOO_FEW;
+    if (sfit_i_check_fit(c0, NULL) != SFIT_OK) {
+        return SFIT_E_NONFINITE;
     }
-    if (n > (size_t)UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-    for (i = 0; i < n; i++) {
-        st = sfit_i_check_sample(pts[i].v);
-        if (st != SFIT_OK) {
-            return st;
-        }
-    }
-    return SFIT_OK;
+    return sfit_i_check_points(pts, n, PRV_REFINE_MIN_N);
 }
 
 /* The converged result from the offset p of the centre from c0. */
 static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const prv_stats_t *cur,
-                                size_t n, uint32_t it, sfit_refine_result_t *out)
+                                size_t n, uint32_t it, uint32_t converged,
+                                sfit_refine_result_t *out)
 {
     sfit_refine_result_t res;
     const float nf = (float)n;
@@ -221,10 +152,10 @@ static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const p
     }
     res.radius = cur->dbar;
     res.rms = SFIT_SQRTF(cur->cost / nf);
-    res.noise_var = prv_corrected_var(cur->cost, nf, cur->dbar);
+    res.noise_var = sfit_i_curvature_var(cur->cost / (nf - 4.0f), cur->dbar);
     res.n = (uint32_t)n;
     res.iterations = it;
-    res.converged = 1u;
+    res.converged = converged;
     if (!(res.radius > 0.0f) || !sfit_i_isfinite(res.noise_var)) {
         return SFIT_E_RANGE;
     }
@@ -297,7 +228,7 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
     return (int)SFIT_E_NO_CONVERGENCE;
 }
 
-sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
 {
     prv_stats_t cur;
@@ -305,13 +236,9 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_
     uint32_t maxit = 0u, it;
     sfit_status_t st;
 
-    if (pts == NULL || c0 == NULL || out == NULL) {
-        return SFIT_E_ARG;
-    }
-    if (cfg == NULL) {
-        cfg = &sfit_refine_cfg_default;
-    }
-    st = prv_check_args(pts, n, c0, cfg, &tol, &maxit);
+    cfg = (cfg != NULL) ? cfg : &sfit_refine_cfg_default;
+    st = (pts == NULL || c0 == NULL || out == NULL) ? SFIT_E_ARG
+                                                    : prv_check_args(pts, n, c0, cfg, &tol, &maxit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -330,8 +257,11 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_
             return (sfit_status_t)rc;
         }
         if (rc == 1) {
-            return prv_finish(c0, p, &cur, n, it, out);
+            return prv_finish(c0, p, &cur, n, it, 1u, out);
         }
+    }
+    if (cfg->accept_unconverged != 0u) {
+        return prv_finish(c0, p, &cur, n, maxit, 0u, out);
     }
     return SFIT_E_NO_CONVERGENCE;
 }

@@ -3,73 +3,44 @@
  * @file sfit_selfcal.c
  * @brief Self-calibrated UGDK (noise variance estimated from the samples).
  *
- * Implementation notes
- * --------------------
  * The residual pass sums e_i = |x_i - c| - r (shifted by the current radius,
- * so the terms are ~ sigma and nothing cancels) and e_i^2 in two levels
- * (blocks of SFIT_SELFCAL_BLOCK samples), then
- * s^2 = (sum e^2 - (sum e)^2 / N) / (N - 4). The shift by r makes the
- * one-pass variance formula safe: the mean residual is ~ sigma^2/r << sigma.
+ * so the terms are ~ sigma and nothing cancels) and e_i^2 in two levels,
+ * then s^2 = (sum e^2 - (sum e)^2 / N) / (N - 4).
  */
 #include "sfit/sfit_selfcal.h"
 
-#include <string.h>
+#include "sfit_solve.h"
 
-#include "sfit/sfit_moments.h"
-#include "sfit_internal.h"
-
-#define SFIT_SELFCAL_BLOCK 64u
-
-
-/* One residual pass: sigma^2 from s^2 with the curvature correction. */
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_SELFCAL_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
 
+const sfit_selfcal_cfg_t sfit_selfcal_cfg_default = {.planar_ratio = 0.0f};
+
+/* One residual pass over validated samples: sigma^2 from s^2 with the
+ * curvature correction. */
 static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                                    float r, float *var)
 {
-    float s1 = 0.0f, s2 = 0.0f, b1 = 0.0f, b2 = 0.0f, nf, v, q;
-    uint32_t inblk = 0u;
+    sfit_i_sum_t s;
+    float nf = (float)n, v;
     size_t i;
-    sfit_status_t st;
 
+    memset(&s, 0, sizeof s);
     for (i = 0; i < n; i++) {
-        float d0, d1, d2, e;
-        st = sfit_i_check_sample(pts[i].v);
-        if (st != SFIT_OK) {
-            return st;
-        }
-        d0 = pts[i].v[0] - c->v[0];
-        d1 = pts[i].v[1] - c->v[1];
-        d2 = pts[i].v[2] - c->v[2];
-        e = SFIT_SQRTF(d0 * d0 + d1 * d1 + d2 * d2);
-        if (!(e > 0.0f)) {
+        float e[2], u[3];
+        if (!sfit_i_dist_dir(pts[i].v, c->v, &e[0], u)) {
             return SFIT_E_DEGENERATE;
         }
-        e -= r;
-        b1 += e;
-        b2 += e * e;
-        if (++inblk == SFIT_SELFCAL_BLOCK) {
-            s1 += b1;
-            s2 += b2;
-            b1 = 0.0f;
-            b2 = 0.0f;
-            inblk = 0u;
-        }
+        e[0] -= r;
+        e[1] = e[0] * e[0];
+        sfit_i_sum_add(&s, e, 2);
     }
-    s1 += b1;
-    s2 += b2;
-    nf = (float)n;
-    v = (s2 - s1 * (s1 / nf)) / (nf - 4.0f);
+    sfit_i_sum_end(&s, 2);
+    v = (s.tot[1] - s.tot[0] * (s.tot[0] / nf)) / (nf - 4.0f);
     if (!sfit_i_isfinite(v)) {
         return SFIT_E_RANGE;
     }
-    if (v < 0.0f) {
-        v = 0.0f; /* rounding */
-    }
-    /* E s^2 = sigma^2 - sigma^4 / r^2 (curvature of the sphere). */
-    q = 4.0f * v / (r * r);
-    v = 2.0f * v / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
+    v = sfit_i_curvature_var((v < 0.0f) ? 0.0f : v, r); /* v < 0: rounding */
     if (!sfit_i_isfinite(v)) {
         return SFIT_E_RANGE;
     }
@@ -77,35 +48,25 @@ static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_
     return SFIT_OK;
 }
 
-sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var)
 {
-    int i;
+    sfit_status_t st;
     if (pts == NULL || center == NULL || noise_var == NULL) {
         return SFIT_E_ARG;
     }
-    if (!sfit_i_isfinite(radius) || !(radius > 0.0f)) {
-        return SFIT_E_ARG;
+    st = sfit_i_check_fit(center, &radius);
+    if (st == SFIT_OK) {
+        st = sfit_i_check_points(pts, n, PRV_SELFCAL_MIN_N);
     }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(center->v[i])) {
-            return SFIT_E_ARG;
-        }
-    }
-    if (n < 5u) {
-        return SFIT_E_TOO_FEW;
-    }
-    if (n > (size_t)UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-    return prv_noise_var(pts, n, center, radius, noise_var);
+    return (st == SFIT_OK) ? prv_noise_var(pts, n, center, radius, noise_var) : st;
 }
 
-sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out)
 {
     sfit_moments_t acc;
-    sfit_fit_cfg_t fc;
+    sfit_fit_cfg_t fc = sfit_fit_cfg_default;
     sfit_result_t fit;
     sfit_selfcal_result_t res;
     float var = 0.0f, cap;
@@ -115,25 +76,17 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
     if (pts == NULL || out == NULL) {
         return SFIT_E_ARG;
     }
-    fc = (cfg != NULL) ? *cfg : sfit_fit_cfg_default;
-    if (sfit_i_check_cfg(&fc) != SFIT_OK || fc.mode == SFIT_MODE_PLANAR) {
+    fc.mode = SFIT_MODE_SPHERE;
+    fc.planar_ratio = (cfg != NULL) ? cfg->planar_ratio : 0.0f;
+    if (sfit_i_check_cfg(&fc) != SFIT_OK) {
         return SFIT_E_ARG;
     }
-    if (n < PRV_SELFCAL_MIN_N) {
-        return SFIT_E_TOO_FEW;
-    }
-    if (n > (size_t)UINT32_MAX) {
-        return SFIT_E_RANGE;
-    }
-    fc.mode = SFIT_MODE_SPHERE;
-    fc.noise = SFIT_NOISE_NONE;
-    fc.noise_var = 0.0f;
-    (void)sfit_moments_init(&acc);
-    st = sfit_moments_add_block(&acc, pts, n, NULL);
+    st = sfit_i_check_points(pts, n, PRV_SELFCAL_MIN_N);
     if (st != SFIT_OK) {
         return st;
     }
-    st = sfit_fit_solve(&acc, &fc, &fit); /* GDKE start */
+    (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
+    st = sfit_moments_fit(&acc, &fc, &fit); /* GDKE start */
     if (st != SFIT_OK) {
         return st;
     }
@@ -161,7 +114,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
         var = v;
         fc.noise = SFIT_NOISE_ISO;
         fc.noise_var = var;
-        st = sfit_fit_solve(&acc, &fc, &fit);
+        st = sfit_moments_fit(&acc, &fc, &fit);
         if (st != SFIT_OK) {
             return st;
         }

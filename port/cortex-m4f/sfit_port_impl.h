@@ -29,15 +29,6 @@
 #define SFIT_INLINE static inline
 #endif
 
-/** C99 restrict (spelled __restrict when the header is read by C++). */
-#ifndef SFIT_RESTRICT
-#if defined(__cplusplus)
-#define SFIT_RESTRICT __restrict
-#else
-#define SFIT_RESTRICT restrict
-#endif
-#endif
-
 /**
  * Internal-invariant check. Off unless SFIT_ENABLE_ASSERT is 1; when on, a
  * failed check executes a permanently undefined instruction (UDF): cheap, no

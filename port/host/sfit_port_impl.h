@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_port_impl.h
- * @brief Host port: the C library's <math.h>, <assert.h>, clock() for tools.
+ * @brief Host port: the C library's <math.h> and <assert.h>.
  */
 #ifndef SFIT_PORT_IMPL_H
 #define SFIT_PORT_IMPL_H
@@ -21,15 +21,10 @@
 #endif
 
 #ifndef SFIT_ASSERT
-#if SFIT_ENABLE_ASSERT
+#if defined(SFIT_ENABLE_ASSERT) && SFIT_ENABLE_ASSERT
 #include <assert.h>
 #define SFIT_ASSERT(c) assert(c)
 #endif
-#endif
-
-#ifndef SFIT_CYCLES
-#include <time.h>
-#define SFIT_CYCLES() ((unsigned long)clock())
 #endif
 
 #endif /* SFIT_PORT_IMPL_H */

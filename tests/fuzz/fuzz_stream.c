@@ -45,7 +45,7 @@ enum fz_op {
     OP_MERGE,          /* dst, src (may be the same) */
     OP_RESET,          /* acc */
     OP_SOLVE,          /* acc, config */
-    OP_BATCH,          /* length, config: sfit_fit_batch over the ring buffer */
+    OP_BATCH,          /* length, config: sfit_points_fit over the ring buffer */
     OP_MULTI,          /* count, config, weight */
     OP_STATS,          /* acc */
     OP_INCR_INIT,      /* config */
@@ -136,14 +136,14 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
     sfit_status_t st;
     memcpy(&before, m, sizeof before);
     memset(&r, FZ_SENTINEL, sizeof r);
-    st = sfit_fit_solve(m, cfg_or_null, &r);
-    FZ_CHECK_OUT(st, r, "sfit_fit_solve");
-    FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_fit_solve modified its input");
-    fz_check_cfg_status(st, cfg, "sfit_fit_solve");
+    st = sfit_moments_fit(m, cfg_or_null, &r);
+    FZ_CHECK_OUT(st, r, "sfit_moments_fit");
+    FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_moments_fit modified its input");
+    fz_check_cfg_status(st, cfg, "sfit_moments_fit");
     if (st == SFIT_OK) {
         fz_check_result(&r, count, cfg);
     } else if (fz_cfg_valid(cfg) && count < SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_fit_solve: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_moments_fit: too few samples not reported");
     } else {
         /* any other defined status */
     }
@@ -172,7 +172,7 @@ static void fz_add(fz_state_t *s, int a, const sfit_vec3_t *x)
 }
 
 #if FZ_HAVE_INCR
-static void fz_check_est(const sfit_incr_est_t *e, uint64_t count)
+static void fz_check_est(const sfit_sphere_t *e, uint64_t count)
 {
     FZ_CHECK(fz_all_finite(e->center.v, 3) && fz_finite(e->radius), "incr: non-finite estimate");
     FZ_CHECK(e->radius > 0.0f, "incr: radius not positive");
@@ -199,12 +199,12 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_moments_merge(&s->acc[0], NULL) == SFIT_E_ARG, "merge(dst, NULL)");
     FZ_CHECK(sfit_moments_count(NULL) == 0u, "count(NULL)");
     FZ_CHECK(sfit_moments_stats(NULL, &v, &c, &v) == SFIT_E_ARG, "stats(NULL)");
-    FZ_CHECK(sfit_fit_solve(NULL, NULL, &r) == SFIT_E_ARG, "solve(NULL m)");
-    FZ_CHECK(sfit_fit_solve(&s->acc[0], NULL, NULL) == SFIT_E_ARG, "solve(NULL out)");
-    FZ_CHECK(sfit_fit_batch(NULL, 5u, NULL, &r) == SFIT_E_ARG, "batch(NULL pts)");
-    FZ_CHECK(sfit_fit_batch(s->ring, 1u, NULL, NULL) == SFIT_E_ARG, "batch(NULL out)");
-    FZ_CHECK(sfit_multi_solve(NULL, 1u, NULL, &mr, NULL) == SFIT_E_ARG, "multi(NULL markers)");
-    FZ_CHECK(sfit_multi_solve(s->acc, 1u, NULL, NULL, NULL) == SFIT_E_ARG, "multi(NULL out)");
+    FZ_CHECK(sfit_moments_fit(NULL, NULL, &r) == SFIT_E_ARG, "solve(NULL m)");
+    FZ_CHECK(sfit_moments_fit(&s->acc[0], NULL, NULL) == SFIT_E_ARG, "solve(NULL out)");
+    FZ_CHECK(sfit_points_fit(NULL, 5u, NULL, &r) == SFIT_E_ARG, "batch(NULL pts)");
+    FZ_CHECK(sfit_points_fit(s->ring, 1u, NULL, NULL) == SFIT_E_ARG, "batch(NULL out)");
+    FZ_CHECK(sfit_multi_fit(NULL, 1u, NULL, &mr, NULL) == SFIT_E_ARG, "multi(NULL markers)");
+    FZ_CHECK(sfit_multi_fit(s->acc, 1u, NULL, NULL, NULL) == SFIT_E_ARG, "multi(NULL out)");
     FZ_CHECK(fz_untouched(&r, sizeof r) && fz_untouched(&mr, sizeof mr), "NULL call wrote output");
     FZ_CHECK(bad == 0u, "add_block(NULL) wrote bad");
 #if FZ_HAVE_INCR
@@ -212,7 +212,7 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_incr_reset(NULL) == SFIT_E_ARG, "incr_reset(NULL)");
     FZ_CHECK(sfit_incr_add(NULL, &s->last) == SFIT_E_ARG, "incr_add(NULL)");
     FZ_CHECK(sfit_incr_add(&s->inc, NULL) == SFIT_E_ARG, "incr_add(s, NULL)");
-    FZ_CHECK(sfit_incr_solve(NULL, NULL) == SFIT_E_ARG, "incr_solve(NULL)");
+    FZ_CHECK(sfit_incr_fit(NULL, NULL) == SFIT_E_ARG, "incr_solve(NULL)");
     FZ_CHECK(sfit_incr_update(&s->inc, &s->last, NULL) == SFIT_E_ARG, "incr_update(out NULL)");
     FZ_CHECK(sfit_incr_start(&s->inc, NULL, 4u, NULL) == SFIT_E_ARG, "incr_start(NULL pts)");
     FZ_CHECK(sfit_incr_count(NULL) == 0u, "incr_count(NULL)");
@@ -220,9 +220,9 @@ static void fz_nulls(fz_state_t *s)
 #if FZ_HAVE_NOISE
     {
         sfit_noise_est_t ne;
-        FZ_CHECK(sfit_noise_calibrate(NULL, &v, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL)");
-        FZ_CHECK(sfit_noise_calibrate(&s->acc[0], NULL, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL c0)");
-        FZ_CHECK(sfit_noise_calibrate(&s->acc[0], &v, 1.0f, NULL) == SFIT_E_ARG, "calibrate(NULL out)");
+        FZ_CHECK(sfit_moments_calibrate(NULL, &v, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL)");
+        FZ_CHECK(sfit_moments_calibrate(&s->acc[0], NULL, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL c0)");
+        FZ_CHECK(sfit_moments_calibrate(&s->acc[0], &v, 1.0f, NULL) == SFIT_E_ARG, "calibrate(NULL out)");
     }
 #endif
 }
@@ -347,15 +347,15 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         n = fz_ring_block(s, (size_t)(fz_u8(in) % (FZ_RING + 1u)), blk);
         fz_cfg(in, &cfg);
         memset(&r, FZ_SENTINEL, sizeof r);
-        st = sfit_fit_batch(blk, n, &cfg, &r);
-        FZ_CHECK_OUT(st, r, "sfit_fit_batch");
+        st = sfit_points_fit(blk, n, &cfg, &r);
+        FZ_CHECK_OUT(st, r, "sfit_points_fit");
         if (st == SFIT_OK) {
             fz_check_result(&r, n, &cfg);
         }
         if (fz_block_ok(blk, n, &fb, &why)) {
-            fz_check_cfg_status(st, &cfg, "sfit_fit_batch");
+            fz_check_cfg_status(st, &cfg, "sfit_points_fit");
         } else {
-            FZ_CHECK(st != SFIT_OK, "sfit_fit_batch accepted a bad sample");
+            FZ_CHECK(st != SFIT_OK, "sfit_points_fit accepted a bad sample");
         }
         break;
     }
@@ -373,11 +373,11 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         memcpy(before, s->acc, sizeof before);
         memset(&r, FZ_SENTINEL, sizeof r);
         memset(radii, FZ_SENTINEL, sizeof radii);
-        st = sfit_multi_solve(s->acc, cnt, &mc, &r, ((b & 0x80u) != 0u) ? NULL : radii);
-        FZ_CHECK_OUT(st, r, "sfit_multi_solve");
-        FZ_CHECK(memcmp(before, s->acc, sizeof before) == 0, "sfit_multi_solve modified a marker");
+        st = sfit_multi_fit(s->acc, cnt, &mc, &r, ((b & 0x80u) != 0u) ? NULL : radii);
+        FZ_CHECK_OUT(st, r, "sfit_multi_fit");
+        FZ_CHECK(memcmp(before, s->acc, sizeof before) == 0, "sfit_multi_fit modified a marker");
         if (st != SFIT_OK) {
-            FZ_CHECK(fz_untouched(radii, sizeof radii), "sfit_multi_solve wrote radii on failure");
+            FZ_CHECK(fz_untouched(radii, sizeof radii), "sfit_multi_fit wrote radii on failure");
         } else {
             FZ_CHECK(fz_all_finite(r.center.v, 3) && fz_all_finite(r.eigenvalues.v, 3)
                          && fz_all_finite(r.axis.v, 3) && fz_finite(r.trust_ratio)
@@ -427,23 +427,31 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
 #if FZ_HAVE_INCR
     case OP_INCR_INIT: {
         sfit_incr_t before;
-        fz_cfg(in, &cfg);
+        sfit_incr_cfg_t ic;
+        int valid;
+        fz_cfg(in, &cfg); /* the same input bytes as before: only the noise model is used */
+        ic.noise = cfg.noise;
+        ic.noise_var = cfg.noise_var;
+        ic.noise_cov = cfg.noise_cov;
+        cfg.mode = SFIT_MODE_AUTO;
+        cfg.planar_ratio = 0.0f;
+        valid = fz_cfg_valid(&cfg);
         memcpy(&before, &s->inc, sizeof before);
-        st = sfit_incr_init(&s->inc, &cfg);
+        st = sfit_incr_init(&s->inc, &ic);
         FZ_CHECK(fz_status_defined(st), "incr_init: undefined status");
         if (st == SFIT_OK) {
             s->inc_count = 0u;
-            FZ_CHECK(fz_cfg_valid(&cfg) && cfg.mode != SFIT_MODE_PLANAR, "incr_init: invalid option accepted");
+            FZ_CHECK(valid, "incr_init: invalid option accepted");
         } else {
             FZ_CHECK(st == SFIT_E_ARG, "incr_init: status");
             FZ_CHECK(memcmp(&before, &s->inc, sizeof before) == 0, "incr_init: failure changed the state");
-            FZ_CHECK(!fz_cfg_valid(&cfg) || cfg.mode == SFIT_MODE_PLANAR, "incr_init: valid option rejected");
+            FZ_CHECK(!valid, "incr_init: valid option rejected");
         }
         break;
     }
     case OP_INCR_ADD: {
         sfit_incr_t before;
-        sfit_incr_est_t e;
+        sfit_sphere_t e;
         const uint8_t how = fz_u8(in);
         fz_sample(in, how, &x);
         memcpy(&before, &s->inc, sizeof before);
@@ -469,7 +477,7 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
     }
     case OP_INCR_START: {
         sfit_incr_t before;
-        sfit_incr_est_t e;
+        sfit_sphere_t e;
         n = fz_ring_block(s, (size_t)(fz_u8(in) % (FZ_RING + 1u)), blk);
         memcpy(&before, &s->inc, sizeof before);
         memset(&e, FZ_SENTINEL, sizeof e);
@@ -486,11 +494,11 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
     }
     case OP_INCR_SOLVE: {
         sfit_incr_t before;
-        sfit_incr_est_t e;
+        sfit_sphere_t e;
         memcpy(&before, &s->inc, sizeof before);
         memset(&e, FZ_SENTINEL, sizeof e);
-        st = sfit_incr_solve(&s->inc, &e);
-        FZ_CHECK_OUT(st, e, "sfit_incr_solve");
+        st = sfit_incr_fit(&s->inc, &e);
+        FZ_CHECK_OUT(st, e, "sfit_incr_fit");
         FZ_CHECK(memcmp(&before, &s->inc, sizeof before) == 0, "incr_solve modified the state");
         FZ_CHECK((st == SFIT_E_TOO_FEW) == (s->inc_count < SFIT_MIN_SAMPLES), "incr_solve: too-few status");
         if (st == SFIT_OK) {
@@ -515,8 +523,8 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         r0 = ((fz_u8(in) & 1u) != 0u) ? fz_float(in) : 100.0f;
         memcpy(&before, &s->acc[a], sizeof before);
         memset(&e, FZ_SENTINEL, sizeof e);
-        st = sfit_noise_calibrate(&s->acc[a], &c0, r0, &e);
-        FZ_CHECK_OUT(st, e, "sfit_noise_calibrate");
+        st = sfit_moments_calibrate(&s->acc[a], &c0, r0, &e);
+        FZ_CHECK_OUT(st, e, "sfit_moments_calibrate");
         FZ_CHECK(memcmp(&before, &s->acc[a], sizeof before) == 0, "calibrate modified the accumulator");
         if (st == SFIT_OK) {
             FZ_CHECK(fz_finite(e.noise_trace) && fz_finite(e.noise_var) && fz_finite(e.noise_var_std),

@@ -8,7 +8,7 @@
  *
  * Tolerances (tt_tol_*) follow one float error model, stated here once:
  * every stored float carries a relative rounding of FLT_EPSILON/2; the
- * moments accumulator sums blocks of B = SFIT_MOMENTS_BLOCK samples and
+ * moments accumulator sums blocks of B = SFIT_SUM_BLOCK samples and
  * then N/B blocks, so a centred sum of N terms bounded by T is off by at
  * most (B + N/B + 8) FLT_EPSILON T (8: the merge and solve steps); the
  * centre is then origin + (d + w): one more rounding of |c|, plus the
@@ -71,7 +71,7 @@ static inline double tt_ulp(double x)
 /** Relative error bound of an accumulated centred sum of n samples. */
 static inline double tt_sum_rel(size_t n)
 {
-    return ((double)SFIT_MOMENTS_BLOCK + (double)n / (double)SFIT_MOMENTS_BLOCK + 8.0)
+    return ((double)SFIT_SUM_BLOCK + (double)n / (double)SFIT_SUM_BLOCK + 8.0)
            * TT_EPS;
 }
 

@@ -19,7 +19,7 @@ static double tt_d[TT_N][3];
 void tt_incr(void)
 {
     static sfit_incr_t s, s2, save;
-    sfit_incr_est_t est, est2;
+    sfit_sphere_t est, est2;
     ref_fit_t rf;
     sfit_vec3_t bad;
     const double r = 100.0;
@@ -48,7 +48,7 @@ void tt_incr(void)
     s2 = s;
     TT_EQ_INT(sfit_incr_update(&s, &tt_f[0], &est), SFIT_OK);
     TT_EQ_INT(sfit_incr_add(&s2, &tt_f[0]), SFIT_OK);
-    TT_EQ_INT(sfit_incr_solve(&s2, &est2), SFIT_OK);
+    TT_EQ_INT(sfit_incr_fit(&s2, &est2), SFIT_OK);
     TT_TRUE(memcmp(&s, &s2, sizeof s) == 0);
     TT_TRUE(memcmp(&est, &est2, sizeof est) == 0);
 

@@ -43,7 +43,7 @@ void tt_multi(void)
             kap = kp;
         }
     }
-    if (TT_EQ_INT(sfit_multi_solve(mk, TT_NM, NULL, &res, radii), SFIT_OK)
+    if (TT_EQ_INT(sfit_multi_fit(mk, TT_NM, NULL, &res, radii), SFIT_OK)
         && TT_EQ_INT(ref_fit_multi(xs, ns, TT_NM, NULL, c, radii_ref), 0)) {
         const double tol = tt_tol_centre(TT_NP, 110.0, kap);
         for (k = 0; k < 3; k++) {
@@ -59,7 +59,7 @@ void tt_multi(void)
     tt_case("multi.errors");
     memset(&save, 0x5A, sizeof save);
     res = save;
-    TT_EQ_INT(sfit_multi_solve(NULL, TT_NM, NULL, &res, NULL), SFIT_E_ARG);
-    TT_EQ_INT(sfit_multi_solve(mk, 0, NULL, &res, NULL), SFIT_E_TOO_FEW);
+    TT_EQ_INT(sfit_multi_fit(NULL, TT_NM, NULL, &res, NULL), SFIT_E_ARG);
+    TT_EQ_INT(sfit_multi_fit(mk, 0, NULL, &res, NULL), SFIT_E_TOO_FEW);
     TT_TRUE(memcmp(&res, &save, sizeof res) == 0);
 }

@@ -64,11 +64,11 @@
 #define FC_NHALF (FC_NPTS / 2u)    /* the smaller batch */
 #define FC_NMARK 8u                /* markers of the multi-marker probe */
 #define FC_NPERMARK 64u            /* samples per marker */
-#if SFIT_MOMENTS_BLOCK > FC_NHALF
-#error "flopcount: SFIT_MOMENTS_BLOCK larger than the probe size; raise FC_NPTS"
+#if SFIT_SUM_BLOCK > FC_NHALF
+#error "flopcount: SFIT_SUM_BLOCK larger than the probe size; raise FC_NPTS"
 #endif
 /* Amortised moments add: a whole number of blocks. */
-#define FC_NAMORT ((FC_NPTS / SFIT_MOMENTS_BLOCK) * SFIT_MOMENTS_BLOCK)
+#define FC_NAMORT ((FC_NPTS / SFIT_SUM_BLOCK) * SFIT_SUM_BLOCK)
 
 typedef void (*fc_fn_t)(void);
 
@@ -120,7 +120,7 @@ static sfit_noise_est_t fc_nest;
 #endif
 #if FC_HAVE_INCR
 static sfit_incr_t fc_inc;
-static sfit_incr_est_t fc_iest;
+static sfit_sphere_t fc_iest;
 #endif
 
 /* ---- markers: the counting window is between these two calls ---------- */
@@ -256,12 +256,12 @@ static void fc_add_amortised(void)
 
 static void fc_prep_mid_block(void) /* one full block merged, 3 samples open */
 {
-    fc_moments_of(&fc_acc, fc_pts, SFIT_MOMENTS_BLOCK + 3u);
+    fc_moments_of(&fc_acc, fc_pts, SFIT_SUM_BLOCK + 3u);
 }
 
 static void fc_prep_block_end(void) /* the next add closes the second block */
 {
-    fc_moments_of(&fc_acc, fc_pts, 2u * SFIT_MOMENTS_BLOCK - 1u);
+    fc_moments_of(&fc_acc, fc_pts, 2u * SFIT_SUM_BLOCK - 1u);
 }
 
 static void fc_add_one(void)
@@ -271,27 +271,27 @@ static void fc_add_one(void)
 
 static void fc_batch_n(void)
 {
-    fc_keep(sfit_fit_batch(fc_pts, FC_NPTS, NULL, &fc_res));
+    fc_keep(sfit_points_fit(fc_pts, FC_NPTS, NULL, &fc_res));
 }
 
 static void fc_batch_half(void)
 {
-    fc_keep(sfit_fit_batch(fc_pts, FC_NHALF, NULL, &fc_res));
+    fc_keep(sfit_points_fit(fc_pts, FC_NHALF, NULL, &fc_res));
 }
 
 static void fc_solve_gdke(void)
 {
-    fc_keep(sfit_fit_solve(&fc_mom_cap, NULL, &fc_res));
+    fc_keep(sfit_moments_fit(&fc_mom_cap, NULL, &fc_res));
 }
 
 static void fc_solve_ugdk(void)
 {
-    fc_keep(sfit_fit_solve(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
+    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
 }
 
 static void fc_solve_planar(void)
 {
-    fc_keep(sfit_fit_solve(&fc_mom_arc, &fc_cfg_planar, &fc_res));
+    fc_keep(sfit_moments_fit(&fc_mom_arc, &fc_cfg_planar, &fc_res));
 }
 
 static void fc_chol(void)
@@ -328,12 +328,12 @@ static void fc_stats(void)
 #if FC_HAVE_MULTI
 static void fc_multi_all(void)
 {
-    fc_keep(sfit_multi_solve(fc_mk, FC_NMARK, NULL, &fc_mres, fc_radii));
+    fc_keep(sfit_multi_fit(fc_mk, FC_NMARK, NULL, &fc_mres, fc_radii));
 }
 
 static void fc_multi_half(void)
 {
-    fc_keep(sfit_multi_solve(fc_mk, FC_NMARK / 2u, NULL, &fc_mres, fc_radii));
+    fc_keep(sfit_multi_fit(fc_mk, FC_NMARK / 2u, NULL, &fc_mres, fc_radii));
 }
 #endif
 
@@ -344,7 +344,7 @@ static void fc_noise_calib(void)
     c0.v[0] = fc_centre[0];
     c0.v[1] = fc_centre[1];
     c0.v[2] = fc_centre[2];
-    fc_keep(sfit_noise_calibrate(&fc_mom_cap, &c0, fc_radius, &fc_nest));
+    fc_keep(sfit_moments_calibrate(&fc_mom_cap, &c0, fc_radius, &fc_nest));
 }
 #endif
 
@@ -354,7 +354,13 @@ static void fc_noise_calib(void)
  * SFIT_INCR_BLOCK samples: moments_add-like amortisation, see docs/cost.md). */
 static void fc_prep_incr(const sfit_fit_cfg_t *cfg)
 {
-    (void)sfit_incr_init(&fc_inc, cfg);
+    sfit_incr_cfg_t ic = sfit_incr_cfg_default;
+    if (cfg != NULL) {
+        ic.noise = cfg->noise;
+        ic.noise_var = cfg->noise_var;
+        ic.noise_cov = cfg->noise_cov;
+    }
+    (void)sfit_incr_init(&fc_inc, &ic);
     fc_keep(sfit_incr_start(&fc_inc, fc_pts, FC_NHALF, NULL));
 }
 
@@ -380,7 +386,7 @@ static void fc_incr_add(void)
 
 static void fc_incr_solve(void)
 {
-    fc_keep(sfit_incr_solve(&fc_inc, &fc_iest));
+    fc_keep(sfit_incr_fit(&fc_inc, &fc_iest));
 }
 
 static void fc_incr_updates(void) /* FC_NHALF more samples, an estimate after each */
@@ -399,26 +405,26 @@ static const fc_op_t fc_ops[] = {
     {"moments_add_call", "sfit_moments_add", fc_prep_mid_block, fc_add_one, NULL, NULL, 1u},
     {"moments_add_flush", "sfit_moments_add", fc_prep_block_end, fc_add_one, NULL, NULL, 1u},
     {"moments_stats", "sfit_moments_stats", NULL, fc_stats, NULL, NULL, 1u},
-    {"batch_per_point", "sfit_fit_batch", NULL, fc_batch_n, NULL, fc_batch_half, FC_NPTS - FC_NHALF},
-    {"batch_total", "sfit_fit_batch", NULL, fc_batch_n, NULL, NULL, 1u},
-    {"solve_gdke", "sfit_fit_solve", NULL, fc_solve_gdke, NULL, NULL, 1u},
-    {"solve_ugdk", "sfit_fit_solve", NULL, fc_solve_ugdk, NULL, NULL, 1u},
+    {"batch_per_point", "sfit_points_fit", NULL, fc_batch_n, NULL, fc_batch_half, FC_NPTS - FC_NHALF},
+    {"batch_total", "sfit_points_fit", NULL, fc_batch_n, NULL, NULL, 1u},
+    {"solve_gdke", "sfit_moments_fit", NULL, fc_solve_gdke, NULL, NULL, 1u},
+    {"solve_ugdk", "sfit_moments_fit", NULL, fc_solve_ugdk, NULL, NULL, 1u},
     {"chol_factor", "sfit_mat3_chol", NULL, fc_chol, NULL, NULL, 1u},
     {"chol_solve", "sfit_mat3_chol", NULL, fc_chol_and_subst, NULL, NULL, 1u},
     {"jacobi_eig", "sfit_mat3_eig_sym", NULL, fc_eig, NULL, NULL, 1u},
     {"jacobi_rotation", "sfit_mat3_eig_sym", NULL, fc_eig_rot, NULL, NULL, 1u},
-    {"planar_solve", "sfit_fit_solve", NULL, fc_solve_planar, NULL, NULL, 1u},
+    {"planar_solve", "sfit_moments_fit", NULL, fc_solve_planar, NULL, NULL, 1u},
 #if FC_HAVE_MULTI
-    {"multi_solve_per_marker", "sfit_multi_solve", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
-    {"multi_solve_total", "sfit_multi_solve", NULL, fc_multi_all, NULL, NULL, 1u},
+    {"multi_solve_per_marker", "sfit_multi_fit", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
+    {"multi_solve_total", "sfit_multi_fit", NULL, fc_multi_all, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_NOISE
-    {"noise_calibration", "sfit_noise_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
+    {"noise_calibration", "sfit_moments_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_INCR
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},
     {"incremental_add", "sfit_incr_add", fc_prep_incr_gdke, fc_incr_add, NULL, NULL, 1u},
-    {"incremental_solve", "sfit_incr_solve", fc_prep_incr_gdke, fc_incr_solve, NULL, NULL, 1u},
+    {"incremental_solve", "sfit_incr_fit", fc_prep_incr_gdke, fc_incr_solve, NULL, NULL, 1u},
     {"incremental_update_ugdk", "sfit_incr_update", fc_prep_incr_ugdk, fc_incr_update, NULL, NULL, 1u},
     {"incremental_update_amortised", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_updates, NULL, NULL, FC_NPTS - FC_NHALF},
 #endif
@@ -440,7 +446,7 @@ int main(void)
     int fails = 0;
 
     fc_setup();
-    printf("fcinfo moments_block %u\n", (unsigned)SFIT_MOMENTS_BLOCK);
+    printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);
     printf("fcinfo have_multi %d\nfcinfo have_noise %d\nfcinfo have_incr %d\n", FC_HAVE_MULTI,

@@ -99,8 +99,8 @@ END {
     if (mode == "json") {
         printf "{\n  \"tool\": \"sfit flopcount\",\n"
         printf "  \"target\": \"Cortex-M4F (QEMU mps2-an386), arm-none-eabi-gcc -O2 -std=c99\",\n"
-        printf "  \"config\": {\"moments_block\": %s, \"samples\": %s, \"multi\": %s, \"noise\": %s, \"incremental\": %s},\n", \
-            info["moments_block"], info["npts"], info["have_multi"], info["have_noise"], info["have_incr"]
+        printf "  \"config\": {\"sum_block\": %s, \"samples\": %s, \"multi\": %s, \"noise\": %s, \"incremental\": %s},\n", \
+            info["sum_block"], info["npts"], info["have_multi"], info["have_noise"], info["have_incr"]
         printf "  \"operations\": [\n"
         for (o = 1; o <= nop; o++) {
             n = opname[o]
@@ -122,7 +122,7 @@ END {
         printf "  \"budget_ok\": %s\n}\n", bad ? "false" : "true"
     } else if (mode == "md") {
         print "Measured by `tools/flopcount/run.sh --update-docs` (Cortex-M4F, QEMU"
-        print "mps2-an386, arm-none-eabi-gcc -O2 -std=c99; SFIT_MOMENTS_BLOCK = " info["moments_block"] ")."
+        print "mps2-an386, arm-none-eabi-gcc -O2 -std=c99; SFIT_SUM_BLOCK = " info["sum_block"] ")."
         print "FLOPs and instructions are exact counts; **cycles are an estimate** from"
         print "the cycle model below, not a measurement. Stack: worst case of the public"
         print "function (static call-graph bound, -O2 / -Os)."
@@ -166,7 +166,7 @@ END {
         print ""
         for (c = 1; c <= nchk; c++) { split(chk[c], f, " "); if (f[2] != "budget") { line = chk[c]; sub(/^check /, "", line); printf "- %s\n", line } }
     } else {
-        printf "sfit flopcount: Cortex-M4F (QEMU mps2-an386), arm-none-eabi-gcc -O2 -std=c99, SFIT_MOMENTS_BLOCK=%s\n", info["moments_block"]
+        printf "sfit flopcount: Cortex-M4F (QEMU mps2-an386), arm-none-eabi-gcc -O2 -std=c99, SFIT_SUM_BLOCK=%s\n", info["sum_block"]
         printf "FLOPs = add/sub + mul + div + sqrt; cycles are an ESTIMATE (docs/cost.md cycle model)\n\n"
         printf "%-24s %8s %8s %7s %6s %5s %5s %5s %9s %8s %9s %9s %7s\n", "operation", "FLOPs", "add/sub", "mul", "div", "sqrt", \
             "cmp", "cvt", "insns", "fp_arith", "cyc(est)", "stack O2", "budget"

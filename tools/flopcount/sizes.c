@@ -33,7 +33,7 @@ FC_SIZE(sfit_noise_est_t);
 #if __has_include("sfit/sfit_incr.h")
 #include "sfit/sfit_incr.h"
 FC_SIZE(sfit_incr_t);
-FC_SIZE(sfit_incr_est_t);
+FC_SIZE(sfit_sphere_t);
 #endif
 #endif
 FC_SIZE(sfit_gate_t);

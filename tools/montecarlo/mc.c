@@ -136,14 +136,14 @@ static void fit_trial(size_t n, double sigma, int with_geo, trial_t *t)
     cu.mode = SFIT_MODE_SPHERE;
     cu.noise = SFIT_NOISE_ISO;
     cu.noise_var = (float)(sigma * sigma);
-    if (sfit_fit_batch(g_f, n, &cg, &rg) == SFIT_OK) {
+    if (sfit_points_fit(g_f, n, &cg, &rg) == SFIT_OK) {
         t->ok[EST_GDKE] = 1;
         for (k = 0; k < 3; ++k) {
             t->c[EST_GDKE][k] = (double)rg.center.v[k];
         }
         t->r[EST_GDKE] = (double)rg.radius;
     }
-    if (sfit_fit_batch(g_f, n, &cu, &ru) == SFIT_OK) {
+    if (sfit_points_fit(g_f, n, &cu, &ru) == SFIT_OK) {
         t->ok[EST_UGDK] = 1;
         for (k = 0; k < 3; ++k) {
             t->c[EST_UGDK][k] = (double)ru.center.v[k];

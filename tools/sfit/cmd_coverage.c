@@ -113,7 +113,7 @@ static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o,
         cfg.noise = SFIT_NOISE_ISO;
         cfg.noise_var = o->noise_var;
     }
-    st = sfit_fit_solve(acc, &cfg, &c->fit);
+    st = sfit_moments_fit(acc, &cfg, &c->fit);
     c->fit_ugdk = o->have_noise;
     if (st == SFIT_E_NOT_POSDEF && o->have_noise) {
         /* The noise exceeds the spread: no trust at all. Fall back to GDKE
@@ -121,7 +121,7 @@ static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o,
          * from the eigenvalues minus the noise (usually "not measurable"). */
         cfg.noise = SFIT_NOISE_NONE;
         cfg.noise_var = 0.0f;
-        st = sfit_fit_solve(acc, &cfg, &c->fit);
+        st = sfit_moments_fit(acc, &cfg, &c->fit);
         c->fit_ugdk = 0;
     }
     if (st != SFIT_OK) {

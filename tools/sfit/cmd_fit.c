@@ -47,7 +47,7 @@ static void fit_usage(FILE *f)
           "        several FILEs: one marker each, common centre of all (MGDK)\n"
           "  --noise-var V    UGDK with isotropic measurement-noise variance V (unit^2)\n"
           "  --noise-var auto self-calibrated UGDK: V estimated from the radial residuals\n"
-          "  --refine         geometric (orthogonal-distance) refinement of the fit\n"
+          "  --refine         self-calibrated start, geometric (orthogonal-distance) fit\n"
           "  --gate K         reject samples farther than K sigma from the running fit\n"
           "                   (outlier gate; not with auto / --refine)\n"
           "  (one FILE: the JSON adds noise_var, center_cov, radius_var, iterations,\n"
@@ -320,7 +320,7 @@ static void print_json_string(const char *str)
     putchar('"');
 }
 
-/* ---- several FILEs: one marker each, common centre (sfit_multi_solve) ---- */
+/* ---- several FILEs: one marker each, common centre (sfit_multi_fit) ---- */
 
 static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
                              const sfit_moments_t *acc, const float *radii,
@@ -401,7 +401,7 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
             continue;
         }
         printf("%10.4f ", (double)radii[k]);
-        st = sfit_fit_solve(&acc[k], &o->cfg, &one);
+        st = sfit_moments_fit(&acc[k], &o->cfg, &one);
         if (st != SFIT_OK) {
             printf("%34s %9s  %s\n", sfit_status_str(st), "", o->files[k]);
         } else {
@@ -471,7 +471,7 @@ static int fit_multi(const fit_opts_t *o)
     }
     mc.fit = o->cfg;
     mc.weight = o->weight;
-    st = sfit_multi_solve(acc, (size_t)o->nfiles, &mc, &r, radii);
+    st = sfit_multi_fit(acc, (size_t)o->nfiles, &mc, &r, radii);
     if (st != SFIT_OK) {
         if (o->json) {
             printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
@@ -538,13 +538,38 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
     memset(x, 0, sizeof *x);
     if (k->gate != NULL) {
         sfit_gate_stats_t gs;
-        st = sfit_gate_solve(k->gate, r);
+        st = sfit_gate_fit(k->gate, r);
         (void)sfit_gate_stats(k->gate, &gs);
         x->outliers = gs.outliers;
         acc = sfit_gate_moments(k->gate);
+    } else if (o->refine) {
+        /* the library's recipe: self-calibrated start, geometric fit, its
+         * sandwich covariance; the printed sphere is the geometric one, the
+         * eigenvalues and trust those of the self-calibrated start */
+        sfit_refined_t rf;
+        sfit_refined_cfg_t rc = sfit_refined_cfg_default;
+        rc.selfcal.planar_ratio = o->cfg.planar_ratio;
+        st = sfit_points_fit_refined(k->pts, k->n, &rc, &rf);
+        if (st != SFIT_OK) {
+            return st;
+        }
+        *r = rf.start.fit;
+        r->center = rf.geometric.center;
+        r->radius = rf.geometric.radius;
+        x->refined = 1;
+        x->has_noise = 1;
+        x->noise_var = rf.geometric.noise_var;
+        x->noise_estimated = 1;
+        x->iterations = rf.geometric.iterations;
+        x->capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+        x->has_uncert = 1;
+        x->u = rf.uncert;
+        return SFIT_OK;
     } else if (o->auto_noise) {
         sfit_selfcal_result_t sc;
-        st = sfit_selfcal_fit(k->pts, k->n, &o->cfg, &sc);
+        sfit_selfcal_cfg_t scc = sfit_selfcal_cfg_default;
+        scc.planar_ratio = o->cfg.planar_ratio;
+        st = sfit_points_selfcal(k->pts, k->n, &scc, &sc);
         if (st == SFIT_OK) {
             *r = sc.fit;
             x->has_noise = 1;
@@ -555,7 +580,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
             kind = SFIT_UNCERT_NOISE_ESTIMATED;
         }
     } else {
-        st = sfit_fit_solve(acc, &o->cfg, r);
+        st = sfit_moments_fit(acc, &o->cfg, r);
     }
     if (st != SFIT_OK) {
         return st;
@@ -564,25 +589,8 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->has_noise = 1;
         x->noise_var = o->cfg.noise_var;
     }
-    if (o->refine) {
-        sfit_refine_result_t rf;
-        st = sfit_refine_fit(k->pts, k->n, &r->center, NULL, &rf);
-        if (st != SFIT_OK) {
-            return st;
-        }
-        r->center = rf.center;
-        r->radius = rf.radius;
-        x->refined = 1;
-        x->has_noise = 1;
-        x->noise_var = rf.noise_var;
-        x->noise_estimated = 1;
-        x->iterations = rf.iterations;
-        /* the geometric fit's own (sandwich) covariance, from the samples */
-        x->has_uncert = (sfit_uncert_geometric(k->pts, k->n, &rf.center, &x->u) == SFIT_OK);
-        return SFIT_OK;
-    }
     if (x->has_noise && r->mode == SFIT_MODE_SPHERE && acc != NULL) {
-        x->has_uncert = (sfit_uncert_moments(acc, &r->center, r->radius, x->noise_var, kind,
+        x->has_uncert = (sfit_moments_uncert(acc, &r->center, r->radius, x->noise_var, kind,
                                              &x->u) == SFIT_OK);
     }
     return SFIT_OK;

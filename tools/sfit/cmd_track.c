@@ -91,7 +91,7 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
     return 0;
 }
 
-static void track_print(const track_opts_t *o, const sfit_incr_est_t *e)
+static void track_print(const track_opts_t *o, const sfit_sphere_t *e)
 {
     if (o->json) {
         printf("{\"n\":%lu,\"center\":", (unsigned long)e->n);
@@ -112,8 +112,8 @@ static sfit_status_t track_sample(void *vctx, const sfit_vec3_t *x)
         return st;
     }
     if (c->o->every > 0ul && (unsigned long)c->inc.n % c->o->every == 0ul) {
-        sfit_incr_est_t e;
-        if (sfit_incr_solve(&c->inc, &e) == SFIT_OK) {
+        sfit_sphere_t e;
+        if (sfit_incr_fit(&c->inc, &e) == SFIT_OK) {
             track_print(c->o, &e);
             c->printed_n = e.n;
         }
@@ -126,7 +126,7 @@ int cli_cmd_track(int argc, char **argv)
     track_opts_t o;
     track_ctx_t ctx;
     cli_input_t in;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     sfit_status_t st;
 
     {
@@ -135,7 +135,14 @@ int cli_cmd_track(int argc, char **argv)
             return prc;
         }
     }
-    if (sfit_incr_init(&ctx.inc, &o.cfg) != SFIT_OK) {
+    {
+        sfit_incr_cfg_t ic = sfit_incr_cfg_default;
+        ic.noise = o.cfg.noise;
+        ic.noise_var = o.cfg.noise_var;
+        ic.noise_cov = o.cfg.noise_cov;
+        st = sfit_incr_init(&ctx.inc, &ic);
+    }
+    if (st != SFIT_OK) {
         fprintf(stderr, "sfit: invalid noise model\n");
         return CLI_USAGE;
     }
@@ -150,7 +157,7 @@ int cli_cmd_track(int argc, char **argv)
     if (!o.json) {
         cli_report_rejects(o.file, &in);
     }
-    st = sfit_incr_solve(&ctx.inc, &e);
+    st = sfit_incr_fit(&ctx.inc, &e);
     if (st != SFIT_OK) {
         const char *msg = (st == SFIT_E_DEGENERATE)
                               ? "degenerate geometry: samples coincident, collinear or planar"

@@ -7,7 +7,7 @@
 #define SFIT_H
 
 #define SFIT_VERSION_MAJOR 0
-#define SFIT_VERSION_MINOR 1
+#define SFIT_VERSION_MINOR 2
 #define SFIT_VERSION_PATCH 0
 
 #include "sfit_config.h"

@@ -4,8 +4,10 @@
  * @brief Every compile-time tunable of sfit, with its default and range.
  *
  * Override a knob by defining it on the command line (-DSFIT_X=...) or in a
- * user header named by SFIT_USER_CONFIG (e.g. -DSFIT_USER_CONFIG=my_sfit.h),
- * which is included first.
+ * user header named by SFIT_USER_CONFIG (e.g. -DSFIT_USER_CONFIG=my_sfit.h).
+ * Every public header includes this one (through sfit_types.h) before it
+ * uses any knob, and the user header is read here before any default, so a
+ * program sees the same values whichever sfit header it includes first.
  */
 #ifndef SFIT_CONFIG_H
 #define SFIT_CONFIG_H
@@ -39,16 +41,17 @@
 #endif
 
 /**
- * @brief Samples folded into the inner level of the moments accumulator
- * before the block is merged into the running total (two-level summation,
- * DESIGN.md section 2). Larger blocks save a little work per sample, smaller
- * ones bound the rounding error inside a block. Range 2..65536.
+ * @brief Terms in the inner level of every two-level sum (the moments
+ * accumulator's blocks and the sample passes of self-calibration,
+ * refinement and uncertainty) before it is folded into the outer level.
+ * Larger blocks save a little work per sample, smaller ones bound the
+ * rounding error inside a block. Range 2..65536.
  */
-#ifndef SFIT_MOMENTS_BLOCK
-#define SFIT_MOMENTS_BLOCK 64u
+#ifndef SFIT_SUM_BLOCK
+#define SFIT_SUM_BLOCK 64u
 #endif
-#if (SFIT_MOMENTS_BLOCK < 2) || (SFIT_MOMENTS_BLOCK > 65536)
-#error "SFIT_MOMENTS_BLOCK must be in 2..65536"
+#if (SFIT_SUM_BLOCK < 2) || (SFIT_SUM_BLOCK > 65536)
+#error "SFIT_SUM_BLOCK must be in 2..65536"
 #endif
 
 /**
@@ -111,6 +114,140 @@
 /** @brief 1 enables internal invariant checks through SFIT_ASSERT. */
 #ifndef SFIT_ENABLE_ASSERT
 #define SFIT_ENABLE_ASSERT 0
+#endif
+
+
+/* ---- Incremental estimator (sfit_incr.h) ---- */
+
+/**
+ * @brief Samples summed in the inner level of the incremental state before
+ * it is folded into the outer level and the frame origin is moved to the
+ * current mean (every n/8 samples while n < 8 SFIT_INCR_BLOCK, then every
+ * SFIT_INCR_BLOCK samples). The rounding error of the centre grows like
+ * sqrt(SFIT_INCR_BLOCK) + sqrt(N / SFIT_INCR_BLOCK); 256..4096 measure alike
+ * (within 1e-5 r at N = 10^6). Range 2..65536.
+ */
+#ifndef SFIT_INCR_BLOCK
+#define SFIT_INCR_BLOCK 1024u
+#endif
+#if (SFIT_INCR_BLOCK < 2) || (SFIT_INCR_BLOCK > 65536)
+#error "SFIT_INCR_BLOCK must be in 2..65536"
+#endif
+
+/* ---- Coverage aids (sfit_noise.h) ---- */
+
+/**
+ * @brief Iteration bound of the coverage inverses (bisection on theta in
+ * [0, pi]). Each step halves the bracket; the loop also stops as soon as the
+ * bracket no longer shrinks in float, which happens after at most ~40 steps
+ * for any theta > 1e-5 rad. Range 8..128.
+ */
+#ifndef SFIT_COVERAGE_BISECT_ITERS
+#define SFIT_COVERAGE_BISECT_ITERS 64
+#endif
+#if (SFIT_COVERAGE_BISECT_ITERS < 8) || (SFIT_COVERAGE_BISECT_ITERS > 128)
+#error "SFIT_COVERAGE_BISECT_ITERS must be in 8..128"
+#endif
+
+/* ---- Self-calibration (sfit_selfcal.h) ---- */
+
+/**
+ * @brief Iteration bound of the self-calibration (each iteration = one pass
+ * over the samples + one solve). Range 1..100.
+ */
+#ifndef SFIT_SELFCAL_MAX_ITERS
+#define SFIT_SELFCAL_MAX_ITERS 12
+#endif
+#if (SFIT_SELFCAL_MAX_ITERS < 1) || (SFIT_SELFCAL_MAX_ITERS > 100)
+#error "SFIT_SELFCAL_MAX_ITERS must be in 1..100"
+#endif
+
+/**
+ * @brief Convergence: stop when |sigma^2_new - sigma^2_old| <= this times
+ * sigma^2_new. Much below the estimate's own spread (sqrt(2/N)). Range
+ * (0, 0.1].
+ */
+#ifndef SFIT_SELFCAL_REL_TOL
+#define SFIT_SELFCAL_REL_TOL 1e-4f
+#endif
+
+/**
+ * @brief Cap on the estimated noise: sigma^2 <= SFIT_SELFCAL_MAX_TRUST *
+ * lambda_min(C), i.e. a trust ratio of at most this (0.5 = the Leontief
+ * bound; C' keeps half of C's smallest eigenvalue). Range (0, 0.9].
+ */
+#ifndef SFIT_SELFCAL_MAX_TRUST
+#define SFIT_SELFCAL_MAX_TRUST 0.5f
+#endif
+
+/* ---- Geometric refinement (sfit_refine.h) ---- */
+
+/** @brief Iteration bound (linearisations) of the refinement. Range 1..200. */
+#ifndef SFIT_REFINE_MAX_ITERS
+#define SFIT_REFINE_MAX_ITERS 30
+#endif
+#if (SFIT_REFINE_MAX_ITERS < 1) || (SFIT_REFINE_MAX_ITERS > 200)
+#error "SFIT_REFINE_MAX_ITERS must be in 1..200"
+#endif
+
+/** @brief Damping trials per iteration (lambda x10 each). Range 1..20. */
+#ifndef SFIT_REFINE_MAX_TRIALS
+#define SFIT_REFINE_MAX_TRIALS 8
+#endif
+#if (SFIT_REFINE_MAX_TRIALS < 1) || (SFIT_REFINE_MAX_TRIALS > 20)
+#error "SFIT_REFINE_MAX_TRIALS must be in 1..20"
+#endif
+
+/**
+ * @brief Default convergence threshold: the centre step, relative to the
+ * radius. 1e-5 is ~ 170 float epsilons: above the rounding noise of the
+ * steps, below any statistical error worth reporting. Range [1e-7, 1e-2].
+ */
+#ifndef SFIT_REFINE_TOL
+#define SFIT_REFINE_TOL 1e-5f
+#endif
+
+/* ---- Outlier gate (sfit_gate.h) ---- */
+
+/**
+ * @brief Samples buffered in the gate for the robust start.
+ * More samples give a safer start on small caps, fewer save RAM. The
+ * buffer must span the motion: at 100 Hz, 64 samples are 0.64 s. With 5 %
+ * gross outliers, 32 let about one stream in 100 start on a wrong sphere
+ * (measured, docs/beyond.md), 64 about one in 1000. Range 16..256, a
+ * multiple of 8.
+ */
+#ifndef SFIT_GATE_WARMUP
+#define SFIT_GATE_WARMUP 64
+#endif
+#if (SFIT_GATE_WARMUP < 16) || (SFIT_GATE_WARMUP > 256) || (SFIT_GATE_WARMUP % 8 != 0)
+#error "SFIT_GATE_WARMUP must be a multiple of 8 in 16..256"
+#endif
+
+/** @brief Default gate width in sigmas (cfg.k = 0). Float; not range-checked. */
+#ifndef SFIT_GATE_K
+#define SFIT_GATE_K 4.0f
+#endif
+
+/** @brief Residuals needed in a window before sigma^2 is re-estimated. Range >= 5. */
+#ifndef SFIT_GATE_MIN_WINDOW
+#define SFIT_GATE_MIN_WINDOW 16u
+#endif
+#if SFIT_GATE_MIN_WINDOW < 5
+#error "SFIT_GATE_MIN_WINDOW must be >= 5"
+#endif
+
+/**
+ * @brief Rejection rate (percent of the samples offered between two
+ * refreshes) above which the gate widens (sigma^2 x 4) instead of trusting
+ * its noise estimate. Gross outliers above this rate cannot be told from a
+ * wrong noise level. Range 1..99.
+ */
+#ifndef SFIT_GATE_MAX_REJECT_PCT
+#define SFIT_GATE_MAX_REJECT_PCT 25u
+#endif
+#if (SFIT_GATE_MAX_REJECT_PCT < 1) || (SFIT_GATE_MAX_REJECT_PCT > 99)
+#error "SFIT_GATE_MAX_REJECT_PCT must be in 1..99"
 #endif
 
 #endif /* SFIT_CONFIG_H */

@@ -5,15 +5,7 @@
  * @defgroup sfit_fit Sphere / circle fit
  * @{
  *
- * With the chapter's notation (mean m, C = sum y y^T/(N-1),
- * S = sum |y|^2 y/(N-1), y = x - m):
- *  - GDKE (generalised Delogne-Kasa, identical to the Kasa algebraic fit):
- *    c = m + C^-1 S / 2,  r = sqrt((N-1)/N tr C + |m - c|^2).
- *  - UGDK (eq. 171-176): the same with C' = C - Sigma_hat, where Sigma_hat is
- *    the measurement-noise covariance (sigma^2 I or a full symmetric 3x3).
- *  - Planar (eq. 214-218): when the samples lie near a plane (a hinge), the
- *    inverse is replaced by the pseudo-inverse over the two largest
- *    eigen-directions of C (or C'); the dropped eigenvector is the axis.
+ * Derivation and notes: docs/api.md#fit
  */
 #ifndef SFIT_FIT_H
 #define SFIT_FIT_H
@@ -57,14 +49,6 @@ typedef struct sfit_fit_cfg {
 /** @brief Defaults: auto mode, no noise compensation (GDKE). */
 extern const sfit_fit_cfg_t sfit_fit_cfg_default;
 
-/** @brief Result flags (bit mask). */
-enum sfit_flag {
-    SFIT_FLAG_UNTRUSTED = 1u,   /**< leontief_ratio >= 1 (trust_ratio >= 1/2): the
-                                     Leontief condition of eq. 194 fails. */
-    SFIT_FLAG_FEW_SAMPLES = 2u, /**< N < SFIT_FEW_SAMPLES. */
-    SFIT_FLAG_NEAR_PLANAR = 4u  /**< lambda_min/lambda_max < planar_ratio. */
-};
-
 /** @brief Which estimator produced a result. */
 typedef enum sfit_method {
     SFIT_METHOD_GDKE = 0, /**< No noise compensation. */
@@ -81,11 +65,11 @@ typedef struct sfit_result {
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
     float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
-                                  (eq. 193; 0 for GDKE). It is also the factor by which
+                                  (0 for GDKE). It is also the factor by which
                                   GDKE shrinks the centre offset along the weakest
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
     float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
-                                  eq. 194's rho(C0^-1 Sigma) (C0 = noise-free covariance,
+                                  the Leontief ratio rho(C0^-1 Sigma) (C0 = noise-free covariance,
                                   estimated by C'); SFIT_FLAG_UNTRUSTED when >= 1. */
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
@@ -110,7 +94,7 @@ typedef struct sfit_result {
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
  */
-sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 /**
@@ -119,9 +103,17 @@ sfit_status_t sfit_fit_solve(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
  * @param[in]  n    Sample count.
  * @param[in]  cfg  Options; NULL = defaults.
  * @param[out] out  Result; written only on SFIT_OK.
- * @retval as sfit_fit_solve(), plus SFIT_E_NONFINITE / SFIT_E_RANGE for a bad sample.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL out, NULL pts with n > 0, or an invalid option
+ * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
+ * @retval SFIT_E_RANGE       a coordinate out of range, or the result not finite
+ * @retval SFIT_E_TOO_FEW     n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
+ * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @par Cost  n moments_add plus one sfit_moments_fit() (tools/flopcount: batch_total).
  */
-sfit_status_t sfit_fit_batch(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 #ifdef __cplusplus

@@ -7,45 +7,7 @@
  * @defgroup sfit_gate Outlier gate
  * @{
  *
- * Life of a gate:
- *  - Warm-up: the first SFIT_GATE_WARMUP valid samples are buffered in the
- *    gate. When the buffer is full a robust start runs once: fit the
- *    buffer, drop the sample farthest from the sphere if its residual
- *    exceeds k robust sigmas (1.4826 x median absolute deviation of the
- *    residuals), refit, at most SFIT_GATE_WARMUP/4 times; the kept samples
- *    seed the accumulator, the dropped ones count as outliers. The gate's
- *    sigma^2 is then cfg.noise_var if given, else the residual variance of
- *    the kept samples (divisor n - 4).
- *    If that first fit fails (coincident, collinear or planar samples: the
- *    device has not moved enough yet), the buffer is flushed into the
- *    accumulator unfiltered and samples are accepted ungated until a
- *    refresh produces a fit.
- *  - Gated: with a fit (c, r) of N samples with mean m and scatter
- *    M = (N - 1) C, sample x is rejected when
- *      (|x - c| - r)^2 > k^2 sigma^2 (1 + h),  h = 1/N + (x - m)^T M^-1 (x - m),
- *    otherwise it is added. sigma^2 (1 + h) is the variance of the residual
- *    of a new sample: its own noise plus the fit's prediction error there
- *    (to first order, sigma^2 [1/N + (r u - a)^T M^-1 (r u - a)] with
- *    r u - a = x - m; see sfit_uncert.h). h is the leverage: a sample
- *    outside the region covered so far (a stream that sweeps a joint's
- *    range) is judged leniently until the fit has seen that region; a
- *    plain k-sigma gate locks a sweeping stream out after a warm-up on a
- *    short arc (measured on the hip data: 978 of 1400 samples rejected).
- *    Cost per sample: 26 FLOPs of the accumulator + about 30 for the
- *    residual and leverage, 1 sqrt. Every cfg.refresh offered samples (or
- *    on sfit_gate_refresh()) the fit is re-solved from the accumulator and,
- *    when sigma^2 is estimated, replaced by mean e^2 / (1 + h) of the
- *    residuals accepted since the previous refresh (at least
- *    SFIT_GATE_MIN_WINDOW of them). If more than SFIT_GATE_MAX_REJECT_PCT %
- *    of the samples offered since the previous refresh were rejected, the
- *    gate's sigma^2 is not credible (real streams have correlated errors: a
- *    short warm-up arc underestimates the noise of the whole motion) and is
- *    multiplied by 4 instead; refreshes count offered samples, so a gate
- *    that rejects everything still refreshes.
- *
- * A gate never forgets: if the sphere itself moves (a new magnetic
- * environment), everything may be rejected; watch sfit_gate_stats() and
- * call sfit_gate_reset().
+ * Derivation and notes: docs/api.md#gate
  */
 #ifndef SFIT_GATE_H
 #define SFIT_GATE_H
@@ -58,47 +20,6 @@
 
 #ifdef __cplusplus
 extern "C" {
-#endif
-
-/**
- * @brief Samples buffered in the gate for the robust start (12 bytes each).
- * More samples give a safer start on small caps, fewer save RAM. The
- * buffer must span the motion: at 100 Hz, 64 samples are 0.64 s. With 5 %
- * gross outliers, 32 let about one stream in 100 start on a wrong sphere
- * (measured, docs/beyond.md), 64 about one in 1000. Range 16..256, a
- * multiple of 8.
- */
-#ifndef SFIT_GATE_WARMUP
-#define SFIT_GATE_WARMUP 64
-#endif
-#if (SFIT_GATE_WARMUP < 16) || (SFIT_GATE_WARMUP > 256) || (SFIT_GATE_WARMUP % 8 != 0)
-#error "SFIT_GATE_WARMUP must be a multiple of 8 in 16..256"
-#endif
-
-/** @brief Default gate width in sigmas (cfg.k = 0). Float; not range-checked. */
-#ifndef SFIT_GATE_K
-#define SFIT_GATE_K 4.0f
-#endif
-
-/** @brief Residuals needed in a window before sigma^2 is re-estimated. Range >= 5. */
-#ifndef SFIT_GATE_MIN_WINDOW
-#define SFIT_GATE_MIN_WINDOW 16u
-#endif
-#if SFIT_GATE_MIN_WINDOW < 5
-#error "SFIT_GATE_MIN_WINDOW must be >= 5"
-#endif
-
-/**
- * @brief Rejection rate (percent of the samples offered between two
- * refreshes) above which the gate widens (sigma^2 x 4) instead of trusting
- * its noise estimate. Gross outliers above this rate cannot be told from a
- * wrong noise level. Range 1..99.
- */
-#ifndef SFIT_GATE_MAX_REJECT_PCT
-#define SFIT_GATE_MAX_REJECT_PCT 25u
-#endif
-#if (SFIT_GATE_MAX_REJECT_PCT < 1) || (SFIT_GATE_MAX_REJECT_PCT > 99)
-#error "SFIT_GATE_MAX_REJECT_PCT must be in 1..99"
 #endif
 
 /** @brief Options of a gate. */
@@ -158,7 +79,11 @@ typedef struct sfit_gate_stats {
  */
 sfit_status_t sfit_gate_init(sfit_gate_t *g, const sfit_gate_cfg_t *cfg);
 
-/** @brief Forget every sample and counter, keep the options. @retval SFIT_OK, SFIT_E_ARG */
+/**
+ * @brief Forget every sample and counter, keep the options.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  g is NULL
+ */
 sfit_status_t sfit_gate_reset(sfit_gate_t *g);
 
 /**
@@ -179,26 +104,38 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  * SFIT_MIN_SAMPLES + 1 samples are buffered).
  * @retval SFIT_OK  a fit now gates the samples
  * @retval SFIT_E_ARG  g NULL
- * @retval other    the fit's status (sfit_fit_solve()); the gate keeps its previous fit
+ * @retval SFIT_E_TOO_FEW  warm-up with fewer than SFIT_MIN_SAMPLES + 1 samples
+ * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
+ *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous fit
  */
 sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
 
 /**
- * @brief Fit the accepted samples (as sfit_fit_solve() on the accumulator; the
+ * @brief Fit the accepted samples (as sfit_moments_fit() on the accumulator; the
  * warm-up buffer, if still filling, is fitted as it is).
  * @param[in]  g    Gate.
  * @param[out] out  Written only on SFIT_OK.
- * @retval as sfit_fit_solve()
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         g or out is NULL
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES accepted samples
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
+ * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @retval SFIT_E_RANGE       the result would not be finite
  */
-sfit_status_t sfit_gate_solve(const sfit_gate_t *g, sfit_result_t *out);
+sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 
 /**
- * @brief The accumulator of the accepted samples (for sfit_uncert_moments()
+ * @brief The accumulator of the accepted samples (for sfit_moments_uncert()
  * and friends); NULL while the warm-up buffer is still filling, or for NULL g.
  */
 const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g);
 
-/** @brief Counters. @retval SFIT_OK, SFIT_E_ARG (NULL) */
+/**
+ * @brief Counters.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  g or out is NULL
+ */
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out);
 
 #ifdef __cplusplus

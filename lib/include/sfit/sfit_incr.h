@@ -1,39 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_incr.h
- * @brief Incremental estimator (chapter section 5.4, eq. 224-233): a new
+ * @brief Incremental estimator: a new
  * sphere centre and radius after every sample, in constant memory.
  * @defgroup sfit_incr Incremental estimator
  * @{
  *
- * The state is a fixed-size struct (148 bytes). Each sample costs one
- * sfit_incr_add() (40 FLOPs) and, when a new estimate is wanted, one
- * sfit_incr_solve() (65 FLOPs for GDKE, 71 for UGDK with isotropic noise):
- * 105 / 111 FLOPs per sample against the chapter's 123 (eq. 233, D = 3).
- * Every SFIT_INCR_BLOCK samples an add also folds and re-centres the state
- * (82 FLOPs, 0.08 per sample amortised).
- *
- * The estimate equals the batch GDKE / UGDK fit (sfit_fit_solve() in sphere
- * mode) of the same samples; in float it stays within 1e-5 r of a
- * double-precision batch fit for 10^6 samples with the centre 2700 mm from
- * the origin (tests/test_incr.c). How: see docs/incremental.md and the
- * notes at the top of lib/src/sfit_incr.c. In short, the chapter's
- * recursion for C^-1 and S (eq. 229, 230) is replaced by two-level sums of
- * the centred second moments and of the third moments about a frame origin
- * that follows the mean, and the 3x3 system is solved (LDL^T) at each
- * estimate; this is cheaper, and in float about 2000 times closer to the
- * batch fit after 10^6 samples (2.8e-3 r for the recursion, 1.3e-6 r here).
- *
- * Typical use:
- * @code
- * sfit_incr_t inc;
- * sfit_incr_est_t est;
- * sfit_incr_init(&inc, NULL);                      // GDKE
- * sfit_incr_start(&inc, first, 10, &est);          // batch start, checks the geometry
- * for (;;) {
- *     if (sfit_incr_update(&inc, &x, &est) == SFIT_OK) { use(est.center, est.radius); }
- * }
- * @endcode
+ * Derivation and notes: docs/api.md#incr
  */
 #ifndef SFIT_INCR_H
 #define SFIT_INCR_H
@@ -47,21 +20,6 @@
 
 #ifdef __cplusplus
 extern "C" {
-#endif
-
-/**
- * @brief Samples summed in the inner level of the incremental state before
- * it is folded into the outer level and the frame origin is moved to the
- * current mean (every n/8 samples while n < 8 SFIT_INCR_BLOCK, then every
- * SFIT_INCR_BLOCK samples). The rounding error of the centre grows like
- * sqrt(SFIT_INCR_BLOCK) + sqrt(N / SFIT_INCR_BLOCK); 256..4096 measure alike
- * (within 1e-5 r at N = 10^6). A fold costs 82 FLOPs. Range 2..65536.
- */
-#ifndef SFIT_INCR_BLOCK
-#define SFIT_INCR_BLOCK 1024u
-#endif
-#if (SFIT_INCR_BLOCK < 2) || (SFIT_INCR_BLOCK > 65536)
-#error "SFIT_INCR_BLOCK must be in 2..65536"
 #endif
 
 /**
@@ -89,26 +47,30 @@ typedef struct sfit_incr {
     float sig_tr;         /**< trace(Sigma_hat). */
 } sfit_incr_t;
 
-/** @brief An incremental estimate. Written only on SFIT_OK; always finite. */
-typedef struct sfit_incr_est {
-    sfit_vec3_t center; /**< Sphere centre. */
-    float radius;       /**< Sphere radius. */
-    uint32_t n;         /**< Samples behind the estimate. */
-} sfit_incr_est_t;
+/** @brief Options of an incremental estimator: its noise model only. */
+typedef struct sfit_incr_cfg {
+    sfit_noise_kind_t noise; /**< SFIT_NOISE_NONE (GDKE), _ISO or _COV (UGDK). */
+    float noise_var;         /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
+    sfit_mat3_t noise_cov;   /**< Sigma for SFIT_NOISE_COV (as sfit_fit_cfg_t::noise_cov). */
+} sfit_incr_cfg_t;
+
+/** @brief Defaults: no noise model (GDKE). */
+extern const sfit_incr_cfg_t sfit_incr_cfg_default;
+
 
 /**
  * @brief Initialise (or clear) the state and choose the estimator.
  * @param[out] s    State.
  * @param[in]  cfg  Options; NULL = GDKE. Only the noise model is used
  *                  (noise, noise_var, noise_cov: SFIT_NOISE_ISO / _COV give
- *                  UGDK, eq. 228); mode must be SFIT_MODE_AUTO or
+ *                  UGDK); mode must be SFIT_MODE_AUTO or
  *                  SFIT_MODE_SPHERE (the incremental estimator is a sphere
  *                  fit); planar_ratio is ignored.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  s is NULL, or an invalid option (including SFIT_MODE_PLANAR);
  *                     s unchanged
  */
-sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_fit_cfg_t *cfg);
+sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg);
 
 /**
  * @brief Forget every sample, keep the noise model.
@@ -118,9 +80,9 @@ sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_fit_cfg_t *cfg);
 sfit_status_t sfit_incr_reset(sfit_incr_t *s);
 
 /**
- * @brief (Re)start from a batch of samples: the chapter's "batch fit of the
+ * @brief (Re)start from a batch of samples: the "batch fit of the
  * first few samples". Replaces any samples the state held by pts[0..n-1]
- * and checks the batch fit with sfit_fit_solve() (sphere mode, the state's
+ * and checks the batch fit with sfit_moments_fit() (sphere mode, the state's
  * noise model), which also rejects coincident, collinear and planar sets.
  * On any failure the state is left bit for bit unchanged.
  * @param[in,out] s    Initialised state.
@@ -138,11 +100,11 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
-                              sfit_incr_est_t *out);
+                              sfit_sphere_t *out);
 
 /**
- * @brief Add one sample (O(1), 40 FLOPs; every SFIT_INCR_BLOCK-th call also
- * folds, +82 FLOPs).
+ * @brief Add one sample (O(1); every SFIT_INCR_BLOCK-th call also folds).
+ * @par Cost 40 FLOPs (tools/flopcount: incremental_add).
  * @retval SFIT_OK           success
  * @retval SFIT_E_ARG        NULL pointer
  * @retval SFIT_E_NONFINITE  a coordinate is NaN or Inf; s unchanged (bit for bit)
@@ -154,9 +116,8 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
 /**
  * @brief The estimate for the samples added so far (s is not modified).
  * GDKE: centre = mean + C^-1 S / 2, r^2 = (N-1)/N tr C + |centre - mean|^2;
- * UGDK: the same with C' = C - Sigma_hat (eq. 228, 231, 232).
- * @par Cost 65 FLOPs (GDKE), 71 (UGDK isotropic), 98 (UGDK full covariance);
- * 6 of them divisions, 1 square root (measured by tools/flopcount).
+ * UGDK: the same with C' = C - Sigma_hat 
+ * @par Cost 65 FLOPs for GDKE (tools/flopcount: incremental_solve).
  * @param[in]  s    State.
  * @param[out] out  Estimate; written only on SFIT_OK.
  * @retval SFIT_OK            success
@@ -168,19 +129,28 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
  * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
  */
-sfit_status_t sfit_incr_solve(const sfit_incr_t *s, sfit_incr_est_t *out);
+sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
 
 /**
- * @brief sfit_incr_add() then sfit_incr_solve(): the per-sample recursion
- * (105 FLOPs for GDKE).
+ * @brief sfit_incr_add() then sfit_incr_fit(): the per-sample recursion
+ * .
+ * @par Cost 105 FLOPs for GDKE, 111 for UGDK (tools/flopcount:
+ * incremental_update, incremental_update_ugdk).
  *
  * A sample that sfit_incr_add() rejects leaves s unchanged and its status
  * is returned. A valid sample is always kept; if the solve then fails
  * (::SFIT_E_TOO_FEW, ::SFIT_E_DEGENERATE, ::SFIT_E_NOT_POSDEF,
  * ::SFIT_E_RANGE) that status is returned and out is not written.
- * @retval as sfit_incr_add(), then as sfit_incr_solve()
+ * @retval SFIT_OK            the sample was added and a new estimate written
+ * @retval SFIT_E_ARG         NULL pointer
+ * @retval SFIT_E_NONFINITE   NaN / Inf coordinate: s unchanged
+ * @retval SFIT_E_RANGE       coordinate out of range or counter full (s unchanged),
+ *                            or the estimate would not be finite
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples (sample kept)
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples (sample kept)
+ * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat not positive definite (sample kept)
  */
-sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_incr_est_t *out);
+sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out);
 
 /** @brief Number of samples added (0 for NULL). */
 uint32_t sfit_incr_count(const sfit_incr_t *s);

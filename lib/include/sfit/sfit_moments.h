@@ -5,17 +5,7 @@
  * @defgroup sfit_moments Moments accumulator
  * @{
  *
- * The accumulator holds what every estimator needs: the sample count N, the
- * mean, the centred second moments (sum of y y^T) and the centred third-moment
- * vector (sum of |y|^2 y), y = x - mean.
- *
- * Float stability (DESIGN.md section 2): samples are summed as differences
- * from a per-block reference point (exact in float for a far-away centre),
- * in blocks of SFIT_MOMENTS_BLOCK samples; each full block is turned into
- * centred moments and merged into the total with the exact shift formulas.
- * The total keeps its mean as (reference point + small offset) so the large
- * coordinate never enters a cancellation. Cost per sample: 26 FLOPs
- * (3 sub, 9 mul, 14 add) plus a block merge every SFIT_MOMENTS_BLOCK samples.
+ * Derivation and notes: docs/api.md#moments
  */
 #ifndef SFIT_MOMENTS_H
 #define SFIT_MOMENTS_H
@@ -54,7 +44,8 @@ typedef struct sfit_moments {
 
 /**
  * @brief Initialise (or clear) an accumulator to zero samples.
- * @retval SFIT_OK  success   @retval SFIT_E_ARG  m is NULL
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  m is NULL
  */
 sfit_status_t sfit_moments_init(sfit_moments_t *m);
 
@@ -62,8 +53,8 @@ sfit_status_t sfit_moments_init(sfit_moments_t *m);
 sfit_status_t sfit_moments_reset(sfit_moments_t *m);
 
 /**
- * @brief Add one sample. O(1), 26 FLOPs (plus a block merge every
- * SFIT_MOMENTS_BLOCK samples).
+ * @brief Add one sample (O(1); a block merge every SFIT_SUM_BLOCK samples).
+ * @par Cost 26 FLOPs per call (tools/flopcount: moments_add_call).
  * @param[in,out] m  Accumulator.
  * @param[in]     x  Sample.
  * @retval SFIT_OK           success
@@ -84,7 +75,11 @@ sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x);
  * @param[in]     n    Number of samples.
  * @param[out]    bad  If not NULL, receives the index of the first rejected
  *                     sample (written only on failure caused by a sample).
- * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_NONFINITE, SFIT_E_RANGE as sfit_moments_add()
+ * @retval SFIT_OK           success
+ * @retval SFIT_E_ARG        m NULL, or pts NULL with n > 0
+ * @retval SFIT_E_NONFINITE  a sample holds NaN or Inf; m unchanged
+ * @retval SFIT_E_RANGE      a coordinate out of range, or the count would pass
+ *                           UINT32_MAX; m unchanged
  */
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
                                      size_t *bad);
@@ -104,7 +99,7 @@ uint32_t sfit_moments_count(const sfit_moments_t *m);
 
 /**
  * @brief Read the statistics: mean, C = sum y y^T / (N-1) and
- * S = sum |y|^2 y / (N-1) (chapter notation).
+ * S = sum |y|^2 y / (N-1) .
  * @param[in]  m     Accumulator.
  * @param[out] mean  Sample mean (may be NULL).
  * @param[out] c     Sample covariance, symmetric (may be NULL).

@@ -1,51 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_multi.h
- * @brief Several markers, one centre: MGDK and unbiased MGDK (chapter
- * section 5.3, eq. 219-223), with the planar (hinge) solution.
+ * @brief Several markers, one centre: MGDK and unbiased MGDK, with the planar (hinge) solution.
  * @defgroup sfit_multi Multi-marker common centre
  * @{
  *
- * M markers p = 1..M ride on one rigid segment and turn about one joint
- * centre c; each draws its own sphere (radius r_p). With each marker's mean
- * m_p, C_p = sum y y^T/(N_p-1), S_p = sum |y|^2 y/(N_p-1) (its accumulator),
- * minimising the summed Kasa cost
- *   J(c, r_1..r_M) = sum_p w_p/(N_p-1) sum_i (|x_pi - c|^2 - r_p^2)^2
- * over every r_p (r_p^2 = mean_i |x_pi - c|^2, eq. 221) and then over c
- * gives the normal equations
- *   (sum_p w_p C'_p) c = sum_p w_p (C'_p m_p + S_p/2),   C'_p = C_p - Sigma_hat.
- * - Equal weights w_p = 1 are eq. 220 (GDKE, Sigma_hat = 0) and eq. 222
- *   (unbiased, C'_p) as printed: each marker's covariance counts once
- *   whatever its sample count. This is the default (::SFIT_MULTI_WEIGHT_EQUAL).
- * - Weights w_p proportional to N_p - 1 (::SFIT_MULTI_WEIGHT_SAMPLES) make J
- *   the plain joint least squares of all samples (the gradient of that cost
- *   is sum_p 4 (N_p-1) (2 C_p (c - m_p) - S_p); eq. 219 drops the N_p - 1).
- *   The weights are normalised to sum to M, so the two options coincide
- *   exactly when every marker has the same count.
- * - Radii (eq. 221/223): r_p^2 = (N_p-1)/N_p tr C'_p + |m_p - c|^2.
- *
- * Planar (hinge) case: when sum w_p C_p is near-planar (rank 2: every
- * marker circles the same axis), the inverse is replaced by the
- * pseudo-inverse over its two largest eigen-directions, as for one marker,
- * and the dropped direction is reported as the axis. The position of the
- * centre along the axis is then not determined by the data; sfit puts it
- * in the plane through the weighted mean of the marker means (normal to the
- * axis), i.e. the mean of the markers' circle planes. Each marker draws a
- * circle in its own plane normal to the axis, so its radius is the distance
- * from the axis within that plane:
- *   r_p^2 = (N_p-1)/N_p tr(P C'_p P) + |P (m_p - c)|^2,  P = I - a a^T,
- * (the same minimisation with every residual projected on the plane).
- * With one marker all of this is the single-marker fit of sfit_fit_solve()
- * (the same numbers, rounding aside).
- *
- * Markers with fewer than SFIT_MIN_SAMPLES samples (an occluded marker) are
- * skipped: the result carries ::SFIT_MULTI_FLAG_SKIPPED, `markers` counts
- * the markers used and their radius is reported as 0. If no marker is left
- * the solve fails with ::SFIT_E_TOO_FEW.
- *
- * Float: every marker's mean is taken relative to the first used marker's
- * mean (m_p - m_1 = (origin_p - origin_1) + (d_p - d_1)), so no far-away
- * coordinate enters a product; it is added once, at the end.
+ * Derivation and notes: docs/api.md#multi
  */
 #ifndef SFIT_MULTI_H
 #define SFIT_MULTI_H
@@ -63,7 +23,7 @@ extern "C" {
 
 /** @brief How the markers' equations are weighted. */
 typedef enum sfit_multi_weight {
-    SFIT_MULTI_WEIGHT_EQUAL = 0,  /**< w_p = 1: eq. 220/222 as printed (default). */
+    SFIT_MULTI_WEIGHT_EQUAL = 0,  /**< w_p = 1: every marker counts once (default). */
     SFIT_MULTI_WEIGHT_SAMPLES = 1 /**< w_p ~ N_p - 1: joint least squares of all samples. */
 } sfit_multi_weight_t;
 
@@ -75,9 +35,6 @@ typedef struct sfit_multi_cfg {
 
 /** @brief Defaults: ::sfit_fit_cfg_default (auto, GDKE) and equal weights. */
 extern const sfit_multi_cfg_t sfit_multi_cfg_default;
-
-/** @brief Extra result flag: at least one marker had too few samples and was skipped. */
-#define SFIT_MULTI_FLAG_SKIPPED 0x100u
 
 /** @brief A common centre. Written only when the solve returns SFIT_OK; always finite. */
 typedef struct sfit_multi_result {
@@ -121,7 +78,7 @@ typedef struct sfit_multi_result {
  * @retval SFIT_E_RANGE       the result would not be finite, or the total
  *                            sample count exceeds UINT32_MAX
  */
-sfit_status_t sfit_multi_solve(const sfit_moments_t *markers, size_t count,
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii);
 

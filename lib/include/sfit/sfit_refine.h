@@ -6,25 +6,7 @@
  * @defgroup sfit_refine Geometric refinement
  * @{
  *
- * Minimises sum (|x_i - c| - r)^2. The radius is eliminated exactly (for a
- * given centre the best radius is the mean distance dbar), leaving a
- * 3-parameter problem in the centre (variable projection):
- *   rho_i(c) = d_i - dbar, d_i = |x_i - c|, Jacobian rows -(u_i - ubar)^T,
- *   u_i = (x_i - c)/d_i.
- * Each iteration solves (A + lambda diag A) delta = g with
- * A = sum (u - ubar)(u - ubar)^T and g = sum (u - ubar)(d - dbar) (3x3
- * Cholesky), accepts the step if the cost does not grow, and adapts lambda
- * (divided by 10 on success, multiplied by 10 on failure, at most
- * SFIT_REFINE_MAX_TRIALS tries per iteration). Work is done relative to the
- * start centre (x_i - c0 once per sample and pass; the centre offset is
- * small), so a centre thousands of radii away costs no accuracy. Converged
- * when the step is below tol * r.
- *
- * The covariance of the result: sfit_uncert_geometric() (sfit_uncert.h).
- *
- * Cost per iteration: two passes over the samples (one for ubar, dbar and
- * the cost, one for the centred sums) plus one pass per damping trial;
- * about 2 sqrt and 40 FLOPs per sample and pass.
+ * Derivation and notes: docs/api.md#refine
  */
 #ifndef SFIT_REFINE_H
 #define SFIT_REFINE_H
@@ -32,41 +14,21 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sfit_selfcal.h"
 #include "sfit_types.h"
+#include "sfit_uncert.h"
 
 #ifdef __cplusplus
 extern "C" {
-#endif
-
-/** @brief Iteration bound (linearisations) of the refinement. Range 1..200. */
-#ifndef SFIT_REFINE_MAX_ITERS
-#define SFIT_REFINE_MAX_ITERS 30
-#endif
-#if (SFIT_REFINE_MAX_ITERS < 1) || (SFIT_REFINE_MAX_ITERS > 200)
-#error "SFIT_REFINE_MAX_ITERS must be in 1..200"
-#endif
-
-/** @brief Damping trials per iteration (lambda x10 each). Range 1..20. */
-#ifndef SFIT_REFINE_MAX_TRIALS
-#define SFIT_REFINE_MAX_TRIALS 8
-#endif
-#if (SFIT_REFINE_MAX_TRIALS < 1) || (SFIT_REFINE_MAX_TRIALS > 20)
-#error "SFIT_REFINE_MAX_TRIALS must be in 1..20"
-#endif
-
-/**
- * @brief Default convergence threshold: the centre step, relative to the
- * radius. 1e-5 is ~ 170 float epsilons: above the rounding noise of the
- * steps, below any statistical error worth reporting. Range [1e-7, 1e-2].
- */
-#ifndef SFIT_REFINE_TOL
-#define SFIT_REFINE_TOL 1e-5f
 #endif
 
 /** @brief Run-time options; start from ::sfit_refine_cfg_default. */
 typedef struct sfit_refine_cfg {
     uint32_t max_iters; /**< 0 = SFIT_REFINE_MAX_ITERS; larger values are clamped to it. */
     float tol;          /**< 0 = SFIT_REFINE_TOL; else in [1e-7, 1e-2]. */
+    uint32_t accept_unconverged; /**< 1: at the iteration bound return the last
+                                      accepted centre with converged = 0 (SFIT_OK);
+                                      0: SFIT_E_NO_CONVERGENCE there. */
 } sfit_refine_cfg_t;
 
 /** @brief Defaults (compile-time bound and tolerance). */
@@ -81,7 +43,8 @@ typedef struct sfit_refine_result {
                               corrected for curvature (as sfit_selfcal.h). */
     uint32_t n;          /**< Samples used. */
     uint32_t iterations; /**< Linearisations done (>= 1). */
-    uint32_t converged;  /**< 1 (a result is only written when converged). */
+    uint32_t converged;  /**< 1 when the last step was below tol * r; 0 only with
+                              sfit_refine_cfg_t::accept_unconverged at the bound. */
 } sfit_refine_result_t;
 
 /**
@@ -101,8 +64,39 @@ typedef struct sfit_refine_result {
  * @retval SFIT_E_NO_CONVERGENCE  the step is still above tol after max_iters, or
  *                                no damping made the cost decrease
  */
-sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out);
+
+/** @brief Options of sfit_points_fit_refined(). */
+typedef struct sfit_refined_cfg {
+    sfit_selfcal_cfg_t selfcal; /**< Options of the self-calibrated start. */
+    sfit_refine_cfg_t refine;   /**< Options of the refinement. */
+} sfit_refined_cfg_t;
+
+/** @brief Defaults of both steps. */
+extern const sfit_refined_cfg_t sfit_refined_cfg_default;
+
+/** @brief Result of the combined recipe: each part from the step that made it. */
+typedef struct sfit_refined {
+    sfit_selfcal_result_t start;    /**< Self-calibrated UGDK fit: noise estimate, start centre. */
+    sfit_refine_result_t geometric; /**< Geometric fit started from start.fit.center. */
+    sfit_uncert_t uncert;           /**< Sandwich covariance of the geometric fit. */
+} sfit_refined_t;
+
+/**
+ * @brief The combined recipe over a caller's array: noise estimate and
+ * start (sfit_points_selfcal()), geometric refinement (sfit_points_refine())
+ * and its covariance (sfit_points_uncert_geometric()).
+ * @param[in]  pts  n samples (read only).
+ * @param[in]  n    Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  cfg  Options; NULL = ::sfit_refined_cfg_default.
+ * @param[out] out  Written only on SFIT_OK.
+ * @retval SFIT_OK  every step succeeded
+ * @retval other    the status of the first step that failed (see those functions)
+ * @par Cost  the sum of the three steps.
+ */
+sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
+                                      const sfit_refined_cfg_t *cfg, sfit_refined_t *out);
 
 #ifdef __cplusplus
 }

@@ -6,39 +6,7 @@
  * @defgroup sfit_selfcal Self-calibrated noise
  * @{
  *
- * Fixed-point iteration over a caller-owned array (the samples are read,
- * never written):
- *  1. GDKE (sigma^2 = 0) from the moments.
- *  2. Radial residuals d_i = |x_i - c| - r; s^2 = sum (d_i - dbar)^2 / (N - 4).
- *     N - 4: the residuals are orthogonal (to first order) to the 4
- *     directions of the sphere's parameters (3 centre, 1 radius; removing
- *     dbar is the radius' share), so s^2 is unbiased for the radial noise
- *     variance whatever the fit, provided it agrees with the geometric fit
- *     to first order (UGDK does; GDKE does not on a cap, which is why the
- *     iteration continues).
- *  3. Curvature: with e = t v + e_perp (t = v.e),
- *     |r v + e| = (r + t) + |e_perp|^2 / (2 (r + t)) + ..., whose variance
- *     is sigma^2 + sigma^4/r^2 (the |e_perp|^2 term) - 2 sigma^4/r^2 (its
- *     covariance with t through 1/(r + t)): E s^2 = sigma^2 - sigma^4/r^2;
- *     solved for sigma^2: sigma^2 = 2 s^2 / (1 + sqrt(1 - 4 s^2/r^2))
- *     (the root is clamped at 0: sigma^2 <= 2 s^2).
- *  4. Safeguard: sigma^2 is capped at SFIT_SELFCAL_MAX_TRUST * lambda_min(C),
- *     so C' = C - sigma^2 I keeps at least (1 - SFIT_SELFCAL_MAX_TRUST) of
- *     C's smallest eigenvalue (stays positive definite); the result is then
- *     flagged ::SFIT_SELFCAL_FLAG_CAPPED.
- *  5. UGDK with sigma^2; repeat from 2 until sigma^2 changes by less than
- *     SFIT_SELFCAL_REL_TOL (relative), at most SFIT_SELFCAL_MAX_ITERS times.
- *
- * The map converges fast: an error e in sigma^2 moves the centre by
- * ~ r e / lambda_min along the cap axis and raises s^2 only by ~ e^2/lambda_min
- * (quadratic), so 2-4 iterations suffice when the trust ratio is below 1/2.
- *
- * A streaming form from moments alone (a fourth-moment accumulator) was
- * rejected: sigma^2 is then the small difference of terms ~ r^4, and float
- * loses it when sigma/r < ~1e-2 (docs/beyond.md).
- *
- * Cost per iteration: one pass over the samples (3 sub, 3 mul, 2 add,
- * 1 sqrt, 3 add/mul for the sums per sample) plus one sfit_fit_solve().
+ * Derivation and notes: docs/api.md#selfcal
  */
 #ifndef SFIT_SELFCAL_H
 #define SFIT_SELFCAL_H
@@ -53,48 +21,21 @@
 extern "C" {
 #endif
 
-/**
- * @brief Iteration bound of the self-calibration (each iteration = one pass
- * over the samples + one solve). Range 1..100.
- */
-#ifndef SFIT_SELFCAL_MAX_ITERS
-#define SFIT_SELFCAL_MAX_ITERS 12
-#endif
-#if (SFIT_SELFCAL_MAX_ITERS < 1) || (SFIT_SELFCAL_MAX_ITERS > 100)
-#error "SFIT_SELFCAL_MAX_ITERS must be in 1..100"
-#endif
+/** @brief Options of a self-calibration. */
+typedef struct sfit_selfcal_cfg {
+    float planar_ratio; /**< lambda_min/lambda_max threshold of SFIT_FLAG_NEAR_PLANAR;
+                             0 = SFIT_PLANAR_RATIO. */
+} sfit_selfcal_cfg_t;
 
-/**
- * @brief Convergence: stop when |sigma^2_new - sigma^2_old| <= this times
- * sigma^2_new. Much below the estimate's own spread (sqrt(2/N)). Range
- * (0, 0.1].
- */
-#ifndef SFIT_SELFCAL_REL_TOL
-#define SFIT_SELFCAL_REL_TOL 1e-4f
-#endif
-
-/**
- * @brief Cap on the estimated noise: sigma^2 <= SFIT_SELFCAL_MAX_TRUST *
- * lambda_min(C), i.e. a trust ratio of at most this (0.5 = the Leontief
- * bound of eq. 194; C' keeps half of C's smallest eigenvalue). Range (0, 0.9].
- */
-#ifndef SFIT_SELFCAL_MAX_TRUST
-#define SFIT_SELFCAL_MAX_TRUST 0.5f
-#endif
-
-/** @brief Flags of a self-calibrated result (bit mask). */
-enum sfit_selfcal_flag {
-    SFIT_SELFCAL_FLAG_CAPPED = 1u /**< sigma^2 hit the SFIT_SELFCAL_MAX_TRUST cap: the
-                                       data cannot tell the noise from the geometry;
-                                       the fit is not to be trusted. */
-};
+/** @brief Defaults: planar_ratio = SFIT_PLANAR_RATIO. */
+extern const sfit_selfcal_cfg_t sfit_selfcal_cfg_default;
 
 /** @brief A self-calibrated fit. Written only on SFIT_OK. */
 typedef struct sfit_selfcal_result {
     sfit_result_t fit;   /**< The UGDK fit with the final noise_var (method UGDK). */
     float noise_var;     /**< Estimated isotropic noise variance sigma^2 (unit^2). */
     uint32_t iterations; /**< Residual passes done (1..SFIT_SELFCAL_MAX_ITERS). */
-    uint32_t flags;      /**< Bit mask of ::sfit_selfcal_flag. */
+    uint32_t flags;      /**< ::SFIT_SELFCAL_FLAG_CAPPED or 0 (::sfit_flag). */
 } sfit_selfcal_result_t;
 
 /**
@@ -117,7 +58,7 @@ typedef struct sfit_selfcal_result {
  * @retval SFIT_E_NO_CONVERGENCE  sigma^2 still moving after SFIT_SELFCAL_MAX_ITERS
  *                                (or the eigen-solver hit its bound)
  */
-sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out);
 
 /**
@@ -135,7 +76,7 @@ sfit_status_t sfit_selfcal_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_
  * @retval SFIT_E_RANGE       the estimate would not be finite
  * @retval SFIT_E_DEGENERATE  a sample lies at the centre (its radial direction is undefined)
  */
-sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var);
 
 #ifdef __cplusplus

@@ -8,6 +8,8 @@
 
 #include <stdint.h>
 
+#include "sfit_config.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -21,6 +23,31 @@ typedef struct sfit_vec3 {
 typedef struct sfit_mat3 {
     float m[9];
 } sfit_mat3_t;
+
+/**
+ * @brief Every result flag of the library (bit mask; each result's `flags`
+ * says which of them it can carry). One enum, distinct bits.
+ */
+enum sfit_flag {
+    SFIT_FLAG_UNTRUSTED = 0x1u,        /**< Fits: leontief_ratio >= 1 (trust_ratio >= 1/2). */
+    SFIT_FLAG_FEW_SAMPLES = 0x2u,      /**< Fits: N < SFIT_FEW_SAMPLES. */
+    SFIT_FLAG_NEAR_PLANAR = 0x4u,      /**< Fits: lambda_min/lambda_max < planar_ratio. */
+    SFIT_SELFCAL_FLAG_CAPPED = 0x8u,   /**< Self-calibration: sigma^2 hit the
+                                            SFIT_SELFCAL_MAX_TRUST cap; not to be trusted. */
+    SFIT_NOISE_FLAG_NEGATIVE = 0x10u,  /**< Noise calibration: the estimate is negative
+                                            (reported unclamped). */
+    SFIT_NOISE_FLAG_IMPRECISE = 0x20u, /**< Noise calibration: below twice its own
+                                            predicted standard deviation. */
+    SFIT_MULTI_FLAG_SKIPPED = 0x100u   /**< Multi-marker: a marker with too few samples
+                                            was skipped. */
+};
+
+/** @brief A sphere: centre, radius and the samples behind it. */
+typedef struct sfit_sphere {
+    sfit_vec3_t center; /**< Sphere centre. */
+    float radius;       /**< Sphere radius. */
+    uint32_t n;         /**< Samples behind the estimate. */
+} sfit_sphere_t;
 
 /**
  * @brief Status returned by every fallible function.

@@ -6,30 +6,7 @@
  * @defgroup sfit_uncert Fit uncertainty
  * @{
  *
- * Notation: N samples, mean m, M = sum (x - m)(x - m)^T over the noise-free
- * samples, estimated by (N-1)(C - sigma^2 I) (C = sample covariance), centre
- * c, radius r, a = m - c, isotropic Gaussian noise of variance sigma^2.
- *
- * First order (every consistent sphere fit: GDKE/UGDK and the geometric fit
- * agree to first order in the noise), from sigma^2 (J^T J)^-1 with the
- * Jacobian rows [-u_i^T, -1], u_i = (x_i - c)/|x_i - c| ~ (x_i - c)/r:
- *   Cov(c)    = sigma^2 r^2 M^-1            (the Cramer-Rao bound's centre block)
- *   Var(r)    = sigma^2 (1/N + a^T M^-1 a)
- *   Cov(c, r) = -sigma^2 r M^-1 a
- *
- * Second order (derived for UGDK in docs/beyond.md; the term that matters
- * on a cap, where sigma^2 is a sizeable fraction of lambda_min):
- *   Cov(c) += 7.5 sigma^4 M^-1 + N sigma^4 M^-1 (r^2 I + s a a^T) M^-1
- * with s = +1 when sigma^2 is a known constant (calibrated beforehand) and
- * s = -1 when sigma^2 was estimated from the same samples (self-calibrated
- * UGDK, sfit_selfcal_fit()): the estimate co-varies with the centre error
- * and cancels most of the a a^T term.
- *
- * For the geometric fit (sfit_refine_fit()) use sfit_uncert_geometric(): the
- * sandwich A^-1 B A^-1 of its own estimating equation, from the samples.
- * It holds at any noise level to leading order in 1/N (the UGDK formula
- * above over-reports the refined fit's covariance by up to 1.3x where
- * sigma / r is large).
+ * Derivation and notes: docs/api.md#uncert
  */
 #ifndef SFIT_UNCERT_H
 #define SFIT_UNCERT_H
@@ -75,7 +52,7 @@ typedef struct sfit_uncert {
  *                            ill-posed: near-planar samples, or the noise too large)
  * @retval SFIT_E_RANGE       a result would not be finite
  */
-sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
+sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
                                   sfit_uncert_t *out);
 
@@ -97,7 +74,7 @@ sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *ce
  *                            less than 3 dimensions (J^T J singular)
  * @retval SFIT_E_RANGE       a result would not be finite
  */
-sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out);
 
 /**
@@ -132,7 +109,7 @@ sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
  *                            swamps the curvature of the data
  * @retval SFIT_E_RANGE       n > UINT32_MAX, or a result would not be finite
  */
-sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out);
 
 #ifdef __cplusplus

@@ -212,8 +212,12 @@ def fit(points, noise_var=None, noise_cov=None, mode="auto", refine=False, *,
             entries XX, YY, ZZ, XY, XZ, YZ (UGDK). Not with noise_var.
         mode: "auto" (sphere, or circle when the samples are near-planar),
             "sphere" or "planar".
-        refine: geometric (orthogonal-distance) refinement of the fit, with
-            the sandwich covariance of the refined centre (sphere only).
+        refine: the library's combined recipe (sfit_points_fit_refined):
+            self-calibrated UGDK start, geometric (orthogonal-distance) fit,
+            and the sandwich covariance of the refined centre (sphere only).
+            The noise is estimated, so no numeric noise_var / noise_cov
+            (noise_var="auto" is allowed and means the same). The result's
+            eigenvalues and trust ratios are those of the start.
         planar_ratio: lambda_min/lambda_max threshold of "near-planar"
             (0 = the library default).
         gate: K > 1 runs the samples through the library's outlier gate

@@ -658,6 +658,10 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
         }
         gate_k = (float)k;
     }
+    if (refine && cfg.noise != SFIT_NOISE_NONE) {
+        return raise_arg("refine=True estimates the noise itself (self-calibrated start): "
+                         "no noise_var / noise_cov");
+    }
     if ((auto_noise || refine) && cfg.mode == SFIT_MODE_PLANAR) {
         return raise_arg("noise_var='auto' and refine=True fit spheres (not mode='planar')");
     }
@@ -689,7 +693,7 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                     rejected++;
                 }
             }
-            st = sfit_gate_solve(g, &r);
+            st = sfit_gate_fit(g, &r);
             Py_END_ALLOW_THREADS
             (void)sfit_gate_stats(g, &gs);
             outliers = (long)gs.outliers;
@@ -697,7 +701,7 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                 && sfit_gate_moments(g) != NULL) {
                 has_noise = 1;
                 nvar = cfg.noise_var;
-                has_u = (sfit_uncert_moments(sfit_gate_moments(g), &r.center, r.radius, nvar,
+                has_u = (sfit_moments_uncert(sfit_gate_moments(g), &r.center, r.radius, nvar,
                                              SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
             }
         }
@@ -716,9 +720,13 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
             return NULL;
         }
         Py_BEGIN_ALLOW_THREADS
-        if (auto_noise) {
+        if (refine) {
+            st = SFIT_OK; /* the recipe below makes its own start */
+        } else if (auto_noise) {
             sfit_selfcal_result_t sc;
-            st = sfit_selfcal_fit(v, nv, &cfg, &sc);
+            sfit_selfcal_cfg_t scc = sfit_selfcal_cfg_default;
+            scc.planar_ratio = cfg.planar_ratio;
+            st = sfit_points_selfcal(v, nv, &scc, &sc);
             if (st == SFIT_OK) {
                 r = sc.fit;
                 has_noise = 1;
@@ -728,28 +736,36 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                 capped = (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
             }
         } else {
-            st = sfit_fit_solve(&acc, &cfg, &r);
+            st = sfit_moments_fit(&acc, &cfg, &r);
             if (st == SFIT_OK && cfg.noise == SFIT_NOISE_ISO) {
                 has_noise = 1;
                 nvar = cfg.noise_var;
             }
         }
         if (st == SFIT_OK && refine) {
-            sfit_refine_result_t rf;
-            st = sfit_refine_fit(v, nv, &r.center, NULL, &rf);
+            /* the library's recipe (sfit_points_fit_refined): self-calibrated
+             * start, geometric fit, its sandwich covariance; the sphere is
+             * the geometric one, eigenvalues and trust those of the start */
+            sfit_refined_t rf;
+            sfit_refined_cfg_t rc = sfit_refined_cfg_default;
+            rc.selfcal.planar_ratio = cfg.planar_ratio;
+            st = sfit_points_fit_refined(v, nv, &rc, &rf);
             if (st == SFIT_OK) {
-                r.center = rf.center;
-                r.radius = rf.radius;
+                r = rf.start.fit;
+                r.center = rf.geometric.center;
+                r.radius = rf.geometric.radius;
                 refined = 1;
                 has_noise = 1;
-                nvar = rf.noise_var;
+                nvar = rf.geometric.noise_var;
                 noise_est = 1;
-                iters = rf.iterations;
-                rms = rf.rms;
-                has_u = (sfit_uncert_geometric(v, nv, &rf.center, &u) == SFIT_OK);
+                iters = rf.geometric.iterations;
+                rms = rf.geometric.rms;
+                capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+                has_u = 1;
+                u = rf.uncert;
             }
         } else if (st == SFIT_OK && has_noise && r.mode == SFIT_MODE_SPHERE) {
-            has_u = (sfit_uncert_moments(&acc, &r.center, r.radius, nvar,
+            has_u = (sfit_moments_uncert(&acc, &r.center, r.radius, nvar,
                                          noise_est ? SFIT_UNCERT_NOISE_ESTIMATED
                                                    : SFIT_UNCERT_NOISE_KNOWN,
                                          &u) == SFIT_OK);
@@ -851,7 +867,7 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
         rejected += rej[k];
     }
     Py_BEGIN_ALLOW_THREADS
-    st = sfit_multi_solve(acc, (size_t)count, &mc, &r, radii);
+    st = sfit_multi_fit(acc, (size_t)count, &mc, &r, radii);
     Py_END_ALLOW_THREADS
     if (st != SFIT_OK) {
         long n = 0;
@@ -1018,13 +1034,13 @@ static PyObject *Moments_fit(MomentsObject *self, PyObject *args, PyObject *kw)
     if (cfg_get(noise_var, noise_cov, mode, planar_ratio, &cfg) < 0) {
         return NULL;
     }
-    st = sfit_fit_solve(&self->m, &cfg, &r);
+    st = sfit_moments_fit(&self->m, &cfg, &r);
     if (st != SFIT_OK) {
         return raise_status(st, "Moments.fit", (long)sfit_moments_count(&self->m),
                             self->rejected);
     }
     if (cfg.noise == SFIT_NOISE_ISO && r.mode == SFIT_MODE_SPHERE) {
-        has_u = (sfit_uncert_moments(&self->m, &r.center, r.radius, cfg.noise_var,
+        has_u = (sfit_moments_uncert(&self->m, &r.center, r.radius, cfg.noise_var,
                                      SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
     }
     d = PyDict_New();
@@ -1071,7 +1087,7 @@ static PyObject *Moments_calibrate_noise(MomentsObject *self, PyObject *args, Py
     if (vec3_get(center, &c0, "center") < 0) {
         return NULL;
     }
-    st = sfit_noise_calibrate(&self->m, &c0, (float)radius, &e);
+    st = sfit_moments_calibrate(&self->m, &c0, (float)radius, &e);
     if (st != SFIT_OK) {
         return raise_status(st, "calibrate_noise", (long)sfit_moments_count(&self->m),
                             self->rejected);
@@ -1102,7 +1118,7 @@ static PyObject *Moments_uncertainty(MomentsObject *self, PyObject *args, PyObje
     if (vec3_get(center, &c, "center") < 0 || nonneg_get(nvo, &nvar, "noise_var") < 0) {
         return NULL;
     }
-    st = sfit_uncert_moments(&self->m, &c, (float)radius, nvar,
+    st = sfit_moments_uncert(&self->m, &c, (float)radius, nvar,
                              estimated ? SFIT_UNCERT_NOISE_ESTIMATED : SFIT_UNCERT_NOISE_KNOWN, &u);
     if (st != SFIT_OK) {
         return raise_status(st, "Moments.uncertainty", -1, -1);
@@ -1200,10 +1216,14 @@ static int Incr_init(IncrObject *self, PyObject *args, PyObject *kw)
     if (!PyArg_ParseTupleAndKeywords(args, kw, "|OO", kwlist, &noise_var, &noise_cov)) {
         return -1;
     }
+    sfit_incr_cfg_t icfg = sfit_incr_cfg_default;
     if (cfg_get(noise_var, noise_cov, NULL, 0.0, &cfg) < 0) {
         return -1;
     }
-    st = sfit_incr_init(&self->s, &cfg);
+    icfg.noise = cfg.noise;
+    icfg.noise_var = cfg.noise_var;
+    icfg.noise_cov = cfg.noise_cov;
+    st = sfit_incr_init(&self->s, &icfg);
     if (st != SFIT_OK) {
         raise_status(st, "Incremental", -1, -1);
         return -1;
@@ -1212,7 +1232,7 @@ static int Incr_init(IncrObject *self, PyObject *args, PyObject *kw)
     return 0;
 }
 
-static PyObject *est_out(const sfit_incr_est_t *e)
+static PyObject *est_out(const sfit_sphere_t *e)
 {
     return Py_BuildValue("(NNk)", vec3_out(e->center.v), flt(e->radius), (unsigned long)e->n);
 }
@@ -1224,7 +1244,7 @@ static PyObject *Incr_start(IncrObject *self, PyObject *points)
     sfit_vec3_t *own;
     size_t nv;
     long rej;
-    sfit_incr_est_t e;
+    sfit_sphere_t e;
     sfit_status_t st;
     if (pts_get(points, &p, "Incremental.start", 0) < 0) {
         return NULL;
@@ -1266,8 +1286,8 @@ static PyObject *Incr_add(IncrObject *self, PyObject *x)
 
 static PyObject *Incr_estimate(IncrObject *self, PyObject *unused)
 {
-    sfit_incr_est_t e;
-    sfit_status_t st = sfit_incr_solve(&self->s, &e);
+    sfit_sphere_t e;
+    sfit_status_t st = sfit_incr_fit(&self->s, &e);
     (void)unused;
     if (st != SFIT_OK) {
         return raise_status(st, "Incremental.estimate", (long)sfit_incr_count(&self->s),
@@ -1302,7 +1322,7 @@ static PyObject *Incr_track(IncrObject *self, PyObject *points)
         double *cd = (double *)PyArray_DATA((PyArrayObject *)ca);
         double *rd = (double *)PyArray_DATA((PyArrayObject *)ra);
         for (i = 0; i < p.n; i++) {
-            sfit_incr_est_t e;
+            sfit_sphere_t e;
             const uint32_t before = sfit_incr_count(&self->s);
             const sfit_status_t st = sfit_incr_update(&self->s, &p.v[i], &e);
             if (st == SFIT_OK) {
@@ -1434,7 +1454,7 @@ static PyObject *py_refine(PyObject *self, PyObject *args, PyObject *kw)
         return NULL;
     }
     Py_BEGIN_ALLOW_THREADS
-    st = sfit_refine_fit(w.v, w.n, &c0, &cfg, &r);
+    st = sfit_points_refine(w.v, w.n, &c0, &cfg, &r);
     Py_END_ALLOW_THREADS
     valid_release(&w);
     if (st != SFIT_OK) {
@@ -1463,7 +1483,7 @@ static PyObject *py_residual_noise_var(PyObject *self, PyObject *args, PyObject 
         return NULL;
     }
     Py_BEGIN_ALLOW_THREADS
-    st = sfit_selfcal_noise_var(w.v, w.n, &c, (float)radius, &nv);
+    st = sfit_points_noise_var(w.v, w.n, &c, (float)radius, &nv);
     Py_END_ALLOW_THREADS
     valid_release(&w);
     if (st != SFIT_OK) {
@@ -1496,9 +1516,9 @@ static PyObject *py_uncertainty(PyObject *self, PyObject *args, PyObject *kw)
     }
     Py_BEGIN_ALLOW_THREADS
     if (geometric) {
-        st = sfit_uncert_geometric(w.v, w.n, &c, &u);
+        st = sfit_points_uncert_geometric(w.v, w.n, &c, &u);
     } else {
-        st = sfit_uncert_points(w.v, w.n, &c, (float)radius, nvar, &u);
+        st = sfit_points_uncert(w.v, w.n, &c, (float)radius, nvar, &u);
     }
     Py_END_ALLOW_THREADS
     valid_release(&w);

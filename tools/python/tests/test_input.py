@@ -138,7 +138,8 @@ def test_option_errors(pts):
                {"noise_cov": [[1, 2, 0], [0, 1, 0], [0, 0, 1]]}, {"noise_cov": [1, 1, 1, 0, 0, np.nan]},
                {"noise_var": "auto", "mode": "planar"}, {"refine": True, "mode": "planar"},
                {"planar_ratio": 0.7}, {"planar_ratio": -1.0}, {"gate": 0.5},
-               {"gate": 4.0, "refine": True}):
+               {"gate": 4.0, "refine": True}, {"refine": True, "noise_var": 1.0},
+               {"refine": True, "noise_cov": np.eye(3)}):
         with pytest.raises(sfit.ArgError):
             sfit.fit(pts, **kw)
     with pytest.raises(sfit.ArgError):  # the library's own check: negative eigen-structure

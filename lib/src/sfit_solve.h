@@ -1,33 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file sfit_internal.h
- * @brief Cross-file helpers of the implementation (not part of the API).
- *
- * Packed symmetric storage: p[0..5] = XX, YY, ZZ, XY, XZ, YZ.
+ * @file sfit_solve.h
+ * @brief Internal solver layer: the sphere / circle system (C - Sigma) w = b
+ * shared by the single- and multi-marker fits (sfit_solve.c).
  */
-#ifndef SFIT_INTERNAL_H
-#define SFIT_INTERNAL_H
+#ifndef SFIT_SOLVE_H
+#define SFIT_SOLVE_H
 
-#include <stdint.h>
-
-#include "sfit/sfit_moments.h"
-#include "sfit/sfit_types.h"
-#include "sfit_port.h"
-
-/** @brief Unpack a packed symmetric matrix into a full row-major one. */
-void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a);
-
-/** @brief The accumulator's total centred moments including the open block. */
-void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out);
-
-/** @brief 1 when x is neither NaN nor Inf (bit test; no FP operation). */
-int sfit_i_isfinite(float x);
-
-/** @brief Check a sample: SFIT_OK, SFIT_E_NONFINITE or SFIT_E_RANGE. */
-sfit_status_t sfit_i_check_sample(const float x[3]);
-
-/* ---- shared by the sphere/circle solvers (sfit_fit.c, sfit_multi.c) ---- */
 #include "sfit/sfit_fit.h"
+#include "sfit_moments_i.h"
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
@@ -49,11 +30,14 @@ typedef struct sfit_i_solution {
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
 } sfit_i_solution_t;
 
+/** @brief Validate a noise model (SFIT_OK or SFIT_E_ARG). */
+sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov);
+
 /** @brief Validate a fit configuration (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg);
 
-/** @brief Sigma_hat of a configuration as a full symmetric matrix (zero for none). */
-void sfit_i_sigma(const sfit_fit_cfg_t *cfg, sfit_mat3_t *sg);
+/** @brief Sigma_hat of a noise model as a full symmetric matrix (zero for none). */
+void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg);
 
 /** @brief Coincidence threshold (a spread) for samples whose mean is origin + d. */
 float sfit_i_coincident_scale(const float origin[3], const float d[3]);
@@ -61,9 +45,9 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. Statuses as sfit_fit_solve().
+ * trust ratio included. Statuses as sfit_moments_fit().
  */
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
 
-#endif /* SFIT_INTERNAL_H */
+#endif /* SFIT_SOLVE_H */

@@ -1,0 +1,156 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_float.h
+ * @brief Lowest internal layer: float helpers, validators and the two-level
+ * sum shared by every module (not part of the API).
+ *
+ * Layers (each header includes only the ones above it in this list):
+ *   sfit_float.h   config, types, port; helpers on floats and samples
+ *   sfit_mat3_i.h  packed symmetric storage, SPD inverse (sfit_mat3.c)
+ *   sfit_moments_i.h  centred totals of an accumulator (sfit_moments.c)
+ *   sfit_solve.h   the shared sphere / circle solver (sfit_solve.c)
+ */
+#ifndef SFIT_FLOAT_H
+#define SFIT_FLOAT_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "sfit/sfit_config.h"
+#include "sfit/sfit_types.h"
+#include "sfit_port.h"
+
+/** @brief 1 when x is neither NaN nor Inf (bit test; no FP operation). */
+SFIT_INLINE int sfit_i_isfinite(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return ((u >> 23) & 0xFFu) != 0xFFu;
+}
+
+/** @brief 1 when the three floats are finite. */
+SFIT_INLINE int sfit_i_finite3(const float v[3])
+{
+    return sfit_i_isfinite(v[0]) && sfit_i_isfinite(v[1]) && sfit_i_isfinite(v[2]);
+}
+
+/** @brief A sample: SFIT_OK, SFIT_E_NONFINITE or SFIT_E_RANGE (too large). */
+SFIT_INLINE sfit_status_t sfit_i_check_sample(const float x[3])
+{
+    sfit_status_t st = SFIT_OK;
+    int i;
+    for (i = 0; i < 3; i++) {
+        uint32_t u, e;
+        memcpy(&u, &x[i], sizeof u);
+        e = (u >> 23) & 0xFFu;
+        if (e == 0xFFu) {
+            return SFIT_E_NONFINITE;
+        }
+        if (e >= (uint32_t)(127 + SFIT_COORD_MAX_EXP)) {
+            st = SFIT_E_RANGE;
+        }
+    }
+    return st;
+}
+
+/**
+ * @brief A caller's array: SFIT_E_TOO_FEW below nmin, SFIT_E_RANGE above
+ * UINT32_MAX, else the status of the first bad sample.
+ */
+sfit_status_t sfit_i_check_points(const sfit_vec3_t *pts, size_t n, size_t nmin);
+
+/**
+ * @brief A fit handed in by the caller: a non-finite centre or radius is
+ * SFIT_E_NONFINITE, a radius <= 0 SFIT_E_ARG (radius NULL: centre only).
+ */
+sfit_status_t sfit_i_check_fit(const sfit_vec3_t *center, const float *radius);
+
+/** @brief One sample offered to a state: SFIT_E_ARG for NULL, else as sfit_i_check_sample(). */
+SFIT_INLINE sfit_status_t sfit_i_check_add(const void *state, const sfit_vec3_t *x)
+{
+    return (state == NULL || x == NULL) ? SFIT_E_ARG : sfit_i_check_sample(x->v);
+}
+
+/** @brief 1 when a centre and radius are finite (a result may be written). */
+SFIT_INLINE int sfit_i_sphere_finite(const sfit_vec3_t *c, float r)
+{
+    return sfit_i_finite3(c->v) && sfit_i_isfinite(r);
+}
+
+/** @brief a . b for 3-vectors. */
+SFIT_INLINE float sfit_i_dot3(const float a[3], const float b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/**
+ * @brief Distance d = |x - c| and unit direction u = (x - c)/d; 0 (u, d
+ * undefined) when x is at c.
+ */
+SFIT_INLINE int sfit_i_dist_dir(const float x[3], const float c[3], float *d, float u[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        u[i] = x[i] - c[i];
+    }
+    *d = SFIT_SQRTF(sfit_i_dot3(u, u));
+    if (!(*d > 0.0f)) {
+        return 0;
+    }
+    for (i = 0; i < 3; i++) {
+        u[i] /= *d;
+    }
+    return 1;
+}
+
+/**
+ * @brief Noise variance from the residual variance s2 of a sphere of radius
+ * r: the root of E s^2 = sigma^2 - sigma^4 / r^2 (docs/api.md), clamped so
+ * that sigma^2 <= 2 s^2.
+ */
+SFIT_INLINE float sfit_i_curvature_var(float s2, float r)
+{
+    const float q = 4.0f * s2 / (r * r);
+    return 2.0f * s2 / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
+}
+
+/** @brief Most quantities one two-level sum carries. */
+#define SFIT_I_SUM_MAX 13
+
+/**
+ * @brief Two-level sum of up to SFIT_I_SUM_MAX floats: an inner sum of at
+ * most SFIT_SUM_BLOCK terms is folded into the outer one, so each rounding
+ * is relative to a partial sum of about sqrt(N) terms instead of N.
+ */
+typedef struct sfit_i_sum {
+    float tot[SFIT_I_SUM_MAX]; /**< outer level (the result after sfit_i_sum_end) */
+    float blk[SFIT_I_SUM_MAX]; /**< inner level */
+    uint32_t inblk;            /**< terms in the inner level */
+} sfit_i_sum_t;
+
+/** @brief Fold the inner level into tot (the sums are then in tot). */
+SFIT_INLINE void sfit_i_sum_end(sfit_i_sum_t *s, int k)
+{
+    int j;
+    for (j = 0; j < k; j++) {
+        s->tot[j] += s->blk[j];
+        s->blk[j] = 0.0f;
+    }
+    s->inblk = 0u;
+}
+
+/** @brief Add one term of k quantities. */
+SFIT_INLINE void sfit_i_sum_add(sfit_i_sum_t *s, const float *v, int k)
+{
+    int j;
+    SFIT_ASSERT(k <= SFIT_I_SUM_MAX);
+    for (j = 0; j < k; j++) {
+        s->blk[j] += v[j];
+    }
+    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
+        sfit_i_sum_end(s, k);
+    }
+}
+
+#endif /* SFIT_FLOAT_H */

@@ -1,0 +1,33 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_mat3_i.h
+ * @brief Internal 3x3 layer: packed symmetric storage and the inverse of a
+ * positive-definite matrix from its Cholesky factor (sfit_mat3.c).
+ *
+ * Packed symmetric storage: p[0..5] = XX, YY, ZZ, XY, XZ, YZ.
+ */
+#ifndef SFIT_MAT3_I_H
+#define SFIT_MAT3_I_H
+
+#include "sfit/sfit_mat3.h"
+#include "sfit_float.h"
+
+/** @brief Unpack a packed symmetric matrix into a full row-major one. */
+void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a);
+
+/** @brief Pack the symmetric part of a (mean of each off-diagonal pair). */
+void sfit_i_sym_pack(const sfit_mat3_t *a, float p[6]);
+
+/** @brief A^-1 (full, symmetric) from the factor l of sfit_mat3_chol(). */
+void sfit_i_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv);
+
+/** @brief y = L^-1 b (forward substitution with a Cholesky factor). */
+void sfit_i_chol_forward(const sfit_mat3_t *l, const float b[3], float y[3]);
+
+/** @brief p = a b (full 3x3). */
+void sfit_i_mat3_mul(const sfit_mat3_t *a, const sfit_mat3_t *b, sfit_mat3_t *p);
+
+/** @brief y = a x (full 3x3). */
+void sfit_i_mat3_vec(const sfit_mat3_t *a, const float x[3], float y[3]);
+
+#endif /* SFIT_MAT3_I_H */

@@ -1,0 +1,30 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_moments_i.h
+ * @brief Internal accumulator layer: the centred totals of an accumulator
+ * (sfit_moments.c).
+ */
+#ifndef SFIT_MOMENTS_I_H
+#define SFIT_MOMENTS_I_H
+
+#include "sfit/sfit_moments.h"
+#include "sfit_mat3_i.h"
+
+/** @brief The accumulator's total centred moments including the open block. */
+void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out);
+
+/** @brief m := the n samples of a caller's array (statuses of sfit_moments_add_block()). */
+sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t *m);
+
+/** @brief st, or SFIT_E_TOO_FEW when st is SFIT_OK and m holds < SFIT_MIN_SAMPLES samples. */
+SFIT_INLINE sfit_status_t sfit_i_enough(sfit_status_t st, const sfit_moments_t *m)
+{
+    return (st == SFIT_OK && sfit_moments_count(m) < SFIT_MIN_SAMPLES) ? SFIT_E_TOO_FEW : st;
+}
+
+/**
+ * @brief C = M2/(N-1) (full) and b = M3/(2(N-1)) of a total with n >= 2.
+ */
+void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
+
+#endif /* SFIT_MOMENTS_I_H */

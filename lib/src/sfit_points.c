@@ -1,0 +1,33 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_points.c
+ * @brief The combined recipe over a caller's array: self-calibrated start,
+ * geometric refinement, sandwich covariance (sfit_points_fit_refined()).
+ */
+#include "sfit/sfit_refine.h"
+
+#include "sfit_float.h"
+
+const sfit_refined_cfg_t sfit_refined_cfg_default = {
+    .selfcal = {.planar_ratio = 0.0f},
+    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u}};
+
+sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
+                                      const sfit_refined_cfg_t *cfg, sfit_refined_t *out)
+{
+    sfit_refined_t r;
+    sfit_status_t st;
+
+    cfg = (cfg != NULL) ? cfg : &sfit_refined_cfg_default;
+    st = (out == NULL) ? SFIT_E_ARG : sfit_points_selfcal(pts, n, &cfg->selfcal, &r.start);
+    if (st == SFIT_OK) {
+        st = sfit_points_refine(pts, n, &r.start.fit.center, &cfg->refine, &r.geometric);
+    }
+    if (st == SFIT_OK) {
+        st = sfit_points_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
+    }
+    if (st == SFIT_OK) {
+        *out = r;
+    }
+    return st;
+}
