@@ -466,7 +466,11 @@ if hasattr(_sfit, "Joint"):
         one moments state per child marker, solve the common centre (MGDK).
 
         ``Joint(parent: Cluster, n_child, noise_var=None, noise_cov=None,
-        mode="auto", weight="equal")``; ``add(parent, child)`` one frame
+        mode="auto", weight="equal", planar_ratio=0.0, marker_noise_var=None)``:
+        noise_var / noise_cov are the noise of a child marker in the parent
+        frame; marker_noise_var is instead the variance of every measured
+        marker coordinate, which the library propagates through the parent
+        pose (``noise_cov(marker_var)`` shows the result); ``add(parent, child)`` one frame
         ((Mp, 3), (K, 3)) or many ((F, Mp, 3), (F, K, 3)), NaN = occluded,
         returns the frames accepted (frames whose parent cannot be registered
         are skipped and counted in ``rejected_frames``); ``solve()``;
@@ -492,7 +496,7 @@ if hasattr(_sfit, "Joint"):
             return self._center_at(result._raw, parent)
 
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
-                     weight="equal") -> JointResult:
+                     weight="equal", marker_noise_var=None) -> JointResult:
         """Functional joint centre from trajectories.
 
         Args:
@@ -500,7 +504,10 @@ if hasattr(_sfit, "Joint"):
             child: (F, K, 3) child-segment markers, NaN = occluded.
             template: None (built from the parent frames, Cluster.from_frames),
                 a Cluster, or (Mp, 3) positions in the parent's segment frame.
-            noise_var, noise_cov, mode, weight: as :func:`fit_multi`.
+            noise_var, noise_cov, mode, weight: as :func:`fit_multi` (noise of a
+                child marker in the parent frame).
+            marker_noise_var: variance of each measured marker coordinate
+                instead; the library propagates it through the parent pose.
 
         Returns:
             JointResult (centre in the parent frame) with center_global and
@@ -517,7 +524,8 @@ if hasattr(_sfit, "Joint"):
         k = child_arr.shape[1] if child_arr.ndim == 3 else -1
         if k < 1:
             raise _arg_error("joint_center: child must be (frames, markers, 3)")
-        j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight)
+        j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,
+                  marker_noise_var=marker_noise_var)
         j.add(parent, child_arr)
         res = j.solve()
         c, a, v = j.center_at(res, parent)

@@ -1893,17 +1893,27 @@ static PyTypeObject JointType;
 static int Joint_init(JointObject *self, PyObject *args, PyObject *kw)
 {
     static char *kwlist[] = {"parent", "n_child", "noise_var", "noise_cov", "mode", "weight",
-                             "planar_ratio", NULL};
+                             "planar_ratio", "marker_noise_var", NULL};
     PyObject *parent, *noise_var = Py_None, *noise_cov = Py_None, *mode = NULL;
+    PyObject *marker_var = Py_None;
     unsigned long n_child = 1;
     const char *weight = "equal";
     double planar_ratio = 0.0;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
     sfit_status_t st;
     self->ready = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "Ok|OOOsd", kwlist, &parent, &n_child, &noise_var,
-                                     &noise_cov, &mode, &weight, &planar_ratio)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "Ok|OOOsdO", kwlist, &parent, &n_child, &noise_var,
+                                     &noise_cov, &mode, &weight, &planar_ratio, &marker_var)) {
         return -1;
+    }
+    if (marker_var != Py_None) {
+        if (noise_var != Py_None || noise_cov != Py_None) {
+            raise_arg("Joint: marker_noise_var replaces noise_var / noise_cov (give one)");
+            return -1;
+        }
+        /* the marker noise, propagated through the parent pose by the library */
+        noise_var = marker_var;
+        cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
     }
     if (!PyObject_TypeCheck(parent, &ClusterType) || ((ClusterObject *)parent)->cl.count == 0u) {
         raise_arg("Joint: parent must be a sfit.Cluster");
@@ -2001,9 +2011,9 @@ static PyObject *Joint_solve(JointObject *self, PyObject *unused)
     if (!self->ready) {
         return raise_arg("Joint: not initialised");
     }
-    st = sfit_joint_solve(&self->j, &r, radii);
+    st = sfit_joint_fit(&self->j, &r, radii);
     if (st != SFIT_OK) {
-        return raise_status(st, "Joint.solve", (long)self->j.frames, self->rejected_frames);
+        return raise_status(st, "Joint.fit", (long)self->j.frames, self->rejected_frames);
     }
     dim = (npy_intp)self->j.cfg.n_child;
     ra = PyArray_SimpleNew(1, &dim, NPY_FLOAT64);
@@ -2100,6 +2110,26 @@ static PyObject *Joint_center_at(JointObject *self, PyObject *args)
     return Py_BuildValue("(NNN)", ca, aa, va);
 }
 
+/* Joint.noise_cov(marker_var) -> (3, 3): first-order noise covariance of a
+ * child marker in the parent frame for isotropic marker noise. */
+static PyObject *Joint_noise_cov(JointObject *self, PyObject *arg)
+{
+    float var;
+    sfit_mat3_t cov;
+    sfit_status_t st;
+    if (!self->ready) {
+        return raise_arg("Joint: not initialised");
+    }
+    if (nonneg_get(arg, &var, "marker_var") < 0) {
+        return NULL;
+    }
+    st = sfit_joint_noise_cov(&self->j, var, &cov);
+    if (st != SFIT_OK) {
+        return raise_status(st, "Joint.noise_cov", (long)self->j.frames, self->rejected_frames);
+    }
+    return mat3_out(&cov);
+}
+
 static PyObject *Joint_reset(JointObject *self, PyObject *unused)
 {
     (void)unused;
@@ -2126,6 +2156,10 @@ static PyMethodDef Joint_methods[] = {
     {"_add", (PyCFunction)Joint_add, METH_VARARGS, "Internal: see Joint.add."},
     {"_solve", (PyCFunction)Joint_solve, METH_NOARGS, "Internal: see Joint.solve."},
     {"_center_at", (PyCFunction)Joint_center_at, METH_VARARGS, "Internal: see Joint.center_at."},
+    {"noise_cov", (PyCFunction)Joint_noise_cov, METH_O,
+     "noise_cov(marker_var) -> ndarray (3, 3)\n\nFirst-order noise covariance of a child marker in\n"
+     "the parent frame, for isotropic noise of variance marker_var on every coordinate of\n"
+     "every measured marker (the parent pose error included, lever arm and all)."},
     {"reset", (PyCFunction)Joint_reset, METH_NOARGS,
      "reset() -> None\n\nForget every frame; keep the template and the options."},
     {NULL, NULL, 0, NULL}};

@@ -157,3 +157,40 @@ def test_joint_bad_input(rng):
     with pytest.raises(sfit.TooFewError):
         sfit.Cluster.from_frames(all_nan)
     assert j.add(all_nan, child[:5]) == 0 and j.rejected_frames == 5 and j.frames == 0
+
+
+def skew(v):
+    return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+
+def test_marker_noise_model(rng):
+    """noise_cov(marker_var) against the first-order expression in double,
+    and marker_noise_var = noise_cov given that covariance."""
+    tpl, centre, parent, child = simulate(rng, sigma=0.5, occlude=0.0)
+    cl = sfit.Cluster(tpl)
+    j = sfit.Joint(cl, 3)
+    j.add(parent, child)
+    var = 0.25
+    got = j.noise_cov(var)
+    _, _, poses = reference(tpl, parent, child)
+    pc = tpl - tpl.mean(axis=0)
+    jm = sum(p @ p * np.eye(3) - np.outer(p, p) for p in pc)
+    ji = np.linalg.inv(jm)
+    terms = []
+    for k in range(3):
+        ys = np.array([r.T @ (child[f, k].astype(np.float64) - t) for f, (r, t) in enumerate(poses)])
+        ys -= tpl.mean(axis=0)
+        terms.append(np.mean([skew(y) @ ji @ skew(y).T for y in ys], axis=0))
+    want = var * ((1 + 1 / len(tpl)) * np.eye(3) + np.mean(terms, axis=0))
+    assert np.allclose(got, want, rtol=2e-3, atol=1e-6)
+    a = sfit.Joint(cl, 3, marker_noise_var=var)
+    a.add(parent, child)
+    b = sfit.Joint(cl, 3, noise_cov=got)
+    b.add(parent, child)
+    ra, rb = a.solve(), b.solve()
+    assert ra.method == "ugdk"
+    assert np.allclose(ra.center, rb.center, atol=1e-3)
+    with pytest.raises(sfit.ArgError):
+        sfit.Joint(cl, 3, marker_noise_var=var, noise_var=var)
+    with pytest.raises(sfit.ArgError):
+        j.noise_cov(-1.0)
