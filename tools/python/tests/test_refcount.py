@@ -58,7 +58,21 @@ def _entry_points(pts):
                 raise AssertionError("no exception")
         return call
 
-    return {
+    extra = {}
+    if hasattr(sfit, "Joint"):
+        tpl = np.array([[100.0, 0, 0], [-100.0, 20, 0], [0, 90, 30], [10, -60, 80]])
+        par = np.stack([tpl + [0.0, 0.0, 0.1 * f] for f in range(8)])
+        par[2, 1] = np.nan
+        chi = np.stack([[[60 * np.cos(0.2 * f), 60 * np.sin(0.2 * f), 30.0 + f]] for f in range(8)])
+        cl = sfit.Cluster(tpl)
+        jt = sfit.Joint(cl, 1, mode="planar")
+        jt.add(par, chi)
+        res = jt.solve()
+        extra["joint"] = lambda: (sfit.Joint(cl, 1).add(par, chi), jt.solve(), jt.center_at(res, par),
+                                  cl.register(par[0]), sfit.Cluster.from_frames(par),
+                                  jt.noise_cov(0.1))
+        extra["err_joint"] = raises(lambda: jt.add(par[:, :3], chi), sfit.ArgError)
+    return dict(extra, **{
         "fit": lambda: sfit.fit(pts),
         "fit_auto": lambda: sfit.fit(pts, noise_var="auto"),
         "fit_refine": lambda: sfit.fit(pts, refine=True),
@@ -80,14 +94,16 @@ def _entry_points(pts):
         "err_option": raises(lambda: sfit.fit(pts, mode="x"), sfit.ArgError),
         "err_notposdef": raises(lambda: sfit.fit(pts, noise_var=1e6), sfit.NotPosDefError),
         "err_multi": raises(lambda: sfit.fit_multi([pts, np.ones((3, 2))]), sfit.ArgError),
-    }
+    })
 
 
 @pytest.mark.parametrize("name", ["fit", "fit_auto", "fit_refine", "fit_iso_cov", "fit_gate",
                                   "fit_multi", "moments", "incremental", "helpers", "err_shape",
                                   "err_dtype", "err_too_few", "err_degenerate", "err_option",
-                                  "err_notposdef", "err_multi"])
+                                  "err_notposdef", "err_multi", "joint", "err_joint"])
 def test_no_leak(pts, name):
+    if name.endswith("joint") and not hasattr(sfit, "Joint"):
+        pytest.skip("the C library has no sfit_joint.h yet")
     fn = _entry_points(pts)[name]
     calls = CALLS if name == "fit" else CALLS // 10
     grown = _leak_bytes(fn, calls)
