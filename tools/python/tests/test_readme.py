@@ -45,3 +45,17 @@ def test_readme_oneliner_runs():
                        cwd=SOURCE_DIR, check=True)
     centre = [float(v) for v in p.stdout.strip().strip("[]").split()]
     assert max(abs(a - b) for a, b in zip(centre, (10, 20, 30))) < 1e-3
+
+
+def test_readme_joint_example_runs():
+    if not hasattr(sfit, "Joint"):
+        import pytest
+        pytest.skip("the C library has no sfit_joint.h yet")
+    code = _block("python-joint-example", "python")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(code, "README.md", "exec"), {})
+    lines = out.getvalue().splitlines()
+    centre = [float(v) for v in lines[0].split("]")[0].strip("[ ").split()]
+    assert max(abs(a - b) for a, b in zip(centre, (-70, -90, 80))) < 1.0
+    assert lines[0].endswith("sphere 500") and lines[1] == "(500, 3)"
