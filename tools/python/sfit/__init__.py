@@ -1,0 +1,537 @@
+# SPDX-License-Identifier: MIT
+"""sfit: sphere and circle fitting (GDKE / UGDK) for numpy.
+
+The same C library as the firmware (lib/src of the sfit repository),
+compiled into an extension module. Everything works in float32, as the
+library does:
+
+* Arrays in: any real-valued array-like of shape (N, 3) (float32, float64,
+  integers; C or Fortran order, strided views). float64 values are rounded
+  to the nearest float32 before the library sees them; a value beyond
+  float32's range becomes inf. Rows with a NaN or Inf coordinate, or with a
+  coordinate of magnitude >= 2**27, are skipped and counted (``rejected``),
+  as the ``sfit`` command line skips such CSV lines.
+* Results out: float64 numpy arrays and Python floats that hold the
+  library's float32 values exactly (so they equal the CLI's JSON, which
+  prints the same floats with 9 significant digits).
+* Errors: a status other than ok raises a subclass of :class:`sfit.Error`
+  (``ArgError``, ``TooFewError``, ``NotPosDefError``,
+  ``NoConvergenceError``, ``DegenerateError``, ``NonFiniteError``,
+  ``RangeError``) with the attributes ``status`` (the library's name, e.g.
+  ``"degenerate"``), ``code``, ``message``, ``n`` and ``rejected``. Bad
+  shapes, dtypes and option values raise ``ArgError`` (also a
+  ``ValueError``).
+
+Example::
+
+    import numpy as np, sfit
+    pts = np.loadtxt("tests/data/mocap/hip_right/RTHI1.csv", delimiter=",", skiprows=1)
+    r = sfit.fit(pts)                    # GDKE (Kasa), auto sphere / circle
+    r = sfit.fit(pts, noise_var="auto")  # self-calibrated UGDK
+    print(r.center, r.radius, r.flags)
+"""
+from __future__ import annotations
+
+import numpy as _np
+
+from . import _sfit
+from ._sfit import (  # noqa: F401  (re-exported)
+    ArgError,
+    DegenerateError,
+    Error,
+    NoConvergenceError,
+    NonFiniteError,
+    NotPosDefError,
+    RangeError,
+    TooFewError,
+)
+
+__all__ = [
+    "Error", "ArgError", "TooFewError", "NotPosDefError", "NoConvergenceError",
+    "DegenerateError", "NonFiniteError", "RangeError",
+    "FitResult", "MultiResult", "NoiseEstimate", "Uncertainty", "RefineResult", "Estimate",
+    "Track", "fit", "fit_multi", "Moments", "Incremental", "calibrate_noise",
+    "calibration_std", "coverage_eigs", "coverage_max_sigma", "coverage_min_theta",
+    "coverage_estimate_theta", "residual_noise_var", "refine", "uncertainty",
+    "library_version", "MIN_SAMPLES",
+]
+
+__version__ = "%d.%d.%d" % (_sfit.VERSION_MAJOR, _sfit.VERSION_MINOR, _sfit.VERSION_PATCH)
+library_version = __version__
+MIN_SAMPLES = _sfit.MIN_SAMPLES
+
+
+class _Record:
+    """Base of the result types: attributes from a dict, a short repr."""
+
+    __slots__ = ()
+    _repr_fields: tuple = ()
+
+    def __init__(self, d):
+        for k in self.__slots__:
+            object.__setattr__(self, k, d.get(k))
+
+    def __setattr__(self, name, value):
+        raise AttributeError("sfit results are read-only")
+
+    def to_dict(self) -> dict:
+        """The fields as a dict (arrays are copied)."""
+        return {k: (v.copy() if isinstance(v, _np.ndarray) else v)
+                for k, v in ((k, getattr(self, k)) for k in self.__slots__)
+                if not k.startswith("_")}
+
+    def __repr__(self):
+        parts = []
+        for k in self._repr_fields:
+            v = getattr(self, k)
+            if isinstance(v, _np.ndarray):
+                v = _np.array2string(v, precision=6, separator=", ")
+            parts.append("%s=%s" % (k, v))
+        return "%s(%s)" % (type(self).__name__, ", ".join(parts))
+
+
+class FitResult(_Record):
+    """A sphere or circle fit.
+
+    Attributes:
+        center: (3,) centre of the sphere, or of the circle (planar mode).
+        radius: sphere or circle radius.
+        n: samples used; rejected: rows skipped (NaN, Inf, out of range).
+        eigenvalues: (3,) eigenvalues of the sample covariance C, ascending.
+        axis: (3,) unit eigenvector of the smallest eigenvalue: the hinge axis
+            (planar) or the cap axis (sphere); largest component positive.
+        trust_ratio: rho(C^-1 Sigma_hat) (0 for GDKE), eq. 193.
+        leontief_ratio: trust/(1 - trust); >= 1 sets the "untrusted" flag.
+        flags: list of names: "untrusted", "few_samples", "near_planar".
+        flags_mask: the same as the library's bit mask.
+        method: "gdke", "ugdk" or "geometric" (refine=True).
+        mode: "sphere" or "planar" (the solution used).
+        noise_var: the sigma^2 used (given or estimated), None without a noise model.
+        noise_estimated: True when noise_var was estimated from the samples.
+        noise_capped: self-calibration hit its cap (do not trust the fit).
+        iterations: self-calibration or refinement iterations (0 otherwise).
+        rms: RMS radial residual (refine=True only, else None).
+        outliers: samples rejected by the outlier gate (gate=K only).
+        center_cov: (3, 3) covariance of the centre, radius_var: variance of
+            the radius, center_radius_cov: (3,) their covariance - where the
+            library gives them (a sphere with an isotropic noise variance, or
+            the refined fit's sandwich estimate); else None.
+    """
+
+    __slots__ = ("center", "radius", "n", "rejected", "eigenvalues", "axis", "trust_ratio",
+                 "leontief_ratio", "flags", "flags_mask", "method", "mode", "noise_var",
+                 "noise_estimated", "noise_capped", "iterations", "rms", "outliers",
+                 "center_cov", "radius_var", "center_radius_cov")
+    _repr_fields = ("center", "radius", "method", "mode", "n", "rejected", "flags")
+
+
+class MultiResult(_Record):
+    """A common centre of several markers (fit_multi).
+
+    Attributes: center, radii ((M,) per-marker radii; 0 for a skipped
+    marker), marker_n ((M,) samples per marker), marker_rejected ((M,) rows
+    skipped per marker), n (samples of the markers used), markers (markers
+    used), skipped (markers with fewer than MIN_SAMPLES samples), eigenvalues,
+    axis, trust_ratio, leontief_ratio, flags (names; "skipped_markers" when
+    a marker was skipped), flags_mask, method, mode, weight, rejected.
+    """
+
+    __slots__ = ("center", "radii", "marker_n", "marker_rejected", "n", "markers", "skipped",
+                 "eigenvalues", "axis", "trust_ratio", "leontief_ratio", "flags", "flags_mask",
+                 "method", "mode", "weight", "rejected")
+    _repr_fields = ("center", "radii", "method", "mode", "markers", "flags")
+
+
+class NoiseEstimate(_Record):
+    """A noise calibration against a known sphere (eq. 177, 190).
+
+    Attributes: n, noise_trace (Tr Sigma_hat), noise_var (sigma^2 =
+    trace/3, unclamped: may be negative), noise_var_std (predicted standard
+    deviation, eq. 190), flags ("negative", "imprecise"), rejected.
+    """
+
+    __slots__ = ("n", "noise_trace", "noise_var", "noise_var_std", "flags", "rejected")
+    _repr_fields = __slots__
+
+
+class Uncertainty(_Record):
+    """Uncertainty of a sphere fit: center_cov (3, 3), radius_var,
+    center_radius_cov (3,), noise_var (the sigma^2 used)."""
+
+    __slots__ = ("center_cov", "radius_var", "center_radius_cov", "noise_var")
+    _repr_fields = __slots__
+
+    def __init__(self, d):
+        d = dict(d)
+        d["noise_var"] = d.pop("uncert_noise_var")
+        super().__init__(d)
+
+
+class RefineResult(_Record):
+    """A geometric (orthogonal-distance) fit: center, radius, rms (RMS
+    radial residual), noise_var (sigma^2 from the residuals), n, iterations,
+    rejected."""
+
+    __slots__ = ("center", "radius", "rms", "noise_var", "n", "iterations", "rejected")
+    _repr_fields = __slots__
+
+
+class Estimate(_Record):
+    """An incremental estimate: center, radius, n."""
+
+    __slots__ = ("center", "radius", "n")
+    _repr_fields = __slots__
+
+
+class Track(_Record):
+    """Estimates after every sample (Incremental.track): n (K,), centers
+    (K, 3), radii (K,) for the K samples after which an estimate existed."""
+
+    __slots__ = ("n", "centers", "radii")
+    _repr_fields = ("n",)
+
+
+def _arg_error(message):
+    e = ArgError(message)
+    e.status, e.code, e.message, e.n, e.rejected = "bad_argument", -1, message, None, None
+    return e
+
+
+def fit(points, noise_var=None, noise_cov=None, mode="auto", refine=False, *,
+        planar_ratio=0.0, gate=None) -> FitResult:
+    """Fit a sphere (or a circle) to an (N, 3) array of samples.
+
+    Args:
+        points: (N, 3) array-like; float64 is rounded to float32. Rows with
+            NaN / Inf / |x| >= 2**27 are skipped and counted (``rejected``).
+        noise_var: None (GDKE, the Kasa fit), a number sigma^2 >= 0 (UGDK
+            with isotropic noise; adds center_cov and radius_var for a
+            sphere), or ``"auto"`` (self-calibrated UGDK: sigma^2 estimated
+            from the radial residuals; sphere only).
+        noise_cov: a (3, 3) symmetric noise covariance, or its 6 packed
+            entries XX, YY, ZZ, XY, XZ, YZ (UGDK). Not with noise_var.
+        mode: "auto" (sphere, or circle when the samples are near-planar),
+            "sphere" or "planar".
+        refine: the library's combined recipe (sfit_points_fit_refined):
+            self-calibrated UGDK start, geometric (orthogonal-distance) fit,
+            and the sandwich covariance of the refined centre (sphere only).
+            The noise is estimated, so no numeric noise_var / noise_cov
+            (noise_var="auto" is allowed and means the same). The result's
+            eigenvalues and trust ratios are those of the start.
+        planar_ratio: lambda_min/lambda_max threshold of "near-planar"
+            (0 = the library default).
+        gate: K > 1 runs the samples through the library's outlier gate
+            (reject samples more than K sigma off the running fit); not with
+            "auto" or refine.
+
+    Returns:
+        FitResult. Equal to ``sfit fit --json`` on the same float32 samples.
+
+    Raises:
+        ArgError: bad shape, dtype or option; TooFewError: fewer than
+        MIN_SAMPLES valid rows (also for an empty array); DegenerateError,
+        NotPosDefError, NoConvergenceError, RangeError: the library's status.
+    """
+    return FitResult(_sfit.fit(points, noise_var, noise_cov, mode, bool(refine),
+                               float(planar_ratio), gate))
+
+
+def fit_multi(markers, noise_var=None, noise_cov=None, mode="auto", weight="equal", *,
+              planar_ratio=0.0) -> MultiResult:
+    """Common centre of several markers on one segment (MGDK, eq. 219-223).
+
+    Args:
+        markers: a sequence of (N_p, 3) arrays (one per marker, lengths may
+            differ) or one (M, N, 3) array. NaN rows (occlusions) are skipped
+            per marker; a marker with fewer than MIN_SAMPLES valid rows is
+            skipped (radius 0, flag "skipped_markers").
+        noise_var, noise_cov: noise model (unbiased MGDK), as in :func:`fit`
+            (no "auto").
+        mode: "auto", "sphere" or "planar" (hinge: common axis).
+        weight: "equal" (eq. 220 as printed) or "samples" (joint least squares).
+
+    Returns:
+        MultiResult with the common centre and the per-marker radii.
+    """
+    return MultiResult(_sfit.fit_multi(markers, noise_var, noise_cov, mode, weight,
+                                       float(planar_ratio)))
+
+
+class Moments(_sfit.Moments):
+    """Streaming moments accumulator: the O(1) state a firmware keeps per marker.
+
+    ``Moments(points=None)``; ``add(x)`` takes one sample (3,) or an (N, 3)
+    array (NaN rows skipped and counted in ``rejected``) and returns the
+    number added; ``merge(other)``; ``count`` (also ``len()``); ``stats()``;
+    ``fit()`` / ``solve()``; ``calibrate_noise()``; ``uncertainty()``;
+    ``reset()``; ``copy()``. Adding chunks one after the other gives exactly
+    (bit for bit) the state of adding them in one call; ``merge`` of
+    separately accumulated chunks agrees up to float rounding.
+    """
+
+    __slots__ = ()
+
+    def fit(self, noise_var=None, noise_cov=None, mode="auto", *, planar_ratio=0.0) -> FitResult:
+        """Solve from the accumulator (it is not modified; call again after more
+        samples). Options as :func:`fit` (no "auto", no refine: those need the
+        samples). With a noise_var, a sphere result carries center_cov and
+        radius_var."""
+        return FitResult(self._fit(noise_var, noise_cov, mode, float(planar_ratio)))
+
+    solve = fit
+
+    def calibrate_noise(self, center, radius) -> NoiseEstimate:
+        """Noise calibration against a known sphere (centre, radius >= 0; 0 =
+        a fixed point): Tr(Sigma_hat) = mean |x - c0|^2 - r0^2 (eq. 177) and
+        sigma^2 = Tr/3 with its predicted standard deviation (eq. 190)."""
+        return NoiseEstimate(self._calibrate_noise(center, float(radius)))
+
+    def uncertainty(self, center, radius, noise_var, estimated=False) -> Uncertainty:
+        """Centre covariance and radius variance of a fit of these samples
+        from the moments alone (first + second order in the noise).
+        estimated=True when noise_var came from the same samples."""
+        return Uncertainty(self._uncertainty(center, float(radius), noise_var, bool(estimated)))
+
+
+class Incremental(_sfit.Incremental):
+    """Incremental estimator (chapter 5.4): a new sphere centre and radius
+    after every sample, in constant memory; equal to the batch GDKE / UGDK
+    sphere fit of the samples so far.
+
+    ``Incremental(noise_var=None, noise_cov=None)``; ``start(points)``
+    (batch start, checks the geometry); ``add(x)``; ``update(x)`` (add then
+    estimate); ``estimate()``; ``track(points)`` (estimates after every
+    sample); ``count``; ``rejected``; ``reset()``.
+    """
+
+    __slots__ = ()
+
+    @staticmethod
+    def _est(t):
+        return Estimate({"center": t[0], "radius": t[1], "n": t[2]})
+
+    def start(self, points) -> Estimate:
+        """Replace the samples by an (N, 3) batch and return its estimate."""
+        return self._est(self._start(points))
+
+    def estimate(self) -> Estimate:
+        """The estimate for the samples so far (TooFewError below MIN_SAMPLES)."""
+        return self._est(self._estimate())
+
+    def update(self, x) -> Estimate:
+        """Add one sample (or an (N, 3) array; NaN rows skipped and counted),
+        then return the estimate."""
+        self.add(x)
+        return self.estimate()
+
+    def track(self, points) -> Track:
+        """Update with every row of an (N, 3) array; the estimates after the
+        samples where one exists (n, centers, radii)."""
+        n, c, r, k = self._track(points)
+        return Track({"n": n[:k].copy(), "centers": c[:k].copy(), "radii": r[:k].copy()})
+
+
+def calibrate_noise(points, center, radius) -> NoiseEstimate:
+    """Noise calibration from samples of a known sphere (centre, radius >= 0):
+    see :meth:`Moments.calibrate_noise`. NaN rows are skipped and counted."""
+    return Moments(points).calibrate_noise(center, radius)
+
+
+def calibration_std(noise_var, radius, n) -> float:
+    """Predicted standard deviation of a noise calibration (eq. 190, D = 3):
+    sqrt(2 s2 (3 s2 + 2 r0^2) / (9 N))."""
+    return _sfit.calibration_std(float(noise_var), float(radius), int(n))
+
+
+def coverage_eigs(kind, theta, radius):
+    """(lmin, lmax): asymptotic covariance eigenvalues of a uniformly covered
+    cap (kind="cap", eq. 210/211) or arc ("arc", eq. 203/204) of half-angle
+    theta (radians, 0 < theta <= pi) and radius r."""
+    return _sfit.coverage_eigs(kind, float(theta), float(radius))
+
+
+def coverage_max_sigma(kind, theta, radius) -> float:
+    """Largest noise sigma a coverage tolerates: sqrt(lmin(theta)) (eq. 212/213)."""
+    return _sfit.coverage_max_sigma(kind, float(theta), float(radius))
+
+
+def coverage_min_theta(kind, sigma_over_r) -> float:
+    """Smallest half-angle (radians) at which sqrt(lmin)/r = sigma_over_r."""
+    return _sfit.coverage_min_theta(kind, float(sigma_over_r))
+
+
+def coverage_estimate_theta(kind, eigenvalues) -> float:
+    """Covered half-angle (radians) from measured covariance eigenvalues
+    (ascending, e.g. FitResult.eigenvalues; subtract a known sigma^2 first)."""
+    return _sfit.coverage_estimate_theta(kind, eigenvalues)
+
+
+def residual_noise_var(points, center, radius) -> float:
+    """sigma^2 from the radial residuals of a fit that agrees with the
+    geometric fit to first order (one pass; curvature-corrected)."""
+    return _sfit.residual_noise_var(points, center, float(radius))
+
+
+def refine(points, center, max_iters=0, tol=0.0) -> RefineResult:
+    """Geometric (orthogonal-distance) sphere fit, Levenberg-Marquardt in
+    float started at ``center`` (e.g. a UGDK centre). max_iters 0 and tol 0
+    are the library defaults."""
+    return RefineResult(_sfit.refine(points, center, int(max_iters), float(tol)))
+
+
+def uncertainty(points, center, radius=None, noise_var=None) -> Uncertainty:
+    """Uncertainty of a sphere fit from its samples.
+
+    With ``noise_var``: the first-order covariance sigma^2 (J^T J)^-1 at
+    (center, radius). Without: the sandwich covariance of the geometric fit
+    at its centre (radius unused; s^2 from the residuals, returned as
+    noise_var)."""
+    if noise_var is None:
+        return Uncertainty(_sfit.uncertainty(points, center))
+    if radius is None:
+        raise _arg_error("uncertainty: radius is needed with noise_var")
+    return Uncertainty(_sfit.uncertainty(points, center, float(radius), noise_var))
+
+
+# ---------------------------------------------------------------------------
+# Functional joint centre (present when the C library has sfit_joint.h)
+# ---------------------------------------------------------------------------
+
+class Pose(_Record):
+    """A rigid pose x_global = rotation @ x_segment + translation: rotation
+    (3, 3) proper (det +1), translation (3,), rms (registration residual over
+    the markers used), used (markers seen)."""
+
+    __slots__ = ("rotation", "translation", "rms", "used")
+    _repr_fields = __slots__
+
+    def to_global(self, points):
+        """Map (..., 3) segment-frame points to the global frame (float64)."""
+        return _np.asarray(points, dtype=_np.float64) @ self.rotation.T + self.translation
+
+    def to_segment(self, points):
+        """Map (..., 3) global points to the segment frame (float64)."""
+        return (_np.asarray(points, dtype=_np.float64) - self.translation) @ self.rotation
+
+
+class JointResult(_Record):
+    """A functional joint centre.
+
+    center, axis, eigenvalues: in the parent's template (segment) frame;
+    radii (K,): each child marker's radius (distance to the axis for a
+    hinge; 0 for a marker skipped for too few samples); marker_n (K,);
+    n, markers, skipped, trust_ratio, leontief_ratio, flags, flags_mask,
+    method, mode (as MultiResult); frames (accepted), rejected_frames,
+    residual_mean / residual_max (parent registration RMS). From
+    :func:`joint_center` also: center_global (F, 3) and axis_global (F, 3)
+    (NaN in frames whose parent cannot be registered), valid (F,) bool,
+    cluster (the parent template used).
+    """
+
+    __slots__ = ("center", "axis", "eigenvalues", "radii", "marker_n", "n", "markers",
+                 "skipped", "trust_ratio", "leontief_ratio", "flags", "flags_mask", "method",
+                 "mode", "frames", "rejected_frames", "residual_mean", "residual_max",
+                 "center_global", "axis_global", "valid", "cluster", "_raw")
+    _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
+
+
+if hasattr(_sfit, "Joint"):
+    CLUSTER_MAX_MARKERS = _sfit.CLUSTER_MAX_MARKERS
+    JOINT_MAX_CHILD = _sfit.JOINT_MAX_CHILD
+
+    class Cluster(_sfit.Cluster):
+        """Template of a rigid marker cluster (3..CLUSTER_MAX_MARKERS markers).
+
+        ``Cluster(template)`` takes (M, 3) positions in the segment frame;
+        ``Cluster.from_frames(frames)`` builds one from measured frames
+        ((M, 3) or (F, M, 3), NaN = occluded; segment frame = centroid origin,
+        global axes of the first complete frame). ``register(frame)`` gives
+        the least-squares :class:`Pose` of one (M, 3) frame (NaN markers skipped).
+        """
+
+        __slots__ = ()
+
+        @classmethod
+        def from_frames(cls, frames) -> "Cluster":
+            """Template averaged over measured frames (frames_used tells how many)."""
+            return cls._from_frames(frames)
+
+        def register(self, frame) -> Pose:
+            """Pose of the template on one (M, 3) measured frame."""
+            return Pose(self._register(frame))
+
+    class Joint(_sfit.Joint):
+        """Streaming functional joint centre: register the parent cluster in
+        every frame, express the child markers in the parent frame, accumulate
+        one moments state per child marker, solve the common centre (MGDK).
+
+        ``Joint(parent: Cluster, n_child, noise_var=None, noise_cov=None,
+        mode="auto", weight="equal", planar_ratio=0.0, marker_noise_var=None)``:
+        noise_var / noise_cov are the noise of a child marker in the parent
+        frame; marker_noise_var is instead the variance of every measured
+        marker coordinate, which the library propagates through the parent
+        pose (``noise_cov(marker_var)`` shows the result); ``add(parent, child)`` one frame
+        ((Mp, 3), (K, 3)) or many ((F, Mp, 3), (F, K, 3)), NaN = occluded,
+        returns the frames accepted (frames whose parent cannot be registered
+        are skipped and counted in ``rejected_frames``); ``solve()``;
+        ``center_at(result, parent_frames)``; ``frames``; ``reset()``.
+        """
+
+        __slots__ = ()
+
+        def add(self, parent, child) -> int:
+            """Add one frame or F frames; returns how many were accepted."""
+            return self._add(parent, child)
+
+        def solve(self) -> JointResult:
+            """The joint centre from the frames so far (parent template frame)."""
+            return JointResult(self._solve())
+
+        fit = solve
+
+        def center_at(self, result: JointResult, parent):
+            """Centre and axis in the global frame, per frame of ``parent``
+            ((Mp, 3) or (F, Mp, 3)): (centers (F, 3), axes (F, 3), valid (F,));
+            NaN rows where the parent cannot be registered."""
+            return self._center_at(result._raw, parent)
+
+    def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
+                     weight="equal", marker_noise_var=None) -> JointResult:
+        """Functional joint centre from trajectories.
+
+        Args:
+            parent: (F, Mp, 3) parent-segment markers (global frame), NaN = occluded.
+            child: (F, K, 3) child-segment markers, NaN = occluded.
+            template: None (built from the parent frames, Cluster.from_frames),
+                a Cluster, or (Mp, 3) positions in the parent's segment frame.
+            noise_var, noise_cov, mode, weight: as :func:`fit_multi` (noise of a
+                child marker in the parent frame).
+            marker_noise_var: variance of each measured marker coordinate
+                instead; the library propagates it through the parent pose.
+
+        Returns:
+            JointResult (centre in the parent frame) with center_global and
+            axis_global (F, 3) per frame (NaN where the parent is not
+            registrable) and valid (F,).
+        """
+        if template is None:
+            cl = Cluster.from_frames(parent)
+        elif isinstance(template, _sfit.Cluster):
+            cl = template
+        else:
+            cl = Cluster(template)
+        child_arr = _np.asarray(child)
+        k = child_arr.shape[1] if child_arr.ndim == 3 else -1
+        if k < 1:
+            raise _arg_error("joint_center: child must be (frames, markers, 3)")
+        j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,
+                  marker_noise_var=marker_noise_var)
+        j.add(parent, child_arr)
+        res = j.solve()
+        c, a, v = j.center_at(res, parent)
+        d = {k2: getattr(res, k2) for k2 in JointResult.__slots__}
+        d.update(center_global=c, axis_global=a, valid=v, cluster=cl)
+        return JointResult(d)
+
+    __all__ += ["Cluster", "Joint", "Pose", "JointResult", "joint_center",
+                "CLUSTER_MAX_MARKERS", "JOINT_MAX_CHILD"]

@@ -1,0 +1,243 @@
+# SPDX-License-Identifier: MIT
+# Type hints of the sfit package (the runtime is sfit/__init__.py over the
+# compiled sfit._sfit). Arrays in: any real array-like, float32 inside.
+# Arrays out: float64 ndarrays holding float32 values.
+from typing import Any, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+library_version: str
+MIN_SAMPLES: int
+
+ArrayLike = npt.ArrayLike
+Vec3 = npt.NDArray[np.float64]
+Mat3 = npt.NDArray[np.float64]
+Mode = Literal["auto", "sphere", "planar"]
+Kind = Literal["cap", "arc"]
+NoiseVar = Union[None, float, Literal["auto"]]
+
+class Error(Exception):
+    status: str
+    code: int
+    message: str
+    n: Optional[int]
+    rejected: Optional[int]
+
+class ArgError(Error, ValueError): ...
+class TooFewError(Error): ...
+class NotPosDefError(Error): ...
+class NoConvergenceError(Error): ...
+class DegenerateError(Error): ...
+class NonFiniteError(Error): ...
+class RangeError(Error, ValueError): ...
+
+class FitResult:
+    center: Vec3
+    radius: float
+    n: int
+    rejected: int
+    eigenvalues: Vec3
+    axis: Vec3
+    trust_ratio: float
+    leontief_ratio: float
+    flags: list[str]
+    flags_mask: int
+    method: Literal["gdke", "ugdk", "geometric"]
+    mode: Literal["sphere", "planar"]
+    noise_var: Optional[float]
+    noise_estimated: bool
+    noise_capped: bool
+    iterations: int
+    rms: Optional[float]
+    outliers: int
+    center_cov: Optional[Mat3]
+    radius_var: Optional[float]
+    center_radius_cov: Optional[Vec3]
+    def to_dict(self) -> dict[str, Any]: ...
+
+class MultiResult:
+    center: Vec3
+    radii: npt.NDArray[np.float64]
+    marker_n: npt.NDArray[np.int64]
+    marker_rejected: npt.NDArray[np.int64]
+    n: int
+    markers: int
+    skipped: int
+    eigenvalues: Vec3
+    axis: Vec3
+    trust_ratio: float
+    leontief_ratio: float
+    flags: list[str]
+    flags_mask: int
+    method: Literal["gdke", "ugdk"]
+    mode: Literal["sphere", "planar"]
+    weight: Literal["equal", "samples"]
+    rejected: int
+    def to_dict(self) -> dict[str, Any]: ...
+
+class NoiseEstimate:
+    n: int
+    noise_trace: float
+    noise_var: float
+    noise_var_std: float
+    flags: list[str]
+    rejected: int
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Uncertainty:
+    center_cov: Mat3
+    radius_var: float
+    center_radius_cov: Vec3
+    noise_var: float
+    def to_dict(self) -> dict[str, Any]: ...
+
+class RefineResult:
+    center: Vec3
+    radius: float
+    rms: float
+    noise_var: float
+    n: int
+    iterations: int
+    rejected: int
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Estimate:
+    center: Vec3
+    radius: float
+    n: int
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Track:
+    n: npt.NDArray[np.int64]
+    centers: npt.NDArray[np.float64]
+    radii: npt.NDArray[np.float64]
+    def to_dict(self) -> dict[str, Any]: ...
+
+def fit(points: ArrayLike, noise_var: NoiseVar = None, noise_cov: Optional[ArrayLike] = None,
+        mode: Mode = "auto", refine: bool = False, *, planar_ratio: float = 0.0,
+        gate: Optional[float] = None) -> FitResult: ...
+
+def fit_multi(markers: Union[Sequence[ArrayLike], ArrayLike], noise_var: Optional[float] = None,
+              noise_cov: Optional[ArrayLike] = None, mode: Mode = "auto",
+              weight: Literal["equal", "samples"] = "equal", *,
+              planar_ratio: float = 0.0) -> MultiResult: ...
+
+class Moments:
+    def __init__(self, points: Optional[ArrayLike] = None) -> None: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def rejected(self) -> int: ...
+    def __len__(self) -> int: ...
+    def add(self, points: ArrayLike) -> int: ...
+    def merge(self, other: Moments) -> None: ...
+    def reset(self) -> None: ...
+    def copy(self) -> Moments: ...
+    def stats(self) -> Tuple[Vec3, Mat3, Vec3]: ...
+    def fit(self, noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
+            mode: Mode = "auto", *, planar_ratio: float = 0.0) -> FitResult: ...
+    def solve(self, noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
+              mode: Mode = "auto", *, planar_ratio: float = 0.0) -> FitResult: ...
+    def calibrate_noise(self, center: ArrayLike, radius: float) -> NoiseEstimate: ...
+    def uncertainty(self, center: ArrayLike, radius: float, noise_var: float,
+                    estimated: bool = False) -> Uncertainty: ...
+
+class Incremental:
+    def __init__(self, noise_var: Optional[float] = None,
+                 noise_cov: Optional[ArrayLike] = None) -> None: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def rejected(self) -> int: ...
+    def start(self, points: ArrayLike) -> Estimate: ...
+    def add(self, points: ArrayLike) -> int: ...
+    def update(self, x: ArrayLike) -> Estimate: ...
+    def estimate(self) -> Estimate: ...
+    def track(self, points: ArrayLike) -> Track: ...
+    def reset(self) -> None: ...
+
+def calibrate_noise(points: ArrayLike, center: ArrayLike, radius: float) -> NoiseEstimate: ...
+def calibration_std(noise_var: float, radius: float, n: int) -> float: ...
+def coverage_eigs(kind: Kind, theta: float, radius: float) -> Tuple[float, float]: ...
+def coverage_max_sigma(kind: Kind, theta: float, radius: float) -> float: ...
+def coverage_min_theta(kind: Kind, sigma_over_r: float) -> float: ...
+def coverage_estimate_theta(kind: Kind, eigenvalues: ArrayLike) -> float: ...
+def residual_noise_var(points: ArrayLike, center: ArrayLike, radius: float) -> float: ...
+def refine(points: ArrayLike, center: ArrayLike, max_iters: int = 0,
+           tol: float = 0.0) -> RefineResult: ...
+def uncertainty(points: ArrayLike, center: ArrayLike, radius: Optional[float] = None,
+                noise_var: Optional[float] = None) -> Uncertainty: ...
+
+# Joint-centre API (present when the C library has sfit_joint.h)
+CLUSTER_MAX_MARKERS: int
+JOINT_MAX_CHILD: int
+
+class Pose:
+    rotation: Mat3
+    translation: Vec3
+    rms: float
+    used: int
+    def to_global(self, points: ArrayLike) -> npt.NDArray[np.float64]: ...
+    def to_segment(self, points: ArrayLike) -> npt.NDArray[np.float64]: ...
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Cluster:
+    def __init__(self, template: ArrayLike) -> None: ...
+    @classmethod
+    def from_frames(cls, frames: ArrayLike) -> Cluster: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def frames_used(self) -> int: ...
+    def register(self, frame: ArrayLike) -> Pose: ...
+
+class JointResult:
+    center: Vec3
+    axis: Vec3
+    eigenvalues: Vec3
+    radii: npt.NDArray[np.float64]
+    marker_n: npt.NDArray[np.int64]
+    n: int
+    markers: int
+    skipped: int
+    trust_ratio: float
+    leontief_ratio: float
+    flags: list[str]
+    flags_mask: int
+    method: Literal["gdke", "ugdk"]
+    mode: Literal["sphere", "planar"]
+    frames: int
+    rejected_frames: int
+    residual_mean: float
+    residual_max: float
+    center_global: Optional[npt.NDArray[np.float64]]
+    axis_global: Optional[npt.NDArray[np.float64]]
+    valid: Optional[npt.NDArray[np.bool_]]
+    cluster: Optional[Cluster]
+    def to_dict(self) -> dict[str, Any]: ...
+
+class Joint:
+    def __init__(self, parent: Cluster, n_child: int, noise_var: Optional[float] = None,
+                 noise_cov: Optional[ArrayLike] = None, mode: Mode = "auto",
+                 weight: Literal["equal", "samples"] = "equal",
+                 planar_ratio: float = 0.0, marker_noise_var: Optional[float] = None) -> None: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def rejected_frames(self) -> int: ...
+    def add(self, parent: ArrayLike, child: ArrayLike) -> int: ...
+    def solve(self) -> JointResult: ...
+    def fit(self) -> JointResult: ...
+    def center_at(self, result: JointResult, parent: ArrayLike
+                  ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.bool_]]: ...
+    def noise_cov(self, marker_var: float) -> Mat3: ...
+    def reset(self) -> None: ...
+
+def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Cluster, ArrayLike] = None,
+                 noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
+                 mode: Mode = "auto", weight: Literal["equal", "samples"] = "equal",
+                 marker_noise_var: Optional[float] = None) -> JointResult: ...

@@ -1,0 +1,143 @@
+# SPDX-License-Identifier: MIT
+"""Reference counting and memory: no leak over 10^5 calls of sfit.fit and
+10^4 calls of every other entry point (success and error paths; a leak of
+even 2 bytes per call fails). Checked with tracemalloc (every Python
+allocation, including numpy's array data) and with the reference counts of
+the objects passed in."""
+import gc
+import sys
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import ref
+import sfit
+
+CALLS = 100_000
+
+
+def _leak_bytes(fn, calls=CALLS):
+    """Net traced memory growth over `calls` calls, after a warm-up."""
+    for _ in range(200):
+        fn()
+    gc.collect()
+    tracemalloc.start()
+    before = tracemalloc.get_traced_memory()[0]
+    for _ in range(calls):
+        fn()
+    gc.collect()
+    after = tracemalloc.get_traced_memory()[0]
+    tracemalloc.stop()
+    return after - before
+
+
+@pytest.fixture(scope="module")
+def pts():
+    rng = np.random.default_rng(7)
+    x = ref.sphere_samples(rng, 24, (1.0, 2.0, 3.0), 10.0, 0.05, 1.5)
+    x[3] = np.nan  # exercise the filtered-copy path
+    return x  # float64: exercise the conversion
+
+
+def _entry_points(pts):
+    x32 = ref.as_f32(pts)
+    good = x32[np.all(np.isfinite(x32), axis=1)]
+    m = sfit.Moments(good)
+    inc = sfit.Incremental()
+    inc.start(good)
+    centre = sfit.fit(good).center
+
+    def raises(fn, exc):
+        def call():
+            try:
+                fn()
+            except exc:
+                pass
+            else:
+                raise AssertionError("no exception")
+        return call
+
+    extra = {}
+    if hasattr(sfit, "Joint"):
+        tpl = np.array([[100.0, 0, 0], [-100.0, 20, 0], [0, 90, 30], [10, -60, 80]])
+        par = np.stack([tpl + [0.0, 0.0, 0.1 * f] for f in range(8)])
+        par[2, 1] = np.nan
+        chi = np.stack([[[60 * np.cos(0.2 * f), 60 * np.sin(0.2 * f), 30.0 + f]] for f in range(8)])
+        cl = sfit.Cluster(tpl)
+        jt = sfit.Joint(cl, 1, mode="planar")
+        jt.add(par, chi)
+        res = jt.solve()
+        extra["joint"] = lambda: (sfit.Joint(cl, 1).add(par, chi), jt.solve(), jt.center_at(res, par),
+                                  cl.register(par[0]), sfit.Cluster.from_frames(par),
+                                  jt.noise_cov(0.1))
+        extra["err_joint"] = raises(lambda: jt.add(par[:, :3], chi), sfit.ArgError)
+    return dict(extra, **{
+        "fit": lambda: sfit.fit(pts),
+        "fit_auto": lambda: sfit.fit(pts, noise_var="auto"),
+        "fit_refine": lambda: sfit.fit(pts, refine=True),
+        "fit_iso_cov": lambda: sfit.fit(pts, noise_cov=np.eye(3) * 1e-3),
+        "fit_gate": lambda: sfit.fit(pts, gate=4.0),
+        "fit_multi": lambda: sfit.fit_multi([pts, pts]),
+        "moments": lambda: (m.copy().add(pts), m.fit(noise_var=1e-3), m.stats(),
+                            m.calibrate_noise(centre, 10.0), m.uncertainty(centre, 10.0, 1e-3)),
+        "incremental": lambda: (inc.update(pts[0]), inc.track(pts[:6])),
+        "helpers": lambda: (sfit.coverage_eigs("cap", 1.0, 2.0), sfit.coverage_min_theta("arc", 0.1),
+                            sfit.coverage_estimate_theta("cap", [1.0, 2.0, 3.0]),
+                            sfit.calibration_std(0.1, 10.0, 100), sfit.refine(pts, centre),
+                            sfit.uncertainty(pts, centre, 10.0, 1e-3), sfit.uncertainty(pts, centre),
+                            sfit.residual_noise_var(pts, centre, 10.0)),
+        "err_shape": raises(lambda: sfit.fit(np.ones((4, 2))), sfit.ArgError),
+        "err_dtype": raises(lambda: sfit.fit(np.ones((4, 3), dtype=complex)), sfit.ArgError),
+        "err_too_few": raises(lambda: sfit.fit(pts[:3]), sfit.TooFewError),
+        "err_degenerate": raises(lambda: sfit.fit(np.ones((9, 3))), sfit.DegenerateError),
+        "err_option": raises(lambda: sfit.fit(pts, mode="x"), sfit.ArgError),
+        "err_notposdef": raises(lambda: sfit.fit(pts, noise_var=1e6), sfit.NotPosDefError),
+        "err_multi": raises(lambda: sfit.fit_multi([pts, np.ones((3, 2))]), sfit.ArgError),
+    })
+
+
+@pytest.mark.parametrize("name", ["fit", "fit_auto", "fit_refine", "fit_iso_cov", "fit_gate",
+                                  "fit_multi", "moments", "incremental", "helpers", "err_shape",
+                                  "err_dtype", "err_too_few", "err_degenerate", "err_option",
+                                  "err_notposdef", "err_multi", "joint", "err_joint"])
+def test_no_leak(pts, name):
+    if name.endswith("joint") and not hasattr(sfit, "Joint"):
+        pytest.skip("the C library has no sfit_joint.h yet")
+    fn = _entry_points(pts)[name]
+    calls = CALLS if name == "fit" else CALLS // 10
+    grown = _leak_bytes(fn, calls)
+    # the smallest Python object is 16 bytes: a leak of one per call would be
+    # 16 x calls; allow 16 kB of caches (numpy, interned strings), < 2 B/call
+    assert grown < 16 * 1000, "%s: %d bytes more after %d calls" % (name, grown, calls)
+
+
+def test_argument_refcounts_unchanged(pts):
+    arr = np.ascontiguousarray(pts)
+    f32 = ref.as_f32(pts)
+    lst = [pts, pts]
+    before = [sys.getrefcount(o) for o in (arr, f32, lst)]
+    for _ in range(CALLS // 10):
+        sfit.fit(arr)
+        sfit.fit(f32, refine=True)
+        sfit.fit_multi(lst)
+        try:
+            sfit.fit(arr, noise_var=-1)
+        except sfit.ArgError:
+            pass
+    after = [sys.getrefcount(o) for o in (arr, f32, lst)]
+    assert before == after
+
+
+def test_total_refcount_when_available(pts):
+    """With a debug interpreter (python3-dbg), the interpreter-wide count."""
+    if not hasattr(sys, "gettotalrefcount"):
+        pytest.skip("sys.gettotalrefcount needs a debug build of Python")
+    for _ in range(100):
+        sfit.fit(pts)
+    gc.collect()
+    t0 = sys.gettotalrefcount()
+    for _ in range(CALLS):
+        sfit.fit(pts)
+    gc.collect()
+    assert sys.gettotalrefcount() - t0 < 100
