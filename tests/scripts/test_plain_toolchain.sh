@@ -100,7 +100,7 @@ case " $pc " in *" -lm "*) ;; *) fail "pkg-config --libs sfit has no -lm: $pc" ;
 # shellcheck disable=SC2086 # pkg-config output is a word list
 arm-none-eabi-gcc "${arch[@]}" -std=c99 -Os "$src/tests/consumer/main.c" "$board/startup.c" \
   -Wl,--whole-archive "$work/prefix/lib/libsfit.a" -Wl,--no-whole-archive $pc \
-  --specs=nano.specs --specs=rdimon.specs -T "$board/mps2_an386.ld" \
+  --specs=nano.specs --specs=rdimon.specs -L"$board" -T "$board/mps2_an386.ld" \
   -o "$work/pc.elf" || fail "pkg-config link"
 kat "$work/pc.elf" "pkg-config"
 

@@ -34,6 +34,9 @@ objdump=${SFIT_OBJDUMP:-arm-none-eabi-objdump}
 size=${SFIT_SIZE:-arm-none-eabi-size}
 gcc=${SFIT_GCC:-arm-none-eabi-gcc}
 arch="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard"
+if [ -f "$m4f/core.txt" ]; then # the tree's core (tests/target, SFIT_ARM_CORE)
+    arch=$(sed -n 's/^arch //p' "$m4f/core.txt")
+fi
 
 for f in "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" "$m4f/libsfit_fp_sizes_a.a"; do
     if [ ! -f "$f" ]; then
