@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 #
-# tools/flopcount/cores.sh [--update-docs] [--build-dir DIR] [--mhz N]
+# tools/flopcount/cores.sh [--update-docs] [--build-dir DIR] [--no-build] [--mhz N]
 #
 # The cost table per core: the FLOP-count driver and the footprint of
 # tests/target built for each core of port/cortex-m4f/toolchain.cmake
@@ -21,11 +21,13 @@ src=$(cd "$here/../.." && pwd)
 build="$src/build"
 update=0
 mhz=32
+dobuild=1
 while [ $# -gt 0 ]; do
     case $1 in
     --update-docs) update=1 ;;
     --build-dir) build=$2; shift ;;
     --mhz) mhz=$2; shift ;;
+    --no-build) dobuild=0 ;;
     -h | --help) sed -n '3,19p' "$0"; exit 0 ;;
     *) echo "cores.sh: unknown option $1" >&2; exit 2 ;;
     esac
@@ -44,7 +46,9 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 
 for core in cortex-m4f cortex-m33 cortex-m3; do
     case $core in cortex-m4f) sub=m4f ;; cortex-m33) sub=m33 ;; cortex-m3) sub=m3 ;; esac
-    "$src/tests/target/build.sh" "$build" "$src" "$core" || exit $?
+    if [ "$dobuild" -eq 1 ]; then
+        "$src/tests/target/build.sh" "$build" "$src" "$core" || exit $?
+    fi
     (
         if command -v flock >/dev/null 2>&1; then flock 9; fi
         "$here/count.sh" "$build/$sub/sfit_flopdrv.elf" "$tmp/fc_$sub" || exit 1
@@ -58,7 +62,7 @@ done
 awk -v mhz="$mhz" '
 function f1(x) { return (x == int(x)) ? sprintf("%d", x) : sprintf("%.1f", x) }
 $2 == "op" { fl[$1, $3] = $4; ins[$1, $3] = $5; if (!($3 in seen)) { seen[$3] = 1; order[++nop] = $3 } }
-$2 == "code_total" { cos[$1] = $3; co2[$1] = $4 }
+$2 == "code_total" { czos[$1] = $3; czo2[$1] = $4 }
 $2 == "stack" { st[$1, $3] = $4 }
 END {
     nk = split("moments_add moments_add_call batch_per_point solve_gdke solve_ugdk planar_solve chol_solve jacobi_eig multi_solve_per_marker incremental_update noise_calibration joint_frame joint_per_child", key, " ")
@@ -84,7 +88,7 @@ END {
     split("m4f m33 m3", cs, " ")
     split("Cortex-M4F, FPv4-SP (mps2-an386)|Cortex-M33, FPv5-SP (mps2-an505)|Cortex-M3, no FPU (mps2-an385)", cn, "|")
     for (c = 1; c <= 3; c++)
-        printf "| %s | %s / %s | %s B | %s B | %s B |\n", cn[c], cos[cs[c]], co2[cs[c]], st[cs[c], "sfit_moments_add"], \
+        printf "| %s | %s / %s | %s B | %s B | %s B |\n", cn[c], czos[cs[c]], czo2[cs[c]], st[cs[c], "sfit_moments_add"], \
             st[cs[c], "sfit_moments_fit"], st[cs[c], "sfit_points_fit"]
     print ""
     print "(stack: worst case at -O2, frame plus deepest callee chain, soft-float routines included.)"
