@@ -3,15 +3,15 @@
 #
 # target_core.sh CORE BUILD_DIR SOURCE_DIR
 #
-# The on-target tests (tests/target: the known-answer and invariant suites
-# of the Cortex-M4F run, and the FLOP-count driver as a smoke run) built for
-# another Cortex-M core with port/cortex-m4f/toolchain.cmake
-# (SFIT_ARM_CORE=CORE; tests/target/build.sh -> BUILD_DIR/<m33|m3>) and run
-# under that core's QEMU board (core.txt). Checks that the ELF is built for
+# The on-target tests (tests/target: the known-answer and invariant suites,
+# and the FLOP-count driver as a smoke run) built for a Cortex-M core with
+# port/cortex-m4f/toolchain.cmake (SFIT_ARM_CORE=CORE: cortex-m4f,
+# cortex-m33, cortex-m3; tests/target/build.sh -> BUILD_DIR/<m4f|m33|m3>)
+# and run under that core's QEMU board (core.txt). Checks that the ELF is built for
 # that core (readelf build attributes: architecture, FPU or none), that no
 # double-precision code is in the library, and that the runner's last line
 # is "N passed, 0 failed" with status 0.
-# Called by test_m33_target.sh and test_m3_target.sh (ctest).
+# Called by test_m4f_target.sh, test_m33_target.sh and test_m3_target.sh (ctest).
 # Exit 77 (skip) only when a tool is missing and CI != "true".
 set -u
 core=$1
@@ -27,6 +27,7 @@ done
 rc=$?
 [ "$rc" -eq 0 ] || exit "$rc"
 case $core in
+cortex-m4f) dir="$build/m4f"; want_arch="v7E-M"; want_fp=yes ;;
 cortex-m33) dir="$build/m33"; want_arch="v8-M.mainline"; want_fp=yes ;;
 cortex-m3) dir="$build/m3"; want_arch="v7"; want_fp=no ;;
 *) echo "$name: FAIL: unknown core" >&2; exit 2 ;;

@@ -112,16 +112,6 @@ END {
 cat "$tmp/block.md"
 
 if [ "$update" -eq 1 ]; then
-    for doc in "$src/docs/cost.md" "$src/README.md"; do
-        if ! grep -q '<!-- cores:begin -->' "$doc" || ! grep -q '<!-- cores:end -->' "$doc"; then
-            echo "cores.sh: $doc has no <!-- cores:begin/end --> markers" >&2
-            exit 2
-        fi
-        awk -v tf="$tmp/block.md" '
-            /<!-- cores:begin -->/ { print; while ((getline l < tf) > 0) print l; close(tf); skip = 1; next }
-            /<!-- cores:end -->/ { skip = 0 }
-            !skip { print }' "$doc" >"$tmp/doc.md" && cp "$tmp/doc.md" "$doc"
-        echo "cores.sh: updated $doc" >&2
-    done
+    "$here/update_block.sh" cores "$tmp/block.md" "$src/docs/cost.md" "$src/README.md" || exit 2
 fi
 exit 0
