@@ -107,7 +107,8 @@ END {
         100 * a / mhz, s / mhz, (100 * a + s) / mhz, load
     printf "is %.2f ms. QEMU counts instructions, not cycles: on a real M3, loads,\n", s / mhz / 1000
     printf "taken branches and flash wait states cost extra cycles, so read these as\n"
-    printf "lower bounds (twice the figure, %.1f %%, is a safe planning number).\n", 2 * load
+    printf "lower bounds; even at three cycles per instruction the stream would take\n"
+    printf "%.1f %% of the CPU.\n", 3 * load
 }' "$tmp/rows.txt" >"$tmp/block.md"
 cat "$tmp/block.md"
 
