@@ -65,6 +65,15 @@ out=$("$sfit" fit --json --cols 2,3,4 "$tmp/t_nohdr.tsv"); same_fit "$out" 1400 
 # UTF-8 BOM before the header; quoted header names
 { printf '\xef\xbb\xbf"x","y","z"\r\n'; tail -n +2 "$rthi1" | sed 's/$/\r/'; } > "$tmp/bom.csv"
 out=$("$sfit" fit --json "$tmp/bom.csv"); same_fit "$out" 1400 0 || fail "BOM + CRLF: $out"
+# UTF-8 BOM and no header: the BOM must not cost the first sample (1400, not 1399)
+{ printf '\xef\xbb\xbf'; tail -n +2 "$rthi1"; } > "$tmp/bom_nohdr.csv"
+out=$("$sfit" fit --json "$tmp/bom_nohdr.csv"); same_fit "$out" 1400 0 || fail "BOM, no header: $out"
+# A directory as input is an input error (exit 3), for the reader and the C3D sniffer
+mkdir "$tmp/adir"
+expect_rc 3 "$sfit" fit "$tmp/adir"
+expect_rc 3 "$sfit" fit --json "$tmp/adir"
+printf '%s\n' "$out" | grep -q '"io_error"' || fail "directory: $out"
+expect_rc 3 "$sfit" joint "$tmp/adir" --parent A,B,C --child D,E,F
 # blank cells: 28 rows with one blank selected cell are skipped and counted;
 # a blank cell in an unselected column does not matter
 awk -F, 'NR == 1 { print "t,x,y,z"; next }

@@ -1,10 +1,12 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 #
-# build.sh BUILD_DIR SOURCE_DIR
+# build.sh BUILD_DIR SOURCE_DIR [CORE]
 #
-# Configure (once) and build the Cortex-M4F project tests/target into
+# Configure (once) and build the Cortex-M project tests/target into
 # BUILD_DIR/m4f with port/cortex-m4f/toolchain.cmake and -DSFIT_WERROR=ON.
+# CORE (SFIT_ARM_CORE of the toolchain file): cortex-m4f (default, into
+# BUILD_DIR/m4f), cortex-m33 (BUILD_DIR/m33) or cortex-m3 (BUILD_DIR/m3).
 # Shared by tests/scripts/test_m4f_*.sh and tools/flopcount/run.sh; a lock
 # (flock on BUILD_DIR/m4f.lock) serialises concurrent callers (ctest -j).
 # The compiler output of this build is kept in BUILD_DIR/m4f/build.log.
@@ -19,7 +21,14 @@ if [ $# -lt 2 ]; then
 fi
 build=$1
 src=$(cd "$2" && pwd)
-out="$build/m4f"
+core=${3:-cortex-m4f}
+case $core in
+cortex-m4f) sub=m4f ;;
+cortex-m33) sub=m33 ;;
+cortex-m3) sub=m3 ;;
+*) echo "build.sh: unknown core '$core' (cortex-m4f, cortex-m33, cortex-m3)" >&2; exit 2 ;;
+esac
+out="$build/$sub"
 
 missing=""
 for t in arm-none-eabi-gcc arm-none-eabi-nm arm-none-eabi-objdump arm-none-eabi-size cmake; do
@@ -39,7 +48,7 @@ run_locked() {
     if [ ! -f "$out/CMakeCache.txt" ]; then
         cmake -S "$src/tests/target" -B "$out" \
             -DCMAKE_TOOLCHAIN_FILE="$src/port/cortex-m4f/toolchain.cmake" \
-            -DSFIT_SOURCE_DIR="$src" -DSFIT_WERROR=ON \
+            -DSFIT_SOURCE_DIR="$src" -DSFIT_WERROR=ON -DSFIT_ARM_CORE="$core" \
             -DCMAKE_BUILD_TYPE=RelWithDebInfo >"$out/configure.log" 2>&1 || {
             cat "$out/configure.log" >&2
             rm -f "$out/CMakeCache.txt"
@@ -50,11 +59,11 @@ run_locked() {
     rc=$?
     if [ "$rc" -ne 0 ]; then
         cat "$out/build.log" >&2
-        echo "build.sh: FAIL: the Cortex-M4F build failed (log: $out/build.log)" >&2
+        echo "build.sh: FAIL: the $core build failed (log: $out/build.log)" >&2
         return 1
     fi
     if grep -n 'warning:' "$out/build.log" >&2; then
-        echo "build.sh: FAIL: warnings in the Cortex-M4F build (log: $out/build.log)" >&2
+        echo "build.sh: FAIL: warnings in the $core build (log: $out/build.log)" >&2
         return 1
     fi
     return 0
@@ -64,7 +73,7 @@ if command -v flock >/dev/null 2>&1; then
     (
         flock 9
         run_locked
-    ) 9>"$build/m4f.lock"
+    ) 9>"$build/$sub.lock"
 else
     run_locked
 fi

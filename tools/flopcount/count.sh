@@ -3,7 +3,8 @@
 #
 # count.sh DRIVER_ELF OUT_PREFIX
 #
-# Run the FLOP-count driver (driver.c) once under QEMU mps2-an386 with one
+# Run the FLOP-count driver (driver.c) once under QEMU mps2-an386 (or the
+# board named in core.txt beside the ELF: mps2-an505, mps2-an385) with one
 # instruction per translation block and every executed instruction logged
 # (TOOLCHAIN.md: -singlestep -d exec,nochain), and count, for every window
 # fc_begin() .. fc_end(), the instructions executed outside the driver's
@@ -144,8 +145,13 @@ END {
 }' "$tmp/dis.txt" "$tmp/exec.fifo" &
 awkpid=$!
 
+# The board of the core the ELF was built for (tests/target writes core.txt).
+machine=mps2-an386
+if [ -f "$(dirname "$elf")/core.txt" ]; then
+    machine=$(awk '$1 == "machine" { print $2 }' "$(dirname "$elf")/core.txt")
+fi
 SFIT_QEMU_EXTRA="$onestep -d exec,nochain -D $tmp/exec.fifo" \
-    "$src/port/cortex-m4f/qemu/run.sh" "$elf" >"$outp.out" 2>"$outp.err"
+    "$src/port/cortex-m4f/qemu/run.sh" -M "$machine" "$elf" >"$outp.out" 2>"$outp.err"
 rc=$?
 wait "$awkpid"
 arc=$?

@@ -34,6 +34,9 @@ objdump=${SFIT_OBJDUMP:-arm-none-eabi-objdump}
 size=${SFIT_SIZE:-arm-none-eabi-size}
 gcc=${SFIT_GCC:-arm-none-eabi-gcc}
 arch="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard"
+if [ -f "$m4f/core.txt" ]; then # the tree's core (tests/target, SFIT_ARM_CORE)
+    arch=$(sed -n 's/^arch //p' "$m4f/core.txt")
+fi
 
 for f in "$m4f/libsfit_fp_Os.a" "$m4f/libsfit_fp_O2.a" "$m4f/libsfit_fp_sizes_a.a"; do
     if [ ! -f "$f" ]; then
@@ -97,21 +100,50 @@ fi
 # Public functions: global text symbols, minus the sfit_i_ internals.
 "$nm" -g --defined-only "$m4f/libsfit_fp_O2.a" | awk '$2 == "T" && $3 !~ /^sfit_i_/ { print $3 }' |
     sort -u >"$tmp/public.txt"
-# Frames of the C-library callees (leaf routines; a call inside -> unknown).
+# The C-library / libgcc / libm callees, as call-graph nodes of their own:
+# each is bounded by its whole object file (the sum of every push, vpush
+# and sp adjustment in it: routines written in assembly share code and fall
+# through into each other, e.g. libgcc's soft float), with an edge to every
+# symbol the object calls or tail-calls outside itself (relocations).
+# ext.txt: NAME FRAME CALLEE...   (FRAME -1: not found in those libraries)
 libc=$("$gcc" $arch -print-file-name=libc_nano.a)
+libm=$("$gcc" $arch -print-file-name=libm.a)
 libgcc=$("$gcc" $arch -print-libgcc-file-name)
 for opt in Os O2; do
     find "$m4f/CMakeFiles/sfit_fp_$opt.dir" -name '*.ci' -exec cat {} + >"$tmp/cg_$opt.ci"
 done
+"$nm" -A --defined-only "$libc" "$libm" "$libgcc" 2>/dev/null |
+    awk 'NF == 3 && $2 ~ /^[TW]$/ { n = split($1, p, ":"); if (!($3 in seen)) { seen[$3] = 1; print $3, p[1], p[2] } }' \
+    >"$tmp/libsyms.txt"
 awk '/^edge:/ { s = $0; sub(/.*targetname: "/, "", s); sub(/".*/, "", s); print s }' \
-    "$tmp/cg_Os.ci" "$tmp/cg_O2.ci" | sort -u >"$tmp/targets.txt"
-: >"$tmp/ext.txt"
-while read -r t; do
-    if grep -q "^node: { title: \"$t\" label: \"[^\"]*bytes" "$tmp/cg_O2.ci"; then
-        continue # defined in the library
-    fi
-    "$objdump" -d --no-show-raw-insn --disassemble="$t" "$libc" "$libgcc" 2>/dev/null |
-        awk -v name="$t" '
+    "$tmp/cg_Os.ci" "$tmp/cg_O2.ci" | sort -u >"$tmp/queue.txt"
+: >"$tmp/ext.txt"  # SFIT_FP_DEBUG=1 keeps a copy in $m4f/footprint_ext.txt
+: >"$tmp/done.txt"
+mkdir -p "$tmp/obj"
+round=0
+while [ -s "$tmp/queue.txt" ] && [ "$round" -lt 16 ]; do
+    round=$((round + 1))
+    : >"$tmp/next.txt"
+    while read -r t; do
+        grep -qx "$t" "$tmp/done.txt" && continue
+        echo "$t" >>"$tmp/done.txt"
+        if grep -q "^node: { title: \"$t\" label: \"[^\"]*bytes" "$tmp/cg_O2.ci"; then
+            continue # defined in the library
+        fi
+        loc=$(awk -v t="$t" '$1 == t { print $2, $3; exit }' "$tmp/libsyms.txt")
+        if [ -z "$loc" ]; then
+            echo "$t -1" >>"$tmp/ext.txt"
+            continue
+        fi
+        arc=${loc% *}
+        mem=${loc#* }
+        d="$tmp/obj/$(printf '%s' "$arc" | tr '/' '_')"
+        mkdir -p "$d"
+        [ -f "$d/$mem" ] || (cd "$d" && "${SFIT_AR:-arm-none-eabi-ar}" x "$arc" "$mem")
+        # every symbol the object defines (aliases included: objdump labels
+        # one name per address)
+        "$nm" --defined-only "$d/$mem" 2>/dev/null | awk 'NF == 3 { print "def", $3 }' >"$tmp/defs.txt"
+        "$objdump" -dr --no-show-raw-insn "$d/$mem" 2>/dev/null | awk -v name="$t" '
         function nregs(ops,  l, a, k, i, r, n, lo, hi) {
             if (!match(ops, /\{[^}]*\}/)) return 0
             l = substr(ops, RSTART + 1, RLENGTH - 2); k = split(l, a, /, */); n = 0
@@ -121,21 +153,34 @@ while read -r t; do
             }
             return n
         }
-        $0 ~ ("^[0-9a-f]+ <" name ">:$") { on = 1; found = 1; next }
-        on && /^$/ { on = 0 }
-        on && /\t/ {
+        FILENAME != "-" && $1 == "def" { def[$2] = 1; next }
+        /^[0-9a-f]+ <[^>]*>:$/ { next }
+        /R_ARM_(THM_CALL|THM_JUMP24|THM_JUMP19|CALL|JUMP24|PC24)/ { c = $NF; sub(/[+-]0x[0-9a-f]+$/, "", c); call[c] = 1; next }
+        /\t/ {
             split($0, f, "\t"); m = f[2]; o = f[3]
             if (m ~ /^(push|stmdb)/ && o ~ /sp/ || m ~ /^push/) b += 4 * nregs(o)
             if (m ~ /^vpush/) b += 4 * nregs(o)
             if (m ~ /^sub/ && o ~ /^sp, sp, #/ || m ~ /^sub/ && o ~ /^sp, #/) { v = o; sub(/.*#/, "", v); b += v + 0 }
-            if (m ~ /^blx?(\.[nw])?$/) call = 1
         }
-        END { if (found) print name, (call ? -1 : b + 0); else print name, -1 }'
-done <"$tmp/targets.txt" >>"$tmp/ext.txt"
+        END {
+            line = name " " (b + 0)
+            for (c in call) if (!(c in def) && c !~ /^\./) line = line " " c
+            print line
+        }' "$tmp/defs.txt" - >>"$tmp/ext.txt"
+        tail -n 1 "$tmp/ext.txt" | cut -d' ' -f3- | tr ' ' '\n' | sed '/^$/d' >>"$tmp/next.txt"
+    done <"$tmp/queue.txt"
+    sort -u "$tmp/next.txt" >"$tmp/queue.txt"
+done
+[ "${SFIT_FP_DEBUG:-0}" = 1 ] && cp "$tmp/ext.txt" "$m4f/footprint_ext.txt"
 
 for opt in Os O2; do
     awk -v opt="$opt" '
-    FILENAME ~ /ext\.txt$/ { ext[$1] = $2; next }
+    FILENAME ~ /ext\.txt$/ {
+        if ($2 < 0) { ext[$1] = -1; next }
+        frame[$1] = $2
+        for (i = 3; i <= NF; i++) { ne[$1]++; e[$1, ne[$1]] = $i }
+        next
+    }
     FILENAME ~ /public\.txt$/ { pub[$1] = 1; next }
     /^node:/ {
         t = $0; sub(/^node: \{ title: "/, "", t); sub(/".*/, "", t)

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 #
-# report.awk -v mode=text|json|md  DRIVER_OUT WINDOWS BUDGET FOOTPRINT
+# report.awk -v mode=text|json|md|rows  DRIVER_OUT WINDOWS BUDGET FOOTPRINT
 #
 # Combines the driver's fcop lines (DRIVER_OUT), the counted windows of
 # count.sh (WINDOWS), the FLOP budget file and the footprint records of
@@ -96,7 +96,17 @@ END {
     ratio_ch = (gd > 0) ? chapter_incr / gd : -1
     ratio_me = (gd > 0 && incr >= 0) ? incr / gd : -1
 
-    if (mode == "json") {
+    if (mode == "rows") {
+        # one record per operation and per footprint total (tools/flopcount/cores.sh)
+        for (o = 1; o <= nop; o++) {
+            n = opname[o]
+            printf "op %s %s %s %s %s %s\n", n, fmt(val[n, "flops"]), fmt(val[n, "insns"]), \
+                fmt(val[n, "fparith"]), (opfn[o] in stk_o2) ? stk_o2[opfn[o]] : "-", \
+                (opfn[o] in stk_os) ? stk_os[opfn[o]] : "-"
+        }
+        printf "code_total %s %s\n", ctot_os, ctot_o2
+        for (sf in stk_o2) printf "stack %s %s %s\n", sf, stk_o2[sf], stk_os[sf]
+    } else if (mode == "json") {
         printf "{\n  \"tool\": \"sfit flopcount\",\n"
         printf "  \"target\": \"Cortex-M4F (QEMU mps2-an386), arm-none-eabi-gcc -O2 -std=c99\",\n"
         printf "  \"config\": {\"sum_block\": %s, \"samples\": %s, \"multi\": %s, \"noise\": %s, \"incremental\": %s},\n", \

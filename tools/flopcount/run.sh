@@ -76,17 +76,7 @@ if [ "$update" -eq 1 ]; then
     awk -f "$here/report.awk" -v mode=md "$tmp/fc.out" "$tmp/fc.win" "$here/budget.txt" \
         "$tmp/footprint.txt" >"$tmp/table.md" 2>/dev/null
     # The same generated block lives in docs/cost.md and in the README.
-    for doc in "$src/docs/cost.md" "$src/README.md"; do
-        if ! grep -q '<!-- flopcount:begin -->' "$doc" || ! grep -q '<!-- flopcount:end -->' "$doc"; then
-            echo "flopcount: $doc has no <!-- flopcount:begin/end --> markers" >&2
-            exit 2
-        fi
-        awk -v tf="$tmp/table.md" '
-            /<!-- flopcount:begin -->/ { print; while ((getline l < tf) > 0) print l; close(tf); skip = 1; next }
-            /<!-- flopcount:end -->/ { skip = 0 }
-            !skip { print }' "$doc" >"$tmp/doc.md" && cp "$tmp/doc.md" "$doc"
-        echo "flopcount: updated $doc" >&2
-    done
+    "$here/update_block.sh" flopcount "$tmp/table.md" "$src/docs/cost.md" "$src/README.md" || exit 2
 fi
 if [ "$fprc" -ne 0 ]; then
     echo "flopcount: FAIL: footprint check(s) failed:" >&2

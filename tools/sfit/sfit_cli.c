@@ -25,12 +25,18 @@ static const cli_command_t commands[] = {
     {"c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table"},
 };
 
+/* The build system passes the project version (CMakeLists.txt project()). */
+#ifndef SFIT_CLI_VERSION
+#error "SFIT_CLI_VERSION must be defined by the build (tools/CMakeLists.txt)"
+#endif
+
 static void usage(FILE *f)
 {
     size_t i;
-    fprintf(f, "sfit %d.%d.%d: sphere and circle fitting (GDKE / UGDK)\n"
-               "usage: sfit COMMAND [options] FILE...   (sfit COMMAND --help)\n",
-            SFIT_VERSION_MAJOR, SFIT_VERSION_MINOR, SFIT_VERSION_PATCH);
+    fprintf(f, "sfit %s: sphere and circle fitting (GDKE / UGDK)\n"
+               "usage: sfit COMMAND [options] FILE...   (sfit COMMAND --help)\n"
+               "       sfit --version\n",
+            SFIT_CLI_VERSION);
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].help);
     }
@@ -45,6 +51,10 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
+        return CLI_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0) {
+        printf("sfit %s\n", SFIT_CLI_VERSION);
         return CLI_OK;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {

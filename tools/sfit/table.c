@@ -35,6 +35,21 @@ int tab_open_file(tab_t *t, const char *path)
         return -1;
     }
     t->own = 1;
+    /* fopen() accepts a directory on POSIX systems; the first read fails
+     * (EISDIR). Read one byte now so that such an input is an open failure
+     * (exit CLI_IO), not an empty file. */
+    {
+        int ch = getc(t->f);
+        if (ch == EOF && ferror(t->f)) {
+            fclose(t->f);
+            t->f = NULL;
+            t->own = 0;
+            return -1;
+        }
+        if (ch != EOF) {
+            (void)ungetc(ch, t->f);
+        }
+    }
     return 0;
 }
 

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 #
-# run.sh ELF [ARGS...]
+# run.sh [-M MACHINE] ELF [ARGS...]
 #
 # Run a Cortex-M4F test program (linked with startup.c + mps2_an386.ld) under
 # QEMU's mps2-an386 with semihosting: the program's stdout/stderr go to ours,
@@ -10,15 +10,23 @@
 # (startup.c), a hang is killed after SFIT_QEMU_TIMEOUT seconds (status 124).
 # Exits 77 (CTest SKIP_RETURN_CODE) when qemu-system-arm is not installed.
 #
+# -M MACHINE: the board (mps2-an386 Cortex-M4F, mps2-an505 Cortex-M33,
+# mps2-an385 Cortex-M3, mps2-an500 Cortex-M7); overrides SFIT_QEMU_MACHINE.
+#
 # Environment:
 #   SFIT_QEMU           emulator binary        (default qemu-system-arm)
-#   SFIT_QEMU_MACHINE   -M value               (default mps2-an386; mps2-an500 = M7)
+#   SFIT_QEMU_MACHINE   -M value               (default mps2-an386)
 #   SFIT_QEMU_TIMEOUT   seconds                (default 120)
 #   SFIT_QEMU_EXTRA     extra QEMU options, word-split (e.g. "-d exec -D log")
 set -u
 
+machine=${SFIT_QEMU_MACHINE:-mps2-an386}
+if [ $# -ge 2 ] && [ "$1" = "-M" ]; then
+    machine=$2
+    shift 2
+fi
 if [ $# -lt 1 ]; then
-    echo "usage: $0 ELF [ARGS...]" >&2
+    echo "usage: $0 [-M MACHINE] ELF [ARGS...]" >&2
     exit 2
 fi
 qemu=${SFIT_QEMU:-qemu-system-arm}
@@ -58,7 +66,7 @@ fi
 
 tmo=${SFIT_QEMU_TIMEOUT:-120}
 # shellcheck disable=SC2086 # SFIT_QEMU_EXTRA is meant to be word-split
-timeout -k 5 "$tmo" "$qemu" -M "${SFIT_QEMU_MACHINE:-mps2-an386}" \
+timeout -k 5 "$tmo" "$qemu" -M "$machine" \
     -nographic -monitor none -serial none \
     -semihosting-config "$cfg" ${SFIT_QEMU_EXTRA:-} -kernel "$elf"
 rc=$?

@@ -2,11 +2,12 @@
 /**
  * @file startup.c
  * @brief Boot stub for running sfit test programs on QEMU's mps2-an386
- * (Cortex-M4F) with semihosting.
+ * (Cortex-M4F) with semihosting; also mps2-an505 (Cortex-M33, secure state)
+ * and mps2-an385 (Cortex-M3, no FPU).
  *
- * Reset: enable the FPU (CPACR), enable the separate MemManage/BusFault/
- * UsageFault exceptions, then jump to newlib's rdimon crt0 `_start`, which
- * zeroes .bss, asks the host for argc/argv and the stack/heap (semihosting
+ * Reset: enable the FPU (CPACR) when compiled for one (__ARM_FP), enable
+ * the separate MemManage/BusFault/UsageFault exceptions, then jump to
+ * newlib's rdimon crt0 `_start`, which zeroes .bss, asks the host for argc/argv and the stack/heap (semihosting
  * HEAPINFO), runs the init arrays, calls main() and exit(main's result).
  * .data needs no copy: VMA == LMA in RAM and QEMU's ELF loader writes it.
  *
@@ -56,7 +57,9 @@ static uint32_t prv_semihost(uint32_t op, const void *arg)
 
 void Reset_Handler(void)
 {
+#if defined(__ARM_FP)
     PRV_SCB_CPACR |= 0xFu << 20; /* full access to CP10/CP11 (the FPU) */
+#endif
     PRV_SCB_SHCSR |= 0x7u << 16; /* report MemManage/BusFault/UsageFault apart */
     __asm__ volatile("dsb\n\tisb" ::: "memory");
     _start();
