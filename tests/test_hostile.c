@@ -196,12 +196,22 @@ static void test_f2_gate_garbage_index(void **state)
         assert_int_equal(sfit_gate_stats(&g, &gs), SFIT_E_ARG);
         assert_memory_equal(&g, &before, sizeof g);
     }
-    /* A gated gate whose sigma^2 is NaN: E_ARG, not a NaN in the stats. */
+    /* A gated gate whose sigma^2 is NaN: E_ARG from every call that carries
+     * a value out, never a NaN in the stats; an add may judge the sample
+     * but leaves no NaN in the window sum. */
     assert_int_equal(sfit_gate_init(&g, NULL), SFIT_OK);
     g.phase = 2u;
     g.var = NAN;
     assert_int_equal(sfit_gate_stats(&g, &gs), SFIT_E_ARG);
-    assert_int_equal(sfit_gate_add(&g, &x, &acc), SFIT_E_ARG);
+    assert_int_equal(sfit_gate_refresh(&g), SFIT_E_ARG);
+    assert_int_equal(sfit_gate_fit(&g, &fit), SFIT_E_ARG);
+    assert_int_equal(sfit_gate_add(&g, &x, &acc), SFIT_OK);
+    assert_true(isfinite(g.ws2));
+    g.var = 1.0f;
+    g.center.v[1] = INFINITY;
+    assert_int_equal(sfit_gate_stats(&g, &gs), SFIT_E_ARG);
+    assert_int_equal(sfit_gate_add(&g, &x, &acc), SFIT_OK);
+    assert_true(isfinite(g.ws2));
 }
 
 /* --- Finding 3: stats never OK with a non-finite output ------------------ */
