@@ -102,8 +102,9 @@ typedef struct sfit_result {
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
  *             double-precision fit of the same samples for |c|/r <= 1e3, a
  *             spread >= SFIT_MIN_SPREAD and coordinates below 2^27
- *             (README "Where the promise holds"). SFIT_FLAG_ROUNDING: 0.5 eps
- *             cond(C') sqrt(N/SFIT_SUM_BLOCK + 1) > 1e-4 (small caps, many N).
+ *             (README "Where the promise holds"). SFIT_FLAG_ROUNDING: 0.5
+ *             FLT_EPSILON cond(C') sqrt(N/SFIT_SUM_BLOCK + 1) > 1e-4 (small caps,
+ *             many samples).
  */
 sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
