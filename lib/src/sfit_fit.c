@@ -25,6 +25,7 @@
 static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 {
     const float *lam = sol->eigenvalues.v;
+    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges so far */
     float noise = 0.0f, lmin;
     if (cfg->noise == SFIT_NOISE_ISO) {
         noise = cfg->noise_var;
@@ -35,7 +36,7 @@ static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfi
     }
     lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
     return !(SFIT_ROUNDING_K * FLT_EPSILON * lam[2]
-                 * SFIT_SQRTF((float)(n / SFIT_SUM_BLOCK) + 1.0f)
+                 * SFIT_SQRTF((float)merges + 1.0f)
              <= SFIT_ROUNDING_TOL * lmin);
 }
 
