@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "sfit/sfit.h"
+#include "sfit_solve.h" /* sfit_i_check_noise: the PSD rule */
 
 /* The modules written after the core: covered when their header exists. */
 #if defined(__has_include)
@@ -243,47 +244,15 @@ static inline void fz_cfg_decode(fz_in_t *in, sfit_fit_cfg_t *cfg, int allow_asy
 }
 
 /*
- * The library's positive semi-definite test of a noise covariance (lower
- * triangle), written out with the same float expressions so that the
- * oracle agrees at the rounding boundary: every principal minor >= 0 on the
- * matrix scaled by its largest diagonal entry, 16 ulps of slack
- * (lib/src/sfit_solve.c). tests/test_hostile.c checks the rule itself on
- * definite, semi-definite and indefinite matrices.
+ * Positive semi-definiteness of a noise covariance: the library's own test
+ * (sfit_i_check_noise, lib/src/sfit_solve.c) so that the oracle agrees at
+ * the rounding boundary; tests/test_hostile.c checks that rule against
+ * definite, semi-definite (rank 1 and 2, every scale) and indefinite
+ * matrices.
  */
-static inline int fz_psd(const float *c)
+static inline int fz_psd(const sfit_mat3_t *c)
 {
-    float a0 = c[0], a1 = c[4], a2 = c[8], a3 = c[3], a4 = c[6], a5 = c[7];
-    float dmax = a0, s, det, tol;
-    if (!(a0 >= 0.0f && a1 >= 0.0f && a2 >= 0.0f)) {
-        return 0;
-    }
-    dmax = (a1 > dmax) ? a1 : dmax;
-    dmax = (a2 > dmax) ? a2 : dmax;
-    if (dmax == 0.0f) {
-        return a3 == 0.0f && a4 == 0.0f && a5 == 0.0f;
-    }
-    if (dmax < 1e-30f) {
-        a0 *= 1e30f;
-        a1 *= 1e30f;
-        a2 *= 1e30f;
-        a3 *= 1e30f;
-        a4 *= 1e30f;
-        a5 *= 1e30f;
-        dmax *= 1e30f;
-    }
-    s = 1.0f / dmax;
-    a0 *= s;
-    a1 *= s;
-    a2 *= s;
-    a3 *= s;
-    a4 *= s;
-    a5 *= s;
-    tol = 1.0f + 16.0f * FLT_EPSILON;
-    if (!(a3 * a3 <= tol * a0 * a1) || !(a4 * a4 <= tol * a0 * a2) || !(a5 * a5 <= tol * a1 * a2)) {
-        return 0;
-    }
-    det = a0 * (a1 * a2 - a5 * a5) - a3 * (a3 * a2 - a5 * a4) + a4 * (a3 * a5 - a1 * a4);
-    return det >= -(16.0f * FLT_EPSILON) * (a0 * a1 * a2) - FLT_MIN;
+    return sfit_i_check_noise(SFIT_NOISE_COV, 0.0f, c) == SFIT_OK;
 }
 
 /*
@@ -309,7 +278,7 @@ static inline int fz_cfg_valid(const sfit_fit_cfg_t *cfg)
         if (!fz_all_finite(c, 9) || c[0] < 0.0f || c[4] < 0.0f || c[8] < 0.0f) {
             return 0;
         }
-        return fz_psd(c);
+        return fz_psd(&cfg->noise_cov);
     }
     return 1;
 }
