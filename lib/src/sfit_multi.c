@@ -83,6 +83,25 @@ static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, 
     return 1.0f;
 }
 
+/* Noise of marker p: Sigma_p (full) and t_p/2; the configuration's
+ * Sigma_hat and no skew when there is no per-marker model. */
+static void prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_noise_t *noise, size_t p,
+                      sfit_mat3_t *sg, float half_skew[3])
+{
+    int i;
+    if (noise == NULL) {
+        *sg = *sg_cfg;
+        for (i = 0; i < 3; i++) {
+            half_skew[i] = 0.0f;
+        }
+        return;
+    }
+    sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, sg);
+    for (i = 0; i < 3; i++) {
+        half_skew[i] = 0.5f * noise[p].skew.v[i];
+    }
+}
+
 /* r_p^2 of one marker for the centre offset wc (= c - o). */
 static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const float wc[3],
                          const sfit_i_solution_t *sol)
@@ -112,14 +131,17 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
     return r2;
 }
 
-sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
-                               const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
-                               float *radii)
+/* The fit with Sigma_hat from cfg (noise NULL) or one noise model per
+ * marker (validated by the caller). */
+static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
+                             const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
+                             sfit_multi_result_t *out, float *radii)
 {
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
     sfit_multi_result_t r;
-    sfit_mat3_t sg;
+    sfit_mat3_t sg_cfg, sg, sg_sum;
+    float half_skew[3];
     const float *origin_ref = NULL;
     float d_ref[3] = {0.0f, 0.0f, 0.0f};
     float wc[3], dbar[3] = {0.0f, 0.0f, 0.0f}, sw = 0.0f, scale = 0.0f;
@@ -129,14 +151,6 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     int i;
     sfit_status_t st;
 
-    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
-    st = (markers == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_check_cfg(&cfg->fit);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (cfg->weight != SFIT_MULTI_WEIGHT_EQUAL && cfg->weight != SFIT_MULTI_WEIGHT_SAMPLES) {
-        return SFIT_E_ARG;
-    }
     if (count == 0u) {
         return SFIT_E_TOO_FEW;
     }
@@ -179,8 +193,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
-    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg_cfg);
     memset(&sys, 0, sizeof sys);
+    memset(&sg_sum, 0, sizeof sg_sum);
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
         float w;
@@ -189,22 +204,26 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
         }
         w = prv_weight(cfg, pm.n, used, sum_n1);
         sw += w;
+        prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
             sys.c.m[i] += w * pm.c.m[i];
+            sg_sum.m[i] += w * sg.m[i];
         }
         for (i = 0; i < 3; i++) {
             const float *ci = &pm.c.m[3 * i];
             const float *si = &sg.m[3 * i];
-            const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
-                                        + (ci[2] - si[2]) * pm.dm[2]);
+            const float t = (pm.s2[i] - half_skew[i])
+                            + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
+                               + (ci[2] - si[2]) * pm.dm[2]);
             sys.rhs.v[i] += w * t;
             dbar[i] += w * pm.dm[i];
         }
     }
     for (i = 0; i < 9; i++) {
-        sys.sigma.m[i] = sw * sg.m[i];
+        /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
+        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
     }
-    sys.noisy = (cfg->fit.noise != SFIT_NOISE_NONE);
+    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
     sys.scale = scale;
 
     st = sfit_i_solve(&sys, cfg->fit.mode, cfg->fit.planar_ratio, &sol);
@@ -235,6 +254,7 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
         if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
+        prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         r2 = prv_radius2(&pm, &sg, wc, &sol);
         if (!(r2 > 0.0f)) {
             return SFIT_E_NOT_POSDEF;
@@ -266,6 +286,7 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     if (radii != NULL) {
         for (p = 0u; p < count; p++) {
             prv_marker_t pm;
+            prv_noise(&sg_cfg, noise, p, &sg, half_skew);
             radii[p] = prv_used(&markers[p], origin_ref, d_ref, &pm)
                            ? SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol))
                            : 0.0f;
@@ -273,4 +294,44 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     }
     *out = r;
     return SFIT_OK;
+}
+
+/* Options shared by both entry points: SFIT_OK or SFIT_E_ARG. */
+static sfit_status_t prv_check(const sfit_moments_t *markers, const sfit_multi_cfg_t *cfg,
+                               const sfit_multi_result_t *out)
+{
+    if (markers == NULL || out == NULL || sfit_i_check_multi_cfg(cfg) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
+                               const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
+                               float *radii)
+{
+    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
+    if (prv_check(markers, cfg, out) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    return prv_fit(markers, count, cfg, NULL, out, radii);
+}
+
+sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
+                                   const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
+                                   sfit_multi_result_t *out, float *radii)
+{
+    size_t p;
+    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
+    if (noise == NULL || prv_check(markers, cfg, out) != SFIT_OK
+        || cfg->fit.noise != SFIT_NOISE_NONE) {
+        return SFIT_E_ARG;
+    }
+    for (p = 0u; p < count; p++) {
+        if (sfit_i_check_noise(SFIT_NOISE_COV, 0.0f, &noise[p].cov) != SFIT_OK
+            || !sfit_i_finite3(noise[p].skew.v)) {
+            return SFIT_E_ARG;
+        }
+    }
+    return prv_fit(markers, count, cfg, noise, out, radii);
 }

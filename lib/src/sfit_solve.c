@@ -50,6 +50,14 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);
 }
 
+sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg)
+{
+    if (cfg->weight != SFIT_MULTI_WEIGHT_EQUAL && cfg->weight != SFIT_MULTI_WEIGHT_SAMPLES) {
+        return SFIT_E_ARG;
+    }
+    return sfit_i_check_cfg(&cfg->fit);
+}
+
 /* Sigma_hat as a full symmetric matrix (lower triangle of the option). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg)
 {

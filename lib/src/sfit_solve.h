@@ -8,6 +8,7 @@
 #define SFIT_SOLVE_H
 
 #include "sfit/sfit_fit.h"
+#include "sfit/sfit_multi.h"
 #include "sfit_moments_i.h"
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
@@ -35,6 +36,9 @@ sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_m
 
 /** @brief Validate a fit configuration (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg);
+
+/** @brief Validate a multi-marker configuration (SFIT_OK or SFIT_E_ARG). */
+sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg);
 
 /** @brief Sigma_hat of a noise model as a full symmetric matrix (zero for none). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg);

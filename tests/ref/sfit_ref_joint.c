@@ -173,3 +173,111 @@ void ref_pose_to_global(const double r[9], const double t[3], const double x[3],
     }
     memcpy(out, y, sizeof y);
 }
+
+/* Inverse of a symmetric 3x3 by cofactors; 0 when singular. */
+static int ref_inv3(const double a[9], double inv[9])
+{
+    double det;
+    int i;
+    inv[0] = a[4] * a[8] - a[5] * a[7];
+    inv[1] = a[2] * a[7] - a[1] * a[8];
+    inv[2] = a[1] * a[5] - a[2] * a[4];
+    inv[3] = a[5] * a[6] - a[3] * a[8];
+    inv[4] = a[0] * a[8] - a[2] * a[6];
+    inv[5] = a[2] * a[3] - a[0] * a[5];
+    inv[6] = a[3] * a[7] - a[4] * a[6];
+    inv[7] = a[1] * a[6] - a[0] * a[7];
+    inv[8] = a[0] * a[4] - a[1] * a[3];
+    det = a[0] * inv[0] + a[1] * inv[3] + a[2] * inv[6];
+    if (!(fabs(det) > 0.0)) {
+        return 0;
+    }
+    for (i = 0; i < 9; i++) {
+        inv[i] /= det;
+    }
+    return 1;
+}
+
+int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, size_t n,
+                           double var, double cov9[9], double skew[3])
+{
+    double pb[3] = {0.0, 0.0, 0.0}, jm[9], k[9], mean[3] = {0.0, 0.0, 0.0};
+    long double cv[9], sk[3];
+    size_t i;
+    int a, b, c;
+    if (tpl == NULL || xs == NULL || np < 3 || n < 2) {
+        return -1;
+    }
+    for (i = 0; i < np; i++) {
+        for (a = 0; a < 3; a++) {
+            pb[a] += tpl[i][a] / (double)np;
+        }
+    }
+    memset(jm, 0, sizeof jm);
+    for (i = 0; i < np; i++) {
+        double p[3], p2 = 0.0;
+        for (a = 0; a < 3; a++) {
+            p[a] = tpl[i][a] - pb[a];
+            p2 += p[a] * p[a];
+        }
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                jm[3 * a + b] += (a == b ? p2 : 0.0) - p[a] * p[b];
+            }
+        }
+    }
+    if (!ref_inv3(jm, k)) {
+        return -1;
+    }
+    for (i = 0; i < n; i++) {
+        for (a = 0; a < 3; a++) {
+            mean[a] += xs[3 * i + (size_t)a] / (double)n;
+        }
+    }
+    memset(cv, 0, sizeof cv);
+    memset(sk, 0, sizeof sk);
+    for (i = 0; i < n; i++) {
+        double u[3], x[9], xk[9], sg[9], tr;
+        for (a = 0; a < 3; a++) {
+            u[a] = xs[3 * i + (size_t)a] - pb[a];
+        }
+        /* x = [u]x */
+        x[0] = 0.0; x[1] = -u[2]; x[2] = u[1];
+        x[3] = u[2]; x[4] = 0.0; x[5] = -u[0];
+        x[6] = -u[1]; x[7] = u[0]; x[8] = 0.0;
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                xk[3 * a + b] = 0.0;
+                for (c = 0; c < 3; c++) {
+                    xk[3 * a + b] += x[3 * a + c] * k[3 * c + b];
+                }
+            }
+        }
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                double v = (a == b) ? 1.0 + 1.0 / (double)np : 0.0;
+                for (c = 0; c < 3; c++) {
+                    v += xk[3 * a + c] * x[3 * b + c];
+                }
+                sg[3 * a + b] = var * v;
+                cv[3 * a + b] += (long double)sg[3 * a + b] / (long double)n;
+            }
+        }
+        tr = sg[0] + sg[4] + sg[8];
+        for (a = 0; a < 3; a++) {
+            long double t = 0.0L;
+            for (b = 0; b < 3; b++) {
+                const double m = 2.0 * sg[3 * a + b] + (a == b ? tr : 0.0);
+                t += (long double)m * (long double)(xs[3 * i + (size_t)b] - mean[b]);
+            }
+            sk[a] += t / (long double)n;
+        }
+    }
+    for (a = 0; a < 9; a++) {
+        cov9[a] = (double)cv[a];
+    }
+    for (a = 0; a < 3; a++) {
+        skew[a] = (double)sk[a];
+    }
+    return 0;
+}

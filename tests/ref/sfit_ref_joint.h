@@ -37,6 +37,19 @@ void ref_pose_to_segment(const double r[9], const double t[3], const double x[3]
 /** R x + t */
 void ref_pose_to_global(const double r[9], const double t[3], const double x[3], double out[3]);
 
+/**
+ * Per-sample noise model of a child marker seen through a parent cluster
+ * (np template points tpl, each marker coordinate of variance var): the
+ * first-order covariance of a mapped sample u (parent frame),
+ * Sigma(u) = var ((1 + 1/np) I + [u - pb]x J^-1 [u - pb]x^T), pb the template
+ * centroid, J = sum (|p - pb|^2 I - (p - pb)(p - pb)^T). Over the n samples
+ * xs (3 n doubles) of one marker: cov9 = mean Sigma(u_i) (row-major) and
+ * skew = mean (2 Sigma(u_i) + tr Sigma(u_i) I)(u_i - mean u), sample by
+ * sample (no moment shortcut). Returns 0, or nonzero for n < 2 or a singular J.
+ */
+int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, size_t n,
+                           double var, double cov9[9], double skew[3]);
+
 #ifdef __cplusplus
 }
 #endif

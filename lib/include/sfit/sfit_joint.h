@@ -44,9 +44,10 @@ typedef enum sfit_joint_noise {
                                       noise of a child marker in the parent frame. */
     SFIT_JOINT_NOISE_MARKER = 1  /**< cfg.solve.fit.noise must be SFIT_NOISE_ISO and
                                       noise_var is the variance of each coordinate of every
-                                      measured marker (parent and child); the solve uses its
-                                      propagation through the parent pose,
-                                      sfit_joint_noise_cov(), as Sigma_hat. */
+                                      measured marker (parent and child); the solve is
+                                      sfit_multi_fit_noise() with each child marker's own
+                                      propagation of it through the parent pose,
+                                      sfit_joint_marker_noise(). */
 } sfit_joint_noise_t;
 
 /** @brief Options of a joint. Start from ::sfit_joint_cfg_default. */
@@ -177,6 +178,29 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
 sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit_mat3_t *cov);
+
+/**
+ * @brief Noise model of each child marker in the parent frame, for
+ * sfit_multi_fit_noise(): per marker i, cov = the mean over its samples of
+ * the covariance of sfit_joint_noise_cov() (evaluated at each sample, not
+ * averaged over the markers), and skew = the mean of
+ * (2 Sigma(y) + tr Sigma(y) I)(y - m_i), the bias that this position-dependent
+ * noise puts into the marker's third-moment vector S_i. Both come from the
+ * marker's moments; the one term they cannot give, the anisotropic part of
+ * J^-1 in E[(b^T J^-1 b) b], is left out (docs/joint.md#per-marker-noise).
+ * A marker with fewer than 2 samples gets a zero model.
+ * @param[in]  j           State.
+ * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
+ * @param[out] noise       cfg.n_child models; written only on SFIT_OK.
+ * @retval SFIT_OK           success
+ * @retval SFIT_E_ARG        NULL j/noise, garbage counters, or marker_var negative
+ * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
+ * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
+ * @retval SFIT_E_RANGE      a model would not be finite
+ * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
+ */
+sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
+                                      sfit_multi_noise_t *noise);
 
 /**
  * @brief The joint centre (and axis) in the global frame for one frame:
