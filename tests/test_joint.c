@@ -684,11 +684,26 @@ static void assert_unbiased(const mc_t *m)
     }
 }
 
+/* The reported centre covariance (mean trace over the trials, cov_tr) is
+ * true: within 3 SE of the Monte Carlo trace of the errors' covariance
+ * (mean |e|^2 - |mean e|^2; its SE is that of mean |e|^2), and within 5 %
+ * of the delta-method trace pred_tr of the double pipeline (both first
+ * order; they differ by where the derivatives are taken). */
+static void assert_cov_true(const mc_t *m, double cov_tr, double pred_tr, const char *what)
+{
+    const double mc_tr = m->mse - tu_dot3(m->mean, m->mean);
+    printf("  %s centre covariance: reported trace %.5f mm^2, Monte Carlo %.5f +- %.5f "
+           "(ratio %.3f +- %.3f), delta method %.5f\n",
+           what, cov_tr, mc_tr, m->mse_se, cov_tr / mc_tr, m->mse_se / mc_tr, pred_tr);
+    assert_true(fabs(cov_tr - mc_tr) <= 3.0 * m->mse_se);
+    assert_true(fabs(cov_tr - pred_tr) <= 0.05 * pred_tr);
+}
+
 /* Run MC_T noisy copies of the current motion through the library; e gets
  * the centre errors (the part normal to `normal` when not NULL), ang2 /
  * ang4 (may be NULL) the mean of |a - a_true|^2 and of its square. */
 static void mc_run(const sfit_joint_cfg_t *cfg, uint64_t seed, double sp, const double *normal,
-                   double (*e)[3], double *ang2, double *ang4)
+                   double (*e)[3], double *ang2, double *ang4, double *cov_tr)
 {
     tu_rng_t g;
     sfit_joint_result_t res;
@@ -701,12 +716,22 @@ static void mc_run(const sfit_joint_cfg_t *cfg, uint64_t seed, double sp, const 
         *ang2 = 0.0;
         *ang4 = 0.0;
     }
+    if (cov_tr != NULL) {
+        *cov_tr = 0.0;
+    }
     for (t = 0; t < MC_T; t++) {
         double d = 0.0, a2 = 0.0;
         make_noisy(&g, sp, MC_SIGMA);
         assert_int_equal(lib_run(cfg, &g_j, &res, NULL), SFIT_OK);
         for (k = 0; k < 3; k++) {
             e[t][k] = (double)res.fit.center.v[k] - g_centre[k];
+        }
+        if (cov_tr != NULL) { /* the reported covariance (every marker: sigma^2) */
+            sfit_mat3_t cov;
+            assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf,
+                                                   (float)(MC_SIGMA * MC_SIGMA), &cov),
+                             SFIT_OK);
+            *cov_tr += ((double)cov.m[0] + (double)cov.m[4] + (double)cov.m[8]) / MC_T;
         }
         if (normal != NULL) {
             d = tu_dot3(e[t], normal);
@@ -746,7 +771,7 @@ static void test_mc_ball(void **state)
     static pred_t pr;
     static noise_t nz;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-    double cov6[6], b[3], mse, ba[3], msea;
+    double cov6[6], b[3], mse, ba[3], msea, cov_tr = 0.0;
     mc_t m;
     int k, run;
     (void)state;
@@ -774,8 +799,12 @@ static void test_mc_ball(void **state)
         }
         predict(0, &nz, &pr);
         combine(&pr, sp, MC_SIGMA, NULL, b, &mse, ba, &msea);
-        mc_run(&cfg, 5 + (uint64_t)(run > 0), sp, NULL, err, NULL, NULL);
+        mc_run(&cfg, 5 + (uint64_t)(run > 0), sp, NULL, err, NULL, NULL,
+               (run == 1) ? &cov_tr : NULL);
         mc_summary((const double (*)[3])err, MC_T, &m);
+        if (run == 1) {
+            assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b), "ball");
+        }
         assert_mc(&m, b, mse,
                   run == 0   ? "ball, exact parent, one Sigma_hat"
                   : run == 1 ? "ball, all markers noisy, per-marker models"
@@ -802,7 +831,7 @@ static void test_mc_hinge(void **state)
     static pred_t pr;
     static noise_t nz;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-    double ax[3], b[3], mse, ba[3], msea, ang2, ang4;
+    double ax[3], b[3], mse, ba[3], msea, ang2, ang4, cov_tr;
     mc_t m;
     (void)state;
     cfg.n_child = K;
@@ -814,8 +843,9 @@ static void test_mc_hinge(void **state)
     truth_noise(MC_SIGMA * MC_SIGMA, &nz);
     predict(1, &nz, &pr);
     combine(&pr, MC_SIGMA, MC_SIGMA, ax, b, &mse, ba, &msea);
-    mc_run(&cfg, 7, MC_SIGMA, ax, err, &ang2, &ang4);
+    mc_run(&cfg, 7, MC_SIGMA, ax, err, &ang2, &ang4, &cov_tr);
     mc_summary((const double (*)[3])err, MC_T, &m);
+    assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b), "hinge (normal to the axis)");
     assert_mc(&m, b, mse, "hinge centre (normal to the axis), per-marker models");
     assert_unbiased(&m);
     {

@@ -532,3 +532,217 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
     }
     return SFIT_OK;
 }
+
+/* Per-marker data of the covariance pass: mean, v_p = w_p / (N_p - 1), and
+ * whether the solve used the marker. */
+typedef struct prv_cov_marker {
+    float m[3];
+    float v;
+    int used;
+} prv_cov_marker_t;
+
+/* A = sum w_p (C_p - Sigma_p) of the solve that gave the result (the noise
+ * model of the joint's options), and each marker's mean and v_p. */
+static sfit_status_t prv_cov_system(const sfit_joint_t *j, prv_cov_marker_t *cm, sfit_mat3_t *a)
+{
+    sfit_multi_noise_t noise[SFIT_JOINT_MAX_CHILD];
+    sfit_mat3_t sg_cfg;
+    const sfit_fit_cfg_t *fc = &j->cfg.solve.fit;
+    uint64_t sum_n1 = 0u;
+    uint32_t i, used = 0u;
+    int k;
+    if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
+        sfit_status_t st = sfit_joint_marker_noise(j, fc->noise_var, noise);
+        if (st != SFIT_OK) {
+            return st;
+        }
+    }
+    sfit_i_sigma(fc->noise, fc->noise_var, &fc->noise_cov, &sg_cfg);
+    for (i = 0; i < j->cfg.n_child; i++) {
+        const uint32_t n = prv_acc_count(&j->child[i]);
+        cm[i].used = (n >= (uint32_t)SFIT_MIN_SAMPLES);
+        if (cm[i].used) {
+            used++;
+            sum_n1 += (uint64_t)(n - 1u);
+        }
+    }
+    if (used == 0u) {
+        return SFIT_E_TOO_FEW;
+    }
+    memset(a, 0, sizeof *a);
+    for (i = 0; i < j->cfg.n_child; i++) {
+        sfit_vec3_t mean;
+        sfit_mat3_t c;
+        const uint32_t n = prv_acc_count(&j->child[i]);
+        float w = 1.0f;
+        if (!cm[i].used) {
+            continue;
+        }
+        (void)prv_acc_stats(&j->child[i], &mean, &c, NULL);
+        if (j->cfg.solve.weight == SFIT_MULTI_WEIGHT_SAMPLES) {
+            w = ((float)(n - 1u) * (float)used) / (float)sum_n1;
+        }
+        for (k = 0; k < 9; k++) {
+            const float s = (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) ? noise[i].cov.m[k]
+                                                                             : sg_cfg.m[k];
+            a->m[k] += w * (c.m[k] - s);
+        }
+        for (k = 0; k < 3; k++) {
+            cm[i].m[k] = mean.v[k];
+        }
+        cm[i].v = w / (float)(n - 1u);
+    }
+    return SFIT_OK;
+}
+
+/* A^-1 (sphere) or its pseudo-inverse normal to the unit axis ax (planar):
+ * (P A P + ax ax^T)^-1 - ax ax^T, P = I - ax ax^T. */
+static sfit_status_t prv_cov_inverse(const sfit_mat3_t *a, const sfit_multi_result_t *fit,
+                                     sfit_mat3_t *ai)
+{
+    sfit_mat3_t pap, l;
+    const float *ax = fit->axis.v;
+    int r, s;
+    pap = *a;
+    if (fit->mode == SFIT_MODE_PLANAR) {
+        float aa[3], q;
+        sfit_i_mat3_vec(a, ax, aa);
+        q = sfit_i_dot3(ax, aa);
+        for (r = 0; r < 3; r++) {
+            for (s = 0; s < 3; s++) {
+                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + 1.0f) * ax[r] * ax[s];
+            }
+        }
+    }
+    if (prv_chol(&pap, &l) != SFIT_OK) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    sfit_i_chol_inverse(&l, ai);
+    if (fit->mode == SFIT_MODE_PLANAR) {
+        for (r = 0; r < 9; r++) {
+            ai->m[r] -= ax[r / 3] * ax[r % 3];
+        }
+    }
+    return SFIT_OK;
+}
+
+/* Add the frame's terms: child sum v_p^2 |a|^2 b b^T (packed, q[0..5]) and
+ * W Sigma_eta W^T (q[6..11]), W = sum_p v_p b a^T. */
+static void prv_cov_frame(const sfit_joint_t *j, const prv_cov_marker_t *cm, const float c[3],
+                          const sfit_mat3_t *seta, const sfit_pose_t *ps,
+                          const sfit_vec3_t *child, sfit_i_sum_t *acc)
+{
+    sfit_mat3_t w, ws, wsw;
+    float q[12];
+    uint32_t i;
+    int k;
+    memset(&w, 0, sizeof w);
+    memset(q, 0, sizeof q);
+    for (i = 0; i < j->cfg.n_child; i++) {
+        sfit_vec3_t y;
+        float b[3], a[3], f;
+        if (!cm[i].used || prv_has_nan(child[i].v)) {
+            continue;
+        }
+        (void)sfit_pose_to_segment(ps, &child[i], &y);
+        for (k = 0; k < 3; k++) {
+            b[k] = y.v[k] - cm[i].m[k];
+            a[k] = y.v[k] - c[k];
+        }
+        f = cm[i].v * cm[i].v * sfit_i_dot3(a, a);
+        for (k = 0; k < 9; k++) {
+            w.m[k] += cm[i].v * b[k / 3] * a[k % 3];
+        }
+        q[0] += f * b[0] * b[0];
+        q[1] += f * b[1] * b[1];
+        q[2] += f * b[2] * b[2];
+        q[3] += f * b[0] * b[1];
+        q[4] += f * b[0] * b[2];
+        q[5] += f * b[1] * b[2];
+    }
+    sfit_i_mat3_mul(&w, seta, &ws);
+    for (k = 0; k < 9; k++) { /* wsw = ws w^T */
+        const int r = k / 3, s = k % 3;
+        wsw.m[k] = ws.m[3 * r] * w.m[3 * s] + ws.m[3 * r + 1] * w.m[3 * s + 1]
+                   + ws.m[3 * r + 2] * w.m[3 * s + 2];
+    }
+    sfit_i_sym_pack(&wsw, &q[6]);
+    sfit_i_sum_add(acc, q, 12);
+}
+
+sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                    const sfit_vec3_t *parent, const sfit_vec3_t *child,
+                                    size_t nf, float marker_var, sfit_mat3_t *cov)
+{
+    prv_cov_marker_t cm[SFIT_JOINT_MAX_CHILD];
+    prv_pose_noise_t pn;
+    sfit_mat3_t a, ai, seta, m, t, out, ce;
+    sfit_i_sum_t acc;
+    float c[3], e[3];
+    size_t f;
+    int k;
+    sfit_status_t st = prv_noise_args(j, marker_var, cov, &pn);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (res == NULL || parent == NULL || child == NULL) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_finite3(res->fit.center.v) || !sfit_i_finite3(res->fit.axis.v)
+        || (res->fit.mode != SFIT_MODE_SPHERE && res->fit.mode != SFIT_MODE_PLANAR)) {
+        return SFIT_E_NONFINITE;
+    }
+    if (nf == 0u) {
+        return SFIT_E_TOO_FEW;
+    }
+    st = prv_cov_system(j, cm, &a);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    st = prv_cov_inverse(&a, &res->fit, &ai);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    /* Sigma_eta / sigma^2 = I/P + [c - pb]x K [c - pb]x^T */
+    for (k = 0; k < 3; k++) {
+        c[k] = res->fit.center.v[k];
+        e[k] = c[k] - pn.pb[k];
+    }
+    for (k = 0; k < 9; k++) {
+        ce.m[k] = e[k / 3] * e[k % 3];
+    }
+    prv_cross_sandwich(&ce, &pn.k, &seta);
+    for (k = 0; k < 3; k++) {
+        seta.m[4 * k] += 1.0f / (float)j->parent.count;
+    }
+    memset(&acc, 0, sizeof acc);
+    for (f = 0u; f < nf; f++) {
+        sfit_pose_t ps;
+        const size_t np = (size_t)j->parent.count, nc = (size_t)j->cfg.n_child;
+        size_t i;
+        int bad = 0;
+        for (i = 0u; i < nc; i++) {
+            const float *x = child[f * nc + i].v;
+            bad |= (!prv_has_nan(x) && sfit_i_check_sample(x) != SFIT_OK);
+        }
+        if (bad || sfit_cluster_register(&j->parent, &parent[f * np], np, &ps, NULL) != SFIT_OK) {
+            continue; /* a frame sfit_joint_add() rejects */
+        }
+        prv_cov_frame(j, cm, c, &seta, &ps, &child[f * nc], &acc);
+    }
+    sfit_i_sum_end(&acc, 12);
+    for (k = 0; k < 6; k++) {
+        acc.tot[k] += acc.tot[6 + k];
+    }
+    sfit_i_sym_unpack(acc.tot, &m);
+    sfit_i_mat3_mul(&ai, &m, &t);
+    sfit_i_mat3_mul(&t, &ai, &out);
+    for (k = 0; k < 9; k++) {
+        out.m[k] *= marker_var;
+        if (!sfit_i_isfinite(out.m[k])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    *cov = out;
+    return SFIT_OK;
+}

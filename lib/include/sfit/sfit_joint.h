@@ -203,6 +203,47 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
                                       sfit_multi_noise_t *noise);
 
 /**
+ * @brief Covariance of the joint centre of a result, to first order, for
+ * isotropic noise of variance @p marker_var on every measured marker
+ * coordinate (parent and child): a second pass over the frames that gave
+ * the result.
+ *
+ * The parent's pose error is shared by every child marker of a frame, so
+ * the centre's covariance depends on products of different markers'
+ * positions in the same frame, which no per-marker accumulator holds: this
+ * function reads the frames again (a caller's array) with the centre and
+ * the marker means already known. Cov = A^-1 M A^-1 with A the solve's
+ * matrix sum w_p C'_p and
+ * M = sigma^2 sum_f [sum_p v_p^2 |a|^2 b b^T + W_f E W_f^T], W_f = sum_p v_p b a^T,
+ * a = y - c, b = y - m_p for each child sample y of frame f in the parent
+ * frame, v_p = w_p / (N_p - 1), E = I/P + [c - pb]x J^-1 [c - pb]x^T the
+ * pose translation at the centre per unit variance (docs/joint.md#centre-covariance).
+ * Planar result: the pseudo-inverse normal to the axis (the covariance of
+ * the centre's part normal to the axis; the position along the axis is a
+ * convention). Frames that sfit_joint_add() rejects are skipped, so the same
+ * arrays as were added give the covariance of that result.
+ * @param[in]  j           State that gave @p res (not modified).
+ * @param[in]  res         Its result (sfit_joint_fit()).
+ * @param[in]  parent      nf x (parent marker count) parent markers, frame by frame.
+ * @param[in]  child       nf x cfg.n_child child markers, frame by frame.
+ * @param[in]  nf          Frames.
+ * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
+ * @param[out] cov         Centre covariance (symmetric); written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL j/res/parent/child/cov, garbage counters, marker_var < 0
+ * @retval SFIT_E_NONFINITE   marker_var NaN or Inf, a non-finite centre or axis in res,
+ *                            or an unknown mode
+ * @retval SFIT_E_TOO_FEW     nf is 0, or no child marker has SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost per frame one sfit_cluster_register() and 45 FLOPs per child marker
+ * plus 60 (tools/flopcount "joint_center_cov").
+ */
+sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                    const sfit_vec3_t *parent, const sfit_vec3_t *child,
+                                    size_t nf, float marker_var, sfit_mat3_t *cov);
+
+/**
  * @brief The joint centre (and axis) in the global frame for one frame:
  * registers the parent markers of that frame with the joint's template and
  * maps the result's centre (and axis) back.
