@@ -1205,6 +1205,99 @@ static void test_noise_cov(void **state)
     assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
 }
 
+/* sfit_joint_center_cov() against the double formula (ref_joint_center_cov)
+ * on the same mapped samples, ball and hinge, with the per-marker models in
+ * A: within 1e-3 of the largest entry (measured: printed). Its statistical
+ * truth is checked in test_mc_ball / test_mc_hinge. Contract: statuses,
+ * output untouched on failure. */
+static void test_center_cov(void **state)
+{
+    tu_rng_t g;
+    sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_joint_result_t res, bad;
+    sfit_multi_noise_t nl[K];
+    sfit_mat3_t cov, sent;
+    noise_t nz;
+    double tpl[P][3], want[9], c[3], ax[3], worst = 0.0;
+    const double *xs[K];
+    size_t f, k;
+    int hinge, i;
+    (void)state;
+    cfg.n_child = K;
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    cfg.solve.fit.noise = SFIT_NOISE_ISO;
+    cfg.solve.fit.noise_var = 0.25f;
+    memcpy(tpl, g_tpl, sizeof tpl);
+    for (hinge = 0; hinge < 2; hinge++) {
+        double big = 0.0, d = 0.0;
+        make_motion(1000 + (uint64_t)hinge, 300, hinge);
+        tu_rng_seed(&g, 12);
+        make_noisy(&g, 0.5, 0.5);
+        assert_int_equal(lib_run(&cfg, &g_j, &res, NULL), SFIT_OK);
+        assert_int_equal(res.fit.mode, hinge ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE);
+        assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf,
+                                               0.25f, &cov),
+                         SFIT_OK);
+        assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, nl), SFIT_OK);
+        noise_of_lib(nl, &nz);
+        for (f = 0; f < g_nf; f++) {
+            ref_map_frame((const double (*)[3])tpl, (const double (*)[3])g_pard[f],
+                          (const double (*)[3])g_chid[f], f);
+        }
+        for (k = 0; k < K; k++) {
+            xs[k] = &g_xs[k][0][0];
+        }
+        tc_to_double3(&res.fit.center, c);
+        tc_to_double3(&res.fit.axis, ax);
+        assert_int_equal(ref_joint_center_cov(g_tpl, P, xs, K, g_nf, nz.cov9, c,
+                                              hinge ? ax : NULL, 0.25, want),
+                         0);
+        for (i = 0; i < 9; i++) {
+            big = fmax(big, fabs(want[i]));
+        }
+        for (i = 0; i < 9; i++) {
+            d = fmax(d, fabs((double)cov.m[i] - want[i]));
+            assert_near(cov.m[i], want[i], 1e-3 * big, "centre covariance");
+        }
+        worst = fmax(worst, d / big);
+        printf("  centre covariance (%s): trace %.4f mm^2\n", hinge ? "hinge" : "ball",
+               want[0] + want[4] + want[8]);
+    }
+    printf("  centre covariance vs double: %.3g of the largest entry\n", worst);
+    /* contract */
+    memset(&sent, 0x5A, sizeof sent);
+    cov = sent;
+    assert_int_equal(sfit_joint_center_cov(NULL, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, NULL, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, NULL, &g_chif[0][0], g_nf, 0.25f, &cov),
+                     SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], NULL, g_nf, 0.25f, &cov),
+                     SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, -1.0f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, NAN,
+                                           &cov), SFIT_E_NONFINITE);
+    bad = res;
+    bad.fit.center.v[1] = INFINITY;
+    assert_int_equal(sfit_joint_center_cov(&g_j, &bad, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_NONFINITE);
+    bad = res;
+    bad.fit.mode = (sfit_mode_t)9;
+    assert_int_equal(sfit_joint_center_cov(&g_j, &bad, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], 0, 0.25f,
+                                           &cov), SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+    assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1217,6 +1310,7 @@ int main(void)
         cmocka_unit_test(test_contract),
         cmocka_unit_test(test_template_from_frames),
         cmocka_unit_test(test_noise_cov),
+        cmocka_unit_test(test_center_cov),
     };
     return cmocka_run_group_tests_name("joint", tests, NULL, NULL);
 }

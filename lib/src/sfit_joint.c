@@ -596,12 +596,14 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, prv_cov_marker_t *cm,
 }
 
 /* A^-1 (sphere) or its pseudo-inverse normal to the unit axis ax (planar):
- * (P A P + ax ax^T)^-1 - ax ax^T, P = I - ax ax^T. */
+ * (P A P + s ax ax^T)^-1 - ax ax^T / s, P = I - ax ax^T, s = tr A (of the
+ * size of the kept eigenvalues, so the factor stays well conditioned). */
 static sfit_status_t prv_cov_inverse(const sfit_mat3_t *a, const sfit_multi_result_t *fit,
                                      sfit_mat3_t *ai)
 {
     sfit_mat3_t pap, l;
     const float *ax = fit->axis.v;
+    const float sc = a->m[0] + a->m[4] + a->m[8];
     int r, s;
     pap = *a;
     if (fit->mode == SFIT_MODE_PLANAR) {
@@ -610,7 +612,7 @@ static sfit_status_t prv_cov_inverse(const sfit_mat3_t *a, const sfit_multi_resu
         q = sfit_i_dot3(ax, aa);
         for (r = 0; r < 3; r++) {
             for (s = 0; s < 3; s++) {
-                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + 1.0f) * ax[r] * ax[s];
+                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + sc) * ax[r] * ax[s];
             }
         }
     }
@@ -620,7 +622,7 @@ static sfit_status_t prv_cov_inverse(const sfit_mat3_t *a, const sfit_multi_resu
     sfit_i_chol_inverse(&l, ai);
     if (fit->mode == SFIT_MODE_PLANAR) {
         for (r = 0; r < 9; r++) {
-            ai->m[r] -= ax[r / 3] * ax[r % 3];
+            ai->m[r] -= ax[r / 3] * ax[r % 3] / sc;
         }
     }
     return SFIT_OK;

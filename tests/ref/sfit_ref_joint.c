@@ -281,3 +281,164 @@ int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, 
     }
     return 0;
 }
+
+/* [e]x K [e]x^T */
+static void ref_cross_sandwich(const double e[3], const double k[9], double out[9])
+{
+    double x[9], xk[9];
+    int a, b, c;
+    x[0] = 0.0; x[1] = -e[2]; x[2] = e[1];
+    x[3] = e[2]; x[4] = 0.0; x[5] = -e[0];
+    x[6] = -e[1]; x[7] = e[0]; x[8] = 0.0;
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < 3; b++) {
+            xk[3 * a + b] = 0.0;
+            for (c = 0; c < 3; c++) {
+                xk[3 * a + b] += x[3 * a + c] * k[3 * c + b];
+            }
+        }
+    }
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < 3; b++) {
+            out[3 * a + b] = 0.0;
+            for (c = 0; c < 3; c++) {
+                out[3 * a + b] += xk[3 * a + c] * x[3 * b + c];
+            }
+        }
+    }
+}
+
+int ref_joint_center_cov(const double (*tpl)[3], size_t np, const double *const *xs, size_t m,
+                         size_t n, const double *cov9, const double c[3], const double *axis,
+                         double var, double cov[9])
+{
+    double pb[3] = {0.0, 0.0, 0.0}, jm[9], k[9], e[3], sg[9], a[9], ai[9], mm[9], t[9];
+    double mean[8][3];
+    const double v = 1.0 / ((double)n - 1.0);
+    size_t i, p, f;
+    int r, q, l;
+    if (tpl == NULL || xs == NULL || c == NULL || cov == NULL || np < 3 || m == 0 || m > 8
+        || n < 2) {
+        return -1;
+    }
+    for (i = 0; i < np; i++) {
+        for (r = 0; r < 3; r++) {
+            pb[r] += tpl[i][r] / (double)np;
+        }
+    }
+    memset(jm, 0, sizeof jm);
+    for (i = 0; i < np; i++) {
+        double d[3], d2 = 0.0;
+        for (r = 0; r < 3; r++) {
+            d[r] = tpl[i][r] - pb[r];
+            d2 += d[r] * d[r];
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                jm[3 * r + q] += (r == q ? d2 : 0.0) - d[r] * d[q];
+            }
+        }
+    }
+    if (!ref_inv3(jm, k)) {
+        return -1;
+    }
+    for (r = 0; r < 3; r++) {
+        e[r] = c[r] - pb[r];
+    }
+    ref_cross_sandwich(e, k, sg);
+    for (r = 0; r < 3; r++) {
+        sg[4 * r] += 1.0 / (double)np;
+    }
+    /* A = sum (C_p - Sigma_p) */
+    memset(a, 0, sizeof a);
+    for (p = 0; p < m; p++) {
+        for (r = 0; r < 3; r++) {
+            mean[p][r] = 0.0;
+            for (f = 0; f < n; f++) {
+                mean[p][r] += xs[p][3 * f + (size_t)r] / (double)n;
+            }
+        }
+        for (f = 0; f < n; f++) {
+            for (r = 0; r < 3; r++) {
+                for (q = 0; q < 3; q++) {
+                    a[3 * r + q] += v * (xs[p][3 * f + (size_t)r] - mean[p][r])
+                                    * (xs[p][3 * f + (size_t)q] - mean[p][q]);
+                }
+            }
+        }
+        if (cov9 != NULL) {
+            for (r = 0; r < 9; r++) {
+                a[r] -= cov9[9 * p + (size_t)r];
+            }
+        }
+    }
+    if (axis != NULL) { /* pseudo-inverse normal to the axis */
+        double aa[3], qa = 0.0;
+        for (r = 0; r < 3; r++) {
+            aa[r] = a[3 * r] * axis[0] + a[3 * r + 1] * axis[1] + a[3 * r + 2] * axis[2];
+            qa += axis[r] * aa[r];
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                a[3 * r + q] += -axis[r] * aa[q] - aa[r] * axis[q] + (qa + 1.0) * axis[r] * axis[q];
+            }
+        }
+    }
+    if (!ref_inv3(a, ai)) {
+        return -1;
+    }
+    if (axis != NULL) {
+        for (r = 0; r < 9; r++) {
+            ai[r] -= axis[r / 3] * axis[r % 3];
+        }
+    }
+    memset(mm, 0, sizeof mm);
+    for (f = 0; f < n; f++) {
+        double w[9], ws[9];
+        memset(w, 0, sizeof w);
+        for (p = 0; p < m; p++) {
+            double b[3], d[3], d2 = 0.0;
+            for (r = 0; r < 3; r++) {
+                b[r] = xs[p][3 * f + (size_t)r] - mean[p][r];
+                d[r] = xs[p][3 * f + (size_t)r] - c[r];
+                d2 += d[r] * d[r];
+            }
+            for (r = 0; r < 9; r++) {
+                w[r] += v * b[r / 3] * d[r % 3];
+                mm[r] += v * v * d2 * b[r / 3] * b[r % 3];
+            }
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                ws[3 * r + q] = 0.0;
+                for (l = 0; l < 3; l++) {
+                    ws[3 * r + q] += w[3 * r + l] * sg[3 * l + q];
+                }
+            }
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                for (l = 0; l < 3; l++) {
+                    mm[3 * r + q] += ws[3 * r + l] * w[3 * q + l];
+                }
+            }
+        }
+    }
+    for (r = 0; r < 3; r++) {
+        for (q = 0; q < 3; q++) {
+            t[3 * r + q] = 0.0;
+            for (l = 0; l < 3; l++) {
+                t[3 * r + q] += ai[3 * r + l] * mm[3 * l + q];
+            }
+        }
+    }
+    for (r = 0; r < 3; r++) {
+        for (q = 0; q < 3; q++) {
+            cov[3 * r + q] = 0.0;
+            for (l = 0; l < 3; l++) {
+                cov[3 * r + q] += var * t[3 * r + l] * ai[3 * l + q];
+            }
+        }
+    }
+    return 0;
+}
