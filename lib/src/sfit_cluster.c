@@ -51,20 +51,6 @@ static sfit_status_t prv_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, 
     return sfit_mat3_chol_solve(l, b, x);
 }
 
-/* 1 when some coordinate is NaN (bit test, no FP operation). */
-static int prv_has_nan(const float x[3])
-{
-    int i;
-    for (i = 0; i < 3; i++) {
-        uint32_t u;
-        memcpy(&u, &x[i], sizeof u);
-        if ((u & 0x7F800000u) == 0x7F800000u && (u & 0x007FFFFFu) != 0u) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 static int prv_count_ok(size_t count)
 {
     return count >= 3u && count <= (size_t)SFIT_CLUSTER_MAX_MARKERS;
@@ -114,10 +100,6 @@ static void prv_cross(const float a[3], const float b[3], float c[3])
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static float prv_dot(const float a[3], const float b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /*
  * Collinearity / coincidence test of a symmetric 3x3 whose eigenvalues are
@@ -217,7 +199,7 @@ static void prv_refine(const float h[9], sfit_mat3_t *r)
         return;
     }
     (void)prv_chol_solve(&l, &g, &w);
-    w2 = prv_dot(w.v, w.v);
+    w2 = sfit_i_dot3(w.v, w.v);
     if (!(w2 < 1e-2f)) {
         return;
     }
@@ -328,7 +310,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
         }
         for (i = 0; i < count; i++) {
             sfit_vec3_t xs;
-            if (prv_has_nan(fr[i].v)) {
+            if (sfit_i_has_nan3(fr[i].v)) {
                 continue;
             }
             (void)sfit_pose_to_segment(&pose, &fr[i], &xs);
@@ -377,7 +359,7 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         if (sfit_i_check_sample(cl->pos[i].v) != SFIT_OK) {
             return SFIT_E_ARG;
         }
-        if (prv_has_nan(meas[i].v)) {
+        if (sfit_i_has_nan3(meas[i].v)) {
             continue;
         }
         si = sfit_i_check_sample(meas[i].v);
@@ -453,18 +435,18 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         u1[ii] = h[3 * ii] * v1[0] + h[3 * ii + 1] * v1[1] + h[3 * ii + 2] * v1[2];
         u2[ii] = h[3 * ii] * v2[0] + h[3 * ii + 1] * v2[1] + h[3 * ii + 2] * v2[2];
     }
-    a = SFIT_SQRTF(prv_dot(u1, u1));
+    a = SFIT_SQRTF(sfit_i_dot3(u1, u1));
     if (!(a > 0.0f)) {
         return SFIT_E_DEGENERATE;
     }
     for (ii = 0; ii < 3; ii++) {
         u1[ii] /= a;
     }
-    a = prv_dot(u1, u2);
+    a = sfit_i_dot3(u1, u2);
     for (ii = 0; ii < 3; ii++) {
         u2[ii] -= a * u1[ii];
     }
-    a = SFIT_SQRTF(prv_dot(u2, u2));
+    a = SFIT_SQRTF(sfit_i_dot3(u2, u2));
     if (!(a > 0.0f)) {
         return SFIT_E_DEGENERATE;
     }
@@ -522,38 +504,38 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     return SFIT_OK;
 }
 
-sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
-                                  sfit_vec3_t *xg)
+/* One point map: to the global frame, R x + t (inverse = 0), or to the
+ * segment frame, R^T (x - t) (inverse = 1). */
+SFIT_INLINE sfit_status_t prv_map(const sfit_pose_t *pose, const sfit_vec3_t *x, int inverse,
+                             sfit_vec3_t *y)
 {
     const float *r;
-    float x0, x1, x2;
-    if (pose == NULL || xs == NULL || xg == NULL) {
+    const int si = inverse ? 1 : 3, sk = inverse ? 3 : 1;
+    float d[3];
+    int i;
+    if (pose == NULL || x == NULL || y == NULL) {
         return SFIT_E_ARG;
     }
     r = pose->r.m;
-    x0 = xs->v[0];
-    x1 = xs->v[1];
-    x2 = xs->v[2];
-    xg->v[0] = (r[0] * x0 + r[1] * x1 + r[2] * x2) + pose->t.v[0];
-    xg->v[1] = (r[3] * x0 + r[4] * x1 + r[5] * x2) + pose->t.v[1];
-    xg->v[2] = (r[6] * x0 + r[7] * x1 + r[8] * x2) + pose->t.v[2];
+    for (i = 0; i < 3; i++) {
+        d[i] = inverse ? x->v[i] - pose->t.v[i] : x->v[i];
+    }
+    for (i = 0; i < 3; i++) {
+        const float *ri = &r[si * i];
+        const float v = ri[0] * d[0] + ri[sk] * d[1] + ri[2 * sk] * d[2];
+        y->v[i] = inverse ? v : v + pose->t.v[i];
+    }
     return SFIT_OK;
+}
+
+sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
+                                  sfit_vec3_t *xg)
+{
+    return prv_map(pose, xs, 0, xg);
 }
 
 sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
                                    sfit_vec3_t *xs)
 {
-    const float *r;
-    float d0, d1, d2;
-    if (pose == NULL || xg == NULL || xs == NULL) {
-        return SFIT_E_ARG;
-    }
-    r = pose->r.m;
-    d0 = xg->v[0] - pose->t.v[0];
-    d1 = xg->v[1] - pose->t.v[1];
-    d2 = xg->v[2] - pose->t.v[2];
-    xs->v[0] = r[0] * d0 + r[3] * d1 + r[6] * d2;
-    xs->v[1] = r[1] * d0 + r[4] * d1 + r[7] * d2;
-    xs->v[2] = r[2] * d0 + r[5] * d1 + r[8] * d2;
-    return SFIT_OK;
+    return prv_map(pose, xg, 1, xs);
 }

@@ -35,6 +35,20 @@ SFIT_INLINE int sfit_i_finite3(const float v[3])
     return sfit_i_isfinite(v[0]) && sfit_i_isfinite(v[1]) && sfit_i_isfinite(v[2]);
 }
 
+/** @brief 1 when some coordinate is NaN (bit test; no FP operation). */
+SFIT_INLINE int sfit_i_has_nan3(const float v[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        uint32_t u;
+        memcpy(&u, &v[i], sizeof u);
+        if ((u & 0x7F800000u) == 0x7F800000u && (u & 0x007FFFFFu) != 0u) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /** @brief A sample: SFIT_OK, SFIT_E_NONFINITE or SFIT_E_RANGE (too large). */
 SFIT_INLINE sfit_status_t sfit_i_check_sample(const float x[3])
 {

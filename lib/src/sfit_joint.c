@@ -90,19 +90,6 @@ static int prv_state_ok(const sfit_joint_t *j)
     return 1;
 }
 
-static int prv_has_nan(const float x[3])
-{
-    int i;
-    for (i = 0; i < 3; i++) {
-        uint32_t u;
-        memcpy(&u, &x[i], sizeof u);
-        if ((u & 0x7F800000u) == 0x7F800000u && (u & 0x007FFFFFu) != 0u) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 sfit_status_t sfit_joint_init(sfit_joint_t *j, const sfit_cluster_t *parent,
                               const sfit_joint_cfg_t *cfg)
 {
@@ -186,7 +173,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
     for (i = 0; i < n_child; i++) {
         sfit_status_t si;
         seen[i] = 0u;
-        if (prv_has_nan(child[i].v)) {
+        if (sfit_i_has_nan3(child[i].v)) {
             continue;
         }
         si = sfit_i_check_sample(child[i].v);
@@ -233,41 +220,6 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
     if (pose != NULL) {
         *pose = ps;
     }
-    return SFIT_OK;
-}
-
-sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii)
-{
-    sfit_joint_result_t r;
-    sfit_multi_cfg_t cfg;
-    sfit_multi_noise_t noise[SFIT_JOINT_MAX_CHILD];
-    const sfit_multi_noise_t *np = NULL;
-    sfit_status_t st;
-
-    if (j == NULL || out == NULL || !prv_state_ok(j)) {
-        return SFIT_E_ARG;
-    }
-    memset(&r, 0, sizeof r);
-    cfg = j->cfg.solve;
-    if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
-        if (cfg.fit.noise != SFIT_NOISE_ISO) {
-            return SFIT_E_ARG;
-        }
-        st = sfit_joint_marker_noise(j, cfg.fit.noise_var, noise);
-        if (st != SFIT_OK) {
-            return st;
-        }
-        cfg.fit.noise = SFIT_NOISE_NONE;
-        np = noise;
-    }
-    st = prv_multi(j->child, (size_t)j->cfg.n_child, &cfg, np, &r.fit, radii);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    r.frames = j->frames;
-    r.residual_mean = j->res_mean;
-    r.residual_max = j->res_max;
-    *out = r;
     return SFIT_OK;
 }
 
@@ -443,29 +395,75 @@ static sfit_status_t prv_noise_args(const sfit_joint_t *j, float marker_var, con
     return SFIT_OK;
 }
 
+/* The models of every child marker into noise[0..n_child-1] (also on
+ * failure). */
+static sfit_status_t prv_marker_models(const sfit_joint_t *j, float marker_var,
+                                       const prv_pose_noise_t *pn, sfit_multi_noise_t *noise)
+{
+    uint32_t i, used = 0u;
+    for (i = 0; i < j->cfg.n_child; i++) {
+        memset(&noise[i], 0, sizeof noise[i]);
+        if (prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &noise[i])) {
+            used++;
+            if (!prv_scale_noise(marker_var, &noise[i])) {
+                return SFIT_E_RANGE;
+            }
+        }
+    }
+    return (used == 0u) ? SFIT_E_TOO_FEW : SFIT_OK;
+}
+
 sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
                                       sfit_multi_noise_t *noise)
 {
     sfit_multi_noise_t tmp[SFIT_JOINT_MAX_CHILD];
     prv_pose_noise_t pn;
-    uint32_t i, used = 0u;
     sfit_status_t st = prv_noise_args(j, marker_var, noise, &pn);
+    if (st == SFIT_OK) {
+        st = prv_marker_models(j, marker_var, &pn, tmp);
+    }
+    if (st == SFIT_OK) {
+        memcpy(noise, tmp, (size_t)j->cfg.n_child * sizeof tmp[0]);
+    }
+    return st;
+}
+
+sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii)
+{
+    sfit_joint_result_t r;
+    sfit_multi_cfg_t cfg;
+    sfit_multi_noise_t noise[SFIT_JOINT_MAX_CHILD];
+    const sfit_multi_noise_t *np = NULL;
+    sfit_status_t st;
+
+    if (j == NULL || out == NULL || !prv_state_ok(j)) {
+        return SFIT_E_ARG;
+    }
+    memset(&r, 0, sizeof r);
+    cfg = j->cfg.solve;
+    if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
+        if (cfg.fit.noise != SFIT_NOISE_ISO) {
+            return SFIT_E_ARG;
+        }
+        prv_pose_noise_t pn;
+        st = prv_noise_args(j, cfg.fit.noise_var, noise, &pn);
+        if (st == SFIT_OK) {
+            st = prv_marker_models(j, cfg.fit.noise_var, &pn, noise);
+        }
+        if (st != SFIT_OK) {
+            return st;
+        }
+        cfg.fit.noise = SFIT_NOISE_NONE;
+        np = noise;
+    }
+    st = prv_multi(j->child, (size_t)j->cfg.n_child, &cfg, np, &r.fit, radii);
     if (st != SFIT_OK) {
         return st;
     }
-    for (i = 0; i < j->cfg.n_child; i++) {
-        memset(&tmp[i], 0, sizeof tmp[i]);
-        if (prv_marker_noise(&j->child[i], &pn, (float)j->parent.count, &tmp[i])) {
-            used++;
-            if (!prv_scale_noise(marker_var, &tmp[i])) {
-                return SFIT_E_RANGE;
-            }
-        }
-    }
-    if (used == 0u) {
-        return SFIT_E_TOO_FEW;
-    }
-    memcpy(noise, tmp, (size_t)j->cfg.n_child * sizeof tmp[0]);
+    r.frames = j->frames;
+    r.residual_mean = j->res_mean;
+    r.residual_max = j->res_max;
+    *out = r;
     return SFIT_OK;
 }
 
@@ -508,7 +506,6 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
     sfit_pose_t ps;
     sfit_vec3_t c, a;
     sfit_status_t st;
-    int i;
 
     if (j == NULL || res == NULL || parent == NULL || center == NULL || !prv_state_ok(j)) {
         return SFIT_E_ARG;
@@ -518,11 +515,7 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
         return st;
     }
     (void)sfit_pose_to_global(&ps, &res->fit.center, &c);
-    for (i = 0; i < 3; i++) {
-        const float *rr = &ps.r.m[3 * i];
-        a.v[i] = rr[0] * res->fit.axis.v[0] + rr[1] * res->fit.axis.v[1]
-                 + rr[2] * res->fit.axis.v[2];
-    }
+    sfit_i_mat3_vec(&ps.r, res->fit.axis.v, a.v);
     if (sfit_i_check_sample(c.v) != SFIT_OK || sfit_i_check_sample(a.v) != SFIT_OK) {
         return SFIT_E_RANGE;
     }
@@ -543,20 +536,16 @@ typedef struct prv_cov_marker {
 
 /* A = sum w_p (C_p - Sigma_p) of the solve that gave the result (the noise
  * model of the joint's options), and each marker's mean and v_p. */
-static sfit_status_t prv_cov_system(const sfit_joint_t *j, prv_cov_marker_t *cm, sfit_mat3_t *a)
+static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_t *pn,
+                                    prv_cov_marker_t *cm, sfit_mat3_t *a)
 {
-    sfit_multi_noise_t noise[SFIT_JOINT_MAX_CHILD];
+    sfit_multi_noise_t one;
     sfit_mat3_t sg_cfg;
     const sfit_fit_cfg_t *fc = &j->cfg.solve.fit;
+    const int marker = (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER);
     uint64_t sum_n1 = 0u;
     uint32_t i, used = 0u;
     int k;
-    if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
-        sfit_status_t st = sfit_joint_marker_noise(j, fc->noise_var, noise);
-        if (st != SFIT_OK) {
-            return st;
-        }
-    }
     sfit_i_sigma(fc->noise, fc->noise_var, &fc->noise_cov, &sg_cfg);
     for (i = 0; i < j->cfg.n_child; i++) {
         const uint32_t n = prv_acc_count(&j->child[i]);
@@ -582,10 +571,14 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, prv_cov_marker_t *cm,
         if (j->cfg.solve.weight == SFIT_MULTI_WEIGHT_SAMPLES) {
             w = ((float)(n - 1u) * (float)used) / (float)sum_n1;
         }
+        if (marker) {
+            (void)prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one);
+            if (!prv_scale_noise(fc->noise_var, &one)) {
+                return SFIT_E_RANGE;
+            }
+        }
         for (k = 0; k < 9; k++) {
-            const float s = (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) ? noise[i].cov.m[k]
-                                                                             : sg_cfg.m[k];
-            a->m[k] += w * (c.m[k] - s);
+            a->m[k] += w * (c.m[k] - (marker ? one.cov.m[k] : sg_cfg.m[k]));
         }
         for (k = 0; k < 3; k++) {
             cm[i].m[k] = mean.v[k];
@@ -643,7 +636,7 @@ static void prv_cov_frame(const sfit_joint_t *j, const prv_cov_marker_t *cm, con
     for (i = 0; i < j->cfg.n_child; i++) {
         sfit_vec3_t y;
         float b[3], a[3], f;
-        if (!cm[i].used || prv_has_nan(child[i].v)) {
+        if (!cm[i].used || sfit_i_has_nan3(child[i].v)) {
             continue;
         }
         (void)sfit_pose_to_segment(ps, &child[i], &y);
@@ -697,7 +690,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
     if (nf == 0u) {
         return SFIT_E_TOO_FEW;
     }
-    st = prv_cov_system(j, cm, &a);
+    st = prv_cov_system(j, &pn, cm, &a);
     if (st != SFIT_OK) {
         return st;
     }
@@ -725,7 +718,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
         int bad = 0;
         for (i = 0u; i < nc; i++) {
             const float *x = child[f * nc + i].v;
-            bad |= (!prv_has_nan(x) && sfit_i_check_sample(x) != SFIT_OK);
+            bad |= (!sfit_i_has_nan3(x) && sfit_i_check_sample(x) != SFIT_OK);
         }
         if (bad || sfit_cluster_register(&j->parent, &parent[f * np], np, &ps, NULL) != SFIT_OK) {
             continue; /* a frame sfit_joint_add() rejects */

@@ -207,14 +207,20 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
         prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
             sys.c.m[i] += w * pm.c.m[i];
-            sg_sum.m[i] += w * sg.m[i];
+        }
+        if (noise != NULL) { /* one Sigma_hat: (sum w_p) Sigma_hat below */
+            for (i = 0; i < 9; i++) {
+                sg_sum.m[i] += w * sg.m[i];
+            }
+            for (i = 0; i < 3; i++) {
+                pm.s2[i] -= half_skew[i];
+            }
         }
         for (i = 0; i < 3; i++) {
             const float *ci = &pm.c.m[3 * i];
             const float *si = &sg.m[3 * i];
-            const float t = (pm.s2[i] - half_skew[i])
-                            + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
-                               + (ci[2] - si[2]) * pm.dm[2]);
+            const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
+                                        + (ci[2] - si[2]) * pm.dm[2]);
             sys.rhs.v[i] += w * t;
             dbar[i] += w * pm.dm[i];
         }
