@@ -228,28 +228,10 @@ static void prv_refine(const float h[9], sfit_mat3_t *r)
     *r = rn;
 }
 
-sfit_status_t sfit_cluster_init(sfit_cluster_t *cl, const sfit_vec3_t *tpl, size_t count)
-{
-    sfit_vec3_t tmp[SFIT_CLUSTER_MAX_MARKERS];
-    sfit_status_t st;
-    size_t i;
-
-    if (cl == NULL || tpl == NULL || !prv_count_ok(count)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_centre_all(tpl, count, tmp); /* validation only */
-    if (st != SFIT_OK) {
-        return st;
-    }
-    memset(cl, 0, sizeof *cl);
-    cl->count = (uint32_t)count;
-    for (i = 0; i < count; i++) {
-        cl->pos[i] = tpl[i];
-    }
-    return SFIT_OK;
-}
-
-sfit_status_t sfit_cluster_from_frame(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_t count)
+/* A template from count points: validated (finite, in range, not
+ * collinear), stored as given (centred = 0) or about their centroid. */
+static sfit_status_t prv_store(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_t count,
+                               int centred)
 {
     sfit_vec3_t tmp[SFIT_CLUSTER_MAX_MARKERS];
     sfit_status_t st;
@@ -265,9 +247,19 @@ sfit_status_t sfit_cluster_from_frame(sfit_cluster_t *cl, const sfit_vec3_t *pts
     memset(cl, 0, sizeof *cl);
     cl->count = (uint32_t)count;
     for (i = 0; i < count; i++) {
-        cl->pos[i] = tmp[i];
+        cl->pos[i] = centred ? tmp[i] : pts[i];
     }
     return SFIT_OK;
+}
+
+sfit_status_t sfit_cluster_init(sfit_cluster_t *cl, const sfit_vec3_t *tpl, size_t count)
+{
+    return prv_store(cl, tpl, count, 0);
+}
+
+sfit_status_t sfit_cluster_from_frame(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_t count)
+{
+    return prv_store(cl, pts, count, 1);
 }
 
 sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *frames,
@@ -291,11 +283,8 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
             break;
         }
     }
-    if (st == SFIT_E_NO_CONVERGENCE) {
-        return st;
-    }
     if (st != SFIT_OK) {
-        return SFIT_E_TOO_FEW;
+        return (st == SFIT_E_NO_CONVERGENCE) ? st : SFIT_E_TOO_FEW;
     }
     for (i = 0; i < count; i++) {
         mean[i] = ref.pos[i];
@@ -338,12 +327,13 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
 {
     uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
     float xr[3], dx[3], pr[3], dp[3];
-    float h[9], hmax, inv, e2, n;
+    float qc[SFIT_CLUSTER_MAX_MARKERS][3], pc[SFIT_CLUSTER_MAX_MARKERS][3];
+    float h[9], hmax, inv, e2;
     float v1[3], v2[3], v3[3], u1[3], u2[3], u3[3], a;
     sfit_mat3_t k, vv, r;
     sfit_vec3_t t;
     sfit_status_t st = SFIT_OK;
-    size_t i, nseen = 0;
+    size_t i, nseen = 0, nc = 0;
     int ii, jj;
 
     memset(seen, 0, sizeof seen);
@@ -355,22 +345,14 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
      * template that is not finite or in range is a garbage struct. */
     for (i = 0; i < count; i++) {
         sfit_status_t si;
-        seen[i] = 0u;
         if (sfit_i_check_sample(cl->pos[i].v) != SFIT_OK) {
             return SFIT_E_ARG;
         }
-        if (sfit_i_has_nan3(meas[i].v)) {
-            continue;
-        }
-        si = sfit_i_check_sample(meas[i].v);
-        if (si == SFIT_E_NONFINITE) {
+        si = sfit_i_check_marker(meas[i].v, &seen[i], &st);
+        if (si != SFIT_OK) {
             return si;
         }
-        if (si != SFIT_OK) {
-            st = si;
-        }
-        seen[i] = 1u;
-        nseen++;
+        nseen += seen[i];
     }
     if (nseen < 3u) {
         return SFIT_E_TOO_FEW; /* the status rule: TOO_FEW before RANGE */
@@ -381,20 +363,22 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     prv_centroid(meas, count, seen, xr, dx);
     prv_centroid(cl->pos, count, seen, pr, dp);
 
-    /* H = sum q p^T, centred. */
+    /* The seen markers, centred: q measured, p template. */
+    for (i = 0; i < count; i++) {
+        if (seen[i] != 0u) {
+            prv_centred(meas[i].v, xr, dx, qc[nc]);
+            prv_centred(cl->pos[i].v, pr, dp, pc[nc]);
+            nc++;
+        }
+    }
+    /* H = sum q p^T. */
     for (ii = 0; ii < 9; ii++) {
         h[ii] = 0.0f;
     }
-    for (i = 0; i < count; i++) {
-        float p[3], q[3];
-        if (seen[i] == 0u) {
-            continue;
-        }
-        prv_centred(meas[i].v, xr, dx, q);
-        prv_centred(cl->pos[i].v, pr, dp, p);
+    for (i = 0; i < nc; i++) {
         for (ii = 0; ii < 3; ii++) {
             for (jj = 0; jj < 3; jj++) {
-                h[3 * ii + jj] += q[ii] * p[jj];
+                h[3 * ii + jj] += qc[i][ii] * pc[i][jj];
             }
         }
     }
@@ -435,23 +419,15 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         u1[ii] = h[3 * ii] * v1[0] + h[3 * ii + 1] * v1[1] + h[3 * ii + 2] * v1[2];
         u2[ii] = h[3 * ii] * v2[0] + h[3 * ii + 1] * v2[1] + h[3 * ii + 2] * v2[2];
     }
-    a = SFIT_SQRTF(sfit_i_dot3(u1, u1));
-    if (!(a > 0.0f)) {
+    if (!sfit_i_unit3(u1, &a)) {
         return SFIT_E_DEGENERATE;
-    }
-    for (ii = 0; ii < 3; ii++) {
-        u1[ii] /= a;
     }
     a = sfit_i_dot3(u1, u2);
     for (ii = 0; ii < 3; ii++) {
         u2[ii] -= a * u1[ii];
     }
-    a = SFIT_SQRTF(sfit_i_dot3(u2, u2));
-    if (!(a > 0.0f)) {
+    if (!sfit_i_unit3(u2, &a)) {
         return SFIT_E_DEGENERATE;
-    }
-    for (ii = 0; ii < 3; ii++) {
-        u2[ii] /= a;
     }
     prv_cross(u1, u2, u3);
     prv_cross(v1, v2, v3);
@@ -471,22 +447,13 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     }
     /* Residual from the centred points (no cancellation). */
     e2 = 0.0f;
-    n = 0.0f;
-    for (i = 0; i < count; i++) {
-        float p[3], q[3];
-        if (seen[i] == 0u) {
-            continue;
-        }
-        prv_centred(meas[i].v, xr, dx, q);
-        prv_centred(cl->pos[i].v, pr, dp, p);
+    for (i = 0; i < nc; i++) {
         for (ii = 0; ii < 3; ii++) {
-            const float e = r.m[3 * ii] * p[0] + r.m[3 * ii + 1] * p[1] + r.m[3 * ii + 2] * p[2]
-                            - q[ii];
+            const float e = sfit_i_dot3(&r.m[3 * ii], pc[i]) - qc[i][ii];
             e2 += e * e;
         }
-        n += 1.0f;
     }
-    e2 = SFIT_SQRTF(e2 / n);
+    e2 = SFIT_SQRTF(e2 / (float)nc);
     if (!sfit_i_isfinite(e2) || sfit_i_check_sample(t.v) != SFIT_OK) {
         return SFIT_E_RANGE;
     }

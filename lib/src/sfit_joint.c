@@ -171,19 +171,10 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
      * reported in the order of the status rule (after the parent's
      * NONFINITE and TOO_FEW, before its DEGENERATE). */
     for (i = 0; i < n_child; i++) {
-        sfit_status_t si;
-        seen[i] = 0u;
-        if (sfit_i_has_nan3(child[i].v)) {
-            continue;
-        }
-        si = sfit_i_check_sample(child[i].v);
-        if (si == SFIT_E_NONFINITE) {
+        const sfit_status_t si = sfit_i_check_marker(child[i].v, &seen[i], &child_st);
+        if (si != SFIT_OK) {
             return si;
         }
-        if (si != SFIT_OK) {
-            child_st = si;
-        }
-        seen[i] = 1u;
     }
     st = sfit_cluster_register(&j->parent, parent, n_parent, &ps, &fit);
     if (st == SFIT_E_NONFINITE || st == SFIT_E_TOO_FEW || st == SFIT_E_ARG) {
@@ -714,13 +705,15 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
     for (f = 0u; f < nf; f++) {
         sfit_pose_t ps;
         const size_t np = (size_t)j->parent.count, nc = (size_t)j->cfg.n_child;
+        sfit_status_t bad = SFIT_OK;
         size_t i;
-        int bad = 0;
+        uint8_t seen;
         for (i = 0u; i < nc; i++) {
-            const float *x = child[f * nc + i].v;
-            bad |= (!sfit_i_has_nan3(x) && sfit_i_check_sample(x) != SFIT_OK);
+            if (sfit_i_check_marker(child[f * nc + i].v, &seen, &bad) != SFIT_OK) {
+                bad = SFIT_E_NONFINITE;
+            }
         }
-        if (bad || sfit_cluster_register(&j->parent, &parent[f * np], np, &ps, NULL) != SFIT_OK) {
+        if (bad != SFIT_OK || sfit_cluster_register(&j->parent, &parent[f * np], np, &ps, NULL) != SFIT_OK) {
             continue; /* a frame sfit_joint_add() rejects */
         }
         prv_cov_frame(j, cm, c, &seta, &ps, &child[f * nc], &acc);

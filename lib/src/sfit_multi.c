@@ -131,6 +131,44 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
     return r2;
 }
 
+/* What the radius passes read. */
+typedef struct prv_radii {
+    const sfit_moments_t *markers;
+    size_t count;
+    const float *origin_ref, *d_ref;
+    const sfit_mat3_t *sg_cfg;
+    const sfit_multi_noise_t *noise;
+    const float *wc;
+    const sfit_i_solution_t *sol;
+} prv_radii_t;
+
+/* The radius of every marker (0 for an unused one): checked (out NULL:
+ * SFIT_E_NOT_POSDEF for r_p^2 <= 0, SFIT_E_RANGE when not finite) or
+ * written to out (after a successful check). */
+static sfit_status_t prv_radii(const prv_radii_t *rc, float *out)
+{
+    size_t p;
+    for (p = 0u; p < rc->count; p++) {
+        prv_marker_t pm;
+        sfit_mat3_t sg;
+        float half_skew[3], r2 = 0.0f;
+        if (prv_used(&rc->markers[p], rc->origin_ref, rc->d_ref, &pm)) {
+            prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew);
+            r2 = prv_radius2(&pm, &sg, rc->wc, rc->sol);
+            if (out == NULL && !(r2 > 0.0f)) {
+                return SFIT_E_NOT_POSDEF;
+            }
+            if (out == NULL && !sfit_i_isfinite(r2)) {
+                return SFIT_E_RANGE;
+            }
+        }
+        if (out != NULL) {
+            out[p] = (r2 > 0.0f) ? SFIT_SQRTF(r2) : 0.0f;
+        }
+    }
+    return SFIT_OK;
+}
+
 /* The fit with Sigma_hat from cfg (noise NULL) or one noise model per
  * marker (validated by the caller). */
 static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
@@ -140,6 +178,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
     sfit_multi_result_t r;
+    prv_radii_t rc_radii;
     sfit_mat3_t sg_cfg, sg, sg_sum;
     float half_skew[3];
     const float *origin_ref = NULL;
@@ -254,19 +293,14 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 3: every radius must be real before anything is written. */
-    for (p = 0u; p < count; p++) {
-        prv_marker_t pm;
-        float r2;
-        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
-            continue;
+    {
+        const prv_radii_t rc = {markers, count, origin_ref, d_ref, &sg_cfg, noise, wc, &sol};
+        st = prv_radii(&rc, NULL);
+        if (st != SFIT_OK) {
+            return st;
         }
-        prv_noise(&sg_cfg, noise, p, &sg, half_skew);
-        r2 = prv_radius2(&pm, &sg, wc, &sol);
-        if (!(r2 > 0.0f)) {
-            return SFIT_E_NOT_POSDEF;
-        }
-        if (!sfit_i_isfinite(r2)) {
-            return SFIT_E_RANGE;
+        if (radii != NULL) { /* pass 4 (after the centre's check below) */
+            rc_radii = rc;
         }
     }
 
@@ -280,23 +314,14 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     r.n_total = (uint32_t)n_total;
     r.markers = used;
     r.skipped = skipped;
-    r.eigenvalues = sol.eigenvalues;
-    r.axis = sol.axis;
-    r.leontief_ratio = sol.rho;
-    r.trust_ratio = sol.rho / (1.0f + sol.rho);
+    sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
     r.flags = sol.flags | flags;
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
 
     /* Pass 4: write the radii (all checked above). */
     if (radii != NULL) {
-        for (p = 0u; p < count; p++) {
-            prv_marker_t pm;
-            prv_noise(&sg_cfg, noise, p, &sg, half_skew);
-            radii[p] = prv_used(&markers[p], origin_ref, d_ref, &pm)
-                           ? SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol))
-                           : 0.0f;
-        }
+        (void)prv_radii(&rc_radii, radii);
     }
     *out = r;
     return SFIT_OK;

@@ -31,6 +31,17 @@ typedef struct sfit_i_solution {
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
 } sfit_i_solution_t;
 
+/** @brief The solution's summary in a result: eigenvalues, axis, Leontief
+ * ratio rho and trust ratio rho / (1 + rho). */
+SFIT_INLINE void sfit_i_solution_out(const sfit_i_solution_t *sol, sfit_vec3_t *eig,
+                                     sfit_vec3_t *axis, float *leontief, float *trust)
+{
+    *eig = sol->eigenvalues;
+    *axis = sol->axis;
+    *leontief = sol->rho;
+    *trust = sol->rho / (1.0f + sol->rho);
+}
+
 /** @brief Validate a noise model (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov);
 
