@@ -93,6 +93,44 @@ static void prv_centred(const float x[3], const float ref[3], const float d[3], 
     }
 }
 
+/* The seen markers of a frame and their centroids (ref + d). */
+typedef struct prv_frame {
+    const sfit_vec3_t *meas, *tpl;
+    const uint8_t *seen;
+    size_t count;
+    const float *xr, *dx, *pr, *dp;
+} prv_frame_t;
+
+/* Over the seen markers, centred (q measured, p template): h = sum q p^T
+ * (r NULL; returns 0), or the sum of |r p - q|^2 (h NULL). */
+SFIT_INLINE float prv_pairs(const prv_frame_t *fr, const sfit_mat3_t *r, float h[9])
+{
+    float e2 = 0.0f;
+    size_t i;
+    int ii, jj;
+    for (ii = 0; h != NULL && ii < 9; ii++) {
+        h[ii] = 0.0f;
+    }
+    for (i = 0; i < fr->count; i++) {
+        float p[3], q[3];
+        if (fr->seen[i] == 0u) {
+            continue;
+        }
+        prv_centred(fr->meas[i].v, fr->xr, fr->dx, q);
+        prv_centred(fr->tpl[i].v, fr->pr, fr->dp, p);
+        for (ii = 0; ii < 3; ii++) {
+            if (r != NULL) {
+                const float e = sfit_i_dot3(&r->m[3 * ii], p) - q[ii];
+                e2 += e * e;
+            }
+            for (jj = 0; h != NULL && jj < 3; jj++) {
+                h[3 * ii + jj] += q[ii] * p[jj];
+            }
+        }
+    }
+    return e2;
+}
+
 static void prv_cross(const float a[3], const float b[3], float c[3])
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
@@ -327,13 +365,13 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
 {
     uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
     float xr[3], dx[3], pr[3], dp[3];
-    float qc[SFIT_CLUSTER_MAX_MARKERS][3], pc[SFIT_CLUSTER_MAX_MARKERS][3];
+    prv_frame_t fr;
     float h[9], hmax, inv, e2;
     float v1[3], v2[3], v3[3], u1[3], u2[3], u3[3], a;
     sfit_mat3_t k, vv, r;
     sfit_vec3_t t;
     sfit_status_t st = SFIT_OK;
-    size_t i, nseen = 0, nc = 0;
+    size_t i, nseen = 0;
     int ii, jj;
 
     memset(seen, 0, sizeof seen);
@@ -363,25 +401,15 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     prv_centroid(meas, count, seen, xr, dx);
     prv_centroid(cl->pos, count, seen, pr, dp);
 
-    /* The seen markers, centred: q measured, p template. */
-    for (i = 0; i < count; i++) {
-        if (seen[i] != 0u) {
-            prv_centred(meas[i].v, xr, dx, qc[nc]);
-            prv_centred(cl->pos[i].v, pr, dp, pc[nc]);
-            nc++;
-        }
-    }
-    /* H = sum q p^T. */
-    for (ii = 0; ii < 9; ii++) {
-        h[ii] = 0.0f;
-    }
-    for (i = 0; i < nc; i++) {
-        for (ii = 0; ii < 3; ii++) {
-            for (jj = 0; jj < 3; jj++) {
-                h[3 * ii + jj] += qc[i][ii] * pc[i][jj];
-            }
-        }
-    }
+    fr.meas = meas;
+    fr.tpl = cl->pos;
+    fr.seen = seen;
+    fr.count = count;
+    fr.xr = xr;
+    fr.dx = dx;
+    fr.pr = pr;
+    fr.dp = dp;
+    (void)prv_pairs(&fr, NULL, h); /* H = sum q p^T */
     hmax = 0.0f;
     for (ii = 0; ii < 9; ii++) {
         const float ah = SFIT_FABSF(h[ii]);
@@ -446,14 +474,7 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         t.v[ii] = (xr[ii] + dx[ii]) - rp;
     }
     /* Residual from the centred points (no cancellation). */
-    e2 = 0.0f;
-    for (i = 0; i < nc; i++) {
-        for (ii = 0; ii < 3; ii++) {
-            const float e = sfit_i_dot3(&r.m[3 * ii], pc[i]) - qc[i][ii];
-            e2 += e * e;
-        }
-    }
-    e2 = SFIT_SQRTF(e2 / (float)nc);
+    e2 = SFIT_SQRTF(prv_pairs(&fr, &r, NULL) / (float)nseen);
     if (!sfit_i_isfinite(e2) || sfit_i_check_sample(t.v) != SFIT_OK) {
         return SFIT_E_RANGE;
     }
