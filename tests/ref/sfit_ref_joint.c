@@ -198,90 +198,6 @@ static int ref_inv3(const double a[9], double inv[9])
     return 1;
 }
 
-int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, size_t n,
-                           double var, double cov9[9], double skew[3])
-{
-    double pb[3] = {0.0, 0.0, 0.0}, jm[9], k[9], mean[3] = {0.0, 0.0, 0.0};
-    long double cv[9], sk[3];
-    size_t i;
-    int a, b, c;
-    if (tpl == NULL || xs == NULL || np < 3 || n < 2) {
-        return -1;
-    }
-    for (i = 0; i < np; i++) {
-        for (a = 0; a < 3; a++) {
-            pb[a] += tpl[i][a] / (double)np;
-        }
-    }
-    memset(jm, 0, sizeof jm);
-    for (i = 0; i < np; i++) {
-        double p[3], p2 = 0.0;
-        for (a = 0; a < 3; a++) {
-            p[a] = tpl[i][a] - pb[a];
-            p2 += p[a] * p[a];
-        }
-        for (a = 0; a < 3; a++) {
-            for (b = 0; b < 3; b++) {
-                jm[3 * a + b] += (a == b ? p2 : 0.0) - p[a] * p[b];
-            }
-        }
-    }
-    if (!ref_inv3(jm, k)) {
-        return -1;
-    }
-    for (i = 0; i < n; i++) {
-        for (a = 0; a < 3; a++) {
-            mean[a] += xs[3 * i + (size_t)a] / (double)n;
-        }
-    }
-    memset(cv, 0, sizeof cv);
-    memset(sk, 0, sizeof sk);
-    for (i = 0; i < n; i++) {
-        double u[3], x[9], xk[9], sg[9], tr;
-        for (a = 0; a < 3; a++) {
-            u[a] = xs[3 * i + (size_t)a] - pb[a];
-        }
-        /* x = [u]x */
-        x[0] = 0.0; x[1] = -u[2]; x[2] = u[1];
-        x[3] = u[2]; x[4] = 0.0; x[5] = -u[0];
-        x[6] = -u[1]; x[7] = u[0]; x[8] = 0.0;
-        for (a = 0; a < 3; a++) {
-            for (b = 0; b < 3; b++) {
-                xk[3 * a + b] = 0.0;
-                for (c = 0; c < 3; c++) {
-                    xk[3 * a + b] += x[3 * a + c] * k[3 * c + b];
-                }
-            }
-        }
-        for (a = 0; a < 3; a++) {
-            for (b = 0; b < 3; b++) {
-                double v = (a == b) ? 1.0 + 1.0 / (double)np : 0.0;
-                for (c = 0; c < 3; c++) {
-                    v += xk[3 * a + c] * x[3 * b + c];
-                }
-                sg[3 * a + b] = var * v;
-                cv[3 * a + b] += (long double)sg[3 * a + b] / (long double)n;
-            }
-        }
-        tr = sg[0] + sg[4] + sg[8];
-        for (a = 0; a < 3; a++) {
-            long double t = 0.0L;
-            for (b = 0; b < 3; b++) {
-                const double m = 2.0 * sg[3 * a + b] + (a == b ? tr : 0.0);
-                t += (long double)m * (long double)(xs[3 * i + (size_t)b] - mean[b]);
-            }
-            sk[a] += t / (long double)n;
-        }
-    }
-    for (a = 0; a < 9; a++) {
-        cov9[a] = (double)cv[a];
-    }
-    for (a = 0; a < 3; a++) {
-        skew[a] = (double)sk[a];
-    }
-    return 0;
-}
-
 /* [e]x K [e]x^T */
 static void ref_cross_sandwich(const double e[3], const double k[9], double out[9])
 {
@@ -308,38 +224,96 @@ static void ref_cross_sandwich(const double e[3], const double k[9], double out[
     }
 }
 
-int ref_joint_center_cov(const double (*tpl)[3], size_t np, const double *const *xs, size_t m,
-                         size_t n, const double *cov9, const double c[3], const double *axis,
-                         double var, double cov[9])
+/* Template centroid pb and K = J^-1, J = sum (|p - pb|^2 I - (p - pb)(p - pb)^T);
+ * 0 when J is singular. */
+static int ref_pose_noise(const double (*tpl)[3], size_t np, double pb[3], double k[9])
 {
-    double pb[3] = {0.0, 0.0, 0.0}, jm[9], k[9], e[3], sg[9], a[9], ai[9], mm[9], t[9];
-    double mean[8][3];
-    const double v = 1.0 / ((double)n - 1.0);
-    size_t i, p, f;
-    int r, q, l;
-    if (tpl == NULL || xs == NULL || c == NULL || cov == NULL || np < 3 || m == 0 || m > 8
-        || n < 2) {
-        return -1;
+    double jm[9];
+    size_t i;
+    int a, b;
+    for (a = 0; a < 3; a++) {
+        pb[a] = 0.0;
     }
     for (i = 0; i < np; i++) {
-        for (r = 0; r < 3; r++) {
-            pb[r] += tpl[i][r] / (double)np;
+        for (a = 0; a < 3; a++) {
+            pb[a] += tpl[i][a] / (double)np;
         }
     }
     memset(jm, 0, sizeof jm);
     for (i = 0; i < np; i++) {
-        double d[3], d2 = 0.0;
-        for (r = 0; r < 3; r++) {
-            d[r] = tpl[i][r] - pb[r];
-            d2 += d[r] * d[r];
+        double p[3], p2 = 0.0;
+        for (a = 0; a < 3; a++) {
+            p[a] = tpl[i][a] - pb[a];
+            p2 += p[a] * p[a];
         }
-        for (r = 0; r < 3; r++) {
-            for (q = 0; q < 3; q++) {
-                jm[3 * r + q] += (r == q ? d2 : 0.0) - d[r] * d[q];
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                jm[3 * a + b] += (a == b ? p2 : 0.0) - p[a] * p[b];
             }
         }
     }
-    if (!ref_inv3(jm, k)) {
+    return ref_inv3(jm, k);
+}
+
+int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, size_t n,
+                           double var, double cov9[9], double skew[3])
+{
+    double pb[3], k[9], mean[3] = {0.0, 0.0, 0.0};
+    long double cv[9], sk[3];
+    size_t i;
+    int a, b;
+    if (tpl == NULL || xs == NULL || np < 3 || n < 2 || !ref_pose_noise(tpl, np, pb, k)) {
+        return -1;
+    }
+    for (i = 0; i < n; i++) {
+        for (a = 0; a < 3; a++) {
+            mean[a] += xs[3 * i + (size_t)a] / (double)n;
+        }
+    }
+    memset(cv, 0, sizeof cv);
+    memset(sk, 0, sizeof sk);
+    for (i = 0; i < n; i++) {
+        double u[3], q[9], sg[9], tr;
+        for (a = 0; a < 3; a++) {
+            u[a] = xs[3 * i + (size_t)a] - pb[a];
+        }
+        ref_cross_sandwich(u, k, q); /* [u]x K [u]x^T */
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                sg[3 * a + b] = var * (((a == b) ? 1.0 + 1.0 / (double)np : 0.0) + q[3 * a + b]);
+                cv[3 * a + b] += (long double)sg[3 * a + b] / (long double)n;
+            }
+        }
+        tr = sg[0] + sg[4] + sg[8];
+        for (a = 0; a < 3; a++) {
+            long double t = 0.0L;
+            for (b = 0; b < 3; b++) {
+                const double m = 2.0 * sg[3 * a + b] + (a == b ? tr : 0.0);
+                t += (long double)m * (long double)(xs[3 * i + (size_t)b] - mean[b]);
+            }
+            sk[a] += t / (long double)n;
+        }
+    }
+    for (a = 0; a < 9; a++) {
+        cov9[a] = (double)cv[a];
+    }
+    for (a = 0; a < 3; a++) {
+        skew[a] = (double)sk[a];
+    }
+    return 0;
+}
+
+int ref_joint_center_cov(const double (*tpl)[3], size_t np, const double *const *xs, size_t m,
+                         size_t n, const double *cov9, const double c[3], const double *axis,
+                         double var, double cov[9])
+{
+    double pb[3], k[9], e[3], sg[9], a[9], ai[9], mm[9], t[9];
+    double mean[8][3];
+    const double v = 1.0 / ((double)n - 1.0);
+    size_t p, f;
+    int r, q, l;
+    if (tpl == NULL || xs == NULL || c == NULL || cov == NULL || np < 3 || m == 0 || m > 8
+        || n < 2 || !ref_pose_noise(tpl, np, pb, k)) {
         return -1;
     }
     for (r = 0; r < 3; r++) {
