@@ -51,25 +51,6 @@ static sfit_vec3_t g_parf[FMAX][P], g_chif[FMAX][K];
 static double g_pard[FMAX][P][3], g_chid[FMAX][K][3];
 static size_t g_nf;
 
-static void rot_axis_angle(const double ax[3], double ang, double r[9])
-{
-    double a[3], n = tu_norm3(ax), c = cos(ang), s = sin(ang), C;
-    int i;
-    for (i = 0; i < 3; i++) {
-        a[i] = ax[i] / n;
-    }
-    C = 1.0 - c;
-    r[0] = c + a[0] * a[0] * C;
-    r[1] = a[0] * a[1] * C - a[2] * s;
-    r[2] = a[0] * a[2] * C + a[1] * s;
-    r[3] = a[1] * a[0] * C + a[2] * s;
-    r[4] = c + a[1] * a[1] * C;
-    r[5] = a[1] * a[2] * C - a[0] * s;
-    r[6] = a[2] * a[0] * C - a[1] * s;
-    r[7] = a[2] * a[1] * C + a[0] * s;
-    r[8] = c + a[2] * a[2] * C;
-}
-
 static void unit_axis(double a[3])
 {
     double n = tu_norm3(g_axis0);
@@ -97,7 +78,7 @@ static void make_motion(uint64_t seed, size_t nf, int hinge)
         for (k = 0; k < 3; k++) {
             dir[k] = tu_rng_gauss(&g);
         }
-        rot_axis_angle(dir, TU_PI * tu_rng_uniform(&g), g_r[f]);
+        tu_rot_axis_angle(dir, TU_PI * tu_rng_uniform(&g), g_r[f]);
         for (k = 0; k < 3; k++) {
             dir[k] = tu_rng_gauss(&g);
         }
@@ -107,12 +88,12 @@ static void make_motion(uint64_t seed, size_t nf, int hinge)
             g_t[f][k] = dir[k] / n * dist;
         }
         if (hinge) {
-            rot_axis_angle(ax, (-10.0 + 120.0 * tu_rng_uniform(&g)) * TU_PI / 180.0, q);
+            tu_rot_axis_angle(ax, (-10.0 + 120.0 * tu_rng_uniform(&g)) * TU_PI / 180.0, q);
         } else {
             for (k = 0; k < 3; k++) {
                 dir[k] = tu_rng_gauss(&g);
             }
-            rot_axis_angle(dir, 60.0 * TU_PI / 180.0 * tu_rng_uniform(&g), q);
+            tu_rot_axis_angle(dir, 60.0 * TU_PI / 180.0 * tu_rng_uniform(&g), q);
         }
         for (i = 0; i < P; i++) {
             ref_pose_to_global(g_r[f], g_t[f], g_tpl[i], g_par0[f][i]);

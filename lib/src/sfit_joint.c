@@ -330,7 +330,7 @@ static int prv_marker_noise(const sfit_moments_t *acc, const prv_pose_noise_t *p
     /* M = K [a]x: column k of [a]x is a x e_k */
     for (r = 0; r < 3; r++) {
         const float *kr = &pn->k.m[3 * r];
-        mk.m[3 * r + 0] = kr[1] * a[2] - kr[2] * a[1];
+        mk.m[3 * r] = kr[1] * a[2] - kr[2] * a[1];
         mk.m[3 * r + 1] = kr[2] * a[0] - kr[0] * a[2];
         mk.m[3 * r + 2] = kr[0] * a[1] - kr[1] * a[0];
     }

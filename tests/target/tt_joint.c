@@ -34,28 +34,12 @@ static double tt_xs[TT_JC][TT_JF][3];
 
 static void tt_rot(tu_rng_t *g, double maxang, double r[9])
 {
-    double a[3], n, ang, c, s, t;
+    double a[3];
     int k;
     for (k = 0; k < 3; k++) {
         a[k] = tu_rng_gauss(g);
     }
-    n = tu_norm3(a);
-    for (k = 0; k < 3; k++) {
-        a[k] /= n;
-    }
-    ang = maxang * tu_rng_uniform(g);
-    c = cos(ang);
-    s = sin(ang);
-    t = 1.0 - c;
-    r[0] = c + a[0] * a[0] * t;
-    r[1] = a[0] * a[1] * t - a[2] * s;
-    r[2] = a[0] * a[2] * t + a[1] * s;
-    r[3] = a[1] * a[0] * t + a[2] * s;
-    r[4] = c + a[1] * a[1] * t;
-    r[5] = a[1] * a[2] * t - a[0] * s;
-    r[6] = a[2] * a[0] * t - a[1] * s;
-    r[7] = a[2] * a[1] * t + a[0] * s;
-    r[8] = c + a[2] * a[2] * t;
+    tu_rot_axis_angle(a, maxang * tu_rng_uniform(g), r);
 }
 
 static void tt_make(uint64_t seed, double sigma)
