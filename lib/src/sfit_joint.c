@@ -563,7 +563,9 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_
             w = ((float)(n - 1u) * (float)used) / (float)sum_n1;
         }
         if (marker) {
-            (void)prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one);
+            if (!prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one)) {
+                return SFIT_E_TOO_FEW; /* not reached: the marker has samples */
+            }
             if (!prv_scale_noise(fc->noise_var, &one)) {
                 return SFIT_E_RANGE;
             }
