@@ -85,21 +85,18 @@ static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, 
 
 /* Noise of marker p: Sigma_p (full) and t_p/2; the configuration's
  * Sigma_hat and no skew when there is no per-marker model. */
-static void prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_noise_t *noise, size_t p,
-                      sfit_mat3_t *sg, float half_skew[3])
+static const sfit_mat3_t *prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_noise_t *noise,
+                                    size_t p, sfit_mat3_t *buf, float half_skew[3])
 {
     int i;
     if (noise == NULL) {
-        *sg = *sg_cfg;
-        for (i = 0; i < 3; i++) {
-            half_skew[i] = 0.0f;
-        }
-        return;
+        return sg_cfg;
     }
-    sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, sg);
+    sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, buf);
     for (i = 0; i < 3; i++) {
         half_skew[i] = 0.5f * noise[p].skew.v[i];
     }
+    return buf;
 }
 
 /* r_p^2 of one marker for the centre offset wc (= c - o). */
@@ -153,8 +150,8 @@ static sfit_status_t prv_radii(const prv_radii_t *rc, float *out)
         sfit_mat3_t sg;
         float half_skew[3], r2 = 0.0f;
         if (prv_used(&rc->markers[p], rc->origin_ref, rc->d_ref, &pm)) {
-            prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew);
-            r2 = prv_radius2(&pm, &sg, rc->wc, rc->sol);
+            r2 = prv_radius2(&pm, prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew), rc->wc,
+                             rc->sol);
             if (out == NULL && !(r2 > 0.0f)) {
                 return SFIT_E_NOT_POSDEF;
             }
@@ -237,19 +234,20 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     memset(&sg_sum, 0, sizeof sg_sum);
     for (p = 0u; p < count; p++) {
         prv_marker_t pm;
+        const sfit_mat3_t *sgp;
         float w;
         if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
             continue;
         }
         w = prv_weight(cfg, pm.n, used, sum_n1);
         sw += w;
-        prv_noise(&sg_cfg, noise, p, &sg, half_skew);
+        sgp = prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
             sys.c.m[i] += w * pm.c.m[i];
         }
         if (noise != NULL) { /* one Sigma_hat: (sum w_p) Sigma_hat below */
             for (i = 0; i < 9; i++) {
-                sg_sum.m[i] += w * sg.m[i];
+                sg_sum.m[i] += w * sgp->m[i];
             }
             for (i = 0; i < 3; i++) {
                 pm.s2[i] -= half_skew[i];
@@ -257,7 +255,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
         }
         for (i = 0; i < 3; i++) {
             const float *ci = &pm.c.m[3 * i];
-            const float *si = &sg.m[3 * i];
+            const float *si = &sgp->m[3 * i];
             const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
                                         + (ci[2] - si[2]) * pm.dm[2]);
             sys.rhs.v[i] += w * t;

@@ -152,8 +152,8 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 5 child markers: 942 FLOPs, 6345 M4F instructions (tools/flopcount "joint_fit");
- * with SFIT_JOINT_NOISE_MARKER 3288 FLOPs, 26738 instructions ("joint_fit_marker").
+ * @par Cost 5 child markers: 942 FLOPs, 6121 M4F instructions (tools/flopcount "joint_fit");
+ * with SFIT_JOINT_NOISE_MARKER 3273 FLOPs, 26584 instructions ("joint_fit_marker").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 

@@ -118,7 +118,7 @@ typedef struct sfit_multi_noise {
  * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
  * @retval SFIT_E_NO_CONVERGENCE  as sfit_multi_fit()
  * @retval SFIT_E_RANGE       as sfit_multi_fit()
- * @par Cost 8 markers: 2165 FLOPs, 15985 M4F instructions (tools/flopcount
+ * @par Cost 8 markers: 2117 FLOPs, 15581 M4F instructions (tools/flopcount
  * "multi_solve_noise_total"; sfit_multi_fit() on them: 1616).
  */
 sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
