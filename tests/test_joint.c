@@ -709,9 +709,15 @@ static void mc_run(const sfit_joint_cfg_t *cfg, uint64_t seed, double sp, const 
         }
         if (cov_tr != NULL) { /* the reported covariance (every marker: sigma^2) */
             sfit_mat3_t cov;
-            assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf,
-                                                   (float)(MC_SIGMA * MC_SIGMA), &cov),
-                             SFIT_OK);
+            if (sp > 0.0) { /* the parent's pose error shared by the child markers */
+                assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0],
+                                                       g_nf, (float)(MC_SIGMA * MC_SIGMA), &cov),
+                                 SFIT_OK);
+            } else { /* exact parent: independent child noise, the multi-marker formula */
+                assert_int_equal(sfit_multi_center_cov(g_j.child, K, &cfg->solve, &res.fit,
+                                                       (float)(MC_SIGMA * MC_SIGMA), &cov),
+                                 SFIT_OK);
+            }
             *cov_tr += ((double)cov.m[0] + (double)cov.m[4] + (double)cov.m[8]) / MC_T;
         }
         if (normal != NULL) {
@@ -781,10 +787,12 @@ static void test_mc_ball(void **state)
         predict(0, &nz, &pr);
         combine(&pr, sp, MC_SIGMA, NULL, b, &mse, ba, &msea);
         mc_run(&cfg, 5 + (uint64_t)(run > 0), sp, NULL, err, NULL, NULL,
-               (run == 1) ? &cov_tr : NULL);
+               (run < 2) ? &cov_tr : NULL);
         mc_summary((const double (*)[3])err, MC_T, &m);
-        if (run == 1) {
-            assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b), "ball");
+        if (run < 2) {
+            assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b),
+                            run == 0 ? "ball, exact parent (sfit_multi_center_cov)"
+                                     : "ball (sfit_joint_center_cov)");
         }
         assert_mc(&m, b, mse,
                   run == 0   ? "ball, exact parent, one Sigma_hat"
@@ -1243,6 +1251,31 @@ static void test_center_cov(void **state)
         worst = fmax(worst, d / big);
         printf("  centre covariance (%s): trace %.4f mm^2\n", hinge ? "hinge" : "ball",
                want[0] + want[4] + want[8]);
+        /* the multi-marker formula (independent markers) against the double one
+         * without the parent term: within 2e-3 of the largest entry (r_p^2 and
+         * C'_p from the moments against |y - c|^2 and y y^T sample by sample) */
+        {
+            sfit_multi_cfg_t mc = sfit_multi_cfg_default;
+            sfit_multi_result_t mr;
+            double wm[9], bm = 0.0, dm = 0.0;
+            mc.fit.mode = hinge ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
+            assert_int_equal(sfit_multi_fit(g_j.child, K, &mc, &mr, NULL), SFIT_OK);
+            assert_int_equal(sfit_multi_center_cov(g_j.child, K, &mc, &mr, 0.25f, &cov), SFIT_OK);
+            tc_to_double3(&mr.center, c);
+            tc_to_double3(&mr.axis, ax);
+            assert_int_equal(ref_joint_center_cov(NULL, 0, xs, K, g_nf, NULL, c,
+                                                  hinge ? ax : NULL, 0.25, wm),
+                             0);
+            for (i = 0; i < 9; i++) {
+                bm = fmax(bm, fabs(wm[i]));
+            }
+            for (i = 0; i < 9; i++) {
+                dm = fmax(dm, fabs((double)cov.m[i] - wm[i]));
+            }
+            printf("  multi-marker centre covariance (%s) vs double: %.3g of the largest entry\n",
+                   hinge ? "hinge" : "ball", dm / bm);
+            assert_true(dm <= 2e-3 * bm); /* measured 1.6e-4 */
+        }
     }
     printf("  centre covariance vs double: %.3g of the largest entry\n", worst);
     /* contract */
@@ -1273,9 +1306,25 @@ static void test_center_cov(void **state)
     assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], 0, 0.25f,
                                            &cov), SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
+    /* sfit_multi_center_cov: the same statuses */
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, &cov), SFIT_OK);
+    cov = sent;
+    assert_int_equal(sfit_multi_center_cov(NULL, K, NULL, &res.fit, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, NULL, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, -1.0f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, NAN, &cov),
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &bad.fit, 0.25f, &cov),
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, 0, NULL, &res.fit, 0.25f, &cov),
+                     SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
                                            &cov), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, &cov),
+                     SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
 }
 

@@ -581,39 +581,6 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_
     return SFIT_OK;
 }
 
-/* A^-1 (sphere) or its pseudo-inverse normal to the unit axis ax (planar):
- * (P A P + s ax ax^T)^-1 - ax ax^T / s, P = I - ax ax^T, s = tr A (of the
- * size of the kept eigenvalues, so the factor stays well conditioned). */
-static sfit_status_t prv_cov_inverse(const sfit_mat3_t *a, const sfit_multi_result_t *fit,
-                                     sfit_mat3_t *ai)
-{
-    sfit_mat3_t pap, l;
-    const float *ax = fit->axis.v;
-    const float sc = a->m[0] + a->m[4] + a->m[8];
-    int r, s;
-    pap = *a;
-    if (fit->mode == SFIT_MODE_PLANAR) {
-        float aa[3], q;
-        sfit_i_mat3_vec(a, ax, aa);
-        q = sfit_i_dot3(ax, aa);
-        for (r = 0; r < 3; r++) {
-            for (s = 0; s < 3; s++) {
-                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + sc) * ax[r] * ax[s];
-            }
-        }
-    }
-    if (prv_chol(&pap, &l) != SFIT_OK) {
-        return SFIT_E_NOT_POSDEF;
-    }
-    sfit_i_chol_inverse(&l, ai);
-    if (fit->mode == SFIT_MODE_PLANAR) {
-        for (r = 0; r < 9; r++) {
-            ai->m[r] -= ax[r / 3] * ax[r % 3] / sc;
-        }
-    }
-    return SFIT_OK;
-}
-
 /* Add the frame's terms: child sum v_p^2 |a|^2 b b^T (packed, q[0..5]) and
  * W Sigma_eta W^T (q[6..11]), W = sum_p v_p b a^T. */
 static void prv_cov_frame(const sfit_joint_t *j, const prv_cov_marker_t *cm, const float c[3],
@@ -687,7 +654,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
     if (st != SFIT_OK) {
         return st;
     }
-    st = prv_cov_inverse(&a, &res->fit, &ai);
+    st = sfit_i_cov_inverse(&a, res->fit.mode, &res->fit.axis, &ai);
     if (st != SFIT_OK) {
         return st;
     }

@@ -364,3 +364,90 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
     }
     return prv_fit(markers, count, cfg, noise, out, radii);
 }
+
+sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
+                                    const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
+                                    float noise_var, sfit_mat3_t *cov)
+{
+    sfit_mat3_t sg, a, ai, m, t, out;
+    const float *origin_ref = NULL;
+    float d_ref[3] = {0.0f, 0.0f, 0.0f}, co[3];
+    uint64_t sum_n1 = 0u;
+    uint32_t used = 0u;
+    size_t p;
+    int i;
+    sfit_status_t st;
+
+    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
+    if (res == NULL || cov == NULL || prv_check(markers, cfg, res) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(noise_var) || !sfit_i_finite3(res->center.v)
+        || !sfit_i_finite3(res->axis.v)
+        || (res->mode != SFIT_MODE_SPHERE && res->mode != SFIT_MODE_PLANAR)) {
+        return SFIT_E_NONFINITE;
+    }
+    if (noise_var < 0.0f) {
+        return SFIT_E_ARG;
+    }
+    for (p = 0u; p < count; p++) {
+        const uint32_t n = sfit_moments_count(&markers[p]);
+        if (n >= SFIT_MIN_SAMPLES) {
+            if (origin_ref == NULL) {
+                sfit_cmom_t tot;
+                sfit_i_moments_total(&markers[p], &tot);
+                origin_ref = markers[p].origin;
+                for (i = 0; i < 3; i++) {
+                    d_ref[i] = tot.d[i];
+                }
+            }
+            used++;
+            sum_n1 += (uint64_t)(n - 1u);
+        }
+    }
+    if (used == 0u) {
+        return SFIT_E_TOO_FEW;
+    }
+    for (i = 0; i < 3; i++) { /* c - o */
+        co[i] = (res->center.v[i] - origin_ref[i]) - d_ref[i];
+    }
+    /* A = sum w_p C'_p, M = sum w_p^2 / (N_p - 1) r_p^2 C'_p */
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
+    memset(&a, 0, sizeof a);
+    memset(&m, 0, sizeof m);
+    for (p = 0u; p < count; p++) {
+        prv_marker_t pm;
+        float w, e[3], r2, f;
+        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
+            continue;
+        }
+        w = prv_weight(cfg, pm.n, used, sum_n1);
+        for (i = 0; i < 9; i++) {
+            pm.c.m[i] -= sg.m[i];
+        }
+        for (i = 0; i < 3; i++) {
+            e[i] = pm.dm[i] - co[i];
+        }
+        r2 = ((float)(pm.n - 1u) / (float)pm.n) * (pm.c.m[0] + pm.c.m[4] + pm.c.m[8])
+             + sfit_i_dot3(e, e);
+        f = w * w / (float)(pm.n - 1u) * r2;
+        for (i = 0; i < 9; i++) {
+            a.m[i] += w * pm.c.m[i];
+            m.m[i] += f * pm.c.m[i];
+        }
+    }
+    st = sfit_i_cov_inverse(&a, res->mode, &res->axis, &ai);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    sfit_i_mat3_mul(&ai, &m, &t);
+    sfit_i_mat3_mul(&t, &ai, &out);
+    for (i = 0; i < 9; i++) {
+        out.m[i] *= noise_var;
+        if (!sfit_i_isfinite(out.m[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    *cov = out;
+    return SFIT_OK;
+}

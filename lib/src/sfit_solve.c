@@ -58,6 +58,36 @@ sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg)
     return sfit_i_check_cfg(&cfg->fit);
 }
 
+sfit_status_t sfit_i_cov_inverse(const sfit_mat3_t *a, sfit_mode_t mode, const sfit_vec3_t *axis,
+                                 sfit_mat3_t *ai)
+{
+    sfit_mat3_t pap, l;
+    const float *ax = axis->v;
+    const float sc = a->m[0] + a->m[4] + a->m[8];
+    int r, s;
+    pap = *a;
+    if (mode == SFIT_MODE_PLANAR) {
+        float aa[3], q;
+        sfit_i_mat3_vec(a, ax, aa);
+        q = sfit_i_dot3(ax, aa);
+        for (r = 0; r < 3; r++) {
+            for (s = 0; s < 3; s++) {
+                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + sc) * ax[r] * ax[s];
+            }
+        }
+    }
+    if (sfit_mat3_chol(&pap, &l) != SFIT_OK) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    sfit_i_chol_inverse(&l, ai);
+    if (mode == SFIT_MODE_PLANAR) {
+        for (r = 0; r < 9; r++) {
+            ai->m[r] -= ax[r / 3] * ax[r % 3] / sc;
+        }
+    }
+    return SFIT_OK;
+}
+
 /* Sigma_hat as a full symmetric matrix (lower triangle of the option). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg)
 {

@@ -42,6 +42,16 @@ SFIT_INLINE void sfit_i_solution_out(const sfit_i_solution_t *sol, sfit_vec3_t *
     *trust = sol->rho / (1.0f + sol->rho);
 }
 
+/**
+ * @brief The inverse of a centre's system matrix a for its covariance:
+ * a^-1 (sphere) or, planar, the pseudo-inverse normal to the unit axis,
+ * (P a P + s ax ax^T)^-1 - ax ax^T / s, P = I - ax ax^T, s = tr a (the size
+ * of the kept eigenvalues, so the factor stays well conditioned).
+ * SFIT_OK or SFIT_E_NOT_POSDEF.
+ */
+sfit_status_t sfit_i_cov_inverse(const sfit_mat3_t *a, sfit_mode_t mode, const sfit_vec3_t *axis,
+                                 sfit_mat3_t *ai);
+
 /** @brief Validate a noise model (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov);
 

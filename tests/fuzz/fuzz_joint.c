@@ -278,8 +278,15 @@ static void fz_noise_models(void)
     st = sfit_multi_fit_noise(fz_s.j.child, fz_s.j.cfg.n_child, NULL, nl, &mr, NULL);
     FZ_CHECK_OUT(st, mr, "multi_fit_noise result");
     if (st == SFIT_OK) {
+        sfit_mat3_t cov;
         FZ_CHECK(fz_all_finite(mr.center.v, 3) && fz_all_finite(mr.axis.v, 3),
                  "multi_fit_noise not finite");
+        memset(&cov, FZ_SENTINEL, sizeof cov);
+        st = sfit_multi_center_cov(fz_s.j.child, fz_s.j.cfg.n_child, NULL, &mr, 0.25f, &cov);
+        FZ_CHECK_OUT(st, cov, "multi_center_cov");
+        if (st == SFIT_OK) {
+            FZ_CHECK(fz_all_finite(cov.m, 9), "multi_center_cov not finite");
+        }
     }
 }
 

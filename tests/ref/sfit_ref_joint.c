@@ -312,16 +312,19 @@ int ref_joint_center_cov(const double (*tpl)[3], size_t np, const double *const 
     const double v = 1.0 / ((double)n - 1.0);
     size_t p, f;
     int r, q, l;
-    if (tpl == NULL || xs == NULL || c == NULL || cov == NULL || np < 3 || m == 0 || m > 8
-        || n < 2 || !ref_pose_noise(tpl, np, pb, k)) {
+    if (xs == NULL || c == NULL || cov == NULL || m == 0 || m > 8 || n < 2
+        || (tpl != NULL && (np < 3 || !ref_pose_noise(tpl, np, pb, k)))) {
         return -1;
     }
-    for (r = 0; r < 3; r++) {
-        e[r] = c[r] - pb[r];
-    }
-    ref_cross_sandwich(e, k, sg);
-    for (r = 0; r < 3; r++) {
-        sg[4 * r] += 1.0 / (double)np;
+    memset(sg, 0, sizeof sg); /* no parent: independent markers, E = 0 */
+    if (tpl != NULL) {
+        for (r = 0; r < 3; r++) {
+            e[r] = c[r] - pb[r];
+        }
+        ref_cross_sandwich(e, k, sg);
+        for (r = 0; r < 3; r++) {
+            sg[4 * r] += 1.0 / (double)np;
+        }
     }
     /* A = sum (C_p - Sigma_p) */
     memset(a, 0, sizeof a);

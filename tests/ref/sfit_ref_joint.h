@@ -58,8 +58,9 @@ int ref_joint_marker_noise(const double (*tpl)[3], size_t np, const double *xs, 
  * + W_f E W_f^T], W_f = sum_p v_p (y - m_p)(y - c)^T, v_p = 1/(n - 1),
  * E = I/np + [c - pb]x J^-1 [c - pb]x^T. xs[p] holds the n mapped samples
  * of marker p (parent frame, frame f at 3 f). axis != NULL: planar, the
- * pseudo-inverse of A normal to the unit axis. Returns 0, or nonzero on bad
- * input or a singular J or A.
+ * pseudo-inverse of A normal to the unit axis. tpl == NULL: no parent (E = 0,
+ * independent markers: the multi-marker centre's covariance). Returns 0, or
+ * nonzero on bad input or a singular J or A.
  */
 int ref_joint_center_cov(const double (*tpl)[3], size_t np, const double *const *xs, size_t m,
                          size_t n, const double *cov9, const double c[3], const double *axis,

@@ -296,6 +296,29 @@ void tt_joint(void)
                         TT_NEAR(cov.m[k], want[k], 1e-3 * big);
                     }
                 }
+                /* the multi-marker formula (independent markers) */
+                {
+                    sfit_multi_result_t mr;
+                    if (TT_EQ_INT(sfit_multi_fit(jm.child, TT_JC, NULL, &mr, NULL), SFIT_OK)
+                        && TT_EQ_INT(sfit_multi_center_cov(jm.child, TT_JC, NULL, &mr, 0.25f,
+                                                           &cov),
+                                     SFIT_OK)) {
+                        for (k = 0; k < 3; k++) {
+                            cc[k] = (double)mr.center.v[k];
+                        }
+                        big = 0.0;
+                        if (TT_EQ_INT(ref_joint_center_cov(NULL, 0, xs, TT_JC, TT_JF, NULL, cc,
+                                                           NULL, 0.25, want),
+                                      0)) {
+                            for (k = 0; k < 9; k++) {
+                                big = (want[k] > big) ? want[k] : (-want[k] > big ? -want[k] : big);
+                            }
+                            for (k = 0; k < 9; k++) {
+                                TT_NEAR(cov.m[k], want[k], 2e-3 * big);
+                            }
+                        }
+                    }
+                }
             }
         }
     }

@@ -442,6 +442,12 @@ static void fc_multi_noise(void)
     fc_keep(sfit_multi_fit_noise(fc_mk, FC_NMARK, NULL, nz, &fc_mres, fc_radii));
 }
 
+static void fc_multi_cov(void)
+{
+    sfit_mat3_t cov;
+    fc_keep(sfit_multi_center_cov(fc_mk, FC_NMARK, NULL, &fc_mres, fc_sigma * fc_sigma, &cov));
+}
+
 static void fc_multi_half(void)
 {
     fc_keep(sfit_multi_fit(fc_mk, FC_NMARK / 2u, NULL, &fc_mres, fc_radii));
@@ -601,6 +607,7 @@ static const fc_op_t fc_ops[] = {
     {"multi_solve_per_marker", "sfit_multi_fit", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
     {"multi_solve_total", "sfit_multi_fit", NULL, fc_multi_all, NULL, NULL, 1u},
     {"multi_solve_noise_total", "sfit_multi_fit_noise", NULL, fc_multi_noise, NULL, NULL, 1u},
+    {"multi_center_cov", "sfit_multi_center_cov", fc_multi_all, fc_multi_cov, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_NOISE
     {"noise_calibration", "sfit_moments_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},

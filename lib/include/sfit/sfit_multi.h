@@ -125,6 +125,35 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
                                    const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
                                    sfit_multi_result_t *out, float *radii);
 
+/**
+ * @brief Covariance of a common centre, to first order, for independent
+ * isotropic noise of variance @p noise_var on every coordinate of every
+ * sample (no noise shared between markers: for a joint, whose parent pose
+ * error is shared, use sfit_joint_center_cov()):
+ * Cov = A^-1 M A^-1, A = sum w_p C'_p,
+ * M = noise_var sum_p w_p^2 / (N_p - 1) r_p^2 C'_p, r_p^2 the marker's
+ * squared distance from the centre ((N_p - 1)/N_p tr C'_p + |m_p - c|^2).
+ * Planar result: the pseudo-inverse normal to the axis (the covariance of
+ * the centre's part normal to the axis). Derivation: docs/multi.md#centre-covariance.
+ * @param[in]  markers    The accumulators that gave @p res.
+ * @param[in]  count      Number of markers.
+ * @param[in]  cfg        The options that gave @p res; NULL = ::sfit_multi_cfg_default.
+ * @param[in]  res        Result of sfit_multi_fit().
+ * @param[in]  noise_var  sigma^2 per coordinate (>= 0, finite).
+ * @param[out] cov        Centre covariance (symmetric); written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL markers/res/cov, an invalid option, noise_var < 0
+ * @retval SFIT_E_NONFINITE   noise_var NaN or Inf, a non-finite centre or axis in
+ *                            res, or an unknown mode
+ * @retval SFIT_E_TOO_FEW     no marker has SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_NOT_POSDEF  sum w_p C'_p is not positive definite
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost 8 markers: 820 FLOPs, 4192 M4F instructions (tools/flopcount "multi_center_cov").
+ */
+sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
+                                    const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
+                                    float noise_var, sfit_mat3_t *cov);
+
 #ifdef __cplusplus
 }
 #endif
