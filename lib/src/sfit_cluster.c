@@ -272,13 +272,11 @@ static sfit_status_t prv_store(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_
                                int centred)
 {
     sfit_vec3_t tmp[SFIT_CLUSTER_MAX_MARKERS];
-    sfit_status_t st;
+    const sfit_status_t st = (cl == NULL || pts == NULL || !prv_count_ok(count))
+                                 ? SFIT_E_ARG
+                                 : prv_centre_all(pts, count, tmp);
     size_t i;
 
-    if (cl == NULL || pts == NULL || !prv_count_ok(count)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_centre_all(pts, count, tmp);
     if (st != SFIT_OK) {
         return st;
     }

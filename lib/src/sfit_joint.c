@@ -534,34 +534,26 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_
     sfit_mat3_t sg_cfg;
     const sfit_fit_cfg_t *fc = &j->cfg.solve.fit;
     const int marker = (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER);
-    uint64_t sum_n1 = 0u;
-    uint32_t i, used = 0u;
+    uint64_t sum_n1;
+    const uint32_t used = sfit_i_multi_used(j->child, (size_t)j->cfg.n_child, &sum_n1);
+    uint32_t i;
     int k;
-    sfit_i_sigma(fc->noise, fc->noise_var, &fc->noise_cov, &sg_cfg);
-    for (i = 0; i < j->cfg.n_child; i++) {
-        const uint32_t n = prv_acc_count(&j->child[i]);
-        cm[i].used = (n >= (uint32_t)SFIT_MIN_SAMPLES);
-        if (cm[i].used) {
-            used++;
-            sum_n1 += (uint64_t)(n - 1u);
-        }
-    }
     if (used == 0u) {
         return SFIT_E_TOO_FEW;
     }
+    sfit_i_sigma(fc->noise, fc->noise_var, &fc->noise_cov, &sg_cfg);
     memset(a, 0, sizeof *a);
     for (i = 0; i < j->cfg.n_child; i++) {
         sfit_vec3_t mean;
         sfit_mat3_t c;
         const uint32_t n = prv_acc_count(&j->child[i]);
-        float w = 1.0f;
+        float w;
+        cm[i].used = (n >= (uint32_t)SFIT_MIN_SAMPLES);
         if (!cm[i].used) {
             continue;
         }
         (void)prv_acc_stats(&j->child[i], &mean, &c, NULL);
-        if (j->cfg.solve.weight == SFIT_MULTI_WEIGHT_SAMPLES) {
-            w = ((float)(n - 1u) * (float)used) / (float)sum_n1;
-        }
+        w = sfit_i_multi_weight(&j->cfg.solve, n, used, sum_n1);
         if (marker) {
             if (!prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one)) {
                 return SFIT_E_TOO_FEW; /* not reached: the marker has samples */
@@ -631,7 +623,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
 {
     prv_cov_marker_t cm[SFIT_JOINT_MAX_CHILD];
     prv_pose_noise_t pn;
-    sfit_mat3_t a, ai, seta, m, t, out, ce;
+    sfit_mat3_t a, seta, m, ce;
     sfit_i_sum_t acc;
     float c[3], e[3];
     size_t f;
@@ -651,10 +643,6 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
         return SFIT_E_TOO_FEW;
     }
     st = prv_cov_system(j, &pn, cm, &a);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    st = sfit_i_cov_inverse(&a, res->fit.mode, &res->fit.axis, &ai);
     if (st != SFIT_OK) {
         return st;
     }
@@ -692,14 +680,5 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
         acc.tot[k] += acc.tot[6 + k];
     }
     sfit_i_sym_unpack(acc.tot, &m);
-    sfit_i_mat3_mul(&ai, &m, &t);
-    sfit_i_mat3_mul(&t, &ai, &out);
-    for (k = 0; k < 9; k++) {
-        out.m[k] *= marker_var;
-        if (!sfit_i_isfinite(out.m[k])) {
-            return SFIT_E_RANGE;
-        }
-    }
-    *cov = out;
-    return SFIT_OK;
+    return sfit_i_center_cov(&a, res->fit.mode, &res->fit.axis, &m, marker_var, cov);
 }

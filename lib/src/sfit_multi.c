@@ -73,14 +73,17 @@ static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const fl
     return 1;
 }
 
-/* Weight of a marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1 when
- * every count is the same). */
-static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, uint64_t sum_n1)
+
+/* The next used marker at or after *p, with pm filled; 0 when none is left. */
+static int prv_next(const sfit_moments_t *markers, size_t count, const float origin_ref[3],
+                    const float d_ref[3], size_t *p, prv_marker_t *pm)
 {
-    if (cfg->weight == SFIT_MULTI_WEIGHT_SAMPLES) {
-        return ((float)(n - 1u) * (float)used) / (float)sum_n1;
+    for (; *p < count; (*p)++) {
+        if (prv_used(&markers[*p], origin_ref, d_ref, pm)) {
+            return 1;
+        }
     }
-    return 1.0f;
+    return 0;
 }
 
 /* Noise of marker p: Sigma_p (full) and t_p/2; the configuration's
@@ -177,6 +180,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     sfit_multi_result_t r;
     prv_radii_t rc_radii;
     sfit_mat3_t sg_cfg, sg, sg_sum;
+    prv_marker_t pm;
     float half_skew[3];
     const float *origin_ref = NULL;
     float d_ref[3] = {0.0f, 0.0f, 0.0f};
@@ -232,14 +236,10 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg_cfg);
     memset(&sys, 0, sizeof sys);
     memset(&sg_sum, 0, sizeof sg_sum);
-    for (p = 0u; p < count; p++) {
-        prv_marker_t pm;
+    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
         const sfit_mat3_t *sgp;
         float w;
-        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
-            continue;
-        }
-        w = prv_weight(cfg, pm.n, used, sum_n1);
+        w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
         sw += w;
         sgp = prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
@@ -325,11 +325,15 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     return SFIT_OK;
 }
 
-/* Options shared by both entry points: SFIT_OK or SFIT_E_ARG. */
-static sfit_status_t prv_check(const sfit_moments_t *markers, const sfit_multi_cfg_t *cfg,
+/* Arguments shared by the entry points (*cfg NULL: the defaults): SFIT_OK
+ * or SFIT_E_ARG. */
+static sfit_status_t prv_check(const sfit_moments_t *markers, const sfit_multi_cfg_t **cfg,
                                const sfit_multi_result_t *out)
 {
-    if (markers == NULL || out == NULL || sfit_i_check_multi_cfg(cfg) != SFIT_OK) {
+    if (*cfg == NULL) {
+        *cfg = &sfit_multi_cfg_default;
+    }
+    if (markers == NULL || out == NULL || sfit_i_check_multi_cfg(*cfg) != SFIT_OK) {
         return SFIT_E_ARG;
     }
     return SFIT_OK;
@@ -339,11 +343,9 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii)
 {
-    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
-    if (prv_check(markers, cfg, out) != SFIT_OK) {
-        return SFIT_E_ARG;
-    }
-    return prv_fit(markers, count, cfg, NULL, out, radii);
+    return (prv_check(markers, &cfg, out) != SFIT_OK)
+               ? SFIT_E_ARG
+               : prv_fit(markers, count, cfg, NULL, out, radii);
 }
 
 sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
@@ -351,8 +353,7 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
                                    sfit_multi_result_t *out, float *radii)
 {
     size_t p;
-    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
-    if (noise == NULL || prv_check(markers, cfg, out) != SFIT_OK
+    if (noise == NULL || prv_check(markers, &cfg, out) != SFIT_OK
         || cfg->fit.noise != SFIT_NOISE_NONE) {
         return SFIT_E_ARG;
     }
@@ -369,17 +370,16 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
                                     const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
                                     float noise_var, sfit_mat3_t *cov)
 {
-    sfit_mat3_t sg, a, ai, m, t, out;
+    sfit_mat3_t sg, a, m;
+    prv_marker_t pm;
     const float *origin_ref = NULL;
     float d_ref[3] = {0.0f, 0.0f, 0.0f}, co[3];
     uint64_t sum_n1 = 0u;
     uint32_t used = 0u;
     size_t p;
     int i;
-    sfit_status_t st;
 
-    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
-    if (res == NULL || cov == NULL || prv_check(markers, cfg, res) != SFIT_OK) {
+    if (res == NULL || cov == NULL || prv_check(markers, &cfg, res) != SFIT_OK) {
         return SFIT_E_ARG;
     }
     if (!sfit_i_isfinite(noise_var) || !sfit_i_finite3(res->center.v)
@@ -390,23 +390,19 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     if (noise_var < 0.0f) {
         return SFIT_E_ARG;
     }
-    for (p = 0u; p < count; p++) {
-        const uint32_t n = sfit_moments_count(&markers[p]);
-        if (n >= SFIT_MIN_SAMPLES) {
-            if (origin_ref == NULL) {
-                sfit_cmom_t tot;
-                sfit_i_moments_total(&markers[p], &tot);
-                origin_ref = markers[p].origin;
-                for (i = 0; i < 3; i++) {
-                    d_ref[i] = tot.d[i];
-                }
-            }
-            used++;
-            sum_n1 += (uint64_t)(n - 1u);
-        }
-    }
+    used = sfit_i_multi_used(markers, count, &sum_n1);
     if (used == 0u) {
         return SFIT_E_TOO_FEW;
+    }
+    for (p = 0u; origin_ref == NULL; p++) { /* the first used marker: p < count */
+        if (sfit_moments_count(&markers[p]) >= SFIT_MIN_SAMPLES) {
+            sfit_cmom_t tot;
+            sfit_i_moments_total(&markers[p], &tot);
+            origin_ref = markers[p].origin;
+            for (i = 0; i < 3; i++) {
+                d_ref[i] = tot.d[i];
+            }
+        }
     }
     for (i = 0; i < 3; i++) { /* c - o */
         co[i] = (res->center.v[i] - origin_ref[i]) - d_ref[i];
@@ -415,13 +411,9 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
     memset(&a, 0, sizeof a);
     memset(&m, 0, sizeof m);
-    for (p = 0u; p < count; p++) {
-        prv_marker_t pm;
+    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
         float w, e[3], r2, f;
-        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
-            continue;
-        }
-        w = prv_weight(cfg, pm.n, used, sum_n1);
+        w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
         for (i = 0; i < 9; i++) {
             pm.c.m[i] -= sg.m[i];
         }
@@ -436,18 +428,5 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
             m.m[i] += f * pm.c.m[i];
         }
     }
-    st = sfit_i_cov_inverse(&a, res->mode, &res->axis, &ai);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    sfit_i_mat3_mul(&ai, &m, &t);
-    sfit_i_mat3_mul(&t, &ai, &out);
-    for (i = 0; i < 9; i++) {
-        out.m[i] *= noise_var;
-        if (!sfit_i_isfinite(out.m[i])) {
-            return SFIT_E_RANGE;
-        }
-    }
-    *cov = out;
-    return SFIT_OK;
+    return sfit_i_center_cov(&a, res->mode, &res->axis, &m, noise_var, cov);
 }
