@@ -152,8 +152,8 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 5 child markers: 942 FLOPs, 6121 M4F instructions (tools/flopcount "joint_fit");
- * with SFIT_JOINT_NOISE_MARKER 3273 FLOPs, 26584 instructions ("joint_fit_marker").
+ * @par Cost 5 child markers: 942 FLOPs, 6184 M4F instructions (tools/flopcount "joint_fit");
+ * with SFIT_JOINT_NOISE_MARKER 3273 FLOPs, 26656 instructions ("joint_fit_marker").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
@@ -237,7 +237,7 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
  * @retval SFIT_E_TOO_FEW     nf is 0, or no child marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 4 parent + 5 child markers: 1519 FLOPs, 7784 M4F instructions per
+ * @par Cost 4 parent + 5 child markers: 1519 FLOPs, 7815 M4F instructions per
  * frame (tools/flopcount "joint_center_cov_frame").
  */
 sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
