@@ -78,10 +78,11 @@ static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const fl
 static int prv_next(const sfit_moments_t *markers, size_t count, const float origin_ref[3],
                     const float d_ref[3], size_t *p, prv_marker_t *pm)
 {
-    for (; *p < count; (*p)++) {
+    while (*p < count) {
         if (prv_used(&markers[*p], origin_ref, d_ref, pm)) {
             return 1;
         }
+        (*p)++;
     }
     return 0;
 }
@@ -391,10 +392,7 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
         return SFIT_E_ARG;
     }
     used = sfit_i_multi_used(markers, count, &sum_n1);
-    if (used == 0u) {
-        return SFIT_E_TOO_FEW;
-    }
-    for (p = 0u; origin_ref == NULL; p++) { /* the first used marker: p < count */
+    for (p = 0u; p < count && origin_ref == NULL; p++) { /* the first used marker */
         if (sfit_moments_count(&markers[p]) >= SFIT_MIN_SAMPLES) {
             sfit_cmom_t tot;
             sfit_i_moments_total(&markers[p], &tot);
@@ -403,6 +401,9 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
                 d_ref[i] = tot.d[i];
             }
         }
+    }
+    if (origin_ref == NULL) { /* no marker has SFIT_MIN_SAMPLES samples (used == 0) */
+        return SFIT_E_TOO_FEW;
     }
     for (i = 0; i < 3; i++) { /* c - o */
         co[i] = (res->center.v[i] - origin_ref[i]) - d_ref[i];
