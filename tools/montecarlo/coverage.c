@@ -1,0 +1,319 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file coverage.c
+ * @brief Monte Carlo coverage of the reported centre covariance: the
+ * fraction of trials whose true centre lies inside the reported 95 %
+ * ellipsoid (e^T Cov^-1 e <= 7.815, chi-square with 3 degrees of freedom),
+ * for every estimator that reports a covariance:
+ *   ugdk     sfit_points_fit with the true sigma^2 + sfit_moments_uncert (known)
+ *   selfcal  sfit_points_selfcal + sfit_points_uncert_selfcal (sandwich)
+ *   refined  sfit_points_fit_refined (geometric fit + its sandwich)
+ * over caps of 20-180 degrees, sigma/r 0.005-0.4 and N 10-1e4
+ * (docs/coverage.md). Results with SFIT_FLAG_UNTRUSTED are counted as
+ * flagged and left out of the coverage; failed calls are counted apart.
+ *
+ * Usage: sfit_mc_coverage OUTDIR [quick|check]
+ *   OUTDIR/coverage_table.md, OUTDIR/coverage.csv (quick: 1/10 of the trials)
+ *   check: a fixed subset (the ctest), exit 1 when a coverage is outside its
+ *   binomial bounds.
+ * Fixed seeds; identical output from run to run on the same platform.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sfit/sfit.h"
+#include "sfit_ref.h"
+#include "test_util.h"
+
+#define NMAX 10000
+#define K_R 100.0
+#define CHI2_3_95 7.8147279
+
+static sfit_vec3_t g_pf[NMAX];
+static const double k_c[3] = {1000.0, -2000.0, 1500.0};
+static const double k_axis[3] = {0.3, -0.5, 0.8};
+
+enum { EST_UGDK, EST_SELFCAL, EST_REFINED, EST_COUNT };
+static const char *const k_est_name[EST_COUNT] = {"ugdk", "selfcal", "refined"};
+
+typedef struct est_acc {
+    long ok, flagged, failed, covered;
+    double trust; /* sum of the reported trust ratio over OK results */
+    /* unflagged: centre errors and reported traces (cov / MC) */
+    double s[3], ss[3], rep;
+} est_acc_t;
+
+/* e^T P^-1 e for a packed symmetric P (XX, YY, ZZ, XY, XZ, YZ); < 0 when P
+ * is not positive definite. */
+static double mahal(const float p6[6], const double e[3])
+{
+    double a[3][3], l[3][3], y[3], d2 = 0.0;
+    int i, j, k;
+    a[0][0] = p6[0];
+    a[1][1] = p6[1];
+    a[2][2] = p6[2];
+    a[0][1] = a[1][0] = p6[3];
+    a[0][2] = a[2][0] = p6[4];
+    a[1][2] = a[2][1] = p6[5];
+    memset(l, 0, sizeof l);
+    for (j = 0; j < 3; j++) {
+        double s = a[j][j];
+        for (k = 0; k < j; k++) {
+            s -= l[j][k] * l[j][k];
+        }
+        if (!(s > 0.0)) {
+            return -1.0;
+        }
+        l[j][j] = sqrt(s);
+        for (i = j + 1; i < 3; i++) {
+            double t = a[i][j];
+            for (k = 0; k < j; k++) {
+                t -= l[i][k] * l[j][k];
+            }
+            l[i][j] = t / l[j][j];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        double t = e[i];
+        for (k = 0; k < i; k++) {
+            t -= l[i][k] * y[k];
+        }
+        y[i] = t / l[i][i];
+        d2 += y[i] * y[i];
+    }
+    return d2;
+}
+
+static void est_add(est_acc_t *a, sfit_status_t st, uint32_t flags, float trust,
+                    const sfit_vec3_t *c, const float cov[6])
+{
+    double e[3], d2;
+    int k;
+    if (st != SFIT_OK) {
+        a->failed++;
+        return;
+    }
+    a->ok++;
+    a->trust += (double)trust;
+    if ((flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
+        a->flagged++;
+        return;
+    }
+    for (k = 0; k < 3; k++) {
+        e[k] = (double)c->v[k] - k_c[k];
+        a->s[k] += e[k];
+        a->ss[k] += e[k] * e[k];
+    }
+    a->rep += (double)cov[0] + (double)cov[1] + (double)cov[2];
+    d2 = mahal(cov, e);
+    if (d2 >= 0.0 && d2 <= CHI2_3_95) {
+        a->covered++;
+    }
+}
+
+static long est_unflagged(const est_acc_t *a)
+{
+    return a->ok - a->flagged;
+}
+
+/* reported / Monte Carlo covariance trace of the unflagged results */
+static double est_cov_ratio(const est_acc_t *a)
+{
+    const long t = est_unflagged(a);
+    double tr = 0.0;
+    int k;
+    if (t < 2) {
+        return 0.0;
+    }
+    for (k = 0; k < 3; k++) {
+        tr += (a->ss[k] - a->s[k] * a->s[k] / (double)t) / (double)(t - 1);
+    }
+    return (a->rep / (double)t) / tr;
+}
+
+typedef struct scen {
+    double theta_deg, sr; /* cap half-angle, sigma / r */
+    int n, trials;
+} scen_t;
+
+/* One scenario: trials with fixed seed, one accumulator per estimator. */
+static double run_scen(const scen_t *sc, uint64_t seed, est_acc_t acc[EST_COUNT])
+{
+    const double theta = sc->theta_deg * TU_PI / 180.0, sig = sc->sr * K_R;
+    double lmin, lmax;
+    tu_rng_t g;
+    int t, i, k;
+    ref_cap_eigs_numeric(theta, K_R, &lmin, &lmax);
+    memset(acc, 0, EST_COUNT * sizeof acc[0]);
+    tu_rng_seed(&g, seed);
+    for (t = 0; t < sc->trials; t++) {
+        sfit_fit_cfg_t fc = sfit_fit_cfg_default;
+        sfit_result_t r;
+        sfit_selfcal_result_t s;
+        sfit_refined_t rf;
+        sfit_uncert_t u;
+        sfit_status_t st;
+        memset(&u, 0, sizeof u);
+        memset(&r, 0, sizeof r);
+        memset(&s, 0, sizeof s);
+        memset(&rf, 0, sizeof rf);
+        for (i = 0; i < sc->n; i++) {
+            double x[3];
+            tu_sample_cap(&g, k_c, K_R, k_axis, theta, sig, x);
+            for (k = 0; k < 3; k++) {
+                g_pf[i].v[k] = (float)x[k];
+            }
+        }
+        fc.mode = SFIT_MODE_SPHERE;
+        fc.noise = SFIT_NOISE_ISO;
+        fc.noise_var = (float)(sig * sig);
+        st = sfit_points_fit(g_pf, (size_t)sc->n, &fc, &r);
+        if (st == SFIT_OK) {
+            sfit_moments_t m;
+            (void)sfit_moments_init(&m);
+            (void)sfit_moments_add_block(&m, g_pf, (size_t)sc->n, NULL);
+            st = sfit_moments_uncert(&m, &r.center, r.radius, fc.noise_var,
+                                     SFIT_UNCERT_NOISE_KNOWN, &u);
+        }
+        est_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov);
+        st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
+        if (st == SFIT_OK) {
+            st = sfit_points_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
+                                            s.noise_var, &u);
+        }
+        est_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
+                u.center_cov);
+        st = sfit_points_fit_refined(g_pf, (size_t)sc->n, NULL, &rf);
+        est_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
+                &rf.geometric.center, rf.uncert.center_cov);
+    }
+    return sig * sig / (lmin + sig * sig); /* true trust ratio: sigma^2 / lambda_min(C) */
+}
+
+static const double k_caps[] = {20.0, 30.0, 45.0, 60.0, 90.0, 120.0, 180.0};
+static const double k_srs[] = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.4};
+static const int k_ns[] = {10, 30, 100, 1000, 10000};
+
+#define NCAPS (sizeof k_caps / sizeof k_caps[0])
+#define NSRS (sizeof k_srs / sizeof k_srs[0])
+#define NNS (sizeof k_ns / sizeof k_ns[0])
+
+/* The ctest subset: scenarios whose unflagged coverage must be in 92-98 %
+ * (within 3 binomial SE of the band at the trials run). */
+static const scen_t k_check[] = {
+    {180.0, 0.05, 100, 600}, {90.0, 0.1, 100, 600}, {45.0, 0.02, 100, 600},
+    {180.0, 0.38, 100, 600}, {30.0, 0.01, 1000, 200},
+};
+
+static int run_check(void)
+{
+    size_t si;
+    int e, fails = 0;
+    for (si = 0; si < sizeof k_check / sizeof k_check[0]; si++) {
+        est_acc_t acc[EST_COUNT];
+        const double tt = run_scen(&k_check[si], 7000u + (uint64_t)si, acc);
+        for (e = 0; e < EST_COUNT; e++) {
+            const long u = est_unflagged(&acc[e]);
+            const double cv = (u > 0) ? (double)acc[e].covered / (double)u : 0.0;
+            const double se = (u > 0) ? sqrt(0.95 * 0.05 / (double)u) : 1.0;
+            const int ok = u >= k_check[si].trials / 2 && cv >= 0.92 - 3.0 * se &&
+                           cv <= 0.98 + 3.0 * se;
+            printf("%s cap %.0f sigma/r %.3f N %d trust %.3f %s: %ld unflagged, coverage "
+                   "%.3f (band 0.92-0.98 +- %.3f), flagged %ld, failed %ld\n",
+                   ok ? "ok  " : "FAIL", k_check[si].theta_deg, k_check[si].sr,
+                   k_check[si].n, tt, k_est_name[e], u, cv, 3.0 * se, acc[e].flagged,
+                   acc[e].failed);
+            fails += !ok;
+        }
+    }
+    return fails == 0 ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    char path[1024];
+    FILE *f, *csv;
+    size_t ci, si, ni;
+    int e, idx = 0, quick = (argc > 2 && strcmp(argv[2], "quick") == 0);
+    long rows = 0, outside = 0, trials_total = 0;
+    if (argc > 2 && strcmp(argv[2], "check") == 0) {
+        return run_check();
+    }
+    if (argc < 2) {
+        fprintf(stderr, "usage: sfit_mc_coverage OUTDIR [quick|check]\n");
+        return 2;
+    }
+    snprintf(path, sizeof path, "%s/coverage_table.md", argv[1]);
+    f = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/coverage.csv", argv[1]);
+    csv = (f != NULL) ? fopen(path, "w") : NULL;
+    if (f == NULL || csv == NULL) {
+        perror(path);
+        return 1;
+    }
+    fprintf(csv, "cap,sigma_r,n,trials,true_trust,estimator,mean_trust,ok,flagged,failed,"
+                 "unflagged,coverage,cov_ratio\n");
+    fprintf(f, "| cap | sigma/r | N | trials | true trust | ugdk cov | flag | selfcal cov | "
+               "flag | cov/MC | refined cov | flag | fails |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (ci = 0; ci < NCAPS; ci++) {
+        for (si = 0; si < NSRS; si++) {
+            for (ni = 0; ni < NNS; ni++) {
+                scen_t sc;
+                est_acc_t acc[EST_COUNT];
+                double tt;
+                long fails = 0;
+                sc.theta_deg = k_caps[ci];
+                sc.sr = k_srs[si];
+                sc.n = k_ns[ni];
+                sc.trials = 1000;
+                if (quick) {
+                    sc.trials /= 10;
+                }
+                tt = run_scen(&sc, 1000u + (uint64_t)idx++, acc);
+                fprintf(f, "| %.0f | %.3f | %d | %d | %.3g |", sc.theta_deg, sc.sr, sc.n,
+                        sc.trials, tt);
+                for (e = 0; e < EST_COUNT; e++) {
+                    const long u = est_unflagged(&acc[e]);
+                    const double cv = (u > 0) ? (double)acc[e].covered / (double)u : -1.0;
+                    const double fl =
+                        (acc[e].ok > 0) ? (double)acc[e].flagged / (double)acc[e].ok : 0.0;
+                    fprintf(csv, "%.0f,%.3f,%d,%d,%.5g,%s,%.5g,%ld,%ld,%ld,%ld,%.4f,%.4f\n",
+                            sc.theta_deg, sc.sr, sc.n, sc.trials, tt, k_est_name[e],
+                            (acc[e].ok > 0) ? acc[e].trust / (double)acc[e].ok : 0.0,
+                            acc[e].ok, acc[e].flagged, acc[e].failed, u, cv,
+                            est_cov_ratio(&acc[e]));
+                    if (u > 0) {
+                        fprintf(f, " %.3f |", cv);
+                        rows++;
+                        outside += (cv < 0.92 || cv > 0.98);
+                    } else {
+                        fprintf(f, " - |");
+                    }
+                    fprintf(f, " %.3f |", fl);
+                    if (e == EST_SELFCAL) {
+                        if (u > 1) {
+                            fprintf(f, " %.3f |", est_cov_ratio(&acc[e]));
+                        } else {
+                            fprintf(f, " - |");
+                        }
+                    }
+                    fails += acc[e].failed;
+                }
+                fprintf(f, " %ld |\n", fails);
+                trials_total += sc.trials;
+                fflush(f);
+                fflush(csv);
+            }
+        }
+        fprintf(stderr, "coverage: cap %.0f done\n", k_caps[ci]);
+    }
+    fprintf(f, "\n%d scenarios, %ld trials each estimator (%ld in all); %ld of %ld "
+               "(scenario, estimator) rows with unflagged results, %ld outside 92-98 %%.\n",
+            idx, trials_total, 3 * trials_total, rows, rows, outside);
+    fclose(f);
+    fclose(csv);
+    return 0;
+}
