@@ -365,7 +365,8 @@ static void test_selfcal_vs_oracle(void **state)
  * the Monte Carlo covariance trace of the unflagged results, including
  * sigma / r = 0.38, N = 100 (the moments formula gave 1.23 there). The MC
  * trace's own relative SE is about sqrt(2/(3 T)) (< 3 % here), so the 20 %
- * band is more than 6 SE wide; measured values in the comments. */
+ * band is more than 4 SE wide. Measured (seeds below): 0.911 (sigma/r 0.38,
+ * N 100, 550 unflagged), 1.112, 1.040, 0.993. */
 static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_t seed)
 {
     mc_acc_t a;
@@ -392,7 +393,10 @@ static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_
     print_message("selfcal sandwich: cap %.0f sigma/r %.3f N %d: %d unflagged of %d, "
                   "reported/MC trace %.3f\n",
                   theta_deg, sr, n, a.n, trials, q);
-    assert_true(a.n >= trials / 2);
+    /* enough unflagged results for the MC trace (relative SE <= 5 %); at
+     * sigma / r = 0.38, N = 100 the trust rule flags ~63 % (the reported
+     * trust ratio scatters around 0.37 against SFIT_COV_MAX_TRUST) */
+    assert_true(a.n >= 300);
     assert_near(q, 1.0, 0.2, "selfcal sandwich trace / MC");
     return q;
 }
@@ -431,7 +435,7 @@ static void test_selfcal_contract(void **state)
                      SFIT_E_NONFINITE);
     assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, NAN, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 5, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 13, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_TOO_FEW);
     /* sigma^2 above lambda_min(C): C - sigma^2 I not positive definite */
     assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, sc.fit.radius,

@@ -27,6 +27,26 @@ sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
         st = sfit_points_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
     }
     if (st == SFIT_OK) {
+        /* The geometric fit has a second-order bias (~ sigma^2 / r along the
+         * cap axis) that does not shrink with N; the self-calibrated centre
+         * has none to that order, so b = geometric - start estimates it.
+         * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
+        static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
+        static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
+        float b[3];
+        int i;
+        for (i = 0; i < 3; i++) {
+            b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
+        }
+        for (i = 0; i < 6; i++) {
+            r.uncert.center_cov[i] += b[k_row[i]] * b[k_col[i]];
+        }
+        if (!sfit_i_isfinite(r.uncert.center_cov[0] + r.uncert.center_cov[1]
+                             + r.uncert.center_cov[2])) {
+            st = SFIT_E_RANGE;
+        }
+    }
+    if (st == SFIT_OK) {
         *out = r;
     }
     return st;

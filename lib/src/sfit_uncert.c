@@ -97,8 +97,8 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_GEO_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
-/* Self-calibrated sandwich: 5 parameters (centre, radius, sigma^2) plus one. */
-#define PRV_SC_MIN_N ((SFIT_MIN_SAMPLES > 6u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)6u)
+/* Self-calibrated sandwich: the small-sample factor N/(N - 13) needs N > 13. */
+#define PRV_SC_MIN_N ((SFIT_MIN_SAMPLES > 14u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)14u)
 
 /* Pass 1 over the samples: sums of u (tot[0..2]) and of d - d0
  * (tot[3], d0 the first distance); SFIT_E_DEGENERATE for a sample at c. */
@@ -389,7 +389,10 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
     }
     sfit_i_mat3_mul(&t, &g, &cov);
     for (i = 0; i < 9; i++) {
-        cov.m[i] *= nf / (nf - 5.0f); /* 5 parameters fitted: c, r, sigma^2 */
+        /* N/(N - 5): 5 parameters fitted (c, r, sigma^2); (N - 5)/(N - 13):
+         * B is as variable as a Wishart matrix of (N - 5)/2 degrees of
+         * freedom, whose inverse has mean nu/(nu - 4) (docs/api.md#uncert) */
+        cov.m[i] *= nf / (nf - 13.0f);
     }
     /* radius: first order, as sfit_moments_uncert (K = M~^-1) */
     sfit_i_mat3_vec(&k, q.a, kp);

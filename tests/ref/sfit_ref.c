@@ -964,7 +964,7 @@ int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], doub
 {
     ref_ld th[5], a[25], ainv[25], b[25], col[5], tp[5], tm[5];
     int j, k, l, m;
-    if (n < 6u) {
+    if (n < 14u) {
         return -1;
     }
     for (j = 0; j < 3; ++j) {
@@ -1009,7 +1009,7 @@ int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], doub
                     acc += ainv[5 * j + l] * b[5 * l + m] * ainv[5 * k + m];
                 }
             }
-            cov[j][k] = (double)(acc * (ref_ld)n / (ref_ld)(n - 5u));
+            cov[j][k] = (double)(acc * (ref_ld)n / (ref_ld)(n - 13u));
         }
     }
     return 0;

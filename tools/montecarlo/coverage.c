@@ -13,6 +13,7 @@
  * flagged and left out of the coverage; failed calls are counted apart.
  *
  * Usage: sfit_mc_coverage OUTDIR [quick|check]
+ *        sfit_mc_coverage OUTDIR one CAP SIGMA/R N TRIALS [SEED]
  *   OUTDIR/coverage_table.md, OUTDIR/coverage.csv (quick: 1/10 of the trials)
  *   check: a fixed subset (the ctest), exit 1 when a coverage is outside its
  *   binomial bounds.
@@ -179,7 +180,7 @@ static double run_scen(const scen_t *sc, uint64_t seed, est_acc_t acc[EST_COUNT]
         }
         est_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov);
         st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
-        if (st == SFIT_OK) {
+        if (st == SFIT_OK && (s.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
             st = sfit_points_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
                                             s.noise_var, &u);
         }
@@ -240,6 +241,30 @@ int main(int argc, char **argv)
     long rows = 0, outside = 0, trials_total = 0;
     if (argc > 2 && strcmp(argv[2], "check") == 0) {
         return run_check();
+    }
+    if (argc > 6 && strcmp(argv[2], "one") == 0) {
+        /* one scenario: OUTDIR one CAP SIGMA/R N TRIALS [SEED] */
+        scen_t sc;
+        est_acc_t acc[EST_COUNT];
+        double tt;
+        sc.theta_deg = atof(argv[3]);
+        sc.sr = atof(argv[4]);
+        sc.n = atoi(argv[5]);
+        sc.trials = atoi(argv[6]);
+        if (sc.n < 1 || sc.n > NMAX || sc.trials < 1) {
+            fprintf(stderr, "coverage: N in 1..%d, TRIALS >= 1\n", NMAX);
+            return 2;
+        }
+        tt = run_scen(&sc, (argc > 7) ? (uint64_t)atol(argv[7]) : 1u, acc);
+        for (e = 0; e < EST_COUNT; e++) {
+            const long u = est_unflagged(&acc[e]);
+            printf("cap %.0f sigma/r %.3f N %d trust %.3f %-8s unflagged %ld coverage %.4f "
+                   "flagged %ld failed %ld cov/MC %.3f\n",
+                   sc.theta_deg, sc.sr, sc.n, tt, k_est_name[e], u,
+                   (u > 0) ? (double)acc[e].covered / (double)u : -1.0, acc[e].flagged,
+                   acc[e].failed, est_cov_ratio(&acc[e]));
+        }
+        return 0;
     }
     if (argc < 2) {
         fprintf(stderr, "usage: sfit_mc_coverage OUTDIR [quick|check]\n");

@@ -121,7 +121,7 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
  * Centre covariance only; radius_var and center_radius_cov are the first-
  * order values of sfit_moments_uncert().
  * @param[in]  pts        n samples (caller-owned, read only), the ones fitted.
- * @param[in]  n          Sample count (>= 6 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  n          Sample count (>= 14 and >= SFIT_MIN_SAMPLES).
  * @param[in]  center     The self-calibrated centre (sfit_selfcal_result_t::fit).
  * @param[in]  radius     Its radius (> 0).
  * @param[in]  noise_var  Its noise variance (sfit_selfcal_result_t::noise_var, >= 0).
@@ -129,7 +129,7 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL pointer, radius <= 0, negative noise_var
  * @retval SFIT_E_NONFINITE   non-finite centre, radius, noise_var or sample
- * @retval SFIT_E_TOO_FEW     n < 6 or n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_TOO_FEW     n < 14 or n < SFIT_MIN_SAMPLES
  * @retval SFIT_E_DEGENERATE  a sample at the centre
  * @retval SFIT_E_NOT_POSDEF  C - sigma^2 I not positive definite, or the
  *                            linearised self-calibration singular (noise and
