@@ -453,6 +453,115 @@ static void test_selfcal_contract(void **state)
     assert_memory_equal(&u, &sentinel, sizeof u);
 }
 
+/* Issue 14, must-show 1 on a fixed-seed subset (tools/montecarlo/coverage.c
+ * runs the full table): the fraction of unflagged OK results whose true
+ * centre lies inside the reported 95 % ellipsoid (chi-square, 3 dof,
+ * 7.815) is in 92-98 %, widened by 3 binomial SE at the trials run, for
+ * UGDK with the true sigma^2, self-calibrated (sandwich) and refined. */
+static double mahal6(const float p[6], const double e[3])
+{
+    double a[3][3], l[3][3] = {{0.0}}, y[3], d2 = 0.0;
+    int i, j, k;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            a[i][j] = (double)p[pk(i, j)];
+        }
+    }
+    for (j = 0; j < 3; j++) {
+        double s = a[j][j];
+        for (k = 0; k < j; k++) {
+            s -= l[j][k] * l[j][k];
+        }
+        assert_true(s > 0.0);
+        l[j][j] = sqrt(s);
+        for (i = j + 1; i < 3; i++) {
+            double t = a[i][j];
+            for (k = 0; k < j; k++) {
+                t -= l[i][k] * l[j][k];
+            }
+            l[i][j] = t / l[j][j];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        double t = e[i];
+        for (k = 0; k < i; k++) {
+            t -= l[i][k] * y[k];
+        }
+        y[i] = t / l[i][i];
+        d2 += y[i] * y[i];
+    }
+    return d2;
+}
+
+static void cover_add(int *in, int *tot, const sfit_vec3_t *c, const float p[6])
+{
+    double e[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        e[k] = (double)c->v[k] - k_c[k];
+    }
+    *in += mahal6(p, e) <= 7.8147279;
+    (*tot)++;
+}
+
+static void coverage_subset(double theta_deg, double sr, int n, int trials, uint64_t seed)
+{
+    int in[3] = {0, 0, 0}, tot[3] = {0, 0, 0}, e, t;
+    sfit_fit_cfg_t kc = sfit_fit_cfg_default;
+    tu_rng_t g;
+    tu_rng_seed(&g, seed);
+    kc.mode = SFIT_MODE_SPHERE;
+    kc.noise = SFIT_NOISE_ISO;
+    kc.noise_var = (float)(sr * K_R * sr * K_R);
+    for (t = 0; t < trials; t++) {
+        sfit_moments_t m;
+        sfit_result_t k;
+        sfit_selfcal_result_t sc;
+        sfit_refined_t rf;
+        sfit_uncert_t u;
+        gen(&g, theta_deg * TU_PI / 180.0, sr * K_R, n);
+        (void)sfit_moments_init(&m);
+        assert_int_equal(sfit_moments_add_block(&m, g_pf, (size_t)n, NULL), SFIT_OK);
+        assert_int_equal(sfit_moments_fit(&m, &kc, &k), SFIT_OK);
+        if (!(k.flags & SFIT_FLAG_UNTRUSTED)) {
+            assert_int_equal(sfit_moments_uncert(&m, &k.center, k.radius, kc.noise_var,
+                                                 SFIT_UNCERT_NOISE_KNOWN, &u),
+                             SFIT_OK);
+            cover_add(&in[0], &tot[0], &k.center, u.center_cov);
+        }
+        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
+        if (!(sc.fit.flags & SFIT_FLAG_UNTRUSTED)) {
+            assert_int_equal(sfit_points_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center,
+                                                        sc.fit.radius, sc.noise_var, &u),
+                             SFIT_OK);
+            cover_add(&in[1], &tot[1], &sc.fit.center, u.center_cov);
+        }
+        assert_int_equal(sfit_points_fit_refined(g_pf, (size_t)n, NULL, &rf), SFIT_OK);
+        if (!(rf.start.fit.flags & SFIT_FLAG_UNTRUSTED)) {
+            cover_add(&in[2], &tot[2], &rf.geometric.center, rf.uncert.center_cov);
+        }
+    }
+    for (e = 0; e < 3; e++) {
+        const double cv = (double)in[e] / (double)tot[e];
+        const double se = sqrt(0.95 * 0.05 / (double)tot[e]);
+        print_message("coverage: cap %.0f sigma/r %.3f N %d: %s %d unflagged of %d, "
+                      "coverage %.3f (band 0.92-0.98 +- %.3f)\n",
+                      theta_deg, sr, n, e == 0 ? "ugdk" : (e == 1 ? "selfcal" : "refined"),
+                      tot[e], trials, cv, 3.0 * se);
+        assert_true(tot[e] >= trials * 99 / 100); /* trust <= 0.1, N >= 100: <= 1 % flagged */
+        assert_true(cv >= 0.92 - 3.0 * se && cv <= 0.98 + 3.0 * se);
+    }
+}
+
+static void test_coverage_subset(void **state)
+{
+    (void)state;
+    coverage_subset(90.0, 0.1, 100, 800, 81u);
+    coverage_subset(180.0, 0.05, 100, 800, 82u);
+    coverage_subset(45.0, 0.02, 100, 800, 83u);
+    coverage_subset(30.0, 0.005, 1000, 300, 84u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -466,6 +575,7 @@ int main(void)
         cmocka_unit_test(test_selfcal_vs_oracle),
         cmocka_unit_test(test_selfcal_mc),
         cmocka_unit_test(test_selfcal_contract),
+        cmocka_unit_test(test_coverage_subset),
     };
     return cmocka_run_group_tests_name("uncert", tests, NULL, NULL);
 }

@@ -12,11 +12,11 @@
  * (docs/coverage.md). Results with SFIT_FLAG_UNTRUSTED are counted as
  * flagged and left out of the coverage; failed calls are counted apart.
  *
- * Usage: sfit_mc_coverage OUTDIR [quick|check]
+ * Usage: sfit_mc_coverage OUTDIR [quick]
  *        sfit_mc_coverage OUTDIR one CAP SIGMA/R N TRIALS [SEED]
  *   OUTDIR/coverage_table.md, OUTDIR/coverage.csv (quick: 1/10 of the trials)
- *   check: a fixed subset (the ctest), exit 1 when a coverage is outside its
- *   binomial bounds.
+ *   one: a single scenario printed to stdout.
+ * The ctest sfit.uncert (test_coverage_subset) checks a fixed-seed subset.
  * Fixed seeds; identical output from run to run on the same platform.
  */
 #include <math.h>
@@ -201,37 +201,6 @@ static const int k_ns[] = {10, 30, 100, 1000, 10000};
 #define NSRS (sizeof k_srs / sizeof k_srs[0])
 #define NNS (sizeof k_ns / sizeof k_ns[0])
 
-/* The ctest subset: scenarios whose unflagged coverage must be in 92-98 %
- * (within 3 binomial SE of the band at the trials run). */
-static const scen_t k_check[] = {
-    {180.0, 0.05, 100, 600}, {90.0, 0.1, 100, 600}, {45.0, 0.02, 100, 600},
-    {180.0, 0.38, 100, 600}, {30.0, 0.01, 1000, 200},
-};
-
-static int run_check(void)
-{
-    size_t si;
-    int e, fails = 0;
-    for (si = 0; si < sizeof k_check / sizeof k_check[0]; si++) {
-        est_acc_t acc[EST_COUNT];
-        const double tt = run_scen(&k_check[si], 7000u + (uint64_t)si, acc);
-        for (e = 0; e < EST_COUNT; e++) {
-            const long u = est_unflagged(&acc[e]);
-            const double cv = (u > 0) ? (double)acc[e].covered / (double)u : 0.0;
-            const double se = (u > 0) ? sqrt(0.95 * 0.05 / (double)u) : 1.0;
-            const int ok = u >= k_check[si].trials / 2 && cv >= 0.92 - 3.0 * se &&
-                           cv <= 0.98 + 3.0 * se;
-            printf("%s cap %.0f sigma/r %.3f N %d trust %.3f %s: %ld unflagged, coverage "
-                   "%.3f (band 0.92-0.98 +- %.3f), flagged %ld, failed %ld\n",
-                   ok ? "ok  " : "FAIL", k_check[si].theta_deg, k_check[si].sr,
-                   k_check[si].n, tt, k_est_name[e], u, cv, 3.0 * se, acc[e].flagged,
-                   acc[e].failed);
-            fails += !ok;
-        }
-    }
-    return fails == 0 ? 0 : 1;
-}
-
 int main(int argc, char **argv)
 {
     char path[1024];
@@ -239,9 +208,6 @@ int main(int argc, char **argv)
     size_t ci, si, ni;
     int e, idx = 0, quick = (argc > 2 && strcmp(argv[2], "quick") == 0);
     long rows = 0, outside = 0, trials_total = 0;
-    if (argc > 2 && strcmp(argv[2], "check") == 0) {
-        return run_check();
-    }
     if (argc > 6 && strcmp(argv[2], "one") == 0) {
         /* one scenario: OUTDIR one CAP SIGMA/R N TRIALS [SEED] */
         scen_t sc;
@@ -267,7 +233,7 @@ int main(int argc, char **argv)
         return 0;
     }
     if (argc < 2) {
-        fprintf(stderr, "usage: sfit_mc_coverage OUTDIR [quick|check]\n");
+        fprintf(stderr, "usage: sfit_mc_coverage OUTDIR [quick | one CAP SIGMA/R N TRIALS [SEED]]\n");
         return 2;
     }
     snprintf(path, sizeof path, "%s/coverage_table.md", argv[1]);
