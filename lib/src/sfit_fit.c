@@ -62,7 +62,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (t.n < SFIT_FEW_SAMPLES) {
         r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
     }
-    if (r.trust_ratio > SFIT_COV_MAX_TRUST) {
+    if (r.trust_ratio > SFIT_COV_MAX_TRUST || t.n < SFIT_COV_MIN_SAMPLES) {
         /* docs/coverage.md: the covariance no longer describes the error */
         r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_FLAG_COV_LIMIT;
     }

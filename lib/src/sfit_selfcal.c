@@ -124,11 +124,6 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
                  * any covariance of it are not to be believed */
                 fit.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
             }
-            if (n < (size_t)SFIT_COV_MIN_SAMPLES) {
-                /* a covariance from this few residuals does not cover (the
-                 * trust-ratio rule is applied by sfit_moments_fit) */
-                fit.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_FLAG_COV_LIMIT;
-            }
             res.fit = fit;
             res.noise_var = var;
             res.iterations = (uint32_t)it;

@@ -266,8 +266,8 @@ static void print_untrusted(const sfit_result_t *r)
                (double)SFIT_SELFCAL_MAX_TRUST);
     }
     if ((r->flags & SFIT_FLAG_COV_LIMIT) != 0u) {
-        printf("  reason     cov_limit: trust ratio above %.2g, or noise estimated from fewer "
-               "than %u samples (docs/coverage.md)\n",
+        printf("  reason     cov_limit: trust ratio above %.2g, or fewer than %u samples "
+               "(docs/coverage.md)\n",
                (double)SFIT_COV_MAX_TRUST, (unsigned)SFIT_COV_MIN_SAMPLES);
     }
 }

@@ -106,11 +106,11 @@
 #endif
 
 /**
- * @brief Below this many samples a fit whose noise level was estimated from
- * the same samples (sfit_points_selfcal(), sfit_points_fit_refined())
- * carries ::SFIT_FLAG_UNTRUSTED and ::SFIT_FLAG_COV_LIMIT: its covariance is
- * itself estimated from too few residuals for the 95 % ellipsoid to cover
- * (docs/coverage.md). Range [6, 100000].
+ * @brief Below this many samples a fit carries ::SFIT_FLAG_UNTRUSTED and
+ * ::SFIT_FLAG_COV_LIMIT: the 95 % ellipsoid of its reported covariance was
+ * measured to cover 60-90 % at N = 10-30 (an estimated noise level or
+ * trust ratio from this few samples is too rough; docs/coverage.md).
+ * Range [6, 100000].
  */
 #ifndef SFIT_COV_MIN_SAMPLES
 #define SFIT_COV_MIN_SAMPLES 50u

@@ -48,8 +48,7 @@ enum sfit_flag {
     SFIT_FLAG_COV_LIMIT = 0x40u,       /**< Fits (with SFIT_FLAG_UNTRUSTED): outside the
                                             range where the reported covariance was
                                             validated: trust_ratio > SFIT_COV_MAX_TRUST, or
-                                            the noise estimated from fewer than
-                                            SFIT_COV_MIN_SAMPLES samples. */
+                                            fewer than SFIT_COV_MIN_SAMPLES samples. */
     SFIT_MULTI_FLAG_SKIPPED = 0x100u   /**< Multi-marker: a marker with too few samples
                                             was skipped. */
 };
