@@ -458,41 +458,6 @@ static void test_selfcal_contract(void **state)
  * centre lies inside the reported 95 % ellipsoid (chi-square, 3 dof,
  * 7.815) is in 92-98 %, widened by 3 binomial SE at the trials run, for
  * UGDK with the true sigma^2, self-calibrated (sandwich) and refined. */
-static double mahal6(const float p[6], const double e[3])
-{
-    double a[3][3], l[3][3] = {{0.0}}, y[3], d2 = 0.0;
-    int i, j, k;
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            a[i][j] = (double)p[pk(i, j)];
-        }
-    }
-    for (j = 0; j < 3; j++) {
-        double s = a[j][j];
-        for (k = 0; k < j; k++) {
-            s -= l[j][k] * l[j][k];
-        }
-        assert_true(s > 0.0);
-        l[j][j] = sqrt(s);
-        for (i = j + 1; i < 3; i++) {
-            double t = a[i][j];
-            for (k = 0; k < j; k++) {
-                t -= l[i][k] * l[j][k];
-            }
-            l[i][j] = t / l[j][j];
-        }
-    }
-    for (i = 0; i < 3; i++) {
-        double t = e[i];
-        for (k = 0; k < i; k++) {
-            t -= l[i][k] * y[k];
-        }
-        y[i] = t / l[i][i];
-        d2 += y[i] * y[i];
-    }
-    return d2;
-}
-
 static void cover_add(int *in, int *tot, const sfit_vec3_t *c, const float p[6])
 {
     double e[3];
@@ -500,7 +465,11 @@ static void cover_add(int *in, int *tot, const sfit_vec3_t *c, const float p[6])
     for (k = 0; k < 3; k++) {
         e[k] = (double)c->v[k] - k_c[k];
     }
-    *in += mahal6(p, e) <= 7.8147279;
+    {
+        const double d2 = tu_mahal_packed(p, e);
+        assert_true(d2 >= 0.0);
+        *in += d2 <= 7.8147279;
+    }
     (*tot)++;
 }
 

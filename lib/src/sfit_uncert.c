@@ -100,15 +100,16 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 /* Self-calibrated sandwich: the small-sample factor N/(N - 13) needs N > 13. */
 #define PRV_SC_MIN_N ((SFIT_MIN_SAMPLES > 14u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)14u)
 
-/* Pass 1 over the samples: sums of u (tot[0..2]) and of d - d0
- * (tot[3], d0 the first distance); SFIT_E_DEGENERATE for a sample at c. */
+/* Pass 1 over the samples: sums of u (tot[0..2]), of d - d0 (tot[3], d0
+ * the first distance) and, when k == 5, of (d - d0)^2 (tot[4]);
+ * SFIT_E_DEGENERATE for a sample at c. */
 static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
-                                   float *d0, sfit_i_sum_t *s)
+                                   float *d0, int k, sfit_i_sum_t *s)
 {
     size_t i;
     memset(s, 0, sizeof *s);
     for (i = 0; i < n; i++) {
-        float v[4];
+        float v[5];
         if (!sfit_i_dist_dir(pts[i].v, c->v, &v[3], v)) {
             return SFIT_E_DEGENERATE;
         }
@@ -116,20 +117,24 @@ static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_
             *d0 = v[3];
         }
         v[3] -= *d0;
-        sfit_i_sum_add(s, v, 4);
+        if (k == 5) {
+            v[4] = v[3] * v[3];
+        }
+        sfit_i_sum_add(s, v, k);
     }
-    sfit_i_sum_end(s, 4);
+    sfit_i_sum_end(s, k);
     return SFIT_OK;
 }
+
+/* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
+static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
+static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
 
 /* Pass 2: [0..5] sum (u - ubar)(u - ubar)^T, [6..11] sum f (I - u u^T)/d
  * and [12] sum f^2 with f = d - dbar (the last two only when k == 13). */
 static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                              const float ub[3], float dbar, int k, sfit_i_sum_t *s)
 {
-    /* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
-    static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
-    static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     size_t i;
     int j;
     memset(s, 0, sizeof *s);
@@ -159,7 +164,7 @@ static sfit_status_t prv_start(sfit_status_t st, const sfit_vec3_t *pts, size_t 
         st = sfit_i_check_points(pts, n, nmin);
     }
     if (st == SFIT_OK) {
-        st = prv_pass_dirs(pts, n, c, d0, s);
+        st = prv_pass_dirs(pts, n, c, d0, 4, s);
     }
     for (j = 0; j < 3 && st == SFIT_OK; j++) {
         ub[j] = s->tot[j] / (float)n;
@@ -248,29 +253,6 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     return prv_finish(&cov, s2 * (1.0f / nf + sfit_i_dot3(ub, wq)), crc, s2, out);
 }
 
-/* Self-calibrated UGDK (sfit_points_uncert_selfcal): pass 1 sums u (0..2),
- * d - d0 (3) and (d - d0)^2 (4); SFIT_E_DEGENERATE for a sample at c. */
-static sfit_status_t prv_sc_pass1(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
-                                  float *d0, sfit_i_sum_t *s)
-{
-    size_t i;
-    memset(s, 0, sizeof *s);
-    for (i = 0; i < n; i++) {
-        float v[5];
-        if (!sfit_i_dist_dir(pts[i].v, c->v, &v[3], v)) {
-            return SFIT_E_DEGENERATE;
-        }
-        if (i == 0u) {
-            *d0 = v[3];
-        }
-        v[3] -= *d0;
-        v[4] = v[3] * v[3];
-        sfit_i_sum_add(s, v, 5);
-    }
-    sfit_i_sum_end(s, 5);
-    return SFIT_OK;
-}
-
 /* What pass 2 of the self-calibrated sandwich needs (docs/api.md#uncert). */
 typedef struct prv_sc {
     float m[3];    /* sample mean */
@@ -289,8 +271,6 @@ typedef struct prv_sc {
 static void prv_sc_pass2(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                          const prv_sc_t *q, sfit_i_sum_t *s)
 {
-    static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
-    static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     size_t i;
     int j;
     memset(s, 0, sizeof *s);
@@ -332,7 +312,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
         st = sfit_i_check_points(pts, n, PRV_SC_MIN_N);
     }
     if (st == SFIT_OK) {
-        st = prv_sc_pass1(pts, n, center, &d0, &s);
+        st = prv_pass_dirs(pts, n, center, &d0, 5, &s);
     }
     if (st != SFIT_OK) {
         return st;

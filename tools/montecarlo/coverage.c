@@ -46,47 +46,6 @@ typedef struct est_acc {
     double s[3], ss[3], rep;
 } est_acc_t;
 
-/* e^T P^-1 e for a packed symmetric P (XX, YY, ZZ, XY, XZ, YZ); < 0 when P
- * is not positive definite. */
-static double mahal(const float p6[6], const double e[3])
-{
-    double a[3][3], l[3][3], y[3], d2 = 0.0;
-    int i, j, k;
-    a[0][0] = p6[0];
-    a[1][1] = p6[1];
-    a[2][2] = p6[2];
-    a[0][1] = a[1][0] = p6[3];
-    a[0][2] = a[2][0] = p6[4];
-    a[1][2] = a[2][1] = p6[5];
-    memset(l, 0, sizeof l);
-    for (j = 0; j < 3; j++) {
-        double s = a[j][j];
-        for (k = 0; k < j; k++) {
-            s -= l[j][k] * l[j][k];
-        }
-        if (!(s > 0.0)) {
-            return -1.0;
-        }
-        l[j][j] = sqrt(s);
-        for (i = j + 1; i < 3; i++) {
-            double t = a[i][j];
-            for (k = 0; k < j; k++) {
-                t -= l[i][k] * l[j][k];
-            }
-            l[i][j] = t / l[j][j];
-        }
-    }
-    for (i = 0; i < 3; i++) {
-        double t = e[i];
-        for (k = 0; k < i; k++) {
-            t -= l[i][k] * y[k];
-        }
-        y[i] = t / l[i][i];
-        d2 += y[i] * y[i];
-    }
-    return d2;
-}
-
 static void est_add(est_acc_t *a, sfit_status_t st, uint32_t flags, float trust,
                     const sfit_vec3_t *c, const float cov[6])
 {
@@ -108,7 +67,7 @@ static void est_add(est_acc_t *a, sfit_status_t st, uint32_t flags, float trust,
         a->ss[k] += e[k] * e[k];
     }
     a->rep += (double)cov[0] + (double)cov[1] + (double)cov[2];
-    d2 = mahal(cov, e);
+    d2 = tu_mahal_packed(cov, e);
     if (d2 >= 0.0 && d2 <= CHI2_3_95) {
         a->covered++;
     }
