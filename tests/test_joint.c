@@ -51,25 +51,6 @@ static sfit_vec3_t g_parf[FMAX][P], g_chif[FMAX][K];
 static double g_pard[FMAX][P][3], g_chid[FMAX][K][3];
 static size_t g_nf;
 
-static void rot_axis_angle(const double ax[3], double ang, double r[9])
-{
-    double a[3], n = tu_norm3(ax), c = cos(ang), s = sin(ang), C;
-    int i;
-    for (i = 0; i < 3; i++) {
-        a[i] = ax[i] / n;
-    }
-    C = 1.0 - c;
-    r[0] = c + a[0] * a[0] * C;
-    r[1] = a[0] * a[1] * C - a[2] * s;
-    r[2] = a[0] * a[2] * C + a[1] * s;
-    r[3] = a[1] * a[0] * C + a[2] * s;
-    r[4] = c + a[1] * a[1] * C;
-    r[5] = a[1] * a[2] * C - a[0] * s;
-    r[6] = a[2] * a[0] * C - a[1] * s;
-    r[7] = a[2] * a[1] * C + a[0] * s;
-    r[8] = c + a[2] * a[2] * C;
-}
-
 static void unit_axis(double a[3])
 {
     double n = tu_norm3(g_axis0);
@@ -97,7 +78,7 @@ static void make_motion(uint64_t seed, size_t nf, int hinge)
         for (k = 0; k < 3; k++) {
             dir[k] = tu_rng_gauss(&g);
         }
-        rot_axis_angle(dir, TU_PI * tu_rng_uniform(&g), g_r[f]);
+        tu_rot_axis_angle(dir, TU_PI * tu_rng_uniform(&g), g_r[f]);
         for (k = 0; k < 3; k++) {
             dir[k] = tu_rng_gauss(&g);
         }
@@ -107,12 +88,12 @@ static void make_motion(uint64_t seed, size_t nf, int hinge)
             g_t[f][k] = dir[k] / n * dist;
         }
         if (hinge) {
-            rot_axis_angle(ax, (-10.0 + 120.0 * tu_rng_uniform(&g)) * TU_PI / 180.0, q);
+            tu_rot_axis_angle(ax, (-10.0 + 120.0 * tu_rng_uniform(&g)) * TU_PI / 180.0, q);
         } else {
             for (k = 0; k < 3; k++) {
                 dir[k] = tu_rng_gauss(&g);
             }
-            rot_axis_angle(dir, 60.0 * TU_PI / 180.0 * tu_rng_uniform(&g), q);
+            tu_rot_axis_angle(dir, 60.0 * TU_PI / 180.0 * tu_rng_uniform(&g), q);
         }
         for (i = 0; i < P; i++) {
             ref_pose_to_global(g_r[f], g_t[f], g_tpl[i], g_par0[f][i]);
@@ -176,17 +157,29 @@ static void ref_map_frame(const double tpl[P][3], const double par[P][3], const 
     }
 }
 
+/* Noise model of the double solve: none or one Sigma_hat (cov6 packed
+ * XX,YY,ZZ,XY,XZ,YZ), or one model per marker (Sigma_p row-major, t_p). */
+typedef struct {
+    int per_marker;
+    const double *cov6;
+    double cov9[K * 9], skew[K * 3];
+} noise_t;
+
 /* MGDK (sphere) or planar solve of the mapped markers. */
-static void ref_solve(int planar, const double *cov6, double c[3], double a[3])
+static void ref_solve(int planar, const noise_t *nz, double c[3], double a[3])
 {
     const double *xs[K];
+    const double *cov6 = nz->cov6;
     size_t ns[K], k;
     double radii[K];
     for (k = 0; k < K; k++) {
         xs[k] = &g_xs[k][0][0];
         ns[k] = g_nf;
     }
-    if (planar) {
+    if (nz->per_marker) {
+        assert_int_equal(ref_fit_multi_noise(xs, ns, K, nz->cov9, nz->skew, planar, c, a, radii),
+                         0);
+    } else if (planar) {
         assert_int_equal(ref_fit_multi_planar(xs, ns, K, cov6, 0, c, a, radii), 0);
     } else {
         assert_int_equal(ref_fit_multi(xs, ns, K, cov6, c, radii), 0);
@@ -194,14 +187,48 @@ static void ref_solve(int planar, const double *cov6, double c[3], double a[3])
 }
 
 static void ref_pipeline(const double tpl[P][3], const double (*par)[P][3],
-                         const double (*chi)[K][3], int planar, const double *cov6, double c[3],
+                         const double (*chi)[K][3], int planar, const noise_t *nz, double c[3],
                          double a[3])
 {
     size_t f;
     for (f = 0; f < g_nf; f++) {
         ref_map_frame(tpl, par[f], chi[f], f);
     }
-    ref_solve(planar, cov6, c, a);
+    ref_solve(planar, nz, c, a);
+}
+
+/* Per-marker noise models (marker variance var) of the noise-free truth,
+ * sample by sample (ref_joint_marker_noise). */
+static void truth_noise(double var, noise_t *nz)
+{
+    size_t f, k;
+    memset(nz, 0, sizeof *nz);
+    nz->per_marker = 1;
+    for (f = 0; f < g_nf; f++) {
+        ref_map_frame(g_tpl, (const double (*)[3])g_par0[f], (const double (*)[3])g_chi0[f], f);
+    }
+    for (k = 0; k < K; k++) {
+        assert_int_equal(ref_joint_marker_noise(g_tpl, P, &g_xs[k][0][0], g_nf, var,
+                                                &nz->cov9[9 * k], &nz->skew[3 * k]),
+                         0);
+    }
+}
+
+/* The library's per-marker models as a double noise_t. */
+static void noise_of_lib(const sfit_multi_noise_t *nl, noise_t *nz)
+{
+    size_t k;
+    int i;
+    memset(nz, 0, sizeof *nz);
+    nz->per_marker = 1;
+    for (k = 0; k < K; k++) {
+        for (i = 0; i < 9; i++) {
+            nz->cov9[9 * k + (size_t)i] = (double)nl[k].cov.m[i];
+        }
+        for (i = 0; i < 3; i++) {
+            nz->skew[3 * k + (size_t)i] = (double)nl[k].skew.v[i];
+        }
+    }
 }
 
 /*
@@ -218,7 +245,7 @@ typedef struct {
                                   (non-zero for UGDK: Sigma_hat is subtracted) */
 } pred_t;
 
-static void predict(int planar, const double *cov6, pred_t *o)
+static void predict(int planar, const noise_t *nz, pred_t *o)
 {
     static double par[FMAX][P][3], chi[FMAX][K][3];
     double tpl[P][3], c0[3], a0[3];
@@ -230,7 +257,7 @@ static void predict(int planar, const double *cov6, pred_t *o)
     memcpy(chi, g_chi0, sizeof chi);
     memset(o, 0, sizeof *o);
     ref_pipeline((const double (*)[3])tpl, (const double (*)[P][3])par,
-                 (const double (*)[K][3])chi, planar, cov6, c0, a0);
+                 (const double (*)[K][3])chi, planar, nz, c0, a0);
     {
         double ax[3];
         unit_axis(ax);
@@ -249,11 +276,11 @@ static void predict(int planar, const double *cov6, pred_t *o)
                 *x = x0 + h;
                 ref_map_frame((const double (*)[3])tpl, (const double (*)[3])par[f],
                               (const double (*)[3])chi[f], f);
-                ref_solve(planar, cov6, cp, ap);
+                ref_solve(planar, nz, cp, ap);
                 *x = x0 - h;
                 ref_map_frame((const double (*)[3])tpl, (const double (*)[3])par[f],
                               (const double (*)[3])chi[f], f);
-                ref_solve(planar, cov6, cm, am);
+                ref_solve(planar, nz, cm, am);
                 *x = x0;
                 ref_map_frame((const double (*)[3])tpl, (const double (*)[3])par[f],
                               (const double (*)[3])chi[f], f);
@@ -410,9 +437,11 @@ static void test_ball_exact(void **state)
     assert_true(res.residual_mean < 2e-4f && res.residual_max < 5e-4f);
 }
 
-/* Noisy ball and hinge, GDKE and UGDK: the library equals the double
- * pipeline on the same float inputs. Worst differences printed; the
- * tolerances (2e-2 mm, 2e-5 rad) are about 10x those. */
+/* Noisy ball and hinge, GDKE, UGDK with one Sigma_hat and UGDK with the
+ * per-marker models (SFIT_JOINT_NOISE_MARKER; the double solve is given the
+ * library's models, checked on their own in test_noise_cov): the library
+ * equals the double pipeline on the same float inputs. Worst differences
+ * printed; the tolerances (2e-2 mm, 2e-5 rad) are about 10x those. */
 static void test_vs_ref(void **state)
 {
     tu_rng_t g;
@@ -421,25 +450,38 @@ static void test_vs_ref(void **state)
     float radii[K];
     double c[3], a[3], tpl[P][3], cov6[6], dc = 0.0, da = 0.0;
     sfit_cluster_t cl;
+    noise_t nz;
     int hinge, ugdk, i;
     (void)state;
     cfg.n_child = K;
     template_f(&cl, tpl);
     for (hinge = 0; hinge < 2; hinge++) {
-        for (ugdk = 0; ugdk < 2; ugdk++) {
+        for (ugdk = 0; ugdk < 3; ugdk++) {
             make_motion(200 + (uint64_t)hinge, 300, hinge);
             tu_rng_seed(&g, 2 + (uint64_t)ugdk);
             make_noisy(&g, 0.5, 0.5);
             cfg.solve = sfit_multi_cfg_default;
-            if (ugdk) {
+            cfg.noise_model = SFIT_JOINT_NOISE_SOLVE;
+            memset(&nz, 0, sizeof nz);
+            if (ugdk == 1) {
                 effective_cov(cov6);
                 cfg_cov(&cfg, cov6, 0.25);
                 cov6_of_cfg(&cfg, cov6); /* the float-rounded matrix */
+                nz.cov6 = cov6;
+            } else if (ugdk == 2) {
+                cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+                cfg.solve.fit.noise = SFIT_NOISE_ISO;
+                cfg.solve.fit.noise_var = 0.25f;
             }
             assert_int_equal(lib_run(&cfg, &g_j, &res, radii), SFIT_OK);
             assert_int_equal(res.fit.mode, hinge ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE);
+            if (ugdk == 2) {
+                sfit_multi_noise_t nl[K];
+                assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, nl), SFIT_OK);
+                noise_of_lib(nl, &nz);
+            }
             ref_pipeline((const double (*)[3])tpl, (const double (*)[P][3])g_pard,
-                         (const double (*)[K][3])g_chid, hinge, ugdk ? cov6 : NULL, c, a);
+                         (const double (*)[K][3])g_chid, hinge, &nz, c, a);
             for (i = 0; i < 3; i++) {
                 double e = fabs((double)res.fit.center.v[i] - c[i]);
                 dc = e > dc ? e : dc;
@@ -570,7 +612,7 @@ static void assert_mc(const mc_t *m, const double bias[3], double pred_mse, cons
     assert_true(fabs(m->mse - pred_mse) <= 3.0 * m->mse_se);
 }
 
-#define MC_T 200
+#define MC_T 400
 #define MC_F 200
 #define MC_SIGMA 0.5
 
@@ -614,107 +656,187 @@ static void combine(const pred_t *pr, double sp, double sc, const double *normal
     *mse_a += tu_dot3(ba, ba);
 }
 
+/* Bias of a Monte Carlo run against zero: every component within 3 SE. */
+static void assert_unbiased(const mc_t *m)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        assert_true(fabs(m->mean[k]) <= 3.0 * m->se[k]);
+    }
+}
+
+/* The reported centre covariance (mean trace over the trials, cov_tr) is
+ * true: within 3 SE of the Monte Carlo trace of the errors' covariance
+ * (mean |e|^2 - |mean e|^2; its SE is that of mean |e|^2), and within 5 %
+ * of the delta-method trace pred_tr of the double pipeline (both first
+ * order; they differ by where the derivatives are taken). */
+static void assert_cov_true(const mc_t *m, double cov_tr, double pred_tr, const char *what)
+{
+    const double mc_tr = m->mse - tu_dot3(m->mean, m->mean);
+    printf("  %s centre covariance: reported trace %.5f mm^2, Monte Carlo %.5f +- %.5f "
+           "(ratio %.3f +- %.3f), delta method %.5f\n",
+           what, cov_tr, mc_tr, m->mse_se, cov_tr / mc_tr, m->mse_se / mc_tr, pred_tr);
+    assert_true(fabs(cov_tr - mc_tr) <= 3.0 * m->mse_se);
+    assert_true(fabs(cov_tr - pred_tr) <= 0.05 * pred_tr);
+}
+
+/* Run MC_T noisy copies of the current motion through the library; e gets
+ * the centre errors (the part normal to `normal` when not NULL), ang2 /
+ * ang4 (may be NULL) the mean of |a - a_true|^2 and of its square. */
+static void mc_run(const sfit_joint_cfg_t *cfg, uint64_t seed, double sp, const double *normal,
+                   double (*e)[3], double *ang2, double *ang4, double *cov_tr)
+{
+    tu_rng_t g;
+    sfit_joint_result_t res;
+    double ax[3];
+    size_t t;
+    int k;
+    unit_axis(ax);
+    tu_rng_seed(&g, seed);
+    if (ang2 != NULL) {
+        *ang2 = 0.0;
+        *ang4 = 0.0;
+    }
+    if (cov_tr != NULL) {
+        *cov_tr = 0.0;
+    }
+    for (t = 0; t < MC_T; t++) {
+        double d = 0.0, a2 = 0.0;
+        make_noisy(&g, sp, MC_SIGMA);
+        assert_int_equal(lib_run(cfg, &g_j, &res, NULL), SFIT_OK);
+        for (k = 0; k < 3; k++) {
+            e[t][k] = (double)res.fit.center.v[k] - g_centre[k];
+        }
+        if (cov_tr != NULL) { /* the reported covariance (every marker: sigma^2) */
+            sfit_mat3_t cov;
+            if (sp > 0.0) { /* the parent's pose error shared by the child markers */
+                assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0],
+                                                       g_nf, (float)(MC_SIGMA * MC_SIGMA), &cov),
+                                 SFIT_OK);
+            } else { /* exact parent: independent child noise, the multi-marker formula */
+                assert_int_equal(sfit_multi_center_cov(g_j.child, K, &cfg->solve, &res.fit,
+                                                       (float)(MC_SIGMA * MC_SIGMA), &cov),
+                                 SFIT_OK);
+            }
+            *cov_tr += ((double)cov.m[0] + (double)cov.m[4] + (double)cov.m[8]) / MC_T;
+        }
+        if (normal != NULL) {
+            d = tu_dot3(e[t], normal);
+        }
+        for (k = 0; k < 3; k++) {
+            const double ea = (double)res.fit.axis.v[k] - ax[k]; /* both: largest component > 0 */
+            e[t][k] -= (normal != NULL) ? d * normal[k] : 0.0;
+            a2 += ea * ea;
+        }
+        if (ang2 != NULL) {
+            *ang2 += a2 / MC_T;
+            *ang4 += a2 * a2 / MC_T;
+        }
+    }
+}
+
 /*
  * Ball joint, unbiased MGDK.
  * (a) Parent markers exact, child noise sigma = 0.5 mm: the noise of a
- *     child marker in the parent frame is sigma^2 I, the model of UGDK:
- *     the centre is unbiased (predicted second-order bias ~0, MC bias
- *     within 3 SE) and its MSE is the delta-method prediction.
+ *     child marker in the parent frame is sigma^2 I, the model of UGDK with
+ *     one Sigma_hat: the centre is unbiased (MC bias within 3 SE of zero)
+ *     and its MSE is the delta-method prediction.
  * (b) Every marker noisy: in the parent frame the child noise becomes
  *     sigma^2 (I + I/P + [y]x J^-1 [y]x^T), anisotropic and growing with the
- *     lever arm |y|; a single Sigma_hat (its average) cannot remove the
- *     O(sigma^2) bias this heteroscedastic noise causes. The test checks
- *     the MC bias against its second-order prediction and the MSE against
- *     trace(cov) + |bias|^2.
+ *     lever arm |y|. With the per-marker models (SFIT_JOINT_NOISE_MARKER,
+ *     sfit_multi_fit_noise) the centre is unbiased: MC bias within 3 SE of
+ *     zero, MSE the delta-method prediction (per-marker models of the
+ *     truth, sample by sample, in the double solve).
+ * (c) The same data with one Sigma_hat, the average of (b)'s models: the
+ *     O(sigma^2) bias of the heteroscedastic noise is there (the z bias is
+ *     more than 3 SE from zero, and it is its second-order prediction):
+ *     the zero-bias check of (b) can fail.
  */
 static void test_mc_ball(void **state)
 {
     static double err[MC_T][3];
     static pred_t pr;
-    tu_rng_t g;
+    static noise_t nz;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-    sfit_joint_result_t res;
-    double cov6[6], b[3], mse, ba[3], msea;
+    double cov6[6], b[3], mse, ba[3], msea, cov_tr = 0.0;
     mc_t m;
-    size_t t;
-    int k, noisy_parent;
+    int k, run;
     (void)state;
-    cfg.n_child = K;
     make_motion(400, MC_F, 0);
-    for (noisy_parent = 0; noisy_parent < 2; noisy_parent++) {
-        const double sp = noisy_parent ? MC_SIGMA : 0.0;
-        if (noisy_parent) {
-            effective_cov(cov6);
-            cfg_cov(&cfg, cov6, MC_SIGMA * MC_SIGMA);
-        } else {
+    for (run = 0; run < 3; run++) {
+        const double sp = (run > 0) ? MC_SIGMA : 0.0;
+        cfg = sfit_joint_cfg_default;
+        cfg.n_child = K;
+        memset(&nz, 0, sizeof nz);
+        if (run == 0) {
             static const double iso[6] = {1, 1, 1, 0, 0, 0};
             cfg_cov(&cfg, iso, MC_SIGMA * MC_SIGMA);
+            cov6_of_cfg(&cfg, cov6);
+            nz.cov6 = cov6;
+        } else if (run == 1) {
+            cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+            cfg.solve.fit.noise = SFIT_NOISE_ISO;
+            cfg.solve.fit.noise_var = (float)(MC_SIGMA * MC_SIGMA);
+            truth_noise(MC_SIGMA * MC_SIGMA, &nz);
+        } else {
+            effective_cov(cov6);
+            cfg_cov(&cfg, cov6, MC_SIGMA * MC_SIGMA);
+            cov6_of_cfg(&cfg, cov6);
+            nz.cov6 = cov6;
         }
-        cov6_of_cfg(&cfg, cov6);
-        predict(0, cov6, &pr);
+        predict(0, &nz, &pr);
         combine(&pr, sp, MC_SIGMA, NULL, b, &mse, ba, &msea);
-        tu_rng_seed(&g, 5 + (uint64_t)noisy_parent);
-        for (t = 0; t < MC_T; t++) {
-            make_noisy(&g, sp, MC_SIGMA);
-            assert_int_equal(lib_run(&cfg, &g_j, &res, NULL), SFIT_OK);
-            for (k = 0; k < 3; k++) {
-                err[t][k] = (double)res.fit.center.v[k] - g_centre[k];
-            }
-        }
+        mc_run(&cfg, 5 + (uint64_t)(run > 0), sp, NULL, err, NULL, NULL,
+               (run < 2) ? &cov_tr : NULL);
         mc_summary((const double (*)[3])err, MC_T, &m);
-        assert_mc(&m, b, mse, noisy_parent ? "ball, all markers noisy" : "ball, exact parent");
-        if (!noisy_parent) {
-            for (k = 0; k < 3; k++) {
-                assert_true(fabs(m.mean[k]) <= 3.0 * m.se[k]); /* unbiased */
+        if (run < 2) {
+            assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b),
+                            run == 0 ? "ball, exact parent (sfit_multi_center_cov)"
+                                     : "ball (sfit_joint_center_cov)");
+        }
+        assert_mc(&m, b, mse,
+                  run == 0   ? "ball, exact parent, one Sigma_hat"
+                  : run == 1 ? "ball, all markers noisy, per-marker models"
+                             : "ball, all markers noisy, one (average) Sigma_hat");
+        if (run < 2) {
+            assert_unbiased(&m);
+            for (k = 0; k < 3; k++) { /* and so is the prediction */
+                assert_true(fabs(b[k]) <= m.se[k]);
             }
+        } else {
+            assert_true(fabs(m.mean[2]) > 3.0 * m.se[2]);
         }
     }
 }
 
 /* Hinge, every marker noisy (sigma 0.5 mm), unbiased planar MGDK with the
- * average effective covariance: the axis error |a - a_true| (the angle in
- * radians, to first order) has the predicted mean square, and the part of
- * the centre normal to the axis has the predicted bias and MSE. */
+ * per-marker models: the part of the centre normal to the axis is unbiased
+ * (within 3 SE of zero) with the predicted MSE, and the axis error
+ * |a - a_true| (the angle in radians, to first order) has the predicted
+ * mean square. */
 static void test_mc_hinge(void **state)
 {
     static double err[MC_T][3];
     static pred_t pr;
-    tu_rng_t g;
+    static noise_t nz;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-    sfit_joint_result_t res;
-    double cov6[6], ax[3], b[3], mse, ba[3], msea, ang2 = 0.0, ang4 = 0.0;
+    double ax[3], b[3], mse, ba[3], msea, ang2, ang4, cov_tr;
     mc_t m;
-    size_t t;
-    int k;
     (void)state;
     cfg.n_child = K;
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    cfg.solve.fit.noise = SFIT_NOISE_ISO;
+    cfg.solve.fit.noise_var = (float)(MC_SIGMA * MC_SIGMA);
     unit_axis(ax);
     make_motion(500, MC_F, 1);
-    effective_cov(cov6);
-    cfg_cov(&cfg, cov6, MC_SIGMA * MC_SIGMA);
-    cov6_of_cfg(&cfg, cov6);
-    predict(1, cov6, &pr);
+    truth_noise(MC_SIGMA * MC_SIGMA, &nz);
+    predict(1, &nz, &pr);
     combine(&pr, MC_SIGMA, MC_SIGMA, ax, b, &mse, ba, &msea);
-    tu_rng_seed(&g, 7);
-    for (t = 0; t < MC_T; t++) {
-        double e[3], d, a2 = 0.0;
-        make_noisy(&g, MC_SIGMA, MC_SIGMA);
-        assert_int_equal(lib_run(&cfg, &g_j, &res, NULL), SFIT_OK);
-        assert_int_equal(res.fit.mode, SFIT_MODE_PLANAR);
-        for (k = 0; k < 3; k++) {
-            e[k] = (double)res.fit.center.v[k] - g_centre[k];
-        }
-        d = tu_dot3(e, ax);
-        for (k = 0; k < 3; k++) {
-            double ea = (double)res.fit.axis.v[k] - ax[k]; /* both: largest component > 0 */
-            err[t][k] = e[k] - d * ax[k];
-            a2 += ea * ea;
-        }
-        ang2 += a2 / MC_T;
-        ang4 += a2 * a2 / MC_T;
-    }
+    mc_run(&cfg, 7, MC_SIGMA, ax, err, &ang2, &ang4, &cov_tr);
     mc_summary((const double (*)[3])err, MC_T, &m);
-    assert_mc(&m, b, mse, "hinge centre (normal to the axis)");
+    assert_cov_true(&m, cov_tr, mse - tu_dot3(b, b), "hinge (normal to the axis)");
+    assert_mc(&m, b, mse, "hinge centre (normal to the axis), per-marker models");
+    assert_unbiased(&m);
     {
         double se = sqrt((ang4 - ang2 * ang2) / (MC_T - 1));
         printf("  hinge axis: RMS angle %.3g mrad, predicted %.3g mrad (MSE %.3g +- %.2g)\n",
@@ -957,16 +1079,23 @@ static void test_template_from_frames(void **state)
 /* sfit_joint_noise_cov() against the double first-order expression at the
  * true positions (effective_cov): they differ only by the noise in the
  * mapped samples (relative 1e-4 here); tolerance 1e-2 of the largest
- * entry. The solve in SFIT_JOINT_NOISE_MARKER mode is the solve with that
- * covariance given explicitly, bit for bit. */
+ * entry. sfit_joint_marker_noise() against the double per-sample models of
+ * the same mapped samples (ref_joint_marker_noise): the covariances to
+ * float rounding (1e-4 of the largest entry), the skews to the one term the
+ * moments cannot give (printed; 0.05 of the largest skew entry). The solve
+ * in SFIT_JOINT_NOISE_MARKER mode is sfit_multi_fit_noise() with those
+ * models, bit for bit. */
 static void test_noise_cov(void **state)
 {
     tu_rng_t g;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
     sfit_joint_result_t r1, r2;
     sfit_mat3_t cov, sent;
-    double cov6[6], want[9], big = 0.0;
+    sfit_multi_noise_t nl[K], nsent[K];
+    sfit_multi_cfg_t mcfg = sfit_multi_cfg_default;
+    double cov6[6], want[9], big = 0.0, tpl[P][3];
     float rad1[K], rad2[K];
+    size_t f;
     int k;
     (void)state;
     cfg.n_child = K;
@@ -991,12 +1120,51 @@ static void test_noise_cov(void **state)
     for (k = 0; k < 9; k++) {
         assert_near(cov.m[k], want[k], 1e-2 * big, "noise cov");
     }
-    /* the same solve with the covariance given */
+    /* per-marker models against the double ones, sample by sample */
+    assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, nl), SFIT_OK);
+    memcpy(tpl, g_tpl, sizeof tpl);
+    for (f = 0; f < g_nf; f++) {
+        ref_map_frame((const double (*)[3])tpl, (const double (*)[3])g_pard[f],
+                      (const double (*)[3])g_chid[f], f);
+    }
+    {
+        double dcov = 0.0, dsk = 0.0, bigc = 0.0, bigs = 0.0;
+        for (k = 0; k < K; k++) {
+            double c9[9], sk[3];
+            int i;
+            assert_int_equal(ref_joint_marker_noise(g_tpl, P, &g_xs[k][0][0], g_nf, 0.25, c9, sk),
+                             0);
+            for (i = 0; i < 9; i++) {
+                dcov = fmax(dcov, fabs((double)nl[k].cov.m[i] - c9[i]));
+                bigc = fmax(bigc, fabs(c9[i]));
+            }
+            for (i = 0; i < 3; i++) {
+                dsk = fmax(dsk, fabs((double)nl[k].skew.v[i] - sk[i]));
+                bigs = fmax(bigs, fabs(sk[i]));
+            }
+        }
+        printf("  per-marker models vs double per-sample: covariance %.3g (largest entry %.3g), "
+               "skew %.3g (largest %.3g) mm^2, mm^3\n", dcov, bigc, dsk, bigs);
+        assert_true(dcov <= 1e-4 * bigc);
+        assert_true(dsk <= 0.05 * bigs); /* measured 0.029 */
+    }
+    /* the MARKER solve is sfit_multi_fit_noise() with these models */
+    mcfg = cfg.solve;
+    mcfg.fit.noise = SFIT_NOISE_NONE;
+    memset(&r2, 0, sizeof r2);
+    r2.frames = r1.frames;
+    r2.residual_mean = r1.residual_mean;
+    r2.residual_max = r1.residual_max;
+    assert_int_equal(sfit_multi_fit_noise(g_j.child, K, &mcfg, nl, &r2.fit, rad2), SFIT_OK);
+    assert_memory_equal(&r1, &r2, sizeof r1);
+    assert_memory_equal(rad1, rad2, sizeof rad1);
+    /* with one Sigma_hat given explicitly, SOLVE mode is sfit_multi_fit() */
     cfg.noise_model = SFIT_JOINT_NOISE_SOLVE;
     cfg.solve.fit.noise = SFIT_NOISE_COV;
     cfg.solve.fit.noise_cov = cov;
     assert_int_equal(lib_run(&cfg, &g_j, &r2, rad2), SFIT_OK);
-    assert_memory_equal(&r1, &r2, sizeof r1);
+    assert_int_equal(sfit_multi_fit(g_j.child, K, &cfg.solve, &r1.fit, rad1), SFIT_OK);
+    assert_memory_equal(&r1.fit, &r2.fit, sizeof r1.fit);
     assert_memory_equal(rad1, rad2, sizeof rad1);
     /* contract */
     memset(&sent, 0xA5, sizeof sent);
@@ -1005,15 +1173,159 @@ static void test_noise_cov(void **state)
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, NULL), SFIT_E_ARG);
     assert_int_equal(sfit_joint_noise_cov(&g_j, -1.0f, &cov), SFIT_E_ARG);
     assert_int_equal(sfit_joint_noise_cov(&g_j, NAN, &cov), SFIT_E_NONFINITE);
+    memset(nsent, 0xA5, sizeof nsent);
+    memcpy(nl, nsent, sizeof nl);
+    assert_int_equal(sfit_joint_marker_noise(NULL, 0.25f, nl), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_marker_noise(&g_j, -1.0f, nl), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_marker_noise(&g_j, INFINITY, nl), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_joint_marker_noise(&g_j, 1e38f, nl), SFIT_E_RANGE);
+    assert_memory_equal(nl, nsent, sizeof nl);
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
+    assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, nl), SFIT_E_TOO_FEW);
+    assert_memory_equal(nl, nsent, sizeof nl);
     /* options: MARKER needs SFIT_NOISE_ISO; an unknown model is rejected */
     cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
     cfg.solve.fit.noise = SFIT_NOISE_NONE;
     assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
     cfg.noise_model = (sfit_joint_noise_t)5;
     assert_int_equal(sfit_joint_init(&g_j, &g_j.parent, &cfg), SFIT_E_ARG);
+}
+
+/* sfit_joint_center_cov() against the double formula (ref_joint_center_cov)
+ * on the same mapped samples, ball and hinge, with the per-marker models in
+ * A: within 1e-3 of the largest entry (measured: printed). Its statistical
+ * truth is checked in test_mc_ball / test_mc_hinge. Contract: statuses,
+ * output untouched on failure. */
+static void test_center_cov(void **state)
+{
+    tu_rng_t g;
+    sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_joint_result_t res, bad;
+    sfit_multi_noise_t nl[K];
+    sfit_mat3_t cov, sent;
+    noise_t nz;
+    double tpl[P][3], want[9], c[3], ax[3], worst = 0.0;
+    const double *xs[K];
+    size_t f, k;
+    int hinge, i;
+    (void)state;
+    cfg.n_child = K;
+    cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
+    cfg.solve.fit.noise = SFIT_NOISE_ISO;
+    cfg.solve.fit.noise_var = 0.25f;
+    memcpy(tpl, g_tpl, sizeof tpl);
+    for (hinge = 0; hinge < 2; hinge++) {
+        double big = 0.0, d = 0.0;
+        make_motion(1000 + (uint64_t)hinge, 300, hinge);
+        tu_rng_seed(&g, 12);
+        make_noisy(&g, 0.5, 0.5);
+        assert_int_equal(lib_run(&cfg, &g_j, &res, NULL), SFIT_OK);
+        assert_int_equal(res.fit.mode, hinge ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE);
+        assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf,
+                                               0.25f, &cov),
+                         SFIT_OK);
+        assert_int_equal(sfit_joint_marker_noise(&g_j, 0.25f, nl), SFIT_OK);
+        noise_of_lib(nl, &nz);
+        for (f = 0; f < g_nf; f++) {
+            ref_map_frame((const double (*)[3])tpl, (const double (*)[3])g_pard[f],
+                          (const double (*)[3])g_chid[f], f);
+        }
+        for (k = 0; k < K; k++) {
+            xs[k] = &g_xs[k][0][0];
+        }
+        tc_to_double3(&res.fit.center, c);
+        tc_to_double3(&res.fit.axis, ax);
+        assert_int_equal(ref_joint_center_cov(g_tpl, P, xs, K, g_nf, nz.cov9, c,
+                                              hinge ? ax : NULL, 0.25, want),
+                         0);
+        for (i = 0; i < 9; i++) {
+            big = fmax(big, fabs(want[i]));
+        }
+        for (i = 0; i < 9; i++) {
+            d = fmax(d, fabs((double)cov.m[i] - want[i]));
+            assert_near(cov.m[i], want[i], 1e-3 * big, "centre covariance");
+        }
+        worst = fmax(worst, d / big);
+        printf("  centre covariance (%s): trace %.4f mm^2\n", hinge ? "hinge" : "ball",
+               want[0] + want[4] + want[8]);
+        /* the multi-marker formula (independent markers) against the double one
+         * without the parent term: within 2e-3 of the largest entry (r_p^2 and
+         * C'_p from the moments against |y - c|^2 and y y^T sample by sample) */
+        {
+            sfit_multi_cfg_t mc = sfit_multi_cfg_default;
+            sfit_multi_result_t mr;
+            double wm[9], bm = 0.0, dm = 0.0;
+            mc.fit.mode = hinge ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
+            assert_int_equal(sfit_multi_fit(g_j.child, K, &mc, &mr, NULL), SFIT_OK);
+            assert_int_equal(sfit_multi_center_cov(g_j.child, K, &mc, &mr, 0.25f, &cov), SFIT_OK);
+            tc_to_double3(&mr.center, c);
+            tc_to_double3(&mr.axis, ax);
+            assert_int_equal(ref_joint_center_cov(NULL, 0, xs, K, g_nf, NULL, c,
+                                                  hinge ? ax : NULL, 0.25, wm),
+                             0);
+            for (i = 0; i < 9; i++) {
+                bm = fmax(bm, fabs(wm[i]));
+            }
+            for (i = 0; i < 9; i++) {
+                dm = fmax(dm, fabs((double)cov.m[i] - wm[i]));
+            }
+            printf("  multi-marker centre covariance (%s) vs double: %.3g of the largest entry\n",
+                   hinge ? "hinge" : "ball", dm / bm);
+            assert_true(dm <= 2e-3 * bm); /* measured 1.6e-4 */
+        }
+    }
+    printf("  centre covariance vs double: %.3g of the largest entry\n", worst);
+    /* contract */
+    memset(&sent, 0x5A, sizeof sent);
+    cov = sent;
+    assert_int_equal(sfit_joint_center_cov(NULL, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, NULL, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, NULL, &g_chif[0][0], g_nf, 0.25f, &cov),
+                     SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], NULL, g_nf, 0.25f, &cov),
+                     SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, -1.0f,
+                                           &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, NAN,
+                                           &cov), SFIT_E_NONFINITE);
+    bad = res;
+    bad.fit.center.v[1] = INFINITY;
+    assert_int_equal(sfit_joint_center_cov(&g_j, &bad, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_NONFINITE);
+    bad = res;
+    bad.fit.mode = (sfit_mode_t)9;
+    assert_int_equal(sfit_joint_center_cov(&g_j, &bad, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], 0, 0.25f,
+                                           &cov), SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+    /* sfit_multi_center_cov: the same statuses */
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, &cov), SFIT_OK);
+    cov = sent;
+    assert_int_equal(sfit_multi_center_cov(NULL, K, NULL, &res.fit, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, NULL, 0.25f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, -1.0f, &cov), SFIT_E_ARG);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, NAN, &cov),
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &bad.fit, 0.25f, &cov),
+                     SFIT_E_NONFINITE);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, 0, NULL, &res.fit, 0.25f, &cov),
+                     SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
+    assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
+    assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
+                                           &cov), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_multi_center_cov(g_j.child, K, NULL, &res.fit, 0.25f, &cov),
+                     SFIT_E_TOO_FEW);
+    assert_memory_equal(&cov, &sent, sizeof cov);
 }
 
 int main(void)
@@ -1028,6 +1340,7 @@ int main(void)
         cmocka_unit_test(test_contract),
         cmocka_unit_test(test_template_from_frames),
         cmocka_unit_test(test_noise_cov),
+        cmocka_unit_test(test_center_cov),
     };
     return cmocka_run_group_tests_name("joint", tests, NULL, NULL);
 }

@@ -162,6 +162,22 @@ static inline void tu_frame(const double axis[3], double n[3], double e1[3],
 }
 
 /** Adds isotropic Gaussian noise of std sigma to p. */
+/* Rotation matrix (row-major) of angle ang about the axis ax (any length). */
+static inline void tu_rot_axis_angle(const double ax[3], double ang, double r[9])
+{
+    const double n = tu_norm3(ax), c = cos(ang), s = sin(ang), C = 1.0 - c;
+    const double a0 = ax[0] / n, a1 = ax[1] / n, a2 = ax[2] / n;
+    r[0] = c + a0 * a0 * C;
+    r[1] = a0 * a1 * C - a2 * s;
+    r[2] = a0 * a2 * C + a1 * s;
+    r[3] = a1 * a0 * C + a2 * s;
+    r[4] = c + a1 * a1 * C;
+    r[5] = a1 * a2 * C - a0 * s;
+    r[6] = a2 * a0 * C - a1 * s;
+    r[7] = a2 * a1 * C + a0 * s;
+    r[8] = c + a2 * a2 * C;
+}
+
 static inline void tu_add_noise(tu_rng_t *g, double sigma, double p[3])
 {
     int i;

@@ -51,20 +51,6 @@ static sfit_status_t prv_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, 
     return sfit_mat3_chol_solve(l, b, x);
 }
 
-/* 1 when some coordinate is NaN (bit test, no FP operation). */
-static int prv_has_nan(const float x[3])
-{
-    int i;
-    for (i = 0; i < 3; i++) {
-        uint32_t u;
-        memcpy(&u, &x[i], sizeof u);
-        if ((u & 0x7F800000u) == 0x7F800000u && (u & 0x007FFFFFu) != 0u) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 static int prv_count_ok(size_t count)
 {
     return count >= 3u && count <= (size_t)SFIT_CLUSTER_MAX_MARKERS;
@@ -107,6 +93,44 @@ static void prv_centred(const float x[3], const float ref[3], const float d[3], 
     }
 }
 
+/* The seen markers of a frame and their centroids (ref + d). */
+typedef struct prv_frame {
+    const sfit_vec3_t *meas, *tpl;
+    const uint8_t *seen;
+    size_t count;
+    const float *xr, *dx, *pr, *dp;
+} prv_frame_t;
+
+/* Over the seen markers, centred (q measured, p template): h = sum q p^T
+ * (r NULL; returns 0), or the sum of |r p - q|^2 (h NULL). */
+SFIT_INLINE float prv_pairs(const prv_frame_t *fr, const sfit_mat3_t *r, float h[9])
+{
+    float e2 = 0.0f;
+    size_t i;
+    int ii, jj;
+    for (ii = 0; h != NULL && ii < 9; ii++) {
+        h[ii] = 0.0f;
+    }
+    for (i = 0; i < fr->count; i++) {
+        float p[3], q[3];
+        if (fr->seen[i] == 0u) {
+            continue;
+        }
+        prv_centred(fr->meas[i].v, fr->xr, fr->dx, q);
+        prv_centred(fr->tpl[i].v, fr->pr, fr->dp, p);
+        for (ii = 0; ii < 3; ii++) {
+            if (r != NULL) {
+                const float e = sfit_i_dot3(&r->m[3 * ii], p) - q[ii];
+                e2 += e * e;
+            }
+            for (jj = 0; h != NULL && jj < 3; jj++) {
+                h[3 * ii + jj] += q[ii] * p[jj];
+            }
+        }
+    }
+    return e2;
+}
+
 static void prv_cross(const float a[3], const float b[3], float c[3])
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
@@ -114,10 +138,6 @@ static void prv_cross(const float a[3], const float b[3], float c[3])
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static float prv_dot(const float a[3], const float b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /*
  * Collinearity / coincidence test of a symmetric 3x3 whose eigenvalues are
@@ -217,7 +237,7 @@ static void prv_refine(const float h[9], sfit_mat3_t *r)
         return;
     }
     (void)prv_chol_solve(&l, &g, &w);
-    w2 = prv_dot(w.v, w.v);
+    w2 = sfit_i_dot3(w.v, w.v);
     if (!(w2 < 1e-2f)) {
         return;
     }
@@ -246,46 +266,36 @@ static void prv_refine(const float h[9], sfit_mat3_t *r)
     *r = rn;
 }
 
-sfit_status_t sfit_cluster_init(sfit_cluster_t *cl, const sfit_vec3_t *tpl, size_t count)
+/* A template from count points: validated (finite, in range, not
+ * collinear), stored as given (centred = 0) or about their centroid. */
+static sfit_status_t prv_store(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_t count,
+                               int centred)
 {
     sfit_vec3_t tmp[SFIT_CLUSTER_MAX_MARKERS];
-    sfit_status_t st;
+    const sfit_status_t st = (cl == NULL || pts == NULL || !prv_count_ok(count))
+                                 ? SFIT_E_ARG
+                                 : prv_centre_all(pts, count, tmp);
     size_t i;
 
-    if (cl == NULL || tpl == NULL || !prv_count_ok(count)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_centre_all(tpl, count, tmp); /* validation only */
     if (st != SFIT_OK) {
         return st;
     }
     memset(cl, 0, sizeof *cl);
     cl->count = (uint32_t)count;
     for (i = 0; i < count; i++) {
-        cl->pos[i] = tpl[i];
+        cl->pos[i] = centred ? tmp[i] : pts[i];
     }
     return SFIT_OK;
 }
 
+sfit_status_t sfit_cluster_init(sfit_cluster_t *cl, const sfit_vec3_t *tpl, size_t count)
+{
+    return prv_store(cl, tpl, count, 0);
+}
+
 sfit_status_t sfit_cluster_from_frame(sfit_cluster_t *cl, const sfit_vec3_t *pts, size_t count)
 {
-    sfit_vec3_t tmp[SFIT_CLUSTER_MAX_MARKERS];
-    sfit_status_t st;
-    size_t i;
-
-    if (cl == NULL || pts == NULL || !prv_count_ok(count)) {
-        return SFIT_E_ARG;
-    }
-    st = prv_centre_all(pts, count, tmp);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    memset(cl, 0, sizeof *cl);
-    cl->count = (uint32_t)count;
-    for (i = 0; i < count; i++) {
-        cl->pos[i] = tmp[i];
-    }
-    return SFIT_OK;
+    return prv_store(cl, pts, count, 1);
 }
 
 sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *frames,
@@ -309,11 +319,8 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
             break;
         }
     }
-    if (st == SFIT_E_NO_CONVERGENCE) {
-        return st;
-    }
     if (st != SFIT_OK) {
-        return SFIT_E_TOO_FEW;
+        return (st == SFIT_E_NO_CONVERGENCE) ? st : SFIT_E_TOO_FEW;
     }
     for (i = 0; i < count; i++) {
         mean[i] = ref.pos[i];
@@ -328,7 +335,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
         }
         for (i = 0; i < count; i++) {
             sfit_vec3_t xs;
-            if (prv_has_nan(fr[i].v)) {
+            if (sfit_i_has_nan3(fr[i].v)) {
                 continue;
             }
             (void)sfit_pose_to_segment(&pose, &fr[i], &xs);
@@ -356,7 +363,8 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
 {
     uint8_t seen[SFIT_CLUSTER_MAX_MARKERS];
     float xr[3], dx[3], pr[3], dp[3];
-    float h[9], hmax, inv, e2, n;
+    prv_frame_t fr;
+    float h[9], hmax, inv, e2;
     float v1[3], v2[3], v3[3], u1[3], u2[3], u3[3], a;
     sfit_mat3_t k, vv, r;
     sfit_vec3_t t;
@@ -373,22 +381,14 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
      * template that is not finite or in range is a garbage struct. */
     for (i = 0; i < count; i++) {
         sfit_status_t si;
-        seen[i] = 0u;
         if (sfit_i_check_sample(cl->pos[i].v) != SFIT_OK) {
             return SFIT_E_ARG;
         }
-        if (prv_has_nan(meas[i].v)) {
-            continue;
-        }
-        si = sfit_i_check_sample(meas[i].v);
-        if (si == SFIT_E_NONFINITE) {
+        si = sfit_i_check_marker(meas[i].v, &seen[i], &st);
+        if (si != SFIT_OK) {
             return si;
         }
-        if (si != SFIT_OK) {
-            st = si;
-        }
-        seen[i] = 1u;
-        nseen++;
+        nseen += seen[i];
     }
     if (nseen < 3u) {
         return SFIT_E_TOO_FEW; /* the status rule: TOO_FEW before RANGE */
@@ -399,23 +399,15 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     prv_centroid(meas, count, seen, xr, dx);
     prv_centroid(cl->pos, count, seen, pr, dp);
 
-    /* H = sum q p^T, centred. */
-    for (ii = 0; ii < 9; ii++) {
-        h[ii] = 0.0f;
-    }
-    for (i = 0; i < count; i++) {
-        float p[3], q[3];
-        if (seen[i] == 0u) {
-            continue;
-        }
-        prv_centred(meas[i].v, xr, dx, q);
-        prv_centred(cl->pos[i].v, pr, dp, p);
-        for (ii = 0; ii < 3; ii++) {
-            for (jj = 0; jj < 3; jj++) {
-                h[3 * ii + jj] += q[ii] * p[jj];
-            }
-        }
-    }
+    fr.meas = meas;
+    fr.tpl = cl->pos;
+    fr.seen = seen;
+    fr.count = count;
+    fr.xr = xr;
+    fr.dx = dx;
+    fr.pr = pr;
+    fr.dp = dp;
+    (void)prv_pairs(&fr, NULL, h); /* H = sum q p^T */
     hmax = 0.0f;
     for (ii = 0; ii < 9; ii++) {
         const float ah = SFIT_FABSF(h[ii]);
@@ -453,23 +445,15 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         u1[ii] = h[3 * ii] * v1[0] + h[3 * ii + 1] * v1[1] + h[3 * ii + 2] * v1[2];
         u2[ii] = h[3 * ii] * v2[0] + h[3 * ii + 1] * v2[1] + h[3 * ii + 2] * v2[2];
     }
-    a = SFIT_SQRTF(prv_dot(u1, u1));
-    if (!(a > 0.0f)) {
+    if (!sfit_i_unit3(u1, &a)) {
         return SFIT_E_DEGENERATE;
     }
-    for (ii = 0; ii < 3; ii++) {
-        u1[ii] /= a;
-    }
-    a = prv_dot(u1, u2);
+    a = sfit_i_dot3(u1, u2);
     for (ii = 0; ii < 3; ii++) {
         u2[ii] -= a * u1[ii];
     }
-    a = SFIT_SQRTF(prv_dot(u2, u2));
-    if (!(a > 0.0f)) {
+    if (!sfit_i_unit3(u2, &a)) {
         return SFIT_E_DEGENERATE;
-    }
-    for (ii = 0; ii < 3; ii++) {
-        u2[ii] /= a;
     }
     prv_cross(u1, u2, u3);
     prv_cross(v1, v2, v3);
@@ -488,23 +472,7 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
         t.v[ii] = (xr[ii] + dx[ii]) - rp;
     }
     /* Residual from the centred points (no cancellation). */
-    e2 = 0.0f;
-    n = 0.0f;
-    for (i = 0; i < count; i++) {
-        float p[3], q[3];
-        if (seen[i] == 0u) {
-            continue;
-        }
-        prv_centred(meas[i].v, xr, dx, q);
-        prv_centred(cl->pos[i].v, pr, dp, p);
-        for (ii = 0; ii < 3; ii++) {
-            const float e = r.m[3 * ii] * p[0] + r.m[3 * ii + 1] * p[1] + r.m[3 * ii + 2] * p[2]
-                            - q[ii];
-            e2 += e * e;
-        }
-        n += 1.0f;
-    }
-    e2 = SFIT_SQRTF(e2 / n);
+    e2 = SFIT_SQRTF(prv_pairs(&fr, &r, NULL) / (float)nseen);
     if (!sfit_i_isfinite(e2) || sfit_i_check_sample(t.v) != SFIT_OK) {
         return SFIT_E_RANGE;
     }
@@ -522,38 +490,38 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     return SFIT_OK;
 }
 
-sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
-                                  sfit_vec3_t *xg)
+/* One point map: to the global frame, R x + t (inverse = 0), or to the
+ * segment frame, R^T (x - t) (inverse = 1). */
+SFIT_INLINE sfit_status_t prv_map(const sfit_pose_t *pose, const sfit_vec3_t *x, int inverse,
+                             sfit_vec3_t *y)
 {
     const float *r;
-    float x0, x1, x2;
-    if (pose == NULL || xs == NULL || xg == NULL) {
+    const int si = inverse ? 1 : 3, sk = inverse ? 3 : 1;
+    float d[3];
+    int i;
+    if (pose == NULL || x == NULL || y == NULL) {
         return SFIT_E_ARG;
     }
     r = pose->r.m;
-    x0 = xs->v[0];
-    x1 = xs->v[1];
-    x2 = xs->v[2];
-    xg->v[0] = (r[0] * x0 + r[1] * x1 + r[2] * x2) + pose->t.v[0];
-    xg->v[1] = (r[3] * x0 + r[4] * x1 + r[5] * x2) + pose->t.v[1];
-    xg->v[2] = (r[6] * x0 + r[7] * x1 + r[8] * x2) + pose->t.v[2];
+    for (i = 0; i < 3; i++) {
+        d[i] = inverse ? x->v[i] - pose->t.v[i] : x->v[i];
+    }
+    for (i = 0; i < 3; i++) {
+        const float *ri = &r[si * i];
+        const float v = ri[0] * d[0] + ri[sk] * d[1] + ri[2 * sk] * d[2];
+        y->v[i] = inverse ? v : v + pose->t.v[i];
+    }
     return SFIT_OK;
+}
+
+sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
+                                  sfit_vec3_t *xg)
+{
+    return prv_map(pose, xs, 0, xg);
 }
 
 sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
                                    sfit_vec3_t *xs)
 {
-    const float *r;
-    float d0, d1, d2;
-    if (pose == NULL || xg == NULL || xs == NULL) {
-        return SFIT_E_ARG;
-    }
-    r = pose->r.m;
-    d0 = xg->v[0] - pose->t.v[0];
-    d1 = xg->v[1] - pose->t.v[1];
-    d2 = xg->v[2] - pose->t.v[2];
-    xs->v[0] = r[0] * d0 + r[3] * d1 + r[6] * d2;
-    xs->v[1] = r[1] * d0 + r[4] * d1 + r[7] * d2;
-    xs->v[2] = r[2] * d0 + r[5] * d1 + r[8] * d2;
-    return SFIT_OK;
+    return prv_map(pose, xg, 1, xs);
 }

@@ -54,10 +54,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
         return SFIT_E_RANGE;
     }
     r.n = t.n;
-    r.eigenvalues = sol.eigenvalues;
-    r.axis = sol.axis;
-    r.leontief_ratio = sol.rho;
-    r.trust_ratio = sol.rho / (1.0f + sol.rho);
+    sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
     r.flags = sol.flags;
     if (t.n < SFIT_FEW_SAMPLES) {
         r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;

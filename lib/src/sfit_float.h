@@ -35,6 +35,20 @@ SFIT_INLINE int sfit_i_finite3(const float v[3])
     return sfit_i_isfinite(v[0]) && sfit_i_isfinite(v[1]) && sfit_i_isfinite(v[2]);
 }
 
+/** @brief 1 when some coordinate is NaN (bit test; no FP operation). */
+SFIT_INLINE int sfit_i_has_nan3(const float v[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        uint32_t u;
+        memcpy(&u, &v[i], sizeof u);
+        if ((u & 0x7F800000u) == 0x7F800000u && (u & 0x007FFFFFu) != 0u) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /** @brief A sample: SFIT_OK, SFIT_E_NONFINITE or SFIT_E_RANGE (too large). */
 SFIT_INLINE sfit_status_t sfit_i_check_sample(const float x[3])
 {
@@ -52,6 +66,31 @@ SFIT_INLINE sfit_status_t sfit_i_check_sample(const float x[3])
         }
     }
     return st;
+}
+
+/**
+ * @brief A marker that may be occluded (NaN): *seen = 0 for a NaN
+ * coordinate, else 1; SFIT_E_NONFINITE for +-Inf (reject at once), else
+ * SFIT_OK with *range set to SFIT_E_RANGE when a coordinate is too large
+ * (reported later, in the order of the status rule).
+ */
+SFIT_INLINE sfit_status_t sfit_i_check_marker(const float x[3], uint8_t *seen,
+                                              sfit_status_t *range)
+{
+    sfit_status_t si;
+    *seen = 0u;
+    if (sfit_i_has_nan3(x)) {
+        return SFIT_OK;
+    }
+    si = sfit_i_check_sample(x);
+    if (si == SFIT_E_NONFINITE) {
+        return si;
+    }
+    if (si != SFIT_OK) {
+        *range = si;
+    }
+    *seen = 1u;
+    return SFIT_OK;
 }
 
 /**
@@ -84,6 +123,20 @@ SFIT_INLINE float sfit_i_dot3(const float a[3], const float b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/** @brief u := u / |u| with *len = |u|; 0 (u unchanged) when |u| is 0 or NaN. */
+SFIT_INLINE int sfit_i_unit3(float u[3], float *len)
+{
+    int i;
+    *len = SFIT_SQRTF(sfit_i_dot3(u, u));
+    if (!(*len > 0.0f)) {
+        return 0;
+    }
+    for (i = 0; i < 3; i++) {
+        u[i] /= *len;
+    }
+    return 1;
+}
+
 /**
  * @brief Distance d = |x - c| and unit direction u = (x - c)/d; 0 (u, d
  * undefined) when x is at c.
@@ -94,14 +147,7 @@ SFIT_INLINE int sfit_i_dist_dir(const float x[3], const float c[3], float *d, fl
     for (i = 0; i < 3; i++) {
         u[i] = x[i] - c[i];
     }
-    *d = SFIT_SQRTF(sfit_i_dot3(u, u));
-    if (!(*d > 0.0f)) {
-        return 0;
-    }
-    for (i = 0; i < 3; i++) {
-        u[i] /= *d;
-    }
-    return 1;
+    return sfit_i_unit3(u, d);
 }
 
 /**

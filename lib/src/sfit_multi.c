@@ -73,14 +73,34 @@ static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const fl
     return 1;
 }
 
-/* Weight of a marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1 when
- * every count is the same). */
-static float prv_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used, uint64_t sum_n1)
+
+/* The next used marker at or after *p, with pm filled; 0 when none is left. */
+static int prv_next(const sfit_moments_t *markers, size_t count, const float origin_ref[3],
+                    const float d_ref[3], size_t *p, prv_marker_t *pm)
 {
-    if (cfg->weight == SFIT_MULTI_WEIGHT_SAMPLES) {
-        return ((float)(n - 1u) * (float)used) / (float)sum_n1;
+    while (*p < count) {
+        if (prv_used(&markers[*p], origin_ref, d_ref, pm)) {
+            return 1;
+        }
+        (*p)++;
     }
-    return 1.0f;
+    return 0;
+}
+
+/* Noise of marker p: Sigma_p (full) and t_p/2; the configuration's
+ * Sigma_hat and no skew when there is no per-marker model. */
+static const sfit_mat3_t *prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_noise_t *noise,
+                                    size_t p, sfit_mat3_t *buf, float half_skew[3])
+{
+    int i;
+    if (noise == NULL) {
+        return sg_cfg;
+    }
+    sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, buf);
+    for (i = 0; i < 3; i++) {
+        half_skew[i] = 0.5f * noise[p].skew.v[i];
+    }
+    return buf;
 }
 
 /* r_p^2 of one marker for the centre offset wc (= c - o). */
@@ -112,14 +132,57 @@ static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const fl
     return r2;
 }
 
-sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
-                               const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
-                               float *radii)
+/* What the radius passes read. */
+typedef struct prv_radii {
+    const sfit_moments_t *markers;
+    size_t count;
+    const float *origin_ref, *d_ref;
+    const sfit_mat3_t *sg_cfg;
+    const sfit_multi_noise_t *noise;
+    const float *wc;
+    const sfit_i_solution_t *sol;
+} prv_radii_t;
+
+/* The radius of every marker (0 for an unused one): checked (out NULL:
+ * SFIT_E_NOT_POSDEF for r_p^2 <= 0, SFIT_E_RANGE when not finite) or
+ * written to out (after a successful check). */
+static sfit_status_t prv_radii(const prv_radii_t *rc, float *out)
+{
+    size_t p;
+    for (p = 0u; p < rc->count; p++) {
+        prv_marker_t pm;
+        sfit_mat3_t sg;
+        float half_skew[3], r2 = 0.0f;
+        if (prv_used(&rc->markers[p], rc->origin_ref, rc->d_ref, &pm)) {
+            r2 = prv_radius2(&pm, prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew), rc->wc,
+                             rc->sol);
+            if (out == NULL && !(r2 > 0.0f)) {
+                return SFIT_E_NOT_POSDEF;
+            }
+            if (out == NULL && !sfit_i_isfinite(r2)) {
+                return SFIT_E_RANGE;
+            }
+        }
+        if (out != NULL) {
+            out[p] = (r2 > 0.0f) ? SFIT_SQRTF(r2) : 0.0f;
+        }
+    }
+    return SFIT_OK;
+}
+
+/* The fit with Sigma_hat from cfg (noise NULL) or one noise model per
+ * marker (validated by the caller). */
+static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
+                             const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
+                             sfit_multi_result_t *out, float *radii)
 {
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
     sfit_multi_result_t r;
-    sfit_mat3_t sg;
+    prv_radii_t rc_radii;
+    sfit_mat3_t sg_cfg, sg, sg_sum;
+    prv_marker_t pm;
+    float half_skew[3];
     const float *origin_ref = NULL;
     float d_ref[3] = {0.0f, 0.0f, 0.0f};
     float wc[3], dbar[3] = {0.0f, 0.0f, 0.0f}, sw = 0.0f, scale = 0.0f;
@@ -129,14 +192,6 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     int i;
     sfit_status_t st;
 
-    cfg = (cfg != NULL) ? cfg : &sfit_multi_cfg_default;
-    st = (markers == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_check_cfg(&cfg->fit);
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (cfg->weight != SFIT_MULTI_WEIGHT_EQUAL && cfg->weight != SFIT_MULTI_WEIGHT_SAMPLES) {
-        return SFIT_E_ARG;
-    }
     if (count == 0u) {
         return SFIT_E_TOO_FEW;
     }
@@ -179,22 +234,29 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
-    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg_cfg);
     memset(&sys, 0, sizeof sys);
-    for (p = 0u; p < count; p++) {
-        prv_marker_t pm;
+    memset(&sg_sum, 0, sizeof sg_sum);
+    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
+        const sfit_mat3_t *sgp;
         float w;
-        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
-            continue;
-        }
-        w = prv_weight(cfg, pm.n, used, sum_n1);
+        w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
         sw += w;
+        sgp = prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
             sys.c.m[i] += w * pm.c.m[i];
         }
+        if (noise != NULL) { /* one Sigma_hat: (sum w_p) Sigma_hat below */
+            for (i = 0; i < 9; i++) {
+                sg_sum.m[i] += w * sgp->m[i];
+            }
+            for (i = 0; i < 3; i++) {
+                pm.s2[i] -= half_skew[i];
+            }
+        }
         for (i = 0; i < 3; i++) {
             const float *ci = &pm.c.m[3 * i];
-            const float *si = &sg.m[3 * i];
+            const float *si = &sgp->m[3 * i];
             const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
                                         + (ci[2] - si[2]) * pm.dm[2]);
             sys.rhs.v[i] += w * t;
@@ -202,9 +264,10 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
         }
     }
     for (i = 0; i < 9; i++) {
-        sys.sigma.m[i] = sw * sg.m[i];
+        /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
+        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
     }
-    sys.noisy = (cfg->fit.noise != SFIT_NOISE_NONE);
+    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
     sys.scale = scale;
 
     st = sfit_i_solve(&sys, cfg->fit.mode, cfg->fit.planar_ratio, &sol);
@@ -229,18 +292,14 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 3: every radius must be real before anything is written. */
-    for (p = 0u; p < count; p++) {
-        prv_marker_t pm;
-        float r2;
-        if (!prv_used(&markers[p], origin_ref, d_ref, &pm)) {
-            continue;
+    {
+        const prv_radii_t rc = {markers, count, origin_ref, d_ref, &sg_cfg, noise, wc, &sol};
+        st = prv_radii(&rc, NULL);
+        if (st != SFIT_OK) {
+            return st;
         }
-        r2 = prv_radius2(&pm, &sg, wc, &sol);
-        if (!(r2 > 0.0f)) {
-            return SFIT_E_NOT_POSDEF;
-        }
-        if (!sfit_i_isfinite(r2)) {
-            return SFIT_E_RANGE;
+        if (radii != NULL) { /* pass 4 (after the centre's check below) */
+            rc_radii = rc;
         }
     }
 
@@ -254,23 +313,121 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
     r.n_total = (uint32_t)n_total;
     r.markers = used;
     r.skipped = skipped;
-    r.eigenvalues = sol.eigenvalues;
-    r.axis = sol.axis;
-    r.leontief_ratio = sol.rho;
-    r.trust_ratio = sol.rho / (1.0f + sol.rho);
+    sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
     r.flags = sol.flags | flags;
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
 
     /* Pass 4: write the radii (all checked above). */
     if (radii != NULL) {
-        for (p = 0u; p < count; p++) {
-            prv_marker_t pm;
-            radii[p] = prv_used(&markers[p], origin_ref, d_ref, &pm)
-                           ? SFIT_SQRTF(prv_radius2(&pm, &sg, wc, &sol))
-                           : 0.0f;
-        }
+        (void)prv_radii(&rc_radii, radii);
     }
     *out = r;
     return SFIT_OK;
+}
+
+/* Arguments shared by the entry points (*cfg NULL: the defaults): SFIT_OK
+ * or SFIT_E_ARG. */
+static sfit_status_t prv_check(const sfit_moments_t *markers, const sfit_multi_cfg_t **cfg,
+                               const sfit_multi_result_t *out)
+{
+    if (*cfg == NULL) {
+        *cfg = &sfit_multi_cfg_default;
+    }
+    if (markers == NULL || out == NULL || sfit_i_check_multi_cfg(*cfg) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
+                               const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
+                               float *radii)
+{
+    return (prv_check(markers, &cfg, out) != SFIT_OK)
+               ? SFIT_E_ARG
+               : prv_fit(markers, count, cfg, NULL, out, radii);
+}
+
+sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
+                                   const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
+                                   sfit_multi_result_t *out, float *radii)
+{
+    size_t p;
+    if (noise == NULL || prv_check(markers, &cfg, out) != SFIT_OK
+        || cfg->fit.noise != SFIT_NOISE_NONE) {
+        return SFIT_E_ARG;
+    }
+    for (p = 0u; p < count; p++) {
+        if (sfit_i_check_noise(SFIT_NOISE_COV, 0.0f, &noise[p].cov) != SFIT_OK
+            || !sfit_i_finite3(noise[p].skew.v)) {
+            return SFIT_E_ARG;
+        }
+    }
+    return prv_fit(markers, count, cfg, noise, out, radii);
+}
+
+sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
+                                    const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
+                                    float noise_var, sfit_mat3_t *cov)
+{
+    sfit_mat3_t sg, a, m;
+    prv_marker_t pm;
+    const float *origin_ref = NULL;
+    float d_ref[3] = {0.0f, 0.0f, 0.0f}, co[3];
+    uint64_t sum_n1 = 0u;
+    uint32_t used = 0u;
+    size_t p;
+    int i;
+
+    if (res == NULL || cov == NULL || prv_check(markers, &cfg, res) != SFIT_OK) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(noise_var) || !sfit_i_finite3(res->center.v)
+        || !sfit_i_finite3(res->axis.v)
+        || (res->mode != SFIT_MODE_SPHERE && res->mode != SFIT_MODE_PLANAR)) {
+        return SFIT_E_NONFINITE;
+    }
+    if (noise_var < 0.0f) {
+        return SFIT_E_ARG;
+    }
+    used = sfit_i_multi_used(markers, count, &sum_n1);
+    for (p = 0u; p < count && origin_ref == NULL; p++) { /* the first used marker */
+        if (sfit_moments_count(&markers[p]) >= SFIT_MIN_SAMPLES) {
+            sfit_cmom_t tot;
+            sfit_i_moments_total(&markers[p], &tot);
+            origin_ref = markers[p].origin;
+            for (i = 0; i < 3; i++) {
+                d_ref[i] = tot.d[i];
+            }
+        }
+    }
+    if (origin_ref == NULL) { /* no marker has SFIT_MIN_SAMPLES samples (used == 0) */
+        return SFIT_E_TOO_FEW;
+    }
+    for (i = 0; i < 3; i++) { /* c - o */
+        co[i] = (res->center.v[i] - origin_ref[i]) - d_ref[i];
+    }
+    /* A = sum w_p C'_p, M = sum w_p^2 / (N_p - 1) r_p^2 C'_p */
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
+    memset(&a, 0, sizeof a);
+    memset(&m, 0, sizeof m);
+    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
+        float w, e[3], r2, f;
+        w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
+        for (i = 0; i < 9; i++) {
+            pm.c.m[i] -= sg.m[i];
+        }
+        for (i = 0; i < 3; i++) {
+            e[i] = pm.dm[i] - co[i];
+        }
+        r2 = ((float)(pm.n - 1u) / (float)pm.n) * (pm.c.m[0] + pm.c.m[4] + pm.c.m[8])
+             + sfit_i_dot3(e, e);
+        f = w * w / (float)(pm.n - 1u) * r2;
+        for (i = 0; i < 9; i++) {
+            a.m[i] += w * pm.c.m[i];
+            m.m[i] += f * pm.c.m[i];
+        }
+    }
+    return sfit_i_center_cov(&a, res->mode, &res->axis, &m, noise_var, cov);
 }

@@ -50,6 +50,77 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);
 }
 
+sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg)
+{
+    if (cfg->weight != SFIT_MULTI_WEIGHT_EQUAL && cfg->weight != SFIT_MULTI_WEIGHT_SAMPLES) {
+        return SFIT_E_ARG;
+    }
+    return sfit_i_check_cfg(&cfg->fit);
+}
+
+sfit_status_t sfit_i_center_cov(const sfit_mat3_t *a, sfit_mode_t mode, const sfit_vec3_t *axis,
+                                const sfit_mat3_t *m, float var, sfit_mat3_t *cov)
+{
+    sfit_mat3_t pap, l, ai, t, out;
+    const float *ax = axis->v;
+    const float sc = a->m[0] + a->m[4] + a->m[8];
+    int r, s;
+    pap = *a;
+    if (mode == SFIT_MODE_PLANAR) {
+        float aa[3], q;
+        sfit_i_mat3_vec(a, ax, aa);
+        q = sfit_i_dot3(ax, aa);
+        for (r = 0; r < 3; r++) {
+            for (s = 0; s < 3; s++) {
+                pap.m[3 * r + s] += -ax[r] * aa[s] - aa[r] * ax[s] + (q + sc) * ax[r] * ax[s];
+            }
+        }
+    }
+    if (sfit_mat3_chol(&pap, &l) != SFIT_OK) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    sfit_i_chol_inverse(&l, &ai);
+    if (mode == SFIT_MODE_PLANAR) {
+        for (r = 0; r < 9; r++) {
+            ai.m[r] -= ax[r / 3] * ax[r % 3] / sc;
+        }
+    }
+    sfit_i_mat3_mul(&ai, m, &t);
+    sfit_i_mat3_mul(&t, &ai, &out);
+    for (r = 0; r < 9; r++) {
+        out.m[r] *= var;
+        if (!sfit_i_isfinite(out.m[r])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    *cov = out;
+    return SFIT_OK;
+}
+
+uint32_t sfit_i_multi_used(const sfit_moments_t *markers, size_t count, uint64_t *sum_n1)
+{
+    uint32_t used = 0u;
+    size_t p;
+    *sum_n1 = 0u;
+    for (p = 0u; p < count; p++) {
+        const uint32_t n = sfit_moments_count(&markers[p]);
+        if (n >= SFIT_MIN_SAMPLES) {
+            used++;
+            *sum_n1 += (uint64_t)(n - 1u);
+        }
+    }
+    return used;
+}
+
+float sfit_i_multi_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used,
+                          uint64_t sum_n1)
+{
+    if (cfg->weight == SFIT_MULTI_WEIGHT_SAMPLES) {
+        return ((float)(n - 1u) * (float)used) / (float)sum_n1;
+    }
+    return 1.0f;
+}
+
 /* Sigma_hat as a full symmetric matrix (lower triangle of the option). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg)
 {

@@ -8,6 +8,7 @@
 #define SFIT_SOLVE_H
 
 #include "sfit/sfit_fit.h"
+#include "sfit/sfit_multi.h"
 #include "sfit_moments_i.h"
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
@@ -30,11 +31,44 @@ typedef struct sfit_i_solution {
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
 } sfit_i_solution_t;
 
+/** @brief The solution's summary in a result: eigenvalues, axis, Leontief
+ * ratio rho and trust ratio rho / (1 + rho). */
+SFIT_INLINE void sfit_i_solution_out(const sfit_i_solution_t *sol, sfit_vec3_t *eig,
+                                     sfit_vec3_t *axis, float *leontief, float *trust)
+{
+    *eig = sol->eigenvalues;
+    *axis = sol->axis;
+    *leontief = sol->rho;
+    *trust = sol->rho / (1.0f + sol->rho);
+}
+
+/**
+ * @brief A centre's covariance var a^+ m a^+ from its system matrix a and
+ * the covariance m of its estimating equation per unit variance: a^+ = a^-1
+ * (sphere) or, planar, the pseudo-inverse normal to the unit axis,
+ * (P a P + s ax ax^T)^-1 - ax ax^T / s, P = I - ax ax^T, s = tr a (the size
+ * of the kept eigenvalues, so the factor stays well conditioned).
+ * SFIT_OK (cov written), SFIT_E_NOT_POSDEF or SFIT_E_RANGE (not finite).
+ */
+sfit_status_t sfit_i_center_cov(const sfit_mat3_t *a, sfit_mode_t mode, const sfit_vec3_t *axis,
+                                const sfit_mat3_t *m, float var, sfit_mat3_t *cov);
+
+/** @brief Markers with at least SFIT_MIN_SAMPLES samples; *sum_n1 = sum of their N_p - 1. */
+uint32_t sfit_i_multi_used(const sfit_moments_t *markers, size_t count, uint64_t *sum_n1);
+
+/** @brief Weight of a used marker: 1, or (N_p - 1) M / sum_q (N_q - 1) (exactly 1
+ * when every count is the same). */
+float sfit_i_multi_weight(const sfit_multi_cfg_t *cfg, uint32_t n, uint32_t used,
+                          uint64_t sum_n1);
+
 /** @brief Validate a noise model (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov);
 
 /** @brief Validate a fit configuration (SFIT_OK or SFIT_E_ARG). */
 sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg);
+
+/** @brief Validate a multi-marker configuration (SFIT_OK or SFIT_E_ARG). */
+sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg);
 
 /** @brief Sigma_hat of a noise model as a full symmetric matrix (zero for none). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg);

@@ -252,6 +252,44 @@ static void fz_op_register(fz_in_t *in)
     }
 }
 
+/* The per-marker noise models and the solve with them (no input bytes: the
+ * corpus keeps its meaning): defined statuses, outputs untouched on
+ * failure, finite on success, state unchanged. */
+static void fz_noise_models(void)
+{
+    static sfit_joint_t before;
+    sfit_multi_noise_t nl[SFIT_JOINT_MAX_CHILD];
+    sfit_multi_result_t mr;
+    sfit_status_t st;
+    uint32_t k;
+    before = fz_s.j;
+    memset(nl, FZ_SENTINEL, sizeof nl);
+    st = sfit_joint_marker_noise(&fz_s.j, 0.25f, nl);
+    FZ_CHECK_OUT(st, nl, "marker_noise models");
+    FZ_CHECK(memcmp(&before, &fz_s.j, sizeof before) == 0, "marker_noise changed the state");
+    if (st != SFIT_OK) {
+        return;
+    }
+    for (k = 0; k < fz_s.j.cfg.n_child; k++) {
+        FZ_CHECK(fz_all_finite(nl[k].cov.m, 9) && fz_all_finite(nl[k].skew.v, 3),
+                 "marker_noise not finite");
+    }
+    memset(&mr, FZ_SENTINEL, sizeof mr);
+    st = sfit_multi_fit_noise(fz_s.j.child, fz_s.j.cfg.n_child, NULL, nl, &mr, NULL);
+    FZ_CHECK_OUT(st, mr, "multi_fit_noise result");
+    if (st == SFIT_OK) {
+        sfit_mat3_t cov;
+        FZ_CHECK(fz_all_finite(mr.center.v, 3) && fz_all_finite(mr.axis.v, 3),
+                 "multi_fit_noise not finite");
+        memset(&cov, FZ_SENTINEL, sizeof cov);
+        st = sfit_multi_center_cov(fz_s.j.child, fz_s.j.cfg.n_child, NULL, &mr, 0.25f, &cov);
+        FZ_CHECK_OUT(st, cov, "multi_center_cov");
+        if (st == SFIT_OK) {
+            FZ_CHECK(fz_all_finite(cov.m, 9), "multi_center_cov not finite");
+        }
+    }
+}
+
 static void fz_op_solve(void)
 {
     static sfit_joint_t before;
@@ -272,6 +310,7 @@ static void fz_op_solve(void)
         FZ_CHECK(fz_all_finite(radii, fz_s.j.cfg.n_child), "radii not finite");
         FZ_CHECK(res.frames == fz_s.j.frames, "result frames");
     }
+    fz_noise_models();
 }
 
 static void fz_op_center_at(fz_in_t *in)
@@ -293,6 +332,26 @@ static void fz_op_center_at(fz_in_t *in)
     FZ_CHECK_OUT(st, a, "center_at axis");
     if (st == SFIT_OK) {
         FZ_CHECK(fz_all_finite(c.v, 3) && fz_all_finite(a.v, 3), "center_at not finite");
+    }
+    { /* the centre covariance over that one frame (child markers: the same points) */
+        static sfit_joint_t before;
+        sfit_vec3_t par[SFIT_CLUSTER_MAX_MARKERS], chi[SFIT_JOINT_MAX_CHILD];
+        sfit_mat3_t cov;
+        uint32_t k;
+        memset(par, 0, sizeof par);
+        memset(chi, 0, sizeof chi);
+        for (k = 0; k < n && k < SFIT_CLUSTER_MAX_MARKERS; k++) {
+            par[k] = x[k];
+            chi[k % SFIT_JOINT_MAX_CHILD] = x[k];
+        }
+        before = fz_s.j;
+        memset(&cov, FZ_SENTINEL, sizeof cov);
+        st = sfit_joint_center_cov(&fz_s.j, &res, par, chi, 1u, 0.25f, &cov);
+        FZ_CHECK_OUT(st, cov, "center_cov");
+        FZ_CHECK(memcmp(&before, &fz_s.j, sizeof before) == 0, "center_cov changed the state");
+        if (st == SFIT_OK) {
+            FZ_CHECK(fz_all_finite(cov.m, 9), "center_cov not finite");
+        }
     }
 }
 

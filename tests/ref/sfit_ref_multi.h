@@ -30,6 +30,22 @@ int ref_fit_multi_planar(const double *const *xs, const size_t *ns, size_t m,
                          const double *cov, int weighted, double center[3],
                          double axis[3], double *radii);
 
+/**
+ * Several markers with a noise model each (the unbiased solve for noise that
+ * differs between markers and along their paths): equal weights,
+ * A = sum_p (C_p - Sigma_p), b = sum_p ((C_p - Sigma_p)(m_p - o) + (S_p - t_p)/2),
+ * o the first marker's mean. Sphere: c = o + A^-1 b, r_p^2 =
+ * (n_p-1)/n_p tr(C_p - Sigma_p) + |m_p - c|^2. planar != 0: as
+ * ref_fit_multi_planar with these A, b and C_p - Sigma_p. cov9[9 p..] is
+ * Sigma_p (row-major), skew[3 p..] is t_p. axis (may be NULL for the
+ * sphere) is then the smallest eigen-direction of A. Returns 0, or nonzero
+ * (outputs untouched) on bad input, a non-positive (kept) eigenvalue of A or
+ * some r_p^2 <= 0.
+ */
+int ref_fit_multi_noise(const double *const *xs, const size_t *ns, size_t m,
+                        const double *cov9, const double *skew, int planar,
+                        double center[3], double axis[3], double *radii);
+
 #ifdef __cplusplus
 }
 #endif

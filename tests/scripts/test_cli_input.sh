@@ -9,23 +9,9 @@
 # Usage: test_cli_input.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1 src=$2
-sfit="$build/bin/sfit"
-data="$src/tests/data"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-name=test_cli_input
 # shellcheck source=tests/scripts/common.sh
 . "$(dirname "$0")/common.sh"
-[ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
-fail() { echo "FAIL: $*" >&2; exit 1; }
-py() { PYTHONPATH="$src/tests/scripts" /usr/bin/python3 -c "$@"; }
-expect_rc() { # expect_rc CODE CMD...: run, check the exit status, keep stdout in $out
-  local want=$1; shift
-  set +e
-  out=$("$@" 2>"$tmp/stderr"); rc=$?
-  set -e
-  [ "$rc" -eq "$want" ] || fail "'$*': exit $rc, expected $want; stdout: $out; stderr: $(cat "$tmp/stderr")"
-}
+cli_setup test_cli_input "$build" "$src"
 
 rthi1="$data/mocap/hip_right/RTHI1.csv"
 ref=$("$sfit" fit --json "$rthi1")

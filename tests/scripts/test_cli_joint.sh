@@ -14,24 +14,10 @@
 # Usage: test_cli_joint.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1 src=$2
-sfit="$build/bin/sfit"
-data="$src/tests/data"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-name=test_cli_joint
 # shellcheck source=tests/scripts/common.sh
 . "$(dirname "$0")/common.sh"
-[ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
+cli_setup test_cli_joint "$build" "$src"
 /usr/bin/python3 -c 'import numpy' 2>/dev/null || missing "python3-numpy not installed"
-fail() { echo "FAIL: $*" >&2; exit 1; }
-py() { PYTHONPATH="$src/tests/scripts" /usr/bin/python3 -c "$@"; }
-expect_rc() {
-  local want=$1; shift
-  set +e
-  out=$("$@" 2>"$tmp/stderr"); rc=$?
-  set -e
-  [ "$rc" -eq "$want" ] || fail "'$*': exit $rc, expected $want; stdout: $out; stderr: $(cat "$tmp/stderr")"
-}
 
 hip="$data/c3d/biobuddy_right_hip.c3d"
 knee="$data/c3d/biobuddy_right_knee.c3d"

@@ -13,6 +13,7 @@
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
 #include "sfit_ref_joint.h"
+#include "sfit_ref_multi.h"
 #include "tt_data.h"
 
 void tt_joint(void);
@@ -33,28 +34,12 @@ static double tt_xs[TT_JC][TT_JF][3];
 
 static void tt_rot(tu_rng_t *g, double maxang, double r[9])
 {
-    double a[3], n, ang, c, s, t;
+    double a[3];
     int k;
     for (k = 0; k < 3; k++) {
         a[k] = tu_rng_gauss(g);
     }
-    n = tu_norm3(a);
-    for (k = 0; k < 3; k++) {
-        a[k] /= n;
-    }
-    ang = maxang * tu_rng_uniform(g);
-    c = cos(ang);
-    s = sin(ang);
-    t = 1.0 - c;
-    r[0] = c + a[0] * a[0] * t;
-    r[1] = a[0] * a[1] * t - a[2] * s;
-    r[2] = a[0] * a[2] * t + a[1] * s;
-    r[3] = a[1] * a[0] * t + a[2] * s;
-    r[4] = c + a[1] * a[1] * t;
-    r[5] = a[1] * a[2] * t - a[0] * s;
-    r[6] = a[2] * a[0] * t - a[1] * s;
-    r[7] = a[2] * a[1] * t + a[0] * s;
-    r[8] = c + a[2] * a[2] * t;
+    tu_rot_axis_angle(a, maxang * tu_rng_uniform(g), r);
 }
 
 static void tt_make(uint64_t seed, double sigma)
@@ -250,6 +235,90 @@ void tt_joint(void)
             }
             for (k = 0; k < 3; k++) {
                 TT_NEAR(cg.v[k], want[k], 5e-3);
+            }
+        }
+    }
+
+    tt_case("joint.marker_noise");
+    {
+        /* per-marker models against the double per-sample ones (same mapped
+         * samples tt_xs), the MARKER solve against the double solve with the
+         * library's models, and the centre covariance against the double
+         * formula (host: test_joint.c test_noise_cov, test_center_cov). */
+        static sfit_joint_t jm;
+        sfit_multi_noise_t nl[TT_JC];
+        sfit_joint_cfg_t cm = cfg;
+        sfit_joint_result_t rm;
+        sfit_mat3_t cov;
+        const double *xs[TT_JC];
+        size_t ns[TT_JC];
+        double cov9[9 * TT_JC], sk[3 * TT_JC], c9[9], s3[3], want[9], cc[3], big = 0.0;
+        cm.noise_model = SFIT_JOINT_NOISE_MARKER;
+        cm.solve.fit.noise = SFIT_NOISE_ISO;
+        cm.solve.fit.noise_var = 0.25f;
+        TT_EQ_INT(sfit_joint_init(&jm, &cl, &cm), SFIT_OK);
+        for (f = 0; f < TT_JF; f++) {
+            TT_EQ_INT(sfit_joint_add(&jm, tt_pf[f], TT_JP, tt_cf[f], TT_JC, NULL), SFIT_OK);
+        }
+        if (TT_EQ_INT(sfit_joint_marker_noise(&jm, 0.25f, nl), SFIT_OK)) {
+            for (i = 0; i < TT_JC; i++) {
+                double bigc = 0.0;
+                xs[i] = &tt_xs[i][0][0];
+                ns[i] = TT_JF;
+                TT_EQ_INT(ref_joint_marker_noise(REF_C3(tpl), TT_JP, xs[i], TT_JF, 0.25, c9, s3), 0);
+                for (k = 0; k < 9; k++) {
+                    bigc = (c9[k] > bigc) ? c9[k] : (-c9[k] > bigc ? -c9[k] : bigc);
+                    cov9[9 * i + (size_t)k] = (double)nl[i].cov.m[k];
+                }
+                for (k = 0; k < 9; k++) {
+                    TT_NEAR(nl[i].cov.m[k], c9[k], 1e-4 * bigc);
+                }
+                for (k = 0; k < 3; k++) {
+                    sk[3 * i + (size_t)k] = (double)nl[i].skew.v[k];
+                }
+            }
+            if (TT_EQ_INT(sfit_joint_fit(&jm, &rm, NULL), SFIT_OK)
+                && TT_EQ_INT(ref_fit_multi_noise(xs, ns, TT_JC, cov9, sk, 0, c, NULL, NULL), 0)) {
+                for (k = 0; k < 3; k++) {
+                    TT_NEAR(rm.fit.center.v[k], c[k], 2e-2);
+                    cc[k] = (double)rm.fit.center.v[k];
+                }
+                if (TT_EQ_INT(sfit_joint_center_cov(&jm, &rm, &tt_pf[0][0], &tt_cf[0][0], TT_JF,
+                                                    0.25f, &cov),
+                              SFIT_OK)
+                    && TT_EQ_INT(ref_joint_center_cov(REF_C3(tpl), TT_JP, xs, TT_JC, TT_JF, cov9,
+                                                      cc, NULL, 0.25, want),
+                                 0)) {
+                    for (k = 0; k < 9; k++) {
+                        big = (want[k] > big) ? want[k] : (-want[k] > big ? -want[k] : big);
+                    }
+                    for (k = 0; k < 9; k++) {
+                        TT_NEAR(cov.m[k], want[k], 1e-3 * big);
+                    }
+                }
+                /* the multi-marker formula (independent markers) */
+                {
+                    sfit_multi_result_t mr;
+                    if (TT_EQ_INT(sfit_multi_fit(jm.child, TT_JC, NULL, &mr, NULL), SFIT_OK)
+                        && TT_EQ_INT(sfit_multi_center_cov(jm.child, TT_JC, NULL, &mr, 0.25f,
+                                                           &cov),
+                                     SFIT_OK)) {
+                        for (k = 0; k < 3; k++) {
+                            cc[k] = (double)mr.center.v[k];
+                        }
+                        big = 0.0;
+                        if (TT_EQ_INT(ref_joint_center_cov(NULL, 0, xs, TT_JC, TT_JF, NULL, cc,
+                                                           NULL, 0.25, want),
+                                      0)) {
+                            for (k = 0; k < 9; k++) {
+                                big = (want[k] > big) ? want[k] : (-want[k] > big ? -want[k] : big);
+                            }
+                            for (k = 0; k < 9; k++) {
+                                TT_NEAR(cov.m[k], want[k], 2e-3 * big);
+                            }
+                        }
+                    }
+                }
             }
         }
     }

@@ -140,6 +140,7 @@ static sfit_vec3_t fc_jpar[FC_NJF][FC_NJP];
 static sfit_vec3_t fc_jchi[FC_NJF][FC_NJC];
 static sfit_joint_cfg_t fc_jcfg5;
 static sfit_joint_cfg_t fc_jcfg1;
+static sfit_joint_cfg_t fc_jcfgm;
 #endif
 #if FC_HAVE_INCR
 static sfit_incr_t fc_inc;
@@ -327,6 +328,10 @@ static void fc_setup_joint(void)
     fc_jcfg5.n_child = FC_NJC;
     fc_jcfg1 = sfit_joint_cfg_default;
     fc_jcfg1.n_child = 1u;
+    fc_jcfgm = fc_jcfg5;
+    fc_jcfgm.noise_model = SFIT_JOINT_NOISE_MARKER;
+    fc_jcfgm.solve.fit.noise = SFIT_NOISE_ISO;
+    fc_jcfgm.solve.fit.noise_var = fc_sigma * fc_sigma;
 }
 #endif
 
@@ -445,6 +450,23 @@ static void fc_multi_all(void)
     fc_keep(sfit_multi_fit(fc_mk, FC_NMARK, NULL, &fc_mres, fc_radii));
 }
 
+static void fc_multi_noise(void)
+{
+    static sfit_multi_noise_t nz[FC_NMARK];
+    unsigned p;
+    for (p = 0; p < FC_NMARK; p++) {
+        nz[p].cov.m[0] = nz[p].cov.m[4] = nz[p].cov.m[8] = 0.25f;
+        nz[p].skew.v[2] = 1.0f;
+    }
+    fc_keep(sfit_multi_fit_noise(fc_mk, FC_NMARK, NULL, nz, &fc_mres, fc_radii));
+}
+
+static void fc_multi_cov(void)
+{
+    sfit_mat3_t cov;
+    fc_keep(sfit_multi_center_cov(fc_mk, FC_NMARK, NULL, &fc_mres, fc_sigma * fc_sigma, &cov));
+}
+
 static void fc_multi_half(void)
 {
     fc_keep(sfit_multi_fit(fc_mk, FC_NMARK / 2u, NULL, &fc_mres, fc_radii));
@@ -558,6 +580,25 @@ static void fc_joint_center_at(void)
     fc_keep(sfit_joint_center_at(&fc_jnt, &fc_jres, fc_jpar[1], FC_NJP, &c, NULL));
 }
 
+static void fc_prep_joint5_marker(void) /* SFIT_JOINT_NOISE_MARKER, FC_NJF frames */
+{
+    fc_keep(sfit_joint_init(&fc_jnt, &fc_cl, &fc_jcfgm));
+    fc_joint_frames();
+}
+
+static void fc_joint_center_cov(void) /* FC_NJF frames */
+{
+    sfit_mat3_t cov;
+    fc_keep(sfit_joint_center_cov(&fc_jnt, &fc_jres, &fc_jpar[0][0], &fc_jchi[0][0], FC_NJF,
+                                  fc_sigma * fc_sigma, &cov));
+}
+
+static void fc_prep_joint_marker_solved(void)
+{
+    fc_prep_joint5_marker();
+    fc_joint_solve();
+}
+
 static void fc_prep_joint_solved(void)
 {
     fc_prep_joint5_full();
@@ -587,6 +628,8 @@ static const fc_op_t fc_ops[] = {
 #if FC_HAVE_MULTI
     {"multi_solve_per_marker", "sfit_multi_fit", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
     {"multi_solve_total", "sfit_multi_fit", NULL, fc_multi_all, NULL, NULL, 1u},
+    {"multi_solve_noise_total", "sfit_multi_fit_noise", NULL, fc_multi_noise, NULL, NULL, 1u},
+    {"multi_center_cov", "sfit_multi_center_cov", fc_multi_all, fc_multi_cov, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_NOISE
     {"noise_calibration", "sfit_moments_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
@@ -598,6 +641,8 @@ static const fc_op_t fc_ops[] = {
     {"joint_per_child", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, fc_prep_joint1, fc_joint_frames, FC_NJF * (FC_NJC - 1u)},
     {"joint_fit", "sfit_joint_fit", fc_prep_joint5_full, fc_joint_solve, NULL, NULL, 1u},
     {"joint_center_at", "sfit_joint_center_at", fc_prep_joint_solved, fc_joint_center_at, NULL, NULL, 1u},
+    {"joint_fit_marker", "sfit_joint_fit", fc_prep_joint5_marker, fc_joint_solve, NULL, NULL, 1u},
+    {"joint_center_cov_frame", "sfit_joint_center_cov", fc_prep_joint_marker_solved, fc_joint_center_cov, NULL, NULL, FC_NJF},
 #endif
 #if FC_HAVE_INCR
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},

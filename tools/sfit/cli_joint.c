@@ -38,9 +38,16 @@ static int parse_frames(const char *s, long *first, long *last)
     return 0;
 }
 
-int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o)
+int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o, int *json)
 {
     const char *a = argv[*i];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        return 2;
+    }
+    if (strcmp(a, "--json") == 0) {
+        *json = 1;
+        return 1;
+    }
     if (strcmp(a, "--frames") != 0 && strcmp(a, "--noise-var") != 0 && strcmp(a, "--mode") != 0) {
         return 0;
     }

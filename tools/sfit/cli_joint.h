@@ -63,10 +63,11 @@ sfit_status_t cli_joint_lab(const cli_frames_t *fr, int np, const cli_joint_out_
 
 /**
  * Parse the options shared by joint and skeleton: --frames F:L,
- * --noise-var V|auto, --mode auto|sphere|planar. Same convention as
- * cli_input_opt: 1 consumed, 0 not one, -1 bad value (message printed).
+ * --noise-var V|auto, --mode auto|sphere|planar, --json (sets *json) and
+ * --help / -h. As cli_input_opt: 1 consumed, 0 not one, -1 bad value
+ * (message printed); 2 for --help.
  */
-int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o);
+int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o, int *json);
 
 /** Defaults: every frame, auto mode, no noise model. */
 void cli_joint_opts_default(cli_joint_opts_t *o);

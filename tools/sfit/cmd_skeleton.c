@@ -88,15 +88,11 @@ static int sk_parse(int argc, char **argv, sk_opts_t *o)
     cli_joint_opts_default(&o->j);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        const int jo = cli_joint_opt(argc, argv, &i, &o->j);
-        if (jo < 0) {
-            return -1;
-        } else if (jo > 0) {
-            continue;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
+        const int jo = cli_joint_opt(argc, argv, &i, &o->j, &o->json);
+        if (jo != 0) {
+            if (jo != 1) {
+                return (jo < 0) ? -1 : 1;
+            }
         } else if (strcmp(a, "--svg") == 0 && i + 1 < argc) {
             o->svg = argv[++i];
         } else if (strcmp(a, "--frame") == 0 && i + 1 < argc) {

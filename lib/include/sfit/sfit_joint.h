@@ -44,9 +44,10 @@ typedef enum sfit_joint_noise {
                                       noise of a child marker in the parent frame. */
     SFIT_JOINT_NOISE_MARKER = 1  /**< cfg.solve.fit.noise must be SFIT_NOISE_ISO and
                                       noise_var is the variance of each coordinate of every
-                                      measured marker (parent and child); the solve uses its
-                                      propagation through the parent pose,
-                                      sfit_joint_noise_cov(), as Sigma_hat. */
+                                      measured marker (parent and child); the solve is
+                                      sfit_multi_fit_noise() with each child marker's own
+                                      propagation of it through the parent pose,
+                                      sfit_joint_marker_noise(). */
 } sfit_joint_noise_t;
 
 /** @brief Options of a joint. Start from ::sfit_joint_cfg_default. */
@@ -127,7 +128,7 @@ sfit_status_t sfit_joint_reset(sfit_joint_t *j);
  *                            or a counter is full
  * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 parent + 5 child markers: 1242 FLOPs, 6535 M4F instructions per
+ * @par Cost 4 parent + 5 child markers: 1238 FLOPs, 6540 M4F instructions per
  * frame, amortised (tools/flopcount "joint_frame"); 45 FLOPs per further child
  * marker ("joint_per_child").
  */
@@ -151,7 +152,8 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 5 child markers: 942 FLOPs, 5958 M4F instructions (tools/flopcount "joint_fit").
+ * @par Cost 5 child markers: 942 FLOPs, 6184 M4F instructions (tools/flopcount "joint_fit");
+ * with SFIT_JOINT_NOISE_MARKER 3273 FLOPs, 26656 instructions ("joint_fit_marker").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
@@ -179,6 +181,70 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
 sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit_mat3_t *cov);
 
 /**
+ * @brief Noise model of each child marker in the parent frame, for
+ * sfit_multi_fit_noise(): per marker i, cov = the mean over its samples of
+ * the covariance of sfit_joint_noise_cov() (evaluated at each sample, not
+ * averaged over the markers), and skew = the mean of
+ * (2 Sigma(y) + tr Sigma(y) I)(y - m_i), the bias that this position-dependent
+ * noise puts into the marker's third-moment vector S_i. Both come from the
+ * marker's moments; the one term they cannot give, the anisotropic part of
+ * J^-1 in E[(b^T J^-1 b) b], is left out (docs/joint.md#per-marker-noise).
+ * A marker with fewer than 2 samples gets a zero model.
+ * @param[in]  j           State.
+ * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
+ * @param[out] noise       cfg.n_child models; written only on SFIT_OK.
+ * @retval SFIT_OK           success
+ * @retval SFIT_E_ARG        NULL j/noise, garbage counters, or marker_var negative
+ * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
+ * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
+ * @retval SFIT_E_RANGE      a model would not be finite
+ * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
+ */
+sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
+                                      sfit_multi_noise_t *noise);
+
+/**
+ * @brief Covariance of the joint centre of a result, to first order, for
+ * isotropic noise of variance @p marker_var on every measured marker
+ * coordinate (parent and child): a second pass over the frames that gave
+ * the result.
+ *
+ * The parent's pose error is shared by every child marker of a frame, so
+ * the centre's covariance depends on products of different markers'
+ * positions in the same frame, which no per-marker accumulator holds: this
+ * function reads the frames again (a caller's array) with the centre and
+ * the marker means already known. Cov = A^-1 M A^-1 with A the solve's
+ * matrix sum w_p C'_p and
+ * M = sigma^2 sum_f [sum_p v_p^2 |a|^2 b b^T + W_f E W_f^T], W_f = sum_p v_p b a^T,
+ * a = y - c, b = y - m_p for each child sample y of frame f in the parent
+ * frame, v_p = w_p / (N_p - 1), E = I/P + [c - pb]x J^-1 [c - pb]x^T the
+ * pose translation at the centre per unit variance (docs/joint.md#centre-covariance).
+ * Planar result: the pseudo-inverse normal to the axis (the covariance of
+ * the centre's part normal to the axis; the position along the axis is a
+ * convention). Frames that sfit_joint_add() rejects are skipped, so the same
+ * arrays as were added give the covariance of that result.
+ * @param[in]  j           State that gave @p res (not modified).
+ * @param[in]  res         Its result (sfit_joint_fit()).
+ * @param[in]  parent      nf x (parent marker count) parent markers, frame by frame.
+ * @param[in]  child       nf x cfg.n_child child markers, frame by frame.
+ * @param[in]  nf          Frames.
+ * @param[in]  marker_var  sigma^2 (>= 0, finite), in squared input units.
+ * @param[out] cov         Centre covariance (symmetric); written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL j/res/parent/child/cov, garbage counters, marker_var < 0
+ * @retval SFIT_E_NONFINITE   marker_var NaN or Inf, a non-finite centre or axis in res,
+ *                            or an unknown mode
+ * @retval SFIT_E_TOO_FEW     nf is 0, or no child marker has SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost 4 parent + 5 child markers: 1519 FLOPs, 7815 M4F instructions per
+ * frame (tools/flopcount "joint_center_cov_frame").
+ */
+sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                    const sfit_vec3_t *parent, const sfit_vec3_t *child,
+                                    size_t nf, float marker_var, sfit_mat3_t *cov);
+
+/**
  * @brief The joint centre (and axis) in the global frame for one frame:
  * registers the parent markers of that frame with the joint's template and
  * maps the result's centre (and axis) back.
@@ -192,7 +258,7 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
  * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_TOO_FEW, SFIT_E_DEGENERATE, SFIT_E_NONFINITE,
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
  *         (SFIT_E_ARG also for a NULL res/center or garbage counters)
- * @par Cost 4 parent markers: 1047 FLOPs, 5274 M4F instructions (tools/flopcount
+ * @par Cost 4 parent markers: 1043 FLOPs, 5282 M4F instructions (tools/flopcount
  * "joint_center_at").
  */
 sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,

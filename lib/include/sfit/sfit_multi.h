@@ -82,6 +82,78 @@ sfit_status_t sfit_multi_fit(const sfit_moments_t *markers, size_t count,
                                const sfit_multi_cfg_t *cfg, sfit_multi_result_t *out,
                                float *radii);
 
+/**
+ * @brief Noise of one marker's samples, for sfit_multi_fit_noise(): the
+ * unbiased solve with a noise model per marker (docs/multi.md#per-marker-noise).
+ */
+typedef struct sfit_multi_noise {
+    sfit_mat3_t cov;  /**< Sigma_p: mean over the marker's samples of their noise
+                           covariance (symmetric; the lower triangle is read). */
+    sfit_vec3_t skew; /**< t_p = mean_i (2 Sigma_i + tr(Sigma_i) I) (x_i - m_p): the
+                           bias of S_p when the noise covariance Sigma_i changes
+                           along the marker's path; zero when it does not. */
+} sfit_multi_noise_t;
+
+/**
+ * @brief Common centre of several markers, unbiased for noise that differs
+ * from marker to marker (and along each marker's path): as sfit_multi_fit()
+ * with A = sum w_p (C_p - Sigma_p) and
+ * b = sum w_p ((C_p - Sigma_p)(m_p - o) + (S_p - t_p)/2). The trust ratio is
+ * that of sum w_p Sigma_p against A. With every noise[p] equal to
+ * {Sigma_hat, 0} the centre is the one of sfit_multi_fit() with Sigma_hat (up to
+ * float rounding).
+ * @param[in]  markers  Array of @p count accumulators, one per marker.
+ * @param[in]  count    Number of markers (>= 1).
+ * @param[in]  cfg      Options; NULL = ::sfit_multi_cfg_default. cfg->fit.noise
+ *                      must be SFIT_NOISE_NONE (the noise is @p noise).
+ * @param[in]  noise    Array of @p count noise models, one per marker.
+ * @param[out] out      Result (method SFIT_METHOD_UGDK); written only on SFIT_OK.
+ * @param[out] radii    NULL, or @p count floats, as sfit_multi_fit().
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL markers/noise/out, an invalid option, cfg->fit.noise
+ *                            not SFIT_NOISE_NONE, a non-finite entry of a noise model or
+ *                            a covariance with a negative diagonal or 2x2 minor
+ * @retval SFIT_E_TOO_FEW     as sfit_multi_fit()
+ * @retval SFIT_E_DEGENERATE  as sfit_multi_fit()
+ * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
+ * @retval SFIT_E_NO_CONVERGENCE  as sfit_multi_fit()
+ * @retval SFIT_E_RANGE       as sfit_multi_fit()
+ * @par Cost 8 markers: 2117 FLOPs, 15701 M4F instructions (tools/flopcount
+ * "multi_solve_noise_total"; sfit_multi_fit() on them: 1616).
+ */
+sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
+                                   const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
+                                   sfit_multi_result_t *out, float *radii);
+
+/**
+ * @brief Covariance of a common centre, to first order, for independent
+ * isotropic noise of variance @p noise_var on every coordinate of every
+ * sample (no noise shared between markers: for a joint, whose parent pose
+ * error is shared, use sfit_joint_center_cov()):
+ * Cov = A^-1 M A^-1, A = sum w_p C'_p,
+ * M = noise_var sum_p w_p^2 / (N_p - 1) r_p^2 C'_p, r_p^2 the marker's
+ * squared distance from the centre ((N_p - 1)/N_p tr C'_p + |m_p - c|^2).
+ * Planar result: the pseudo-inverse normal to the axis (the covariance of
+ * the centre's part normal to the axis). Derivation: docs/multi.md#centre-covariance.
+ * @param[in]  markers    The accumulators that gave @p res.
+ * @param[in]  count      Number of markers.
+ * @param[in]  cfg        The options that gave @p res; NULL = ::sfit_multi_cfg_default.
+ * @param[in]  res        Result of sfit_multi_fit().
+ * @param[in]  noise_var  sigma^2 per coordinate (>= 0, finite).
+ * @param[out] cov        Centre covariance (symmetric); written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL markers/res/cov, an invalid option, noise_var < 0
+ * @retval SFIT_E_NONFINITE   noise_var NaN or Inf, a non-finite centre or axis in
+ *                            res, or an unknown mode
+ * @retval SFIT_E_TOO_FEW     no marker has SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_NOT_POSDEF  sum w_p C'_p is not positive definite
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost 8 markers: 828 FLOPs, 4279 M4F instructions (tools/flopcount "multi_center_cov").
+ */
+sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
+                                    const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
+                                    float noise_var, sfit_mat3_t *cov);
+
 #ifdef __cplusplus
 }
 #endif

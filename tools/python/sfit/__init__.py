@@ -472,7 +472,8 @@ if hasattr(_sfit, "Joint"):
         noise_var / noise_cov are the noise of a child marker in the parent
         frame; marker_noise_var is instead the variance of every measured
         marker coordinate, which the library propagates through the parent
-        pose (``noise_cov(marker_var)`` shows the result); ``add(parent, child)`` one frame
+        pose for each child marker (``noise_cov(marker_var)`` shows the
+        average over the markers); ``add(parent, child)`` one frame
         ((Mp, 3), (K, 3)) or many ((F, Mp, 3), (F, K, 3)), NaN = occluded,
         returns the frames accepted (frames whose parent cannot be registered
         are skipped and counted in ``rejected_frames``); ``solve()``;

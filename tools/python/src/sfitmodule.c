@@ -419,22 +419,31 @@ static const char *mode_name(sfit_mode_t m)
     return (m == SFIT_MODE_PLANAR) ? "planar" : "sphere";
 }
 
+/* The solve summary that sfit_result_t and sfit_multi_result_t share. */
+static int summary_into(PyObject *d, const sfit_vec3_t *eig, const sfit_vec3_t *axis,
+                        float trust, float leontief, uint32_t flags, sfit_method_t method,
+                        sfit_mode_t mode)
+{
+    if (put(d, "eigenvalues", vec3_out(eig->v)) < 0 || put(d, "axis", vec3_out(axis->v)) < 0
+        || put(d, "trust_ratio", flt(trust)) < 0 || put(d, "leontief_ratio", flt(leontief)) < 0
+        || put(d, "flags", flag_names(flags, g_fit_flags)) < 0
+        || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)flags)) < 0
+        || put(d, "method", PyUnicode_FromString(method == SFIT_METHOD_UGDK ? "ugdk" : "gdke")) < 0
+        || put(d, "mode", PyUnicode_FromString(mode_name(mode))) < 0) {
+        return -1;
+    }
+    return 0;
+}
+
 /* The fields of a sfit_result_t into d. */
 static int result_into(PyObject *d, const sfit_result_t *r)
 {
     if (put(d, "center", vec3_out(r->center.v)) < 0 || put(d, "radius", flt(r->radius)) < 0
-        || put(d, "n", PyLong_FromUnsignedLong((unsigned long)r->n)) < 0
-        || put(d, "eigenvalues", vec3_out(r->eigenvalues.v)) < 0
-        || put(d, "axis", vec3_out(r->axis.v)) < 0
-        || put(d, "trust_ratio", flt(r->trust_ratio)) < 0
-        || put(d, "leontief_ratio", flt(r->leontief_ratio)) < 0
-        || put(d, "flags", flag_names(r->flags, g_fit_flags)) < 0
-        || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r->flags)) < 0
-        || put(d, "method", PyUnicode_FromString(r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke")) < 0
-        || put(d, "mode", PyUnicode_FromString(mode_name(r->mode))) < 0) {
+        || put(d, "n", PyLong_FromUnsignedLong((unsigned long)r->n)) < 0) {
         return -1;
     }
-    return 0;
+    return summary_into(d, &r->eigenvalues, &r->axis, r->trust_ratio, r->leontief_ratio,
+                        r->flags, r->method, r->mode);
 }
 
 /* The fields of a sfit_multi_result_t into d. */
@@ -443,18 +452,11 @@ static int multi_into(PyObject *d, const sfit_multi_result_t *r)
     if (put(d, "center", vec3_out(r->center.v)) < 0
         || put(d, "n", PyLong_FromUnsignedLong((unsigned long)r->n_total)) < 0
         || put(d, "markers", PyLong_FromUnsignedLong((unsigned long)r->markers)) < 0
-        || put(d, "skipped", PyLong_FromUnsignedLong((unsigned long)r->skipped)) < 0
-        || put(d, "eigenvalues", vec3_out(r->eigenvalues.v)) < 0
-        || put(d, "axis", vec3_out(r->axis.v)) < 0
-        || put(d, "trust_ratio", flt(r->trust_ratio)) < 0
-        || put(d, "leontief_ratio", flt(r->leontief_ratio)) < 0
-        || put(d, "flags", flag_names(r->flags, g_fit_flags)) < 0
-        || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r->flags)) < 0
-        || put(d, "method", PyUnicode_FromString(r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke")) < 0
-        || put(d, "mode", PyUnicode_FromString(mode_name(r->mode))) < 0) {
+        || put(d, "skipped", PyLong_FromUnsignedLong((unsigned long)r->skipped)) < 0) {
         return -1;
     }
-    return 0;
+    return summary_into(d, &r->eigenvalues, &r->axis, r->trust_ratio, r->leontief_ratio,
+                        r->flags, r->method, r->mode);
 }
 
 static int uncert_into(PyObject *d, const sfit_uncert_t *u)

@@ -189,7 +189,10 @@ def test_marker_noise_model(rng):
     b.add(parent, child)
     ra, rb = a.solve(), b.solve()
     assert ra.method == "ugdk"
-    assert np.allclose(ra.center, rb.center, atol=1e-3)
+    # marker_noise_var solves with each child marker's own model
+    # (sfit_joint_marker_noise, sfit_multi_fit_noise); the averaged covariance
+    # leaves an O(sigma^2) bias (docs/joint.md): here about 0.1 mm apart.
+    assert np.linalg.norm(ra.center - rb.center) < 0.5
     with pytest.raises(sfit.ArgError):
         sfit.Joint(cl, 3, marker_noise_var=var, noise_var=var)
     with pytest.raises(sfit.ArgError):
