@@ -57,6 +57,7 @@ echo "run.sh: running the Monte Carlo into $out" >&2
 "$build/sfit_mc_beyond" "$out" $quick || exit 1
 if [ "$coverage" = 1 ]; then
     "$build/sfit_mc_coverage" "$out" $quick || exit 1
+    "$build/sfit_mc_coverage_joint" "$out" $quick || exit 1
 fi
 if [ "$plot" = 1 ]; then
     gnuplot -e "d='$out'" "$here/plots.gp" || exit 1
