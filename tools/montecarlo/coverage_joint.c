@@ -123,6 +123,63 @@ static const jscen_t k_jscen[] = {
     {0.5, 30.0, 400}, {2.0, 30.0, 400}, {5.0, 60.0, 400}, {5.0, 30.0, 1000},
 };
 
+/* One scenario's tally: OK results, flagged, failed, covered, the centre
+ * errors and reported traces of the unflagged ones. */
+typedef struct cacc {
+    long ok, flagged, fails, covered;
+    double s[3], ss[3], rep, trust;
+} cacc_t;
+
+/* One trial: its status, verdict, centre, reported covariance and truth. */
+static void cacc_add(cacc_t *a, sfit_status_t st, uint32_t flags, float trust,
+                     const sfit_vec3_t *c, const sfit_mat3_t *cov, const double truth[3])
+{
+    float p6[6];
+    double e[3], d2;
+    int k;
+    if (st != SFIT_OK) {
+        a->fails++;
+        return;
+    }
+    a->ok++;
+    a->trust += (double)trust;
+    if ((flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
+        a->flagged++;
+        return;
+    }
+    p6[0] = cov->m[0];
+    p6[1] = cov->m[4];
+    p6[2] = cov->m[8];
+    p6[3] = cov->m[1];
+    p6[4] = cov->m[2];
+    p6[5] = cov->m[5];
+    for (k = 0; k < 3; k++) {
+        e[k] = (double)c->v[k] - truth[k];
+        a->s[k] += e[k];
+        a->ss[k] += e[k] * e[k];
+    }
+    a->rep += (double)p6[0] + (double)p6[1] + (double)p6[2];
+    d2 = tu_mahal_packed(p6, e);
+    a->covered += (d2 >= 0.0 && d2 <= CHI2_3_95);
+}
+
+/* The row's last columns: mean trust | trials | unflagged | coverage |
+ * flagged | fails | reported / MC trace. */
+static void cacc_print(FILE *f, const cacc_t *a, int trials)
+{
+    const long u = a->ok - a->flagged;
+    double tr = 0.0;
+    int k;
+    for (k = 0; k < 3 && u > 1; k++) {
+        tr += (a->ss[k] - a->s[k] * a->s[k] / (double)u) / (double)(u - 1);
+    }
+    fprintf(f, " %.3f | %d | %ld | %.3f | %ld | %ld | %.3f |\n",
+            (a->ok > 0) ? a->trust / (double)a->ok : 0.0, trials, u,
+            (u > 0) ? (double)a->covered / (double)u : -1.0, a->flagged, a->fails,
+            (u > 1) ? (a->rep / (double)u) / tr : 0.0);
+    fflush(f);
+}
+
 /* ---- multi-marker ---- */
 
 #define NMK 4
@@ -153,10 +210,10 @@ static void run_multi(FILE *f, int quick)
         const double sig = sc->sr * 100.0, th = sc->cap * TU_PI / 180.0;
         const int trials = quick ? 100 : 1000;
         sfit_multi_cfg_t cfg = sfit_multi_cfg_default;
-        long ok = 0, flagged = 0, fails = 0, covered = 0;
-        double s[3] = {0.0, 0.0, 0.0}, ss[3] = {0.0, 0.0, 0.0}, rep = 0.0, tr = 0.0, trust = 0.0;
+        cacc_t acc;
         tu_rng_t g;
         int t, p, i, k;
+        memset(&acc, 0, sizeof acc);
         cfg.fit.mode = SFIT_MODE_SPHERE;
         cfg.fit.noise = SFIT_NOISE_ISO;
         cfg.fit.noise_var = (float)(sig * sig);
@@ -166,6 +223,8 @@ static void run_multi(FILE *f, int quick)
             sfit_multi_result_t res;
             sfit_mat3_t cov;
             sfit_status_t st = SFIT_OK;
+            memset(&res, 0, sizeof res);
+            memset(&cov, 0, sizeof cov);
             for (p = 0; p < NMK && st == SFIT_OK; p++) {
                 for (i = 0; i < sc->n; i++) {
                     double x[3];
@@ -183,47 +242,10 @@ static void run_multi(FILE *f, int quick)
             if (st == SFIT_OK) {
                 st = sfit_multi_center_cov(m, NMK, &cfg, &res, cfg.fit.noise_var, &cov);
             }
-            if (st != SFIT_OK) {
-                fails++;
-                continue;
-            }
-            ok++;
-            trust += (double)res.trust_ratio;
-            if ((res.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-                flagged++;
-                continue;
-            }
-            {
-                float p6[6];
-                double e[3], d2;
-                p6[0] = cov.m[0];
-                p6[1] = cov.m[4];
-                p6[2] = cov.m[8];
-                p6[3] = cov.m[1];
-                p6[4] = cov.m[2];
-                p6[5] = cov.m[5];
-                for (k = 0; k < 3; k++) {
-                    e[k] = (double)res.center.v[k] - k_mc[k];
-                    s[k] += e[k];
-                    ss[k] += e[k] * e[k];
-                }
-                rep += (double)p6[0] + (double)p6[1] + (double)p6[2];
-                d2 = tu_mahal_packed(p6, e);
-                covered += (d2 >= 0.0 && d2 <= CHI2_3_95);
-            }
+            cacc_add(&acc, st, res.flags, res.trust_ratio, &res.center, &cov, k_mc);
         }
-        {
-            const long u = ok - flagged;
-            int k2;
-            for (k2 = 0; k2 < 3 && u > 1; k2++) {
-                tr += (ss[k2] - s[k2] * s[k2] / (double)u) / (double)(u - 1);
-            }
-            fprintf(f, "| %.0f | %.3f | %d | %.3f | %d | %ld | %.3f | %ld | %ld | %.3f |\n",
-                    sc->cap, sc->sr, sc->n, (ok > 0) ? trust / (double)ok : 0.0, trials, u,
-                    (u > 0) ? (double)covered / (double)u : -1.0, flagged, fails,
-                    (u > 1) ? (rep / (double)u) / tr : 0.0);
-            fflush(f);
-        }
+        fprintf(f, "| %.0f | %.3f | %d |", sc->cap, sc->sr, sc->n);
+        cacc_print(f, &acc, trials);
     }
 }
 
@@ -265,10 +287,10 @@ int main(int argc, char **argv)
         const jscen_t *sc = &k_jscen[si];
         const int trials = quick ? 100 : 1000;
         sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-        long ok = 0, flagged = 0, fails = 0, covered = 0;
-        double s[3] = {0.0, 0.0, 0.0}, ss[3] = {0.0, 0.0, 0.0}, rep = 0.0, tr = 0.0, trust = 0.0;
+        cacc_t acc;
         tu_rng_t g;
         int t;
+        memset(&acc, 0, sizeof acc);
         cfg.n_child = K;
         cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
         cfg.solve.fit.mode = SFIT_MODE_SPHERE;
@@ -281,8 +303,8 @@ int main(int argc, char **argv)
             sfit_mat3_t cov;
             sfit_status_t st;
             size_t fr;
-            float p6[6];
-            double e[3], d2;
+            memset(&res, 0, sizeof res);
+            memset(&cov, 0, sizeof cov);
             make_noisy(&g, (size_t)sc->nf, sc->sigma);
             st = sfit_joint_init(&g_j, &cl, &cfg);
             for (fr = 0; fr < (size_t)sc->nf && st == SFIT_OK; fr++) {
@@ -295,42 +317,11 @@ int main(int argc, char **argv)
                 st = sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0],
                                            (size_t)sc->nf, cfg.solve.fit.noise_var, &cov);
             }
-            if (st != SFIT_OK) {
-                fails++;
-                continue;
-            }
-            ok++;
-            trust += (double)res.fit.trust_ratio;
-            if ((res.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-                flagged++;
-                continue;
-            }
-            p6[0] = cov.m[0];
-            p6[1] = cov.m[4];
-            p6[2] = cov.m[8];
-            p6[3] = cov.m[1];
-            p6[4] = cov.m[2];
-            p6[5] = cov.m[5];
-            for (k = 0; k < 3; k++) {
-                e[k] = (double)res.fit.center.v[k] - k_centre[k];
-                s[k] += e[k];
-                ss[k] += e[k] * e[k];
-            }
-            rep += (double)p6[0] + (double)p6[1] + (double)p6[2];
-            d2 = tu_mahal_packed(p6, e);
-            covered += (d2 >= 0.0 && d2 <= CHI2_3_95);
+            cacc_add(&acc, st, res.fit.flags, res.fit.trust_ratio, &res.fit.center, &cov,
+                     k_centre);
         }
-        {
-            const long u = ok - flagged;
-            for (k = 0; k < 3 && u > 1; k++) {
-                tr += (ss[k] - s[k] * s[k] / (double)u) / (double)(u - 1);
-            }
-            fprintf(f, "| %.1f | %.0f | %d | %.3f | %d | %ld | %.3f | %ld | %ld | %.3f |\n",
-                    sc->sigma, sc->max_deg, sc->nf, (ok > 0) ? trust / (double)ok : 0.0, trials, u,
-                    (u > 0) ? (double)covered / (double)u : -1.0, flagged, fails,
-                    (u > 1) ? (rep / (double)u) / tr : 0.0);
-            fflush(f);
-        }
+        fprintf(f, "| %.1f | %.0f | %d |", sc->sigma, sc->max_deg, sc->nf);
+        cacc_print(f, &acc, trials);
     }
     fclose(f);
     return 0;
