@@ -14,6 +14,7 @@
  */
 #include "test_cmocka.h"
 
+#include "sfit/sfit_refine.h"
 #include "sfit/sfit_selfcal.h"
 #include "sfit_ref.h"
 
@@ -241,9 +242,49 @@ static void test_cap_safeguard(void **state)
     gen(&g, 8.0 * TU_PI / 180.0, 3.0, 300);
     assert_int_equal(sfit_points_selfcal(g_pf, 300, NULL, &r), SFIT_OK);
     assert_true((r.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
+    /* the fit itself says so, with the reason */
+    assert_true((r.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+    assert_true((r.fit.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     assert_true(r.fit.trust_ratio <= SFIT_SELFCAL_MAX_TRUST * 1.001f);
     assert_true(r.noise_var <= SFIT_SELFCAL_MAX_TRUST * r.fit.eigenvalues.v[0] * 1.0001f);
     assert_true(isfinite(r.fit.radius) && r.fit.radius > 0.0f);
+}
+
+/* Issue 14's cap30 case: 30-degree cap, r = 100, sigma = 5, N = 1000,
+ * centre (1000, -2000, 1500) (true trust ratio 0.63). The self-calibrated
+ * noise hits its cap; the Leontief ratio is 1 - 2e-7 in float, so the old
+ * ">= 1" test let it through unflagged with a centre ~20 mm off and SDs of
+ * 1-2 mm. It must be flagged untrusted and say why; so must the fit with
+ * the true sigma^2 = 25. */
+static void test_cap30_flagged(void **state)
+{
+    static const double c30[3] = {1000.0, -2000.0, 1500.0};
+    sfit_selfcal_result_t r;
+    sfit_refined_t rf;
+    sfit_fit_cfg_t fc = sfit_fit_cfg_default;
+    sfit_result_t k;
+    tu_rng_t g;
+    int i;
+    (void)state;
+    tu_rng_seed(&g, 30u);
+    for (i = 0; i < 1000; i++) {
+        double x[3];
+        tu_sample_cap(&g, c30, K_R, k_axis, 30.0 * TU_PI / 180.0, 5.0, x);
+        tc_to_vec3(x, &g_pf[i]);
+    }
+    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &r), SFIT_OK);
+    assert_true((r.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
+    assert_true((r.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+    assert_true((r.fit.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
+    /* the refined recipe starts from it and carries the same verdict */
+    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &rf), SFIT_OK);
+    assert_true((rf.start.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+    /* the true sigma^2: Leontief ratio >= 1, untrusted */
+    fc.mode = SFIT_MODE_SPHERE;
+    fc.noise = SFIT_NOISE_ISO;
+    fc.noise_var = 25.0f;
+    assert_int_equal(sfit_points_fit(g_pf, 1000, &fc, &k), SFIT_OK);
+    assert_true((k.flags & SFIT_FLAG_UNTRUSTED) != 0u);
 }
 
 static void test_contract(void **state)
@@ -292,6 +333,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exact_data),
+        cmocka_unit_test(test_cap30_flagged),
         cmocka_unit_test(test_matches_oracle),
         cmocka_unit_test(test_noise_unbiased_cap),
         cmocka_unit_test(test_noise_unbiased_hemisphere),

@@ -80,6 +80,42 @@ static inline double tu_norm3(const double a[3])
     return sqrt(tu_dot3(a, a));
 }
 
+/** e^T P^-1 e for a packed symmetric 3x3 P (XX, YY, ZZ, XY, XZ, YZ, the
+ *  order of sfit_uncert_t::center_cov), by a double Cholesky factor; -1 when
+ *  P is not positive definite. */
+static inline double tu_mahal_packed(const float p[6], const double e[3])
+{
+    static const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+    double l[3][3] = {{0.0}}, y[3], d2 = 0.0;
+    int i, j, k;
+    for (j = 0; j < 3; ++j) {
+        double s = (double)p[idx[j][j]];
+        for (k = 0; k < j; ++k) {
+            s -= l[j][k] * l[j][k];
+        }
+        if (!(s > 0.0)) {
+            return -1.0;
+        }
+        l[j][j] = sqrt(s);
+        for (i = j + 1; i < 3; ++i) {
+            double t = (double)p[idx[i][j]];
+            for (k = 0; k < j; ++k) {
+                t -= l[i][k] * l[j][k];
+            }
+            l[i][j] = t / l[j][j];
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        double t = e[i];
+        for (k = 0; k < i; ++k) {
+            t -= l[i][k] * y[k];
+        }
+        y[i] = t / l[i][i];
+        d2 += y[i] * y[i];
+    }
+    return d2;
+}
+
 static inline double tu_dist3(const double a[3], const double b[3])
 {
     double d[3];

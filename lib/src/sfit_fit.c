@@ -93,6 +93,10 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (prv_rounding_flag(t.n, &sol, cfg)) {
         r.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
     }
+    if (r.trust_ratio > SFIT_COV_MAX_TRUST || t.n < SFIT_COV_MIN_SAMPLES) {
+        /* docs/coverage.md: the covariance no longer describes the error */
+        r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_FLAG_COV_LIMIT;
+    }
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
     *out = r;

@@ -6,7 +6,7 @@
  */
 #include "sfit/sfit_refine.h"
 
-#include "sfit_float.h"
+#include "sfit_mat3_i.h"
 
 const sfit_refined_cfg_t sfit_refined_cfg_default = {
     .selfcal = {.planar_ratio = 0.0f},
@@ -25,6 +25,29 @@ sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
     }
     if (st == SFIT_OK) {
         st = sfit_points_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
+    }
+    if (st == SFIT_OK) {
+        /* The geometric fit has a second-order bias (~ sigma^2 / r along the
+         * cap axis) that does not shrink with N; the self-calibrated centre
+         * has none to that order, so b = geometric - start estimates it.
+         * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
+        sfit_mat3_t cov;
+        float b[3];
+        int i, j;
+        for (i = 0; i < 3; i++) {
+            b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
+        }
+        sfit_i_sym_unpack(r.uncert.center_cov, &cov);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                cov.m[3 * i + j] += b[i] * b[j];
+            }
+        }
+        sfit_i_sym_pack(&cov, r.uncert.center_cov);
+        if (!sfit_i_isfinite(r.uncert.center_cov[0] + r.uncert.center_cov[1]
+                             + r.uncert.center_cov[2])) {
+            st = SFIT_E_RANGE;
+        }
     }
     if (st == SFIT_OK) {
         *out = r;

@@ -119,6 +119,11 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
             return st;
         }
         if (done) {
+            if ((res.flags & (uint32_t)SFIT_SELFCAL_FLAG_CAPPED) != 0u) {
+                /* the data cannot separate noise from geometry: the fit and
+                 * any covariance of it are not to be believed */
+                fit.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
+            }
             res.fit = fit;
             res.noise_var = var;
             res.iterations = (uint32_t)it;

@@ -97,16 +97,19 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_GEO_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
+/* Self-calibrated sandwich: the small-sample factor N/(N - 13) needs N > 13. */
+#define PRV_SC_MIN_N ((SFIT_MIN_SAMPLES > 14u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)14u)
 
-/* Pass 1 over the samples: sums of u (tot[0..2]) and of d - d0
- * (tot[3], d0 the first distance); SFIT_E_DEGENERATE for a sample at c. */
+/* Pass 1 over the samples: sums of u (tot[0..2]), of d - d0 (tot[3], d0
+ * the first distance) and, when k == 5, of (d - d0)^2 (tot[4]);
+ * SFIT_E_DEGENERATE for a sample at c. */
 static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
-                                   float *d0, sfit_i_sum_t *s)
+                                   float *d0, int k, sfit_i_sum_t *s)
 {
     size_t i;
     memset(s, 0, sizeof *s);
     for (i = 0; i < n; i++) {
-        float v[4];
+        float v[5];
         if (!sfit_i_dist_dir(pts[i].v, c->v, &v[3], v)) {
             return SFIT_E_DEGENERATE;
         }
@@ -114,20 +117,24 @@ static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_
             *d0 = v[3];
         }
         v[3] -= *d0;
-        sfit_i_sum_add(s, v, 4);
+        if (k == 5) {
+            v[4] = v[3] * v[3];
+        }
+        sfit_i_sum_add(s, v, k);
     }
-    sfit_i_sum_end(s, 4);
+    sfit_i_sum_end(s, k);
     return SFIT_OK;
 }
+
+/* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
+static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
+static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
 
 /* Pass 2: [0..5] sum (u - ubar)(u - ubar)^T, [6..11] sum f (I - u u^T)/d
  * and [12] sum f^2 with f = d - dbar (the last two only when k == 13). */
 static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                              const float ub[3], float dbar, int k, sfit_i_sum_t *s)
 {
-    /* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
-    static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
-    static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
     size_t i;
     int j;
     memset(s, 0, sizeof *s);
@@ -157,7 +164,7 @@ static sfit_status_t prv_start(sfit_status_t st, const sfit_vec3_t *pts, size_t 
         st = sfit_i_check_points(pts, n, nmin);
     }
     if (st == SFIT_OK) {
-        st = prv_pass_dirs(pts, n, c, d0, s);
+        st = prv_pass_dirs(pts, n, c, d0, 4, s);
     }
     for (j = 0; j < 3 && st == SFIT_OK; j++) {
         ub[j] = s->tot[j] / (float)n;
@@ -244,4 +251,133 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     }
     /* Var(r) = s^2 (1/N + ubar^T K Mu K ubar), K Mu K ubar = W q. */
     return prv_finish(&cov, s2 * (1.0f / nf + sfit_i_dot3(ub, wq)), crc, s2, out);
+}
+
+/* What pass 2 of the self-calibrated sandwich needs (docs/api.md#uncert). */
+typedef struct prv_sc {
+    float m[3];    /* sample mean */
+    float a[3];    /* m - c */
+    float p[3];    /* (N-1)/beta' a: weight of the noise equation in eta */
+    float dbar;    /* mean distance */
+    float mf2;     /* mean (d - dbar)^2 */
+    float kv;      /* (N-1)/N sigma^2 */
+    float alpha_n; /* alpha / N */
+    float sv;      /* (N-4)/N (sigma^2 - sigma^4/r^2) */
+} prv_sc_t;
+
+/* Pass 2: [0..5] sum eta eta^T (packed), [6..8] sum f u, with
+ * eta_i = (gt_i y_i - 2 kv z_i)/2 + p (f_i^2 - sv + alpha_n gt_i),
+ * z = x - c, y = x - m, f = d - dbar, gt = |z|^2 - mean |z|^2. */
+static void prv_sc_pass2(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
+                         const prv_sc_t *q, sfit_i_sum_t *s)
+{
+    size_t i;
+    int j;
+    memset(s, 0, sizeof *s);
+    for (i = 0; i < n; i++) {
+        float d, u[3], eta[3], t[9], f, gt, xi;
+        (void)sfit_i_dist_dir(pts[i].v, c->v, &d, u); /* pass 1 saw no zero distance */
+        f = d - q->dbar;
+        gt = f * (d + q->dbar) - q->mf2; /* |z|^2 - mean |z|^2 without cancellation */
+        xi = f * f - q->sv + q->alpha_n * gt;
+        for (j = 0; j < 3; j++) {
+            const float y = pts[i].v[j] - q->m[j];
+            eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
+            t[6 + j] = f * u[j];
+        }
+        for (j = 0; j < 6; j++) {
+            t[j] = eta[k_row[j]] * eta[k_col[j]];
+        }
+        sfit_i_sum_add(s, t, 9);
+    }
+    sfit_i_sum_end(s, 9);
+}
+
+sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
+                                         const sfit_vec3_t *center, float radius,
+                                         float noise_var, sfit_uncert_t *out)
+{
+    sfit_moments_t acc;
+    sfit_i_sum_t s;
+    sfit_vec3_t mean;
+    sfit_mat3_t c, l, k, g, t, cov;
+    prv_sc_t q;
+    float nf, rho, v, alpha, betap, d0 = 0.0f, kp[3], wk[3], w[3], den, crc[3];
+    int i, j;
+    sfit_status_t st;
+
+    st = (pts == NULL || center == NULL || out == NULL) ? SFIT_E_ARG
+                                                        : prv_check_fit(center, radius, noise_var);
+    if (st == SFIT_OK) {
+        st = sfit_i_check_points(pts, n, PRV_SC_MIN_N);
+    }
+    if (st == SFIT_OK) {
+        st = prv_pass_dirs(pts, n, center, &d0, 5, &s);
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    nf = (float)n;
+    (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
+    (void)sfit_moments_stats(&acc, &mean, &c, NULL);
+    v = noise_var;
+    rho = radius * radius;
+    q.dbar = d0 + s.tot[3] / nf;
+    q.mf2 = s.tot[4] / nf - (s.tot[3] / nf) * (s.tot[3] / nf);
+    q.kv = ((nf - 1.0f) / nf) * v;
+    alpha = -(nf - 4.0f) * (v / rho) * (v / rho);
+    betap = -(nf - 4.0f) * (1.0f - 2.0f * v / rho) - 3.0f * ((nf - 1.0f) / nf) * alpha;
+    q.alpha_n = alpha / nf;
+    q.sv = ((nf - 4.0f) / nf) * (v - v * (v / rho));
+    for (i = 0; i < 3; i++) {
+        q.m[i] = mean.v[i];
+        q.a[i] = mean.v[i] - center->v[i];
+        q.p[i] = ((nf - 1.0f) / betap) * q.a[i];
+        c.m[4 * i] -= v;
+    }
+    for (i = 0; i < 9; i++) {
+        c.m[i] *= nf - 1.0f; /* M~ = (N-1)(C - sigma^2 I) */
+    }
+    if (!(betap < 0.0f) || sfit_mat3_chol(&c, &l) != SFIT_OK) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    sfit_i_chol_inverse(&l, &k);
+    prv_sc_pass2(pts, n, center, &q, &s);
+    /* G = M~ - p w'^T, w' = -2 sum f u - 2 alpha a; G^-1 by Sherman-Morrison */
+    for (i = 0; i < 3; i++) {
+        w[i] = -2.0f * s.tot[6 + i] - 2.0f * alpha * q.a[i];
+    }
+    sfit_i_mat3_vec(&k, q.p, kp);
+    sfit_i_mat3_vec(&k, w, wk); /* K symmetric: w^T K = (K w)^T */
+    den = 1.0f - sfit_i_dot3(w, kp);
+    if (!(den > 0.0f)) {
+        return SFIT_E_NOT_POSDEF;
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            g.m[3 * i + j] = k.m[3 * i + j] + kp[i] * wk[j] / den;
+        }
+    }
+    sfit_i_sym_unpack(s.tot, &c); /* B = sum eta eta^T */
+    sfit_i_mat3_mul(&g, &c, &t);
+    for (i = 0; i < 3; i++) { /* g <- G^-T */
+        for (j = i + 1; j < 3; j++) {
+            const float x = g.m[3 * i + j];
+            g.m[3 * i + j] = g.m[3 * j + i];
+            g.m[3 * j + i] = x;
+        }
+    }
+    sfit_i_mat3_mul(&t, &g, &cov);
+    for (i = 0; i < 9; i++) {
+        /* N/(N - 5): 5 parameters fitted (c, r, sigma^2); (N - 5)/(N - 13):
+         * B is as variable as a Wishart matrix of (N - 5)/2 degrees of
+         * freedom, whose inverse has mean nu/(nu - 4) (docs/api.md#uncert) */
+        cov.m[i] *= nf / (nf - 13.0f);
+    }
+    /* radius: first order, as sfit_moments_uncert (K = M~^-1) */
+    sfit_i_mat3_vec(&k, q.a, kp);
+    for (i = 0; i < 3; i++) {
+        crc[i] = -v * radius * kp[i];
+    }
+    return prv_finish(&cov, v * (1.0f / nf + sfit_i_dot3(q.a, kp)), crc, v, out);
 }

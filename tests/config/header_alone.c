@@ -17,7 +17,7 @@
 #if SFIT_JACOBI_MAX_SWEEPS != 20 || SFIT_SUM_BLOCK != 128u || SFIT_COORD_MAX_EXP != 26
 #error "user configuration not seen (core knobs)"
 #endif
-#if SFIT_MIN_SAMPLES != 6u || SFIT_FEW_SAMPLES != 30u || SFIT_ENABLE_ASSERT != 1
+#if SFIT_MIN_SAMPLES != 6u || SFIT_FEW_SAMPLES != 30u || SFIT_ENABLE_ASSERT != 1 || SFIT_COV_MIN_SAMPLES != 40u
 #error "user configuration not seen (sample knobs)"
 #endif
 #if SFIT_INCR_BLOCK != 512u || SFIT_COVERAGE_BISECT_ITERS != 48
@@ -38,6 +38,6 @@ float sfit_test_float_knobs(void);
 float sfit_test_float_knobs(void)
 {
     return SFIT_CHOL_PIVOT_EPS + SFIT_PLANAR_RATIO + SFIT_COLLINEAR_RATIO + SFIT_COINCIDENT_ULPS
-           + SFIT_SELFCAL_REL_TOL + SFIT_SELFCAL_MAX_TRUST + SFIT_REFINE_TOL + SFIT_GATE_K
+           + SFIT_SELFCAL_REL_TOL + SFIT_SELFCAL_MAX_TRUST + SFIT_COV_MAX_TRUST + SFIT_REFINE_TOL + SFIT_GATE_K
            + SFIT_CLUSTER_COLLINEAR_RATIO;
 }

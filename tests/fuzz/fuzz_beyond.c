@@ -729,6 +729,29 @@ static void fz_uncert_pts(fz_state_t *s, fz_in_t *in)
         FZ_CHECK(fz_uncert_finite(&u) && u.noise_var >= 0.0f,
                  "sfit_points_uncert_geometric: non-finite result");
     }
+
+    /* The self-calibration's sandwich on the same window, centre, radius
+     * and noise level (no extra input bytes). */
+    memset(&u, FZ_SENTINEL, sizeof u);
+    st = sfit_points_uncert_selfcal(w, n, &c, rad, v, &u);
+    FZ_CHECK_OUT(st, u, "sfit_points_uncert_selfcal");
+    fz_check_window(s, &win, "sfit_points_uncert_selfcal wrote its samples");
+    if (fz_fit_args_status(&c, rad, v) != SFIT_OK) {
+        FZ_CHECK(st == fz_fit_args_status(&c, rad, v),
+                 "sfit_points_uncert_selfcal: bad fit: wrong status");
+    } else if (n < 14u || n < (size_t)SFIT_MIN_SAMPLES) {
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_uncert_selfcal: too few samples not reported");
+    } else if (bad != 0u) {
+        fz_check_bad_status(st, bad, "sfit_points_uncert_selfcal: wrong status for a bad sample");
+    } else {
+        FZ_CHECK(st == SFIT_OK || st == SFIT_E_DEGENERATE || st == SFIT_E_NOT_POSDEF
+                     || st == SFIT_E_RANGE,
+                 "sfit_points_uncert_selfcal: status");
+    }
+    if (st == SFIT_OK) {
+        FZ_CHECK(fz_uncert_finite(&u) && u.noise_var == v,
+                 "sfit_points_uncert_selfcal: non-finite result");
+    }
 }
 
 /* ------------------------------------------------------------------ gate */

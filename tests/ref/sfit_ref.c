@@ -914,6 +914,107 @@ int ref_sandwich_geometric(const double (*x)[3], size_t n, const double c[3],
     return 0;
 }
 
+/* Sum over the samples of the self-calibration's estimating functions at
+ * theta = (c, rho, v); sum psi psi^T added into b (5 x 5) when not NULL. */
+static int ref_i_selfcal_psi(const double (*x)[3], size_t n, const ref_ld th[5], ref_ld tot[5],
+                             ref_ld *b)
+{
+    const ref_ld k = (ref_ld)(n - 1u) / (ref_ld)n;
+    const ref_ld kv = th[4] - th[4] * th[4] / th[3];
+    ref_ld dbar = 0.0L;
+    size_t i;
+    int j;
+    for (i = 0; i < n; ++i) {
+        ref_ld z[3];
+        for (j = 0; j < 3; ++j) {
+            z[j] = LD(x[i][j]) - th[j];
+        }
+        dbar += sqrtl(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+    }
+    dbar /= (ref_ld)n;
+    memset(tot, 0, 5 * sizeof tot[0]);
+    for (i = 0; i < n; ++i) {
+        ref_ld z[3], z2, d, p[5];
+        for (j = 0; j < 3; ++j) {
+            z[j] = LD(x[i][j]) - th[j];
+        }
+        z2 = z[0] * z[0] + z[1] * z[1] + z[2] * z[2];
+        d = sqrtl(z2);
+        if (!(d > 0.0L)) {
+            return -1;
+        }
+        for (j = 0; j < 3; ++j) {
+            p[j] = (z2 - th[3] - 5.0L * k * th[4]) * z[j];
+        }
+        p[3] = z2 - th[3] - 3.0L * k * th[4];
+        p[4] = (d - dbar) * (d - dbar) - (ref_ld)(n - 4u) / (ref_ld)n * kv;
+        for (j = 0; j < 5; ++j) {
+            int l;
+            tot[j] += p[j];
+            for (l = 0; l < 5 && b != NULL; ++l) {
+                b[5 * j + l] += p[j] * p[l];
+            }
+        }
+    }
+    return 0;
+}
+
+int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], double r,
+                         double v, double cov[3][3])
+{
+    ref_ld th[5], a[25], ainv[25], b[25], col[5], tp[5], tm[5];
+    int j, k, l, m;
+    if (n < 14u) {
+        return -1;
+    }
+    for (j = 0; j < 3; ++j) {
+        th[j] = LD(c[j]);
+    }
+    th[3] = LD(r) * LD(r);
+    th[4] = LD(v);
+    memset(b, 0, sizeof b);
+    if (ref_i_selfcal_psi(x, n, th, tp, b)) {
+        return -1;
+    }
+    for (k = 0; k < 5; ++k) { /* column k of A: central difference */
+        const ref_ld h = (k < 3) ? 1e-3L * LD(r) : ((k == 3) ? 1e-4L * th[3] : 1e-3L * (th[4] + 1e-3L));
+        const ref_ld keep = th[k];
+        th[k] = keep + h;
+        (void)ref_i_selfcal_psi(x, n, th, tp, NULL);
+        th[k] = keep - h;
+        (void)ref_i_selfcal_psi(x, n, th, tm, NULL);
+        th[k] = keep;
+        for (j = 0; j < 5; ++j) {
+            a[5 * j + k] = (tp[j] - tm[j]) / (2.0L * h);
+        }
+    }
+    for (k = 0; k < 5; ++k) {
+        ref_ld t[25];
+        memcpy(t, a, sizeof t);
+        for (j = 0; j < 5; ++j) {
+            col[j] = (j == k) ? 1.0L : 0.0L;
+        }
+        if (ref_i_solve(5, t, col)) {
+            return -1;
+        }
+        for (j = 0; j < 5; ++j) {
+            ainv[5 * j + k] = col[j];
+        }
+    }
+    for (j = 0; j < 3; ++j) {
+        for (k = 0; k < 3; ++k) {
+            ref_ld acc = 0.0L;
+            for (l = 0; l < 5; ++l) {
+                for (m = 0; m < 5; ++m) {
+                    acc += ainv[5 * j + l] * b[5 * l + m] * ainv[5 * k + m];
+                }
+            }
+            cov[j][k] = (double)(acc * (ref_ld)n / (ref_ld)(n - 13u));
+        }
+    }
+    return 0;
+}
+
 /* ---------------------------------------------------------------------- */
 /* Cap / arc covariance by quadrature                                      */
 /*

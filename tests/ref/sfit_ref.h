@@ -115,6 +115,20 @@ void ref_crlb_sphere(const double (*x_true)[3], size_t n, const double c[3],
 int ref_sandwich_geometric(const double (*x)[3], size_t n, const double c[3],
                            double cov[4][4]);
 
+/** Sandwich covariance of the self-calibrated UGDK centre (5 x 5 stacked
+ *  M-estimator, not eliminated): parameters theta = (c, rho = r^2, v =
+ *  sigma^2), per-sample estimating functions (z = x - c, k = (n-1)/n,
+ *  d = |z|, dbar = mean d at c)
+ *    psi_c   = (|z|^2 - rho - 5 k v) z          (unbiased Kasa, centre)
+ *    psi_rho = |z|^2 - rho - 3 k v              (UGDK radius)
+ *    psi_v   = (d - dbar)^2 - (n-4)/n (v - v^2/rho)   (residual noise with
+ *                                                the curvature correction)
+ *  A = sum d psi / d theta by central differences, B = sum psi psi^T,
+ *  cov = n/(n-13) [A^-1 B A^-T]_cc (small-sample factor of sfit_uncert.h).
+ *  Returns -1 on n < 14, a singular A or a sample at c. */
+int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], double r,
+                         double v, double cov[3][3]);
+
 /** Population covariance eigenvalues (numerical quadrature) of the uniform
  *  distribution on a spherical cap of half-angle theta, radius r. */
 void ref_cap_eigs_numeric(double theta, double r, double *lmin, double *lmax);

@@ -151,4 +151,36 @@ for k in ("noise_var", "iterations", "outliers"):
 ' "$out" || fail "auto+refine: $out"
 out=$("$sfit" fit --json --noise-var 3 --gate 4 "$data/mocap/hip_right/RTHI1.csv")
 echo "$out" | grep -q '"outliers":0' || fail "gate: $out"
+# 9. Issue 14's cap30 case (30-degree cap, r 100, sigma 5, N 1000, centre
+#    (1000, -2000, 1500), written with a fixed seed): the self-calibrated
+#    fit hits its noise cap; JSON and text must say untrusted and why, the
+#    text must not claim the Leontief condition holds, and the fit with the
+#    true sigma^2 = 25 is untrusted too.
+py '
+import numpy as np, sys
+g = np.random.default_rng(14)
+ax = np.array([0.3, -0.5, 0.8]); ax /= np.linalg.norm(ax)
+e1 = np.cross(ax, [1.0, 0, 0]); e1 /= np.linalg.norm(e1); e2 = np.cross(ax, e1)
+z = 1 - g.random(1000) * (1 - np.cos(np.radians(30))); s = np.sqrt(1 - z * z)
+ph = 2 * np.pi * g.random(1000)
+d = z[:, None] * ax + s[:, None] * (np.cos(ph)[:, None] * e1 + np.sin(ph)[:, None] * e2)
+x = np.array([1000.0, -2000.0, 1500.0]) + 100 * d + 5 * g.standard_normal((1000, 3))
+np.savetxt(sys.argv[1], x, delimiter=",", header="x,y,z", comments="", fmt="%.6f")
+' "$tmp/cap30.csv"
+for opt in "--noise-var auto" "--noise-var auto --refine" "--noise-var 25"; do
+    out=$("$sfit" fit --json $opt "$tmp/cap30.csv")
+    py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok", o
+assert "untrusted" in o["flags"], o["flags"]
+assert ("noise_capped" in o["flags"]) == o["noise_capped"], o
+if sys.argv[2] != "--noise-var 25":
+    assert o["noise_capped"] is True and "noise_capped" in o["flags"], o
+' "$out" "$opt" || fail "cap30 $opt: $out"
+done
+out=$("$sfit" fit --noise-var auto "$tmp/cap30.csv")
+echo "$out" | grep -q "condition of eq. 194 holds" && fail "cap30 text claims the condition: $out"
+echo "$out" | grep -q "^untrusted" || fail "cap30 text: no untrusted line: $out"
+echo "$out" | grep -q "reason     noise_capped" || fail "cap30 text: no reason: $out"
 echo "cli: all checks passed"

@@ -109,6 +109,30 @@ void tt_beyond(void)
         TT_NEAR(u.radius_var, cr[3][3], 1e-3 * cr[3][3]);
     }
 
+    tt_case("beyond.selfcal_sandwich_vs_ref");
+    {
+        double cs[3][3];
+        sfit_uncert_t us;
+        for (j = 0; j < 3; j++) {
+            cd[j] = (double)sc.fit.center.v[j];
+        }
+        if (TT_EQ_INT(sfit_points_uncert_selfcal(tt_f, TT_N, &sc.fit.center, sc.fit.radius,
+                                                 sc.noise_var, &us),
+                      SFIT_OK)
+            && TT_EQ_INT(ref_sandwich_selfcal(REF_C3(tt_d), TT_N, cd, (double)sc.fit.radius,
+                                              (double)sc.noise_var, cs),
+                         0)) {
+            for (i = 0; i < 3; i++) {
+                for (j = 0; j < 3; j++) {
+                    TT_NEAR(us.center_cov[pk[i][j]], cs[i][j], 2e-3 * sqrt(cs[i][i] * cs[j][j]));
+                }
+            }
+        }
+        TT_EQ_INT(sfit_points_uncert_selfcal(tt_f, 13, &sc.fit.center, sc.fit.radius,
+                                             sc.noise_var, &us),
+                  SFIT_E_TOO_FEW);
+    }
+
     tt_case("beyond.errors");
     TT_EQ_INT(sfit_points_selfcal(NULL, TT_N, NULL, &sc), SFIT_E_ARG);
     TT_EQ_INT(sfit_points_refine(tt_f, 4, &sc.fit.center, NULL, &rf), SFIT_E_TOO_FEW);

@@ -113,6 +113,8 @@ static sfit_result_t fc_res;
 static sfit_fit_cfg_t fc_cfg_ugdk;
 static sfit_fit_cfg_t fc_cfg_planar;
 static sfit_status_t fc_st;
+static sfit_selfcal_result_t fc_sc;      /* self-calibrated fit of fc_pts */
+static sfit_uncert_t fc_unc;
 #if FC_HAVE_MULTI
 static sfit_moments_t fc_mk[FC_NMARK];
 static sfit_multi_result_t fc_mres;
@@ -379,6 +381,23 @@ static void fc_batch_half(void)
     fc_keep(sfit_points_fit(fc_pts, FC_NHALF, NULL, &fc_res));
 }
 
+static void fc_prep_selfcal(void)
+{
+    fc_keep(sfit_points_selfcal(fc_pts, FC_NPTS, NULL, &fc_sc));
+}
+
+static void fc_uncert_selfcal_n(void)
+{
+    fc_keep(sfit_points_uncert_selfcal(fc_pts, FC_NPTS, &fc_sc.fit.center, fc_sc.fit.radius,
+                                       fc_sc.noise_var, &fc_unc));
+}
+
+static void fc_uncert_selfcal_half(void)
+{
+    fc_keep(sfit_points_uncert_selfcal(fc_pts, FC_NHALF, &fc_sc.fit.center, fc_sc.fit.radius,
+                                       fc_sc.noise_var, &fc_unc));
+}
+
 static void fc_solve_gdke(void)
 {
     fc_keep(sfit_moments_fit(&fc_mom_cap, NULL, &fc_res));
@@ -603,6 +622,9 @@ static const fc_op_t fc_ops[] = {
     {"jacobi_eig", "sfit_mat3_eig_sym", NULL, fc_eig, NULL, NULL, 1u},
     {"jacobi_rotation", "sfit_mat3_eig_sym", NULL, fc_eig_rot, NULL, NULL, 1u},
     {"planar_solve", "sfit_moments_fit", NULL, fc_solve_planar, NULL, NULL, 1u},
+    {"uncert_selfcal_per_point", "sfit_points_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n,
+     fc_prep_selfcal, fc_uncert_selfcal_half, FC_NPTS - FC_NHALF},
+    {"uncert_selfcal", "sfit_points_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n, NULL, NULL, 1u},
 #if FC_HAVE_MULTI
     {"multi_solve_per_marker", "sfit_multi_fit", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
     {"multi_solve_total", "sfit_multi_fit", NULL, fc_multi_all, NULL, NULL, 1u},

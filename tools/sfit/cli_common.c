@@ -193,6 +193,14 @@ void cli_print_flags_json(uint32_t flags)
         printf("%s\"rounding\"", sep);
         sep = ",";
     }
+    if (flags & SFIT_SELFCAL_FLAG_CAPPED) {
+        printf("%s\"noise_capped\"", sep);
+        sep = ",";
+    }
+    if (flags & SFIT_FLAG_COV_LIMIT) {
+        printf("%s\"cov_limit\"", sep);
+        sep = ",";
+    }
     if (flags & SFIT_MULTI_FLAG_SKIPPED) {
         printf("%s\"skipped_markers\"", sep);
     }

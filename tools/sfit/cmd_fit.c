@@ -236,6 +236,42 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
            x->outliers, x->capped ? "true" : "false");
 }
 
+/* What the Leontief ratio says, from the float itself (never from a rounded
+ * print) and from the flags: "< 1" is printed only when it is < 1, and
+ * "holds" only when the fit is not flagged untrusted either. */
+static const char *leontief_words(const sfit_result_t *r)
+{
+    if (!(r->leontief_ratio < 1.0f)) {
+        return ">= 1: condition of eq. 194 fails; do not trust this fit";
+    }
+    if ((r->flags & SFIT_FLAG_UNTRUSTED) != 0u) {
+        return "< 1, but the fit is flagged untrusted: see the warnings";
+    }
+    return "< 1: condition of eq. 194 holds";
+}
+
+/* The reasons of SFIT_FLAG_UNTRUSTED, one warning line each. */
+static void print_untrusted(const sfit_result_t *r)
+{
+    if ((r->flags & SFIT_FLAG_UNTRUSTED) == 0u) {
+        return;
+    }
+    printf("untrusted    the centre covariance does not describe this fit's error:\n");
+    if (!(r->leontief_ratio < 1.0f)) {
+        printf("  reason     Leontief ratio >= 1 (noise swamps the weakest direction)\n");
+    }
+    if ((r->flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u) {
+        printf("  reason     noise_capped: the estimated noise hit its cap (trust ratio %.2g); "
+               "the data cannot separate noise from geometry\n",
+               (double)SFIT_SELFCAL_MAX_TRUST);
+    }
+    if ((r->flags & SFIT_FLAG_COV_LIMIT) != 0u) {
+        printf("  reason     cov_limit: trust ratio above %.2g, or fewer than %u samples "
+               "(docs/coverage.md)\n",
+               (double)SFIT_COV_MAX_TRUST, (unsigned)SFIT_COV_MIN_SAMPLES);
+    }
+}
+
 static void print_human(const char *file, const sfit_result_t *r, const cli_input_t *in,
                         const fit_extra_t *x)
 {
@@ -261,10 +297,9 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
            (double)r->eigenvalues.v[0], (double)r->eigenvalues.v[1],
            (double)r->eigenvalues.v[2]);
     if (r->method == SFIT_METHOD_UGDK) {
-        printf("trust ratio  %.4g = rho(C^-1 Sigma); Leontief ratio %.4g (%s)\n",
+        printf("trust ratio  %.9g = rho(C^-1 Sigma); Leontief ratio %.9g (%s)\n",
                (double)r->trust_ratio, (double)r->leontief_ratio,
-               r->leontief_ratio < 1.0f ? "< 1: condition of eq. 194 holds"
-                                        : ">= 1: do not trust this fit");
+               leontief_words(r));
     } else {
         printf("trust ratio  n/a (no noise model: GDKE is biased on partial spheres)\n");
     }
@@ -280,11 +315,7 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
     if (x->iterations > 0u) {
         printf("iterations   %lu\n", x->iterations);
     }
-    if (x->capped) {
-        printf("warning      the estimated noise hit its cap (trust ratio %.2g): the data "
-               "cannot separate noise from geometry\n",
-               (double)SFIT_SELFCAL_MAX_TRUST);
-    }
+    print_untrusted(r);
     if (r->flags & SFIT_FLAG_FEW_SAMPLES) {
         printf("warning      few samples\n");
     }
@@ -358,11 +389,12 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
     printf("eigenvalues  %.6g %.6g %.6g (of sum_p w_p C_p)\n", (double)r->eigenvalues.v[0],
            (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2]);
     if (r->method == SFIT_METHOD_UGDK) {
-        printf("trust ratio  %.4g = rho(A^-1 M Sigma), A = sum_p w_p C_p; Leontief ratio %.4g "
+        printf("trust ratio  %.9g = rho(A^-1 M Sigma), A = sum_p w_p C_p; Leontief ratio %.9g "
                "(%s)\n",
                (double)r->trust_ratio, (double)r->leontief_ratio,
-               r->leontief_ratio < 1.0f ? "< 1: condition of eq. 194 holds"
-                                        : ">= 1: do not trust this fit");
+               !(r->leontief_ratio < 1.0f) ? ">= 1: do not trust this fit"
+               : (r->flags & SFIT_FLAG_UNTRUSTED) != 0u ? "< 1, but flagged untrusted"
+                                                        : "< 1: condition of eq. 194 holds");
     }
     printf("per marker   radius; the marker's own fit (same options) and its distance from\n"
            "             the common %s:\n",
@@ -513,7 +545,6 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
                                 fit_extra_t *x)
 {
     const sfit_moments_t *acc = &k->acc;
-    sfit_uncert_noise_t kind = SFIT_UNCERT_NOISE_KNOWN;
     sfit_status_t st;
 
     memset(x, 0, sizeof *x);
@@ -558,7 +589,10 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
             x->noise_estimated = 1;
             x->iterations = sc.iterations;
             x->capped = (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
-            kind = SFIT_UNCERT_NOISE_ESTIMATED;
+            /* the self-calibration's own sandwich covariance */
+            x->has_uncert = (sfit_points_uncert_selfcal(k->pts, k->n, &r->center, r->radius,
+                                                        x->noise_var, &x->u) == SFIT_OK);
+            return SFIT_OK;
         }
     } else {
         st = sfit_moments_fit(acc, &o->cfg, r);
@@ -571,7 +605,8 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->noise_var = o->cfg.noise_var;
     }
     if (x->has_noise && r->mode == SFIT_MODE_SPHERE && acc != NULL) {
-        x->has_uncert = (sfit_moments_uncert(acc, &r->center, r->radius, x->noise_var, kind,
+        x->has_uncert = (sfit_moments_uncert(acc, &r->center, r->radius, x->noise_var,
+                                             SFIT_UNCERT_NOISE_KNOWN,
                                              &x->u) == SFIT_OK);
     }
     return SFIT_OK;

@@ -95,6 +95,31 @@
 #endif
 
 /**
+ * @brief Above this trust ratio a fit carries ::SFIT_FLAG_UNTRUSTED and
+ * ::SFIT_FLAG_COV_LIMIT: the second-order terms of the centre error (bias
+ * and skew along the weakest direction) are no longer small against its
+ * covariance, and the reported 95 % ellipsoid was measured to cover less
+ * than 92 % of the truth (docs/coverage.md). Range (0, 0.5].
+ */
+#ifndef SFIT_COV_MAX_TRUST
+#define SFIT_COV_MAX_TRUST 0.35f
+#endif
+
+/**
+ * @brief Below this many samples a fit carries ::SFIT_FLAG_UNTRUSTED and
+ * ::SFIT_FLAG_COV_LIMIT: the 95 % ellipsoid of its reported covariance was
+ * measured to cover 60-90 % at N = 10-30 (an estimated noise level or
+ * trust ratio from this few samples is too rough; docs/coverage.md).
+ * Range [6, 100000].
+ */
+#ifndef SFIT_COV_MIN_SAMPLES
+#define SFIT_COV_MIN_SAMPLES 50u
+#endif
+#if (SFIT_COV_MIN_SAMPLES < 6) || (SFIT_COV_MIN_SAMPLES > 100000)
+#error "SFIT_COV_MIN_SAMPLES must be in 6..100000"
+#endif
+
+/**
  * @brief lambda_mid(C) / lambda_max(C) below this means the samples are
  * collinear (an arc of about 0.7 degrees or less): ::SFIT_E_DEGENERATE.
  */

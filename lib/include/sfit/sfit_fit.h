@@ -74,7 +74,9 @@ typedef struct sfit_result {
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
     float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
                                   the Leontief ratio rho(C0^-1 Sigma) (C0 = noise-free covariance,
-                                  estimated by C'); SFIT_FLAG_UNTRUSTED when >= 1. */
+                                  estimated by C'); SFIT_FLAG_UNTRUSTED when >= 1 (and
+                                  with SFIT_FLAG_COV_LIMIT when trust_ratio >
+                                  SFIT_COV_MAX_TRUST or n < SFIT_COV_MIN_SAMPLES). */
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
     sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */

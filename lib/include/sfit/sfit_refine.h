@@ -80,7 +80,11 @@ extern const sfit_refined_cfg_t sfit_refined_cfg_default;
 typedef struct sfit_refined {
     sfit_selfcal_result_t start;    /**< Self-calibrated UGDK fit: noise estimate, start centre. */
     sfit_refine_result_t geometric; /**< Geometric fit started from start.fit.center. */
-    sfit_uncert_t uncert;           /**< Sandwich covariance of the geometric fit. */
+    sfit_uncert_t uncert;           /**< Sandwich covariance of the geometric fit; its
+                                         center_cov plus b b^T, b = geometric.center -
+                                         start.fit.center (the geometric fit's bias
+                                         estimate: docs/coverage.md). The verdict
+                                         (SFIT_FLAG_UNTRUSTED) is start.fit.flags. */
 } sfit_refined_t;
 
 /**

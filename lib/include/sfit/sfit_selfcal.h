@@ -32,7 +32,10 @@ extern const sfit_selfcal_cfg_t sfit_selfcal_cfg_default;
 
 /** @brief A self-calibrated fit. Written only on SFIT_OK. */
 typedef struct sfit_selfcal_result {
-    sfit_result_t fit;   /**< The UGDK fit with the final noise_var (method UGDK). */
+    sfit_result_t fit;   /**< The UGDK fit with the final noise_var (method UGDK); when
+                              capped its flags carry SFIT_FLAG_UNTRUSTED and
+                              SFIT_SELFCAL_FLAG_CAPPED. Its covariance:
+                              sfit_points_uncert_selfcal(). */
     float noise_var;     /**< Estimated isotropic noise variance sigma^2 (unit^2). */
     uint32_t iterations; /**< Residual passes done (1..SFIT_SELFCAL_MAX_ITERS). */
     uint32_t flags;      /**< ::SFIT_SELFCAL_FLAG_CAPPED or 0 (::sfit_flag). */

@@ -29,11 +29,18 @@ typedef struct sfit_mat3 {
  * says which of them it can carry). One enum, distinct bits.
  */
 enum sfit_flag {
-    SFIT_FLAG_UNTRUSTED = 0x1u,        /**< Fits: leontief_ratio >= 1 (trust_ratio >= 1/2). */
+    SFIT_FLAG_UNTRUSTED = 0x1u,        /**< Fits: do not believe the centre or its covariance;
+                                            the reason is one of: leontief_ratio >= 1
+                                            (trust_ratio >= 1/2), ::SFIT_FLAG_COV_LIMIT,
+                                            ::SFIT_SELFCAL_FLAG_CAPPED. Without it, the
+                                            reported centre covariance describes the
+                                            centre's real error (docs/coverage.md). */
     SFIT_FLAG_FEW_SAMPLES = 0x2u,      /**< Fits: N < SFIT_FEW_SAMPLES. */
     SFIT_FLAG_NEAR_PLANAR = 0x4u,      /**< Fits: lambda_min/lambda_max < planar_ratio. */
-    SFIT_SELFCAL_FLAG_CAPPED = 0x8u,   /**< Self-calibration: sigma^2 hit the
-                                            SFIT_SELFCAL_MAX_TRUST cap; not to be trusted. */
+    SFIT_SELFCAL_FLAG_CAPPED = 0x8u,   /**< Self-calibration (and its fit, with
+                                            SFIT_FLAG_UNTRUSTED): sigma^2 hit the
+                                            SFIT_SELFCAL_MAX_TRUST cap, the data cannot
+                                            separate noise from geometry. */
     SFIT_NOISE_FLAG_NEGATIVE = 0x10u,  /**< Noise calibration: the estimate is negative
                                             (reported unclamped). */
     SFIT_NOISE_FLAG_IMPRECISE = 0x20u, /**< Noise calibration: below twice its own
@@ -42,6 +49,10 @@ enum sfit_flag {
                                             what float sums carry; the centre may be more
                                             than 1e-4 r from a double-precision fit of the
                                             same samples (small caps, N ~ 1e5 and more). */
+    SFIT_FLAG_COV_LIMIT = 0x80u,       /**< Fits (with SFIT_FLAG_UNTRUSTED): outside the
+                                            range where the reported covariance was
+                                            validated: trust_ratio > SFIT_COV_MAX_TRUST, or
+                                            fewer than SFIT_COV_MIN_SAMPLES samples. */
     SFIT_MULTI_FLAG_SKIPPED = 0x100u   /**< Multi-marker: a marker with too few samples
                                             was skipped. */
 };

@@ -112,6 +112,37 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
 sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out);
 
+/**
+ * @brief Covariance of the self-calibrated UGDK fit (sfit_points_selfcal())
+ * from the samples: the sandwich G^-1 B G^-T of its estimating equations
+ * (centre, radius and the noise variance estimated together), so the
+ * coupling of the estimated sigma^2 with the centre and the second-order
+ * terms are measured, not modelled. Derivation: docs/api.md#uncert.
+ * Centre covariance only; radius_var and center_radius_cov are the first-
+ * order values of sfit_moments_uncert().
+ * @param[in]  pts        n samples (caller-owned, read only), the ones fitted.
+ * @param[in]  n          Sample count (>= 14 and >= SFIT_MIN_SAMPLES).
+ * @param[in]  center     The self-calibrated centre (sfit_selfcal_result_t::fit).
+ * @param[in]  radius     Its radius (> 0).
+ * @param[in]  noise_var  Its noise variance (sfit_selfcal_result_t::noise_var, >= 0).
+ * @param[out] out        Written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL pointer, radius <= 0, negative noise_var
+ * @retval SFIT_E_NONFINITE   non-finite centre, radius, noise_var or sample
+ * @retval SFIT_E_TOO_FEW     n < 14 or n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_DEGENERATE  a sample at the centre
+ * @retval SFIT_E_NOT_POSDEF  C - sigma^2 I not positive definite, or the
+ *                            linearised self-calibration singular (noise and
+ *                            geometry not separable)
+ * @retval SFIT_E_RANGE       n > UINT32_MAX, a sample out of range, or a
+ *                            result would not be finite
+ * @par Cost  three passes over the samples (moments, distances, sandwich terms)
+ *            plus a fixed 3x3 tail (tools/flopcount: uncert_selfcal).
+ */
+sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
+                                         const sfit_vec3_t *center, float radius,
+                                         float noise_var, sfit_uncert_t *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -385,6 +385,8 @@ static const flag_name_t g_fit_flags[] = {{SFIT_FLAG_UNTRUSTED, "untrusted"},
                                           {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
                                           {SFIT_FLAG_NEAR_PLANAR, "near_planar"},
                                           {SFIT_FLAG_ROUNDING, "rounding"},
+                                          {SFIT_SELFCAL_FLAG_CAPPED, "noise_capped"},
+                                          {SFIT_FLAG_COV_LIMIT, "cov_limit"},
                                           {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
                                           {0u, NULL}};
 static const flag_name_t g_noise_flags[] = {{SFIT_NOISE_FLAG_NEGATIVE, "negative"},
@@ -768,10 +770,11 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                 u = rf.uncert;
             }
         } else if (st == SFIT_OK && has_noise && r.mode == SFIT_MODE_SPHERE) {
-            has_u = (sfit_moments_uncert(&acc, &r.center, r.radius, nvar,
-                                         noise_est ? SFIT_UNCERT_NOISE_ESTIMATED
-                                                   : SFIT_UNCERT_NOISE_KNOWN,
-                                         &u) == SFIT_OK);
+            /* self-calibrated: its own sandwich (as sfit fit --noise-var auto) */
+            has_u = noise_est ? (sfit_points_uncert_selfcal(v, nv, &r.center, r.radius, nvar,
+                                                            &u) == SFIT_OK)
+                              : (sfit_moments_uncert(&acc, &r.center, r.radius, nvar,
+                                                     SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
         }
         Py_END_ALLOW_THREADS
         PyMem_RawFree(own);

@@ -239,6 +239,36 @@ def uncert_geometric(x, c):
     return s2 * core, s2 * (1.0 / n + ub @ core @ ub), -s2 * core @ ub, s2
 
 
+def uncert_selfcal(x, c, r, v):
+    """Sandwich of the self-calibrated UGDK (sfit_points_uncert_selfcal):
+    the 5 x 5 stacked estimating equations in (c, rho = r^2, v), analytic
+    Jacobian, B = sum psi psi^T, n/(n-13) [A^-1 B A^-T]_cc."""
+    x = np.asarray(x, dtype=np.float64)
+    c = np.asarray(c, dtype=np.float64)
+    n = len(x)
+    k = (n - 1) / n
+    rho = float(r) ** 2
+    z = x - c
+    z2 = np.sum(z * z, axis=1)
+    d = np.sqrt(z2)
+    u = z / d[:, None]
+    f = d - d.mean()
+    psi = np.column_stack([(z2 - rho - 5 * k * v)[:, None] * z, z2 - rho - 3 * k * v,
+                           f * f - (n - 4) / n * (v - v * v / rho)])
+    a = np.zeros((5, 5))
+    a[:3, :3] = -2 * z.T @ z - np.sum(z2 - rho - 5 * k * v) * np.eye(3)
+    a[:3, 3] = -z.sum(axis=0)
+    a[:3, 4] = -5 * k * z.sum(axis=0)
+    a[3, :3] = -2 * z.sum(axis=0)
+    a[3, 3] = -n
+    a[3, 4] = -3 * k * n
+    a[4, :3] = -2 * (f[:, None] * u).sum(axis=0)
+    a[4, 3] = -(n - 4) * v * v / rho ** 2
+    a[4, 4] = -(n - 4) * (1 - 2 * v / rho)
+    ai = np.linalg.inv(a)
+    return (ai @ (psi.T @ psi) @ ai.T)[:3, :3] * n / (n - 13)
+
+
 def sphere_samples(rng, n, centre, r, sigma, half_angle=np.pi, axis=(0.0, 0.0, 1.0)):
     """n samples uniform on a cap of half-angle half_angle about axis, plus
     isotropic Gaussian noise."""
