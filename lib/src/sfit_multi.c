@@ -94,6 +94,9 @@ static const sfit_mat3_t *prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_
 {
     int i;
     if (noise == NULL) {
+        for (i = 0; i < 3; i++) {
+            half_skew[i] = 0.0f; /* not read; defined for every path */
+        }
         return sg_cfg;
     }
     sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, buf);
@@ -314,7 +317,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     r.markers = used;
     r.skipped = skipped;
     sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
-    r.flags = sol.flags | flags;
+    r.flags = sol.flags | flags | sfit_i_cov_limit(r.trust_ratio, r.n_total);
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
 

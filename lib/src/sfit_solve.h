@@ -42,6 +42,17 @@ SFIT_INLINE void sfit_i_solution_out(const sfit_i_solution_t *sol, sfit_vec3_t *
     *trust = sol->rho / (1.0f + sol->rho);
 }
 
+/** @brief The coverage rule (docs/coverage.md): a fit whose trust ratio is
+ * above SFIT_COV_MAX_TRUST, or that rests on fewer than
+ * SFIT_COV_MIN_SAMPLES samples, is outside the range where its reported
+ * covariance was shown to cover its error: UNTRUSTED + COV_LIMIT. */
+SFIT_INLINE uint32_t sfit_i_cov_limit(float trust, uint32_t n)
+{
+    return (trust > SFIT_COV_MAX_TRUST || n < SFIT_COV_MIN_SAMPLES)
+               ? ((uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_FLAG_COV_LIMIT)
+               : 0u;
+}
+
 /**
  * @brief A centre's covariance var a^+ m a^+ from its system matrix a and
  * the covariance m of its estimating equation per unit variance: a^+ = a^-1

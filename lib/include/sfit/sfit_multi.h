@@ -51,7 +51,10 @@ typedef struct sfit_multi_result {
     float leontief_ratio;    /**< rho(A'^-1 (sum w_p) Sigma_hat), A' = sum w_p C'_p
                                   = trust/(1 - trust); SFIT_FLAG_UNTRUSTED when >= 1. */
     uint32_t flags;          /**< ::sfit_flag bits (FEW_SAMPLES: some marker used has
-                                  N_p < SFIT_FEW_SAMPLES) | ::SFIT_MULTI_FLAG_SKIPPED. */
+                                  N_p < SFIT_FEW_SAMPLES) | ::SFIT_MULTI_FLAG_SKIPPED;
+                                  UNTRUSTED + COV_LIMIT when trust_ratio >
+                                  SFIT_COV_MAX_TRUST or n_total < SFIT_COV_MIN_SAMPLES,
+                                  as for single fits. */
     sfit_method_t method;    /**< MGDK (SFIT_METHOD_GDKE) or unbiased (SFIT_METHOD_UGDK). */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */
 } sfit_multi_result_t;
