@@ -10,7 +10,8 @@
 #include <string.h>
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
-    .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f};
+    .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
+    .eigen = 0};
 
 sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
@@ -20,7 +21,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     sfit_i_solution_t sol;
     sfit_result_t r;
     float r2;
-    int i;
+    int i, exact;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
@@ -36,7 +37,18 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
     sys.scale = sfit_i_coincident_scale(m->origin, t.d);
 
-    st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
+    /* The screened solve first (sphere, no or isotropic noise); the full
+     * solver when it trips, when asked for, or for planar / full-covariance. */
+    st = SFIT_I_SCREEN_TRIPPED;
+    if (cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
+        st = sfit_i_solve_lean(&sys.c, &sys.rhs, sys.sigma.m[0], sys.scale,
+                               (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
+                               &sol);
+    }
+    exact = (st != SFIT_OK);
+    if (exact) {
+        st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
+    }
     if (st != SFIT_OK) {
         return st;
     }
@@ -64,6 +76,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     }
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
+    r.exact = exact;
     *out = r;
     return SFIT_OK;
 }

@@ -28,7 +28,7 @@
 const sfit_joint_cfg_t sfit_joint_cfg_default = {
     1u,
     {{SFIT_MODE_AUTO, SFIT_NOISE_NONE, 0.0f,
-      {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}}, 0.0f},
+      {{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}}, 0.0f, 0},
      SFIT_MULTI_WEIGHT_EQUAL},
     SFIT_JOINT_NOISE_SOLVE};
 

@@ -50,4 +50,17 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
 
+/** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
+#define SFIT_I_SCREEN_TRIPPED 1
+
+/**
+ * @brief The screened sphere solve of C' = C - var I (sfit_lean.c): SFIT_OK
+ * with w, trace and an upper bound of the trust ratio (rho) when a cheap
+ * bound on lambda_min(C') proves that sfit_i_solve() would return the same
+ * sphere, status and flags; else SFIT_I_SCREEN_TRIPPED (out untouched).
+ * Eigenvalues and axis are left zero. ratio: the planar threshold in use.
+ */
+int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
+                      float ratio, sfit_i_solution_t *out);
+
 #endif /* SFIT_SOLVE_H */

@@ -44,9 +44,14 @@ typedef struct sfit_fit_cfg {
                                       A negative diagonal entry or 2x2 principal
                                       minor is rejected with SFIT_E_ARG. */
     float planar_ratio;          /**< lambda_min/lambda_max threshold; 0 = SFIT_PLANAR_RATIO. */
+    int eigen;                   /**< 0 (default): the screened solve, which skips the
+                                      eigen-decomposition when a cheap bound proves the
+                                      sphere well conditioned, not near-planar and
+                                      trusted (result: exact = 0). 1: always the full
+                                      solver (eigenvalues, axis, exact trust ratio). */
 } sfit_fit_cfg_t;
 
-/** @brief Defaults: auto mode, no noise compensation (GDKE). */
+/** @brief Defaults: auto mode, no noise compensation (GDKE), screened solve. */
 extern const sfit_fit_cfg_t sfit_fit_cfg_default;
 
 /** @brief Which estimator produced a result. */
@@ -60,12 +65,13 @@ typedef struct sfit_result {
     sfit_vec3_t center;      /**< Sphere centre, or circle centre in planar mode. */
     float radius;            /**< Sphere or circle radius. */
     uint32_t n;              /**< Samples used. */
-    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending. */
-    sfit_vec3_t axis;        /**< Unit eigenvector of the dropped (planar) or smallest
+    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending (zero when exact is 0). */
+    sfit_vec3_t axis;        /**< (Zero when exact is 0.) Unit eigenvector of the dropped (planar) or smallest
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
     float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
-                                  (0 for GDKE). It is also the factor by which
+                                  (0 for GDKE); when exact is 0, an upper bound of it
+                                  (below 1/2: the screen passed only for a trusted fit). It is also the factor by which
                                   GDKE shrinks the centre offset along the weakest
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
     float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
@@ -74,6 +80,10 @@ typedef struct sfit_result {
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
     sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */
+    int exact;               /**< 1: the full solver ran (eigenvalues, axis, exact trust
+                                  ratios); 0: the screened solve (same centre, radius,
+                                  status and flags; eigenvalues and axis zero, trust
+                                  ratios are upper bounds). */
 } sfit_result_t;
 
 /**
@@ -83,7 +93,7 @@ typedef struct sfit_result {
  * @param[in]  cfg  Options; NULL = ::sfit_fit_cfg_default.
  * @param[out] out  Result; written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind,
+ * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind, eigen not 0/1,
  *                            negative/non-finite variance, a covariance that is not
  *                            finite or fails the semi-definiteness checks)
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples

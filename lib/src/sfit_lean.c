@@ -1,0 +1,94 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_lean.c
+ * @brief The screened sphere solve: Cholesky of C' = C - sigma^2 I and a
+ * lower bound of lambda_min(C') instead of the Jacobi eigen-decomposition,
+ * used when the bound proves the answer of the full solver.
+ *
+ * Implementation notes (derivation: docs/api.md#lean)
+ * ---------------------------------------------------
+ * For a symmetric positive definite 3x3 A with eigenvalues l1 <= l2 <= l3,
+ * det A = l1 l2 l3 and e2 = l1 l2 + l1 l3 + l2 l3 (the sum of the 2x2
+ * principal minors) >= l2 l3, so l1 >= det A / e2 (within a factor 3, tight
+ * when l1 << l2). det C' = (l00 l11 l22)^2 comes from the Cholesky factor
+ * that the solve needs anyway. With a relative margin of 2^-6 and an
+ * absolute one of 2^-12 tr(C) (each far above the rounding of the bound and
+ * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
+ * when the full solver would find: not coincident, not collinear, not
+ * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
+ * tr(C') <= tr(C)) and trusted; it then returns the same centre and radius
+ * (the same Cholesky solve) and the same status and flags. Every doubt
+ * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
+ */
+#include "sfit_solve.h"
+
+#include <float.h>
+#include <string.h>
+
+/* Relative and absolute safety margins of the screen. */
+#define PRV_REL 0.015625f     /* 2^-6 */
+#define PRV_ABS 2.44140625e-4f /* 2^-12, times tr(C) */
+/* lambda_min(C') >= PRV_COND tr(C): bounds cond(C') so that the rounding
+ * of the full solver's trust ratio stays far below PRV_REL. */
+#define PRV_COND 9.765625e-4f /* 2^-10 */
+
+int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
+                      float ratio, sfit_i_solution_t *out)
+{
+    sfit_mat3_t l;
+    sfit_i_solution_t r;
+    const float *a = l.m;
+    float tr, e2, det, lo, thr;
+    int i;
+
+    tr = c->m[0] + c->m[4] + c->m[8];
+    if (!(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    /* C' = C - var I (lower triangle is what the Cholesky reads). */
+    l = *c;
+    l.m[0] -= var;
+    l.m[4] -= var;
+    l.m[8] -= var;
+    e2 = (a[0] * a[4] - a[3] * a[3]) + (a[0] * a[8] - a[6] * a[6]) + (a[4] * a[8] - a[7] * a[7]);
+    memset(&r, 0, sizeof r);
+    r.trace = a[0] + a[4] + a[8];
+    if (!(e2 > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    det = a[0] * a[4] * a[8]; /* sqrt(det C') */
+    det = det * det;
+    lo = (det / e2) * (1.0f - PRV_REL) - PRV_ABS * tr; /* <= lambda_min(C') */
+    if (ratio < SFIT_COLLINEAR_RATIO) {
+        ratio = SFIT_COLLINEAR_RATIO;
+    }
+    if (ratio < PRV_COND) {
+        ratio = PRV_COND;
+    }
+    thr = (ratio * (1.0f + PRV_REL)) * tr; /* >= ratio lambda_max(C) */
+    if (!(lo >= thr)) {
+        return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
+    }
+    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)) {
+        return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */
+    }
+    if (var > 0.0f) {
+        /* rho(C'^-1 sigma^2 I) = var / lambda_min(C') <= var / lo. */
+        if (!(var <= (1.0f - PRV_REL) * lo)) {
+            return SFIT_I_SCREEN_TRIPPED;
+        }
+        r.rho = var / lo;
+    }
+    (void)sfit_mat3_chol_solve(&l, rhs, &r.w);
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(r.w.v[i])) {
+            return SFIT_I_SCREEN_TRIPPED;
+        }
+    }
+    if (!sfit_i_isfinite(r.trace)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    r.mode = SFIT_MODE_SPHERE;
+    *out = r;
+    return SFIT_OK;
+}
