@@ -90,10 +90,13 @@ static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], fl
     out[2] += 2.0f * (s->m2[4] * u0 + s->m2[5] * u1 + s->m2[2] * u2) + t * u2;
 }
 
-/* a := a U b, both means relative to the same origin (b must not alias a). */
-static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
+/* a := a U b, both means relative to the same origin. b is consumed (its
+ * mean is replaced by delta = m_B - m_A; no temporary on the stack) and
+ * must not alias a. */
+static void prv_cmom_merge(sfit_cmom_t *a, sfit_cmom_t *b)
 {
-    float delta[3], fa, fb, w;
+    float *const delta = b->d;
+    float fa, fb, w;
     int i;
 
     if (b->n == 0u) {
