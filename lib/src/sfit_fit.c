@@ -7,7 +7,37 @@
  */
 #include "sfit_solve.h"
 
+#include <float.h>
 #include <string.h>
+
+/** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
+#define SFIT_ROUNDING_K 0.5f
+/** Relative accuracy an unflagged result promises (the README's 1e-4 r). */
+#define SFIT_ROUNDING_TOL 1e-4f
+
+/* 1 when the float sums may not carry the result to SFIT_ROUNDING_TOL r.
+ * Each block merge of the accumulator (one per SFIT_SUM_BLOCK samples)
+ * rounds the totals relative to eps; the errors add as a random walk, and
+ * the solve amplifies them by the conditioning of C': the centre's error
+ * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. cond(C')
+ * is bounded from C's eigenvalues: the smallest used one minus an upper
+ * bound of the noise (sigma^2, or tr Sigma); one not positive flags. */
+static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
+{
+    const float *lam = sol->eigenvalues.v;
+    float noise = 0.0f, lmin;
+    if (cfg->noise == SFIT_NOISE_ISO) {
+        noise = cfg->noise_var;
+    } else if (cfg->noise == SFIT_NOISE_COV) {
+        noise = cfg->noise_cov.m[0] + cfg->noise_cov.m[4] + cfg->noise_cov.m[8];
+    } else {
+        /* GDKE: C' = C */
+    }
+    lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lam[2]
+                 * SFIT_SQRTF((float)(n / SFIT_SUM_BLOCK) + 1.0f)
+             <= SFIT_ROUNDING_TOL * lmin);
+}
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
@@ -73,6 +103,9 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     r.flags = sol.flags;
     if (t.n < SFIT_FEW_SAMPLES) {
         r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    }
+    if (prv_rounding_flag(t.n, &sol, cfg)) {
+        r.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
     }
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;

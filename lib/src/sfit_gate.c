@@ -23,6 +23,10 @@
 #define SFIT_GATE_CSTEPS 3
 /** MAD to sigma for a Gaussian. */
 #define SFIT_GATE_MAD_SIGMA 1.4826f
+/** Largest leverage used (a sample far off a nearly planar fit's plane). */
+#define SFIT_GATE_H_MAX 1e6f
+/** Largest sigma^2 the widening reaches (keeps 4 sigma^2 finite). */
+#define SFIT_GATE_VAR_MAX 1e30f
 
 const sfit_gate_cfg_t sfit_gate_cfg_default = {
     .fit = {.mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .planar_ratio = 0.0f},
@@ -33,7 +37,7 @@ const sfit_gate_cfg_t sfit_gate_cfg_default = {
 static float prv_floor(float r)
 {
     const float f = SFIT_GATE_VAR_FLOOR_REL * r;
-    return f * f;
+    return (f < 1e15f) ? f * f : SFIT_GATE_VAR_MAX;
 }
 
 static float prv_resid(const sfit_vec3_t *x, const sfit_vec3_t *c, float r)
@@ -58,6 +62,28 @@ static float prv_median(float *a, uint32_t n)
         a[j] = v;
     }
     return ((n & 1u) != 0u) ? a[n / 2u] : 0.5f * (a[n / 2u - 1u] + a[n / 2u]);
+}
+
+/* A state fit to use: phase and buffer count in range, the gate width and
+ * noise values finite, and in phase 2 every value the test reads finite
+ * (a garbage state, e.g. from .noinit RAM or flash, gives E_ARG instead of
+ * a write outside `warm` or a NaN in the window sums). No FP arithmetic. */
+static int prv_state_ok(const sfit_gate_t *g)
+{
+    int ok = g->phase <= 2u && g->nwarm < (uint32_t)SFIT_GATE_WARMUP
+             && (g->phase == 0u || g->nwarm == 0u) && sfit_i_isfinite(g->cfg.k)
+             && g->cfg.k > 1.0f && sfit_i_isfinite(g->cfg.noise_var)
+             && g->cfg.noise_var >= 0.0f && sfit_i_isfinite(g->var) && g->var >= 0.0f
+             && sfit_i_isfinite(g->ws2) && g->ws2 >= 0.0f;
+    if (ok && g->phase == 2u) {
+        int j;
+        ok = sfit_i_sphere_finite(&g->center, g->radius) && sfit_i_finite3(g->mean.v)
+             && sfit_i_isfinite(g->inv_n);
+        for (j = 0; j < 6; j++) {
+            ok = ok && sfit_i_isfinite(g->lw[j]);
+        }
+    }
+    return ok;
 }
 
 sfit_status_t sfit_gate_init(sfit_gate_t *g, const sfit_gate_cfg_t *cfg)
@@ -107,45 +133,58 @@ static void prv_buffer_moments(const sfit_gate_t *g, const uint8_t *keep, sfit_m
     }
 }
 
-/* Leverage data of the fitted samples: mean and M^-1 = C^-1/(N-1). With a
- * singular C (cannot happen after a successful sphere solve, but planar
- * solutions have a tiny lambda_min) M^-1 is left huge on that direction
- * through the Cholesky floor: the gate is then lenient there. */
+/* Leverage data of the fitted samples: mean and W = L^-1 / sqrt(N-1) for
+ * C = L L^T, packed W00, W11, W22, W10, W20, W21. The leverage of a sample
+ * is then h = 1/N + |W (x - m)|^2, non-negative by construction even when
+ * the third pivot of a (nearly) rank-2 C is rounding noise: there W22 is
+ * huge and the gate lenient across the plane, never inverted. */
 static sfit_status_t prv_leverage(sfit_gate_t *g, const sfit_moments_t *m)
 {
     sfit_vec3_t mean;
-    sfit_mat3_t c, l, inv;
+    sfit_mat3_t c, l;
+    float w[6], s;
     uint32_t n = sfit_moments_count(m);
     int j;
     if (n < 2u || sfit_moments_stats(m, &mean, &c, NULL) != SFIT_OK
         || sfit_mat3_chol(&c, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
     }
-    sfit_i_chol_inverse(&l, &inv);
-    sfit_i_sym_pack(&inv, g->minv);
+    s = 1.0f / SFIT_SQRTF((float)(n - 1u));
+    w[0] = s / l.m[0];
+    w[1] = s / l.m[4];
+    w[2] = s / l.m[8];
+    w[3] = -l.m[3] * w[0] / l.m[4];
+    w[5] = -l.m[7] * w[1] / l.m[8];
+    w[4] = -(l.m[6] * w[0] + l.m[7] * w[3]) / l.m[8];
     for (j = 0; j < 6; j++) {
-        g->minv[j] *= 1.0f / (float)(n - 1u);
+        if (!sfit_i_isfinite(w[j])) {
+            return SFIT_E_DEGENERATE;
+        }
     }
+    memcpy(g->lw, w, sizeof g->lw);
     g->mean = mean;
     g->inv_n = 1.0f / (float)n;
     return SFIT_OK;
 }
 
-/* h = 1/N + (x - m)^T M^-1 (x - m). */
+/* h = 1/N + |W (x - m)|^2, at most SFIT_GATE_H_MAX (also for an overflow). */
 static float prv_h(const sfit_gate_t *g, const sfit_vec3_t *x)
 {
-    const float *q = g->minv;
+    const float *w = g->lw;
     const float d0 = x->v[0] - g->mean.v[0], d1 = x->v[1] - g->mean.v[1],
                 d2 = x->v[2] - g->mean.v[2];
-    return g->inv_n + q[0] * d0 * d0 + q[1] * d1 * d1 + q[2] * d2 * d2
-           + 2.0f * (q[3] * d0 * d1 + q[4] * d0 * d2 + q[5] * d1 * d2);
+    const float y0 = w[0] * d0;
+    const float y1 = w[3] * d0 + w[1] * d1;
+    const float y2 = w[4] * d0 + w[5] * d1 + w[2] * d2;
+    const float h = g->inv_n + (y0 * y0 + y1 * y1 + y2 * y2);
+    return (h <= SFIT_GATE_H_MAX) ? h : SFIT_GATE_H_MAX;
 }
 
 /* Start gating from the current fit: reset the window. */
 static void prv_set_fit(sfit_gate_t *g, const sfit_result_t *r, const sfit_moments_t *m)
 {
     if (prv_leverage(g, m) != SFIT_OK) {
-        memset(g->minv, 0, sizeof g->minv);
+        memset(g->lw, 0, sizeof g->lw);
         g->inv_n = 0.0f;
     }
     g->center = r->center;
@@ -317,7 +356,8 @@ static sfit_status_t prv_warm_start(sfit_gate_t *g)
             }
         }
         v = (s2 - s1 * s1 / (float)nk) / (float)(nk - 4u);
-        g->var = (v > prv_floor(fit.radius)) ? v : prv_floor(fit.radius);
+        g->var = (v > prv_floor(fit.radius) && v <= SFIT_GATE_VAR_MAX) ? v
+                                                                       : prv_floor(fit.radius);
     }
     g->nwarm = 0u;
     return SFIT_OK;
@@ -327,7 +367,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
 {
     sfit_result_t fit;
     sfit_status_t st;
-    if (g == NULL) {
+    if (g == NULL || !prv_state_ok(g)) {
         return SFIT_E_ARG;
     }
     if (g->phase == 0u) {
@@ -343,12 +383,19 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
         return st;
     }
     if (g->since > 0u && (uint64_t)g->wrej * 100u > (uint64_t)g->since * SFIT_GATE_MAX_REJECT_PCT) {
-        g->var *= 4.0f; /* rejecting too much: the noise level is not credible */
+        /* Rejecting too much: the noise level is not credible. Widen, but
+         * never past sigma = r (a gate k r wide accepts every sample within
+         * (k + 1) r of the centre): sigma^2 stays finite. */
+        const float r2 = fit.radius * fit.radius;
+        const float vmax = (r2 < SFIT_GATE_VAR_MAX) ? r2 : SFIT_GATE_VAR_MAX;
+        const float v4 = 4.0f * g->var;
+        g->var = (v4 < vmax) ? v4 : ((g->var > vmax) ? g->var : vmax);
     } else if (g->cfg.noise_var > 0.0f) {
         g->var = g->cfg.noise_var;
     } else if (g->wn >= SFIT_GATE_MIN_WINDOW) {
         const float v = g->ws2 / (float)g->wn;
-        g->var = (v > prv_floor(fit.radius)) ? v : prv_floor(fit.radius);
+        g->var = (v > prv_floor(fit.radius) && v <= SFIT_GATE_VAR_MAX) ? v
+                                                                       : prv_floor(fit.radius);
     } else {
         /* keep the previous sigma^2 (0 = not known yet: ungated window) */
     }
@@ -373,8 +420,8 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
 {
     float e = 0.0f, h1 = 1.0f;
     sfit_status_t st = sfit_i_check_add(g, x);
-    if (st != SFIT_OK) {
-        return st;
+    if (st != SFIT_OK || !prv_state_ok(g)) {
+        return (st != SFIT_OK) ? st : SFIT_E_ARG;
     }
     if (g->phase == 0u) {
         g->warm[g->nwarm++] = *x;
@@ -403,15 +450,18 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
         return st; /* accumulator unchanged, gate untouched */
     }
     if (g->phase == 2u && g->wn < UINT32_MAX) {
-        g->ws2 += e * e / h1;
-        g->wn++;
+        const float ws2 = g->ws2 + e * e / h1;
+        if (sfit_i_isfinite(ws2)) {
+            g->ws2 = ws2;
+            g->wn++;
+        }
     }
     return prv_judged(g, accepted, 1);
 }
 
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)
 {
-    if (g == NULL || out == NULL) {
+    if (g == NULL || out == NULL || !prv_state_ok(g)) {
         return SFIT_E_ARG;
     }
     if (g->phase == 0u) {
@@ -424,7 +474,7 @@ sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)
 
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)
 {
-    if (g == NULL || out == NULL) {
+    if (g == NULL || out == NULL || !prv_state_ok(g)) {
         return SFIT_E_ARG;
     }
     out->accepted = (g->phase == 0u) ? g->nwarm : sfit_moments_count(&g->acc);
@@ -436,5 +486,5 @@ sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)
 
 const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g)
 {
-    return (g == NULL || g->phase == 0u) ? NULL : &g->acc;
+    return (g == NULL || g->phase == 0u || !prv_state_ok(g)) ? NULL : &g->acc;
 }

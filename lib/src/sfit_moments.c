@@ -293,8 +293,9 @@ sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfi
                                  sfit_vec3_t *s)
 {
     sfit_cmom_t t;
-    float inv;
-    int i;
+    sfit_vec3_t mu, sv;
+    float inv, p[6];
+    int i, ok;
 
     if (m == NULL || sfit_moments_count(m) < 2u) {
         return (m == NULL) ? SFIT_E_ARG : SFIT_E_TOO_FEW;
@@ -302,18 +303,26 @@ sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfi
     sfit_i_moments_total(m, &t);
     inv = 1.0f / (float)(t.n - 1u);
     for (i = 0; i < 3; i++) {
-        if (mean != NULL) {
-            mean->v[i] = m->origin[i] + t.d[i];
-        }
-        if (s != NULL) {
-            s->v[i] = t.m3[i] * inv;
-        }
+        mu.v[i] = m->origin[i] + t.d[i];
+        sv.v[i] = t.m3[i] * inv;
+    }
+    for (i = 0; i < 6; i++) {
+        p[i] = t.m2[i] * inv;
+    }
+    /* Finite for any accumulator the API built; a corrupted one (garbage
+     * bytes) gives E_RANGE, never a NaN or Inf output. */
+    ok = sfit_i_finite3(mu.v) && sfit_i_finite3(sv.v) && sfit_i_finite3(p)
+         && sfit_i_finite3(&p[3]);
+    if (!ok) {
+        return SFIT_E_RANGE;
+    }
+    if (mean != NULL) {
+        *mean = mu;
+    }
+    if (s != NULL) {
+        *s = sv;
     }
     if (c != NULL) {
-        float p[6];
-        for (i = 0; i < 6; i++) {
-            p[i] = t.m2[i] * inv;
-        }
         sfit_i_sym_unpack(p, c);
     }
     return SFIT_OK;

@@ -10,6 +10,44 @@
 #include <float.h>
 #include <string.h>
 
+/** Rounding allowance (in ulps of the scaled terms) of the PSD test. */
+#define SFIT_PSD_ULPS 16.0f
+
+/* Positive semi-definite test of the lower triangle of a finite 3x3 c: all
+ * seven principal minors >= 0 (for semi-definiteness the leading ones are
+ * not enough). Done on c scaled by its largest diagonal entry (no overflow
+ * or underflow of the products), with a rounding tolerance of a few ulps of
+ * the largest term so that an exactly singular matrix (v v^T) passes. */
+static int prv_psd(const float *c)
+{
+    float a0 = c[0], a1 = c[4], a2 = c[8], a3 = c[3], a4 = c[6], a5 = c[7];
+    float dmax = a0, s, det, tol;
+    if (!(a0 >= 0.0f && a1 >= 0.0f && a2 >= 0.0f)) {
+        return 0;
+    }
+    dmax = (a1 > dmax) ? a1 : dmax;
+    dmax = (a2 > dmax) ? a2 : dmax;
+    if (dmax == 0.0f) {
+        return a3 == 0.0f && a4 == 0.0f && a5 == 0.0f;
+    }
+    if (dmax < 1e-30f) { /* a subnormal-sized matrix: make 1 / dmax finite */
+        a0 *= 1e30f; a1 *= 1e30f; a2 *= 1e30f; a3 *= 1e30f; a4 *= 1e30f; a5 *= 1e30f;
+        dmax *= 1e30f;
+    }
+    s = 1.0f / dmax;
+    a0 *= s; a1 *= s; a2 *= s; a3 *= s; a4 *= s; a5 *= s;
+    /* 2x2 minors: |a_ij|^2 <= a_ii a_jj (rounding allowed); also bounds every
+     * off-diagonal entry by 1, so the determinant cannot overflow. */
+    tol = 1.0f + SFIT_PSD_ULPS * FLT_EPSILON;
+    if (!(a3 * a3 <= tol * a0 * a1) || !(a4 * a4 <= tol * a0 * a2)
+        || !(a5 * a5 <= tol * a1 * a2)) {
+        return 0;
+    }
+    det = a0 * (a1 * a2 - a5 * a5) - a3 * (a3 * a2 - a5 * a4) + a4 * (a3 * a5 - a1 * a4);
+    /* Every term of det is at most a0 a1 a2 in size (2x2 minors hold). */
+    return det >= -(SFIT_PSD_ULPS * FLT_EPSILON) * (a0 * a1 * a2) - FLT_MIN;
+}
+
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov)
 {
     const float *c = cov->m;
@@ -25,13 +63,7 @@ sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_m
                 return SFIT_E_ARG;
             }
         }
-        /* Positive semi-definite, necessary conditions: non-negative
-         * diagonal and every 2x2 principal minor >= 0 (lower triangle). */
-        if (c[0] < 0.0f || c[4] < 0.0f || c[8] < 0.0f || c[3] * c[3] > c[0] * c[4]
-            || c[6] * c[6] > c[0] * c[8] || c[7] * c[7] > c[4] * c[8]) {
-            return SFIT_E_ARG;
-        }
-        return SFIT_OK;
+        return prv_psd(c) ? SFIT_OK : SFIT_E_ARG;
     default:
         return SFIT_E_ARG;
     }
@@ -120,6 +152,59 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg,
     return SFIT_OK;
 }
 
+/* 1 when Sigma is a multiple of I (or zero): then C' = C - Sigma has C's
+ * eigenvectors and eigenvalues lambda - sigma^2. */
+static int prv_sigma_iso(const sfit_mat3_t *sg)
+{
+    return sg->m[1] == 0.0f && sg->m[2] == 0.0f && sg->m[5] == 0.0f && sg->m[0] == sg->m[4]
+           && sg->m[0] == sg->m[8];
+}
+
+/* The near-planar decision, lambda_min < ratio lambda_max, made on the
+ * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
+ * the noise: a noisy circle looks like a sphere through C). With isotropic
+ * or no noise the eigen-decomposition of C' is C's shifted (*have_p = 1).
+ * A full Sigma first tries Weyl's bounds, lambda_i(C) - tr(Sigma) <=
+ * lambda_i(C') <= lambda_i(C); only when they cannot decide is C'
+ * decomposed (then *have_p = 1 too). */
+static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, const sfit_mat3_t *cp,
+                                     const sfit_vec3_t *lam, const sfit_mat3_t *vec,
+                                     float ratio, sfit_vec3_t *lamp, sfit_mat3_t *vecp,
+                                     int *near, int *have_p)
+{
+    const sfit_mat3_t *sg = &sys->sigma;
+    int i;
+    if (!sys->noisy || prv_sigma_iso(sg)) {
+        *vecp = *vec;
+        for (i = 0; i < 3; i++) {
+            lamp->v[i] = sys->noisy ? lam->v[i] - sg->m[0] : lam->v[i];
+        }
+        *have_p = 1;
+        *near = lamp->v[0] < ratio * lamp->v[2];
+        return SFIT_OK;
+    }
+    {
+        const float trs = sg->m[0] + sg->m[4] + sg->m[8];
+        if (lam->v[0] < ratio * (lam->v[2] - trs)) {
+            *near = 1;
+            return SFIT_OK;
+        }
+        if (lam->v[0] - trs >= ratio * lam->v[2]) {
+            *near = 0;
+            return SFIT_OK;
+        }
+    }
+    {
+        const sfit_status_t st = sfit_mat3_eig_sym(cp, lamp, vecp);
+        if (st != SFIT_OK) {
+            return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+        }
+    }
+    *have_p = 1;
+    *near = lamp->v[0] < ratio * lamp->v[2];
+    return SFIT_OK;
+}
+
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out)
 {
@@ -128,7 +213,7 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
     sfit_vec3_t lam, lamp;
     sfit_i_solution_t r;
     float ratio, rho = 0.0f;
-    int i, planar;
+    int i, planar, near = 0, have_p = 0;
     sfit_status_t st;
 
     st = sfit_mat3_eig_sym(&sys->c, &lam, &vec);
@@ -136,24 +221,28 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
     }
     /* Geometry checks on the eigenvalues of C. */
-    if (!(lam.v[2] > FLT_MIN) || lam.v[2] <= sys->scale * sys->scale) {
-        return SFIT_E_DEGENERATE; /* coincident */
+    if (!(lam.v[2] > FLT_MIN) || lam.v[2] <= sys->scale * sys->scale
+        || lam.v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
+        return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
     }
     if (lam.v[1] <= SFIT_COLLINEAR_RATIO * lam.v[2]) {
         return SFIT_E_DEGENERATE; /* collinear */
     }
     ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
-
-    memset(&r, 0, sizeof r);
-    r.eigenvalues = lam;
-    if (lam.v[0] < ratio * lam.v[2]) {
-        r.flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
-    }
-    planar = (mode == SFIT_MODE_PLANAR)
-             || (mode == SFIT_MODE_AUTO && (r.flags & (uint32_t)SFIT_FLAG_NEAR_PLANAR) != 0u);
     for (i = 0; i < 9; i++) {
         cp.m[i] = sys->c.m[i] - sg->m[i];
     }
+    st = prv_planar_test(sys, &cp, &lam, &vec, ratio, &lamp, &vecp, &near, &have_p);
+    if (st != SFIT_OK) {
+        return st;
+    }
+
+    memset(&r, 0, sizeof r);
+    r.eigenvalues = lam;
+    if (near) {
+        r.flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
+    }
+    planar = (mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near);
 
     if (!planar) {
         /* Sphere: Cholesky of C' = C - Sigma_hat, w = C'^-1 b. */
@@ -176,16 +265,10 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
          * eigen-directions of C'. With no noise model, or isotropic noise,
          * C' has C's eigenvectors and eigenvalues shifted by sigma^2. */
         float v1[3], v2[3], k0, k1;
-        if (sys->noisy && !(sg->m[1] == 0.0f && sg->m[2] == 0.0f && sg->m[5] == 0.0f
-                            && sg->m[0] == sg->m[4] && sg->m[0] == sg->m[8])) {
+        if (!have_p) {
             st = sfit_mat3_eig_sym(&cp, &lamp, &vecp);
             if (st != SFIT_OK) {
                 return st;
-            }
-        } else {
-            vecp = vec;
-            for (i = 0; i < 3; i++) {
-                lamp.v[i] = lam.v[i] - sg->m[0];
             }
         }
         if (!(lamp.v[1] > SFIT_CHOL_PIVOT_EPS * lamp.v[2])) {

@@ -112,6 +112,19 @@
 #endif
 
 /**
+ * @brief Smallest spread sqrt(lambda_max(C)) a fit accepts, in the units of
+ * the samples: below it ::SFIT_E_DEGENERATE. The third moments are cubes of
+ * the spread; much below 1e-9 they approach float's smallest normal number
+ * (1.2e-38) and lose their digits, and the centre is then silently wrong
+ * (seven exact points on a sphere of radius 1e-14 at the origin: 3e-3 r
+ * off). Rescale the data (e.g. metres to micrometres) rather than lower
+ * this. Range: > 0, at least 1e-12.
+ */
+#ifndef SFIT_MIN_SPREAD
+#define SFIT_MIN_SPREAD 1e-9f
+#endif
+
+/**
  * @brief Most markers in one rigid cluster (sfit_cluster.h). Sets the size
  * of ::sfit_cluster_t (12 B per marker) and bounds the loops over markers.
  * Range 3..64.

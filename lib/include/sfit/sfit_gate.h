@@ -48,7 +48,8 @@ typedef struct sfit_gate {
     float radius;                       /**< Current fit (phase 2). */
     float var;                          /**< Gate sigma^2 (phase 2). */
     sfit_vec3_t mean;                   /**< Mean of the fitted samples (phase 2). */
-    float minv[6];                      /**< M^-1 packed, M = (N-1) C at the fit. */
+    float lw[6];                        /**< L^-1/sqrt(N-1) packed (00,11,22,10,20,21),
+                                             C = L L^T at the fit: leverage factor. */
     float inv_n;                        /**< 1/N at the fit. */
     float ws1, ws2;                     /**< Window sums of e^2/(1+h) (ws1 unused: 0). */
     uint32_t wn;                        /**< Residuals in the window. */

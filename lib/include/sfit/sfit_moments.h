@@ -106,6 +106,8 @@ uint32_t sfit_moments_count(const sfit_moments_t *m);
  * @retval SFIT_OK         success
  * @retval SFIT_E_ARG      m is NULL
  * @retval SFIT_E_TOO_FEW  fewer than 2 samples
+ * @retval SFIT_E_RANGE    a statistic is not finite (only for a corrupted
+ *                         accumulator, e.g. garbage bytes): nothing written
  */
 sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,
                                  sfit_vec3_t *s);

@@ -38,6 +38,10 @@ enum sfit_flag {
                                             (reported unclamped). */
     SFIT_NOISE_FLAG_IMPRECISE = 0x20u, /**< Noise calibration: below twice its own
                                             predicted standard deviation. */
+    SFIT_FLAG_ROUNDING = 0x40u,        /**< Fits: N times the conditioning of C' is beyond
+                                            what float sums carry; the centre may be more
+                                            than 1e-4 r from a double-precision fit of the
+                                            same samples (small caps, N ~ 1e5 and more). */
     SFIT_MULTI_FLAG_SKIPPED = 0x100u   /**< Multi-marker: a marker with too few samples
                                             was skipped. */
 };
