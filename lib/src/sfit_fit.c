@@ -21,7 +21,15 @@
  * the solve amplifies them by the conditioning of C': the centre's error
  * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. cond(C')
  * is bounded from C's eigenvalues: the smallest used one minus an upper
- * bound of the noise (sigma^2, or tr Sigma); one not positive flags. */
+ * bound of the noise (sigma^2, or tr Sigma); one not positive flags.
+ * prv_rounding_test: the model with lmax >= lambda_max(C) and
+ * lmin <= lambda_min(C'), as the screened solve bounds them. */
+static int prv_rounding_test(uint32_t n, float lmax, float lmin)
+{
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)(n / SFIT_SUM_BLOCK) + 1.0f)
+             <= SFIT_ROUNDING_TOL * lmin);
+}
+
 static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 {
     const float *lam = sol->eigenvalues.v;
@@ -34,9 +42,7 @@ static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfi
         /* GDKE: C' = C */
     }
     lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lam[2]
-                 * SFIT_SQRTF((float)(n / SFIT_SUM_BLOCK) + 1.0f)
-             <= SFIT_ROUNDING_TOL * lmin);
+    return prv_rounding_test(n, lam[2], lmin);
 }
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
@@ -74,6 +80,10 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
         st = sfit_i_solve_lean(&sys.c, &sys.rhs, sys.sigma.m[0], sys.scale,
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
+        /* The bounds must also prove that the rounding flag stays clear. */
+        if (st == SFIT_OK && prv_rounding_test(t.n, sol.lmax_hi, sol.lmin_lo)) {
+            st = SFIT_I_SCREEN_TRIPPED;
+        }
     }
     exact = (st != SFIT_OK);
     if (exact) {
@@ -104,7 +114,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (t.n < SFIT_FEW_SAMPLES) {
         r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
     }
-    if (prv_rounding_flag(t.n, &sol, cfg)) {
+    if (exact && prv_rounding_flag(t.n, &sol, cfg)) {
         r.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
     }
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;

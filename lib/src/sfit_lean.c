@@ -16,8 +16,10 @@
  * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
  * when the full solver would find: not coincident, not collinear, not
  * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
- * tr(C') <= tr(C)) and trusted; it then returns the same centre and radius
- * (the same Cholesky solve) and the same status and flags. Every doubt
+ * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted (the caller also
+ * checks the rounding flag of sfit_fit.c with lmin_lo / lmax_hi); it then
+ * returns the same centre and radius (the same Cholesky solve) and the same
+ * status and flags. Every doubt
  * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
  */
 #include "sfit_solve.h"
@@ -69,7 +71,8 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     if (!(lo >= thr)) {
         return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
     }
-    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)) {
+    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)
+        || !(0.3f * tr > SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)) {
         return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */
     }
     if (var > 0.0f) {
@@ -89,6 +92,8 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
         return SFIT_I_SCREEN_TRIPPED;
     }
     r.mode = SFIT_MODE_SPHERE;
+    r.lmin_lo = lo;
+    r.lmax_hi = (1.0f + PRV_REL) * tr;
     *out = r;
     return SFIT_OK;
 }

@@ -28,6 +28,8 @@ typedef struct sfit_i_solution {
     float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
     uint32_t flags;          /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
+    float lmin_lo;           /**< screened solve only: <= lambda_min(C') */
+    float lmax_hi;           /**< screened solve only: >= lambda_max(C) */
 } sfit_i_solution_t;
 
 /** @brief Validate a noise model (SFIT_OK or SFIT_E_ARG). */
