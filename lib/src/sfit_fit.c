@@ -52,11 +52,11 @@ const sfit_fit_cfg_t sfit_fit_cfg_default = {
 sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
-    sfit_cmom_t t;
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
-    sfit_result_t r;
-    float r2;
+    sfit_vec3_t c;
+    float d[3], r2;
+    uint32_t n;
     int i, exact;
     sfit_status_t st;
 
@@ -65,13 +65,12 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (st != SFIT_OK) {
         return st;
     }
-    sfit_i_moments_total(m, &t);
     memset(&sys, 0, sizeof sys);
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
-    sfit_i_cmom_system(&t, &sys.c, sys.rhs.v);
+    n = sfit_i_moments_system(m, &sys.c, sys.rhs.v, d);
     sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sys.sigma);
     sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
-    sys.scale = sfit_i_coincident_scale(m->origin, t.d);
+    sys.scale = sfit_i_coincident_scale(m->origin, d);
 
     /* The screened solve first (sphere, no or isotropic noise); the full
      * solver when it trips, when asked for, or for planar / full-covariance. */
@@ -81,7 +80,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
         /* The bounds must also prove that the rounding flag stays clear. */
-        if (st == SFIT_OK && prv_rounding_test(t.n, sol.lmax_hi, sol.lmin_lo)) {
+        if (st == SFIT_OK && prv_rounding_test(n, sol.lmax_hi, sol.lmin_lo)) {
             st = SFIT_I_SCREEN_TRIPPED;
         }
     }
@@ -93,34 +92,36 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
         return st;
     }
     /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
-    r2 = ((float)(t.n - 1u) / (float)t.n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
+    r2 = ((float)(n - 1u) / (float)n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
     if (!(r2 > 0.0f)) {
         return SFIT_E_NOT_POSDEF;
     }
-    memset(&r, 0, sizeof r);
-    r.radius = SFIT_SQRTF(r2);
+    r2 = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
-        r.center.v[i] = m->origin[i] + (t.d[i] + sol.w.v[i]);
+        c.v[i] = m->origin[i] + (d[i] + sol.w.v[i]);
     }
-    if (!sfit_i_sphere_finite(&r.center, r.radius)) {
+    if (!sfit_i_sphere_finite(&c, r2)) {
         return SFIT_E_RANGE;
     }
-    r.n = t.n;
-    r.eigenvalues = sol.eigenvalues;
-    r.axis = sol.axis;
-    r.leontief_ratio = sol.rho;
-    r.trust_ratio = sol.rho / (1.0f + sol.rho);
-    r.flags = sol.flags;
-    if (t.n < SFIT_FEW_SAMPLES) {
-        r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    if (n < SFIT_FEW_SAMPLES) {
+        sol.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
     }
-    if (exact && prv_rounding_flag(t.n, &sol, cfg)) {
-        r.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
+    if (exact && prv_rounding_flag(n, &sol, cfg)) {
+        sol.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
     }
-    r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
-    r.mode = sol.mode;
-    r.exact = exact;
-    *out = r;
+    /* Every check passed: the result is written. */
+    memset(out, 0, sizeof *out);
+    out->center = c;
+    out->radius = r2;
+    out->n = n;
+    out->eigenvalues = sol.eigenvalues;
+    out->axis = sol.axis;
+    out->leontief_ratio = sol.rho;
+    out->trust_ratio = sol.rho / (1.0f + sol.rho);
+    out->flags = sol.flags;
+    out->method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
+    out->mode = sol.mode;
+    out->exact = exact;
     return SFIT_OK;
 }
 

@@ -289,6 +289,15 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
     }
 }
 
+uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3])
+{
+    sfit_cmom_t t;
+    sfit_i_moments_total(m, &t);
+    sfit_i_cmom_system(&t, c, b);
+    memcpy(d, t.d, sizeof t.d);
+    return t.n;
+}
+
 sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,
                                  sfit_vec3_t *s)
 {

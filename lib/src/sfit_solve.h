@@ -47,7 +47,8 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. Statuses as sfit_moments_fit().
+ * trust ratio included. Statuses as sfit_moments_fit(); out is scratch
+ * (partly written) on failure.
  */
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
