@@ -54,7 +54,6 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
 {
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
-    sfit_vec3_t c;
     float d[3], r2;
     uint32_t n;
     int i, exact;
@@ -98,9 +97,9 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     }
     r2 = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
-        c.v[i] = m->origin[i] + (d[i] + sol.w.v[i]);
+        sol.w.v[i] = m->origin[i] + (d[i] + sol.w.v[i]); /* the centre */
     }
-    if (!sfit_i_sphere_finite(&c, r2)) {
+    if (!sfit_i_sphere_finite(&sol.w, r2)) {
         return SFIT_E_RANGE;
     }
     if (n < SFIT_FEW_SAMPLES) {
@@ -111,7 +110,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     }
     /* Every check passed: the result is written. */
     memset(out, 0, sizeof *out);
-    out->center = c;
+    out->center = sol.w;
     out->radius = r2;
     out->n = n;
     out->eigenvalues = sol.eigenvalues;

@@ -38,7 +38,7 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
                       float ratio, sfit_i_solution_t *out)
 {
     sfit_mat3_t l;
-    sfit_i_solution_t r;
+    sfit_i_solution_t *const r = out; /* scratch until the screen passes */
     const float *a = l.m;
     float tr, e2, det, lo, thr;
     int i;
@@ -53,8 +53,8 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     l.m[4] -= var;
     l.m[8] -= var;
     e2 = (a[0] * a[4] - a[3] * a[3]) + (a[0] * a[8] - a[6] * a[6]) + (a[4] * a[8] - a[7] * a[7]);
-    memset(&r, 0, sizeof r);
-    r.trace = a[0] + a[4] + a[8];
+    memset(r, 0, sizeof *r);
+    r->trace = a[0] + a[4] + a[8];
     if (!(e2 > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
         return SFIT_I_SCREEN_TRIPPED;
     }
@@ -80,20 +80,19 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
         if (!(var <= (1.0f - PRV_REL) * lo)) {
             return SFIT_I_SCREEN_TRIPPED;
         }
-        r.rho = var / lo;
+        r->rho = var / lo;
     }
-    (void)sfit_mat3_chol_solve(&l, rhs, &r.w);
+    (void)sfit_mat3_chol_solve(&l, rhs, &r->w);
     for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r.w.v[i])) {
+        if (!sfit_i_isfinite(r->w.v[i])) {
             return SFIT_I_SCREEN_TRIPPED;
         }
     }
-    if (!sfit_i_isfinite(r.trace)) {
+    if (!sfit_i_isfinite(r->trace)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
-    r.mode = SFIT_MODE_SPHERE;
-    r.lmin_lo = lo;
-    r.lmax_hi = (1.0f + PRV_REL) * tr;
-    *out = r;
+    r->mode = SFIT_MODE_SPHERE;
+    r->lmin_lo = lo;
+    r->lmax_hi = (1.0f + PRV_REL) * tr;
     return SFIT_OK;
 }

@@ -60,7 +60,7 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
  * @brief The screened sphere solve of C' = C - var I (sfit_lean.c): SFIT_OK
  * with w, trace and an upper bound of the trust ratio (rho) when a cheap
  * bound on lambda_min(C') proves that sfit_i_solve() would return the same
- * sphere, status and flags; else SFIT_I_SCREEN_TRIPPED (out untouched).
+ * sphere, status and flags; else SFIT_I_SCREEN_TRIPPED (out is scratch).
  * Eigenvalues and axis are left zero. ratio: the planar threshold in use.
  */
 int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
