@@ -47,40 +47,8 @@ uint32_t sfit_moments_count(const sfit_moments_t *m)
     return (m == NULL) ? 0u : m->tot.n + m->blk.n;
 }
 
-/* Centred moments of a block of raw sums about `origin` (b may alias raw):
- * d = mean - origin, M2 = sum z z^T - (sum z) d^T,
- * M3 = sum |z|^2 z - 2 (sum z z^T) d - tr(sum z z^T) d + 2 n |d|^2 d. */
-static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
-{
-    const float nb = (float)raw->n;
-    const float inv = 1.0f / nb;
-    float d[3], q, dd;
-    int i;
-
-    for (i = 0; i < 3; i++) {
-        d[i] = raw->d[i] * inv;
-    }
-    q = raw->m2[0] + raw->m2[1] + raw->m2[2];
-    dd = 2.0f * nb * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    b->m3[0] = raw->m3[0] - 2.0f * (raw->m2[0] * d[0] + raw->m2[3] * d[1] + raw->m2[4] * d[2])
-               - q * d[0] + dd * d[0];
-    b->m3[1] = raw->m3[1] - 2.0f * (raw->m2[3] * d[0] + raw->m2[1] * d[1] + raw->m2[5] * d[2])
-               - q * d[1] + dd * d[1];
-    b->m3[2] = raw->m3[2] - 2.0f * (raw->m2[4] * d[0] + raw->m2[5] * d[1] + raw->m2[2] * d[2])
-               - q * d[2] + dd * d[2];
-    b->m2[0] = raw->m2[0] - raw->d[0] * d[0];
-    b->m2[1] = raw->m2[1] - raw->d[1] * d[1];
-    b->m2[2] = raw->m2[2] - raw->d[2] * d[2];
-    b->m2[3] = raw->m2[3] - raw->d[0] * d[1];
-    b->m2[4] = raw->m2[4] - raw->d[0] * d[2];
-    b->m2[5] = raw->m2[5] - raw->d[1] * d[2];
-    for (i = 0; i < 3; i++) {
-        b->d[i] = d[i];
-    }
-    b->n = raw->n;
-}
-
-/* out += (2 M2 + tr(M2) I) u + n |u|^2 u with u = k delta: the shift of M3 by u. */
+/* out += (2 M2 + tr(M2) I) u + n |u|^2 u with u = k delta: the shift of M3
+ * by u of a set with centred M2. */
 static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], float out[3])
 {
     const float u0 = k * delta[0], u1 = k * delta[1], u2 = k * delta[2];
@@ -88,6 +56,34 @@ static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], fl
     out[0] += 2.0f * (s->m2[0] * u0 + s->m2[3] * u1 + s->m2[4] * u2) + t * u0;
     out[1] += 2.0f * (s->m2[3] * u0 + s->m2[1] * u1 + s->m2[5] * u2) + t * u1;
     out[2] += 2.0f * (s->m2[4] * u0 + s->m2[5] * u1 + s->m2[2] * u2) + t * u2;
+}
+
+/* Centred moments of a block of raw sums about `origin` (b may alias raw):
+ * d = mean - origin, M2 = sum z z^T - (sum z) d^T, and M3 = sum |z|^2 z
+ * minus the shift of the centred set by d (prv_m3_shift). */
+static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
+{
+    const float inv = 1.0f / (float)raw->n;
+    float d[3];
+    int i;
+
+    for (i = 0; i < 3; i++) {
+        d[i] = raw->d[i] * inv;
+    }
+    b->m2[0] = raw->m2[0] - raw->d[0] * d[0];
+    b->m2[1] = raw->m2[1] - raw->d[1] * d[1];
+    b->m2[2] = raw->m2[2] - raw->d[2] * d[2];
+    b->m2[3] = raw->m2[3] - raw->d[0] * d[1];
+    b->m2[4] = raw->m2[4] - raw->d[0] * d[2];
+    b->m2[5] = raw->m2[5] - raw->d[1] * d[2];
+    b->m3[0] = raw->m3[0]; /* element by element: b may alias raw */
+    b->m3[1] = raw->m3[1];
+    b->m3[2] = raw->m3[2];
+    b->d[0] = d[0];
+    b->d[1] = d[1];
+    b->d[2] = d[2];
+    b->n = raw->n;
+    prv_m3_shift(b, -1.0f, d, b->m3);
 }
 
 /* a := a U b, both means relative to the same origin. b is consumed (its
