@@ -26,7 +26,8 @@
  * lmin <= lambda_min(C'), as the screened solve bounds them. */
 static int prv_rounding_test(uint32_t n, float lmax, float lmin)
 {
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)(n / SFIT_SUM_BLOCK) + 1.0f)
+    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
              <= SFIT_ROUNDING_TOL * lmin);
 }
 

@@ -33,6 +33,10 @@
 /* lambda_min(C') >= PRV_COND tr(C): bounds cond(C') so that the rounding
  * of the full solver's trust ratio stays far below PRV_REL. */
 #define PRV_COND 9.765625e-4f /* 2^-10 */
+/* The screen promises that the full solver converges. A symmetric 3x3
+ * needs 4-6 Jacobi sweeps (SFIT_JACOBI_MAX_SWEEPS); with a bound below 8
+ * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off. */
+#define PRV_SWEEPS_OK (SFIT_JACOBI_MAX_SWEEPS >= 8)
 
 int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
                       float ratio, sfit_i_solution_t *out)
@@ -44,7 +48,7 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
-    if (!(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+    if (!PRV_SWEEPS_OK || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* C' = C - var I (lower triangle is what the Cholesky reads). */
