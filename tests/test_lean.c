@@ -278,6 +278,37 @@ static void test_degenerate_statuses(void **state)
     assert_int_equal(compare(3, &cf), 0); /* too few */
 }
 
+/* Radii from 1e-8 to 6e7 (at the top, det C exceeds float's range unless
+ * scaled: the fuzzer's finding), well conditioned and near-planar. */
+static void test_extreme_scales(void **state)
+{
+    tu_rng_t g;
+    int e, flat;
+    (void)state;
+    g_lean = g_full = 0;
+    for (flat = 0; flat < 2; flat++) {
+        for (e = -8; e <= 8; e++) {
+            const double r = (e < 8) ? pow(10.0, (double)e) : 6e7;
+            const sfit_fit_cfg_t cf = cfg_of(SFIT_MODE_AUTO, 0.0f, 0.0f);
+            size_t i;
+            int k;
+            tu_rng_seed(&g, 1605u + (uint64_t)(e + 8));
+            make_cap(&g, 300, 100.0, 60.0 * TU_PI / 180.0, 0.0, flat ? 0.03 : 1.0);
+            for (i = 0; i < 300; i++) { /* about the origin, radius r */
+                double p[3];
+                for (k = 0; k < 3; k++) {
+                    p[k] = (g_pts[i][k] - k_center[k]) * (r / 100.0);
+                }
+                tc_to_vec3(p, &g_fpts[i]);
+                tc_to_double3(&g_fpts[i], g_pts[i]);
+            }
+            (void)compare(300, &cf);
+        }
+    }
+    print_message("extreme scales: %d screened, %d full\n", g_lean, g_full);
+    assert_true(g_lean >= 10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +317,7 @@ int main(void)
         cmocka_unit_test(test_planar_boundary),
         cmocka_unit_test(test_trust_boundary),
         cmocka_unit_test(test_degenerate_statuses),
+        cmocka_unit_test(test_extreme_scales),
     };
     return cmocka_run_group_tests_name("lean", tests, NULL, NULL);
 }

@@ -44,7 +44,7 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     sfit_mat3_t l;
     sfit_i_solution_t *const r = out; /* scratch until the screen passes */
     const float *a = l.m;
-    float tr, e2, det, lo, thr;
+    float tr, s, e2, det, lo;
     int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
@@ -56,25 +56,32 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     l.m[0] -= var;
     l.m[4] -= var;
     l.m[8] -= var;
-    e2 = (a[0] * a[4] - a[3] * a[3]) + (a[0] * a[8] - a[6] * a[6]) + (a[4] * a[8] - a[7] * a[7]);
+    /* Everything relative to tr(C) (no overflow of the products; an
+     * underflow only weakens the bound): e2 / tr^2 and det C' / tr^3. */
+    s = 1.0f / tr;
+    {
+        const float b0 = a[0] * s, b4 = a[4] * s, b8 = a[8] * s;
+        const float b3 = a[3] * s, b6 = a[6] * s, b7 = a[7] * s;
+        e2 = (b0 * b4 - b3 * b3) + (b0 * b8 - b6 * b6) + (b4 * b8 - b7 * b7);
+    }
     memset(r, 0, sizeof *r);
     r->trace = a[0] + a[4] + a[8];
     if (!(e2 > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
         return SFIT_I_SCREEN_TRIPPED;
     }
-    det = a[0] * a[4] * a[8]; /* sqrt(det C') */
-    det = det * det;
-    lo = (det / e2) * (1.0f - PRV_REL) - PRV_ABS * tr; /* <= lambda_min(C') */
+    det = ((a[0] * a[0]) * s) * ((a[4] * a[4]) * s) * ((a[8] * a[8]) * s); /* det C' / tr^3 */
+    lo = (det / e2) * (1.0f - PRV_REL) - PRV_ABS; /* <= lambda_min(C') / tr */
     if (ratio < SFIT_COLLINEAR_RATIO) {
         ratio = SFIT_COLLINEAR_RATIO;
     }
     if (ratio < PRV_COND) {
         ratio = PRV_COND;
     }
-    thr = (ratio * (1.0f + PRV_REL)) * tr; /* >= ratio lambda_max(C) */
-    if (!(lo >= thr)) {
+    /* lambda_max(C) <= tr: lo >= ratio (1 + margin) proves lambda_min >= ratio lambda_max. */
+    if (!(lo >= ratio * (1.0f + PRV_REL))) {
         return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
     }
+    lo *= tr; /* <= lambda_min(C') */
     if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)
         || !(0.3f * tr > SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)) {
         return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */

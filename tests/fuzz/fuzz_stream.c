@@ -159,6 +159,15 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
         FZ_CHECK(se == st, "screened and full solve: different status");
         if (st == SFIT_OK && se == SFIT_OK) {
             FZ_CHECK(re.exact == 1, "full solve: exact not set");
+            if (r.flags != re.flags || r.mode != re.mode) {
+                (void)fprintf(stderr, "screened: flags 0x%x mode %d exact %d rho %g; full: flags 0x%x mode %d "
+                              "rho %g eig %g %g %g; cfg mode %d noise %d var %g ratio %g\n",
+                              (unsigned)r.flags, (int)r.mode, r.exact, (double)r.leontief_ratio,
+                              (unsigned)re.flags, (int)re.mode, (double)re.leontief_ratio,
+                              (double)re.eigenvalues.v[0], (double)re.eigenvalues.v[1],
+                              (double)re.eigenvalues.v[2], (int)cfg->mode, (int)cfg->noise,
+                              (double)cfg->noise_var, (double)cfg->planar_ratio);
+            }
             FZ_CHECK(r.flags == re.flags && r.mode == re.mode && r.method == re.method,
                      "screened and full solve: different flags");
             FZ_CHECK(memcmp(r.center.v, re.center.v, sizeof r.center.v) == 0
