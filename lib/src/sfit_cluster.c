@@ -331,7 +331,9 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
             if (prv_has_nan(fr[i].v)) {
                 continue;
             }
-            (void)sfit_pose_to_segment(&pose, &fr[i], &xs);
+            if (sfit_pose_to_segment(&pose, &fr[i], &xs) != SFIT_OK) {
+                continue; /* not reached: a registered pose, a finite sample */
+            }
             cnt[i] += 1.0f;
             for (k = 0; k < 3; k++) {
                 mean[i].v[k] += (xs.v[k] - mean[i].v[k]) / cnt[i];
@@ -522,11 +524,30 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     return SFIT_OK;
 }
 
+/* Write a mapped point only when it is finite: a pose or point holding NaN
+ * or Inf gives E_NONFINITE, a finite one that overflows E_RANGE. */
+static sfit_status_t prv_map_out(const sfit_pose_t *pose, const sfit_vec3_t *in, const float y[3],
+                                 sfit_vec3_t *out)
+{
+    int i;
+    if (!sfit_i_finite3(y)) {
+        int ok = sfit_i_finite3(in->v) && sfit_i_finite3(pose->t.v);
+        for (i = 0; i < 9; i++) {
+            ok = ok && sfit_i_isfinite(pose->r.m[i]);
+        }
+        return ok ? SFIT_E_RANGE : SFIT_E_NONFINITE;
+    }
+    for (i = 0; i < 3; i++) {
+        out->v[i] = y[i];
+    }
+    return SFIT_OK;
+}
+
 sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
                                   sfit_vec3_t *xg)
 {
     const float *r;
-    float x0, x1, x2;
+    float x0, x1, x2, y[3];
     if (pose == NULL || xs == NULL || xg == NULL) {
         return SFIT_E_ARG;
     }
@@ -534,17 +555,17 @@ sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs
     x0 = xs->v[0];
     x1 = xs->v[1];
     x2 = xs->v[2];
-    xg->v[0] = (r[0] * x0 + r[1] * x1 + r[2] * x2) + pose->t.v[0];
-    xg->v[1] = (r[3] * x0 + r[4] * x1 + r[5] * x2) + pose->t.v[1];
-    xg->v[2] = (r[6] * x0 + r[7] * x1 + r[8] * x2) + pose->t.v[2];
-    return SFIT_OK;
+    y[0] = (r[0] * x0 + r[1] * x1 + r[2] * x2) + pose->t.v[0];
+    y[1] = (r[3] * x0 + r[4] * x1 + r[5] * x2) + pose->t.v[1];
+    y[2] = (r[6] * x0 + r[7] * x1 + r[8] * x2) + pose->t.v[2];
+    return prv_map_out(pose, xs, y, xg);
 }
 
 sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
                                    sfit_vec3_t *xs)
 {
     const float *r;
-    float d0, d1, d2;
+    float d0, d1, d2, y[3];
     if (pose == NULL || xg == NULL || xs == NULL) {
         return SFIT_E_ARG;
     }
@@ -552,8 +573,8 @@ sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *x
     d0 = xg->v[0] - pose->t.v[0];
     d1 = xg->v[1] - pose->t.v[1];
     d2 = xg->v[2] - pose->t.v[2];
-    xs->v[0] = r[0] * d0 + r[3] * d1 + r[6] * d2;
-    xs->v[1] = r[1] * d0 + r[4] * d1 + r[7] * d2;
-    xs->v[2] = r[2] * d0 + r[5] * d1 + r[8] * d2;
-    return SFIT_OK;
+    y[0] = r[0] * d0 + r[3] * d1 + r[6] * d2;
+    y[1] = r[1] * d0 + r[4] * d1 + r[7] * d2;
+    y[2] = r[2] * d0 + r[5] * d1 + r[8] * d2;
+    return prv_map_out(pose, xg, y, xs);
 }

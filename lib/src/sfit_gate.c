@@ -64,17 +64,28 @@ static float prv_median(float *a, uint32_t n)
     return ((n & 1u) != 0u) ? a[n / 2u] : 0.5f * (a[n / 2u - 1u] + a[n / 2u]);
 }
 
-/* A state fit to use: phase and buffer count in range, the gate width and
- * noise values finite, and in phase 2 every value the test reads finite
- * (a garbage state, e.g. from .noinit RAM or flash, gives E_ARG instead of
- * a write outside `warm` or a NaN in the window sums). No FP arithmetic. */
+/* The integers a gate indexes with: the phase and the warm-up count (a
+ * garbage state, e.g. uninitialised or .noinit RAM, a state read back from
+ * flash, gets E_ARG instead of a write outside `warm`). Checked on every
+ * add; four integer compares. */
+static int prv_index_ok(const sfit_gate_t *g)
+{
+    return g->phase <= 2u && g->nwarm < (uint32_t)SFIT_GATE_WARMUP
+           && (g->phase == 0u || g->nwarm == 0u);
+}
+
+/* The whole state (refresh, fit, stats, moments: the calls that carry its
+ * values out): indices, and the gate width, sigma^2, window sum and, in
+ * phase 2, every value the test reads finite. Bit tests, no FP arithmetic.
+ * sfit_gate_add() needs only prv_index_ok(): a non-finite value there makes
+ * a verdict arbitrary but cannot enter the state (the window sum is
+ * updated only with a finite result). */
 static int prv_state_ok(const sfit_gate_t *g)
 {
-    int ok = g->phase <= 2u && g->nwarm < (uint32_t)SFIT_GATE_WARMUP
-             && (g->phase == 0u || g->nwarm == 0u) && sfit_i_isfinite(g->cfg.k)
-             && g->cfg.k > 1.0f && sfit_i_isfinite(g->cfg.noise_var)
-             && g->cfg.noise_var >= 0.0f && sfit_i_isfinite(g->var) && g->var >= 0.0f
-             && sfit_i_isfinite(g->ws2) && g->ws2 >= 0.0f;
+    int ok = prv_index_ok(g) && sfit_i_isfinite(g->cfg.k) && g->cfg.k > 1.0f
+             && sfit_i_isfinite(g->cfg.noise_var) && g->cfg.noise_var >= 0.0f
+             && sfit_i_isfinite(g->var) && g->var >= 0.0f && sfit_i_isfinite(g->ws2)
+             && g->ws2 >= 0.0f;
     if (ok && g->phase == 2u) {
         int j;
         ok = sfit_i_sphere_finite(&g->center, g->radius) && sfit_i_finite3(g->mean.v)
@@ -420,7 +431,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
 {
     float e = 0.0f, h1 = 1.0f;
     sfit_status_t st = sfit_i_check_add(g, x);
-    if (st != SFIT_OK || !prv_state_ok(g)) {
+    if (st != SFIT_OK || !prv_index_ok(g)) {
         return (st != SFIT_OK) ? st : SFIT_E_ARG;
     }
     if (g->phase == 0u) {

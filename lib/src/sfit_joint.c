@@ -228,9 +228,8 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
         if (seen[i] == 0u) {
             continue;
         }
-        (void)sfit_pose_to_segment(&ps, &child[i], &xs[i]);
-        st = sfit_i_check_sample(xs[i].v);
-        if (st != SFIT_OK) {
+        if (sfit_pose_to_segment(&ps, &child[i], &xs[i]) != SFIT_OK
+            || sfit_i_check_sample(xs[i].v) != SFIT_OK) {
             return SFIT_E_RANGE;
         }
     }
@@ -453,7 +452,9 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
     if (st != SFIT_OK) {
         return st;
     }
-    (void)sfit_pose_to_global(&ps, &res->fit.center, &c);
+    if (sfit_pose_to_global(&ps, &res->fit.center, &c) != SFIT_OK) {
+        return SFIT_E_RANGE;
+    }
     for (i = 0; i < 3; i++) {
         const float *rr = &ps.r.m[3 * i];
         a.v[i] = rr[0] * res->fit.axis.v[0] + rr[1] * res->fit.axis.v[1]

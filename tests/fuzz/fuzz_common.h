@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "sfit/sfit.h"
+#include "sfit_solve.h" /* sfit_i_check_noise: the PSD rule */
 
 /* The modules written after the core: covered when their header exists. */
 #if defined(__has_include)
@@ -243,11 +244,23 @@ static inline void fz_cfg_decode(fz_in_t *in, sfit_fit_cfg_t *cfg, int allow_asy
 }
 
 /*
+ * Positive semi-definiteness of a noise covariance: the library's own test
+ * (sfit_i_check_noise, lib/src/sfit_solve.c) so that the oracle agrees at
+ * the rounding boundary; tests/test_hostile.c checks that rule against
+ * definite, semi-definite (rank 1 and 2, every scale) and indefinite
+ * matrices.
+ */
+static inline int fz_psd(const sfit_mat3_t *c)
+{
+    return sfit_i_check_noise(SFIT_NOISE_COV, 0.0f, c) == SFIT_OK;
+}
+
+/*
  * What sfit_fit.h rejects with SFIT_E_ARG (NULL aside): a mode or noise
  * kind outside the enum, a planar ratio outside [0, 1) or not finite, a
  * negative or non-finite variance, a non-finite covariance entry, a
- * negative diagonal or a negative 2x2 principal minor (same float
- * expressions as the library, lower triangle).
+ * negative diagonal, or a covariance that is not positive semi-definite
+ * (fz_psd: the library's float expressions, lower triangle).
  */
 static inline int fz_cfg_valid(const sfit_fit_cfg_t *cfg)
 {
@@ -265,9 +278,7 @@ static inline int fz_cfg_valid(const sfit_fit_cfg_t *cfg)
         if (!fz_all_finite(c, 9) || c[0] < 0.0f || c[4] < 0.0f || c[8] < 0.0f) {
             return 0;
         }
-        if (c[3] * c[3] > c[0] * c[4] || c[6] * c[6] > c[0] * c[8] || c[7] * c[7] > c[4] * c[8]) {
-            return 0;
-        }
+        return fz_psd(&cfg->noise_cov);
     }
     return 1;
 }

@@ -491,10 +491,31 @@ def table_seeds():
     }
 
 
+def garbage_seeds():
+    """Garbage-state programs (garbage_driver.h): [target] [fill] then bytes.
+    Every target with each fill mode, from a fixed-seed generator."""
+    import random
+    rnd = random.Random(19)
+    names = ["moments", "incr", "gate", "cluster", "joint", "multi"]
+    out = {}
+    for t, name in enumerate(names):
+        size = 2600 if name in ("gate", "joint") else 700
+        for fill, how in enumerate(("bytes", "patched", "repeated")):
+            body = bytes(rnd.getrandbits(8) for _ in range(size))
+            out[f"{name}_{how}"] = bytes([t, fill]) + body
+    # A valid gate in warm-up (no samples) whose nwarm-like words are out of
+    # range: patches of the hostile-word table (64, 1e6, UINT32_MAX ...).
+    patches = b"".join(bytes([off & 0xFF, off >> 8, (k << 1) & 0xFE]) for off, k in
+                       ((200, 9), (201, 13), (202, 17), (203, 10)))
+    out["gate_counters"] = bytes([2, 1, 0, 4]) + patches + b"\x00" * 40
+    return out
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
-                       ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds())):
+                       ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds()),
+                       ("garbage", garbage_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

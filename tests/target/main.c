@@ -19,6 +19,7 @@ void tt_noise(void);
 void tt_incr(void);
 void tt_beyond(void);
 void tt_joint(void);
+void tt_hostile(void);
 
 typedef void (*tt_suite_fn)(void);
 static const struct {
@@ -33,6 +34,7 @@ static const struct {
     {"incr", tt_incr},
     {"beyond", tt_beyond},
     {"joint", tt_joint},
+    {"hostile", tt_hostile},
 };
 
 static unsigned tt_pass;

@@ -189,6 +189,10 @@ void cli_print_flags_json(uint32_t flags)
         printf("%s\"near_planar\"", sep);
         sep = ",";
     }
+    if (flags & SFIT_FLAG_ROUNDING) {
+        printf("%s\"rounding\"", sep);
+        sep = ",";
+    }
     if (flags & SFIT_MULTI_FLAG_SKIPPED) {
         printf("%s\"skipped_markers\"", sep);
     }

@@ -292,6 +292,10 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
     if ((r->flags & SFIT_FLAG_NEAR_PLANAR) && r->mode == SFIT_MODE_SPHERE) {
         printf("warning      samples are near-planar: the sphere is ill-conditioned\n");
     }
+    if (r->flags & SFIT_FLAG_ROUNDING) {
+        printf("warning      float rounding: many samples on a small cap; the centre may be "
+               "more than 1e-4 r from a double-precision fit\n");
+    }
 }
 
 /* ---- several FILEs: one marker each, common centre (sfit_multi_fit) ---- */

@@ -140,9 +140,11 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
  * @brief Map a point from the segment frame to the global frame: r x + t.
  * @param[in]  pose  Pose.
  * @param[in]  xs    Point in the segment frame.
- * @param[out] xg    Point in the global frame; may alias xs.
+ * @param[out] xg    Point in the global frame; may alias xs. Written only on SFIT_OK.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  a NULL pointer
+ * @retval SFIT_E_NONFINITE  the result is not finite and pose or xs holds NaN / Inf
+ * @retval SFIT_E_RANGE  the result overflows (finite inputs)
  * @par Cost 9 mul, 9 add.
  */
 sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
@@ -152,9 +154,11 @@ sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs
  * @brief Map a point from the global frame to the segment frame: r^T (x - t).
  * @param[in]  pose  Pose.
  * @param[in]  xg    Point in the global frame.
- * @param[out] xs    Point in the segment frame; may alias xg.
+ * @param[out] xs    Point in the segment frame; may alias xg. Written only on SFIT_OK.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  a NULL pointer
+ * @retval SFIT_E_NONFINITE  the result is not finite and pose or xg holds NaN / Inf
+ * @retval SFIT_E_RANGE  the result overflows (finite inputs)
  * @par Cost 18 FLOPs (3 sub, 9 mul, 6 add; tools/flopcount "pose_to_segment").
  */
 sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,

@@ -41,9 +41,13 @@ typedef struct sfit_fit_cfg {
     float noise_var;             /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
     sfit_mat3_t noise_cov;       /**< Sigma for SFIT_NOISE_COV: symmetric positive
                                       semi-definite; the lower triangle is read.
-                                      A negative diagonal entry or 2x2 principal
-                                      minor is rejected with SFIT_E_ARG. */
-    float planar_ratio;          /**< lambda_min/lambda_max threshold; 0 = SFIT_PLANAR_RATIO. */
+                                      A matrix that is not PSD (a negative principal
+                                      minor, the determinant included, beyond 16 ulps
+                                      of rounding) is rejected with SFIT_E_ARG. */
+    float planar_ratio;          /**< lambda_min/lambda_max threshold; 0 = SFIT_PLANAR_RATIO.
+                                      The ratio is taken on C' = C - Sigma_hat when a
+                                      noise model is given (the noise-corrected
+                                      covariance UGDK solves), on C otherwise. */
     int eigen;                   /**< 0 (default): the screened solve, which skips the
                                       eigen-decomposition when a cheap bound proves the
                                       sphere well conditioned, not near-planar and
@@ -97,7 +101,9 @@ typedef struct sfit_result {
  *                            negative/non-finite variance, a covariance that is not
  *                            finite or fails the semi-definiteness checks)
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
- * @retval SFIT_E_DEGENERATE  coincident or collinear samples; or near-planar
+ * @retval SFIT_E_DEGENERATE  coincident or collinear samples; a spread
+ *                            sqrt(lambda_max(C)) below SFIT_MIN_SPREAD (too small
+ *                            for float: rescale the data); or near-planar
  *                            samples whose sphere system is singular (GDKE)
  * @retval SFIT_E_NOT_POSDEF  C' = C - Sigma_hat is not positive definite
  *                            (on the kept directions in planar mode)
@@ -106,6 +112,12 @@ typedef struct sfit_result {
  * @par Cost  94 FLOPs (GDKE), 96 (UGDK, sigma^2 I) when the screen passes
  *            (cfg.eigen = 0); 337 / 649 with the full solver (tools/flopcount:
  *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
+ * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
+ *             double-precision fit of the same samples for |c|/r <= 1e3, a
+ *             spread >= SFIT_MIN_SPREAD and coordinates below 2^27
+ *             (README "Where the promise holds"). SFIT_FLAG_ROUNDING: 0.5
+ *             FLT_EPSILON cond(C') sqrt(N/SFIT_SUM_BLOCK + 1) > 1e-4 (small caps,
+ *             many samples).
  */
 sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);

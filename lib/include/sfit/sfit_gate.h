@@ -49,7 +49,8 @@ typedef struct sfit_gate {
     float var;                          /**< Gate sigma^2 (phase 2). */
     sfit_vec3_t mean;                   /**< Mean of the fitted samples (phase 2). */
     float lw[6];                        /**< L^-1/sqrt(N-1) packed (00,11,22,10,20,21),
-                                             C = L L^T at the fit: leverage factor. */
+                                             C = L L^T at the fit: the leverage
+                                             h = 1/N + |lw (x - mean)|^2 >= 0. */
     float inv_n;                        /**< 1/N at the fit. */
     float ws1, ws2;                     /**< Window sums of e^2/(1+h) (ws1 unused: 0). */
     uint32_t wn;                        /**< Residuals in the window. */
@@ -94,7 +95,9 @@ sfit_status_t sfit_gate_reset(sfit_gate_t *g);
  * @param[out]    accepted  If not NULL: 1 if the sample was kept (or buffered), 0 if
  *                          rejected as an outlier. Written only on SFIT_OK.
  * @retval SFIT_OK           the sample was judged (kept or counted as outlier)
- * @retval SFIT_E_ARG        NULL g or x
+ * @retval SFIT_E_ARG        NULL g or x, or a corrupted gate (phase, buffer count,
+ *                           width or a gating value out of range / not finite:
+ *                           e.g. uninitialised RAM); g unchanged
  * @retval SFIT_E_NONFINITE  NaN / Inf coordinate: g unchanged (bit for bit)
  * @retval SFIT_E_RANGE      coordinate out of range or counter full: g unchanged
  */
@@ -104,7 +107,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  * @brief Re-solve the running fit now (also ends a warm-up early when at least
  * SFIT_MIN_SAMPLES + 1 samples are buffered).
  * @retval SFIT_OK  a fit now gates the samples
- * @retval SFIT_E_ARG  g NULL
+ * @retval SFIT_E_ARG  g NULL, or a corrupted gate (as sfit_gate_add())
  * @retval SFIT_E_TOO_FEW  warm-up with fewer than SFIT_MIN_SAMPLES + 1 samples
  * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
  *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous fit
@@ -117,7 +120,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
  * @param[in]  g    Gate.
  * @param[out] out  Written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         g or out is NULL
+ * @retval SFIT_E_ARG         g or out is NULL, or a corrupted gate
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES accepted samples
  * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
@@ -128,14 +131,16 @@ sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 
 /**
  * @brief The accumulator of the accepted samples (for sfit_moments_uncert()
- * and friends); NULL while the warm-up buffer is still filling, or for NULL g.
+ * and friends); NULL while the warm-up buffer is still filling, for NULL g,
+ * or for a corrupted gate.
  */
 const sfit_moments_t *sfit_gate_moments(const sfit_gate_t *g);
 
 /**
- * @brief Counters.
+ * @brief Counters. noise_var is always finite: the widening of sigma^2 when the
+ * gate rejects too much stops at sigma = r (and at 1e30).
  * @retval SFIT_OK     success
- * @retval SFIT_E_ARG  g or out is NULL
+ * @retval SFIT_E_ARG  g or out is NULL, or a corrupted gate
  */
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out);
 

@@ -102,7 +102,8 @@ class FitResult(_Record):
             (planar) or the cap axis (sphere); largest component positive.
         trust_ratio: rho(C^-1 Sigma_hat) (0 for GDKE), eq. 193.
         leontief_ratio: trust/(1 - trust); >= 1 sets the "untrusted" flag.
-        flags: list of names: "untrusted", "few_samples", "near_planar".
+        flags: list of names: "untrusted", "few_samples", "near_planar",
+            "rounding".
         flags_mask: the same as the library's bit mask.
         method: "gdke", "ugdk" or "geometric" (refine=True).
         mode: "sphere" or "planar" (the solution used).

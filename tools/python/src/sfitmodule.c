@@ -384,6 +384,7 @@ typedef struct flag_name {
 static const flag_name_t g_fit_flags[] = {{SFIT_FLAG_UNTRUSTED, "untrusted"},
                                           {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
                                           {SFIT_FLAG_NEAR_PLANAR, "near_planar"},
+                                          {SFIT_FLAG_ROUNDING, "rounding"},
                                           {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
                                           {0u, NULL}};
 static const flag_name_t g_noise_flags[] = {{SFIT_NOISE_FLAG_NEGATIVE, "negative"},
