@@ -109,8 +109,8 @@ typedef struct sfit_result {
  *                            (on the kept directions in planar mode)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost  94 FLOPs (GDKE), 96 (UGDK, sigma^2 I) when the screen passes
- *            (cfg.eigen = 0); 337 / 649 with the full solver (tools/flopcount:
+ * @par Cost  111 FLOPs (GDKE), 113 (UGDK, sigma^2 I) when the screen passes
+ *            (cfg.eigen = 0); 334 / 347 with the full solver (tools/flopcount:
  *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
  *             double-precision fit of the same samples for |c|/r <= 1e3, a
