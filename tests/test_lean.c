@@ -309,6 +309,31 @@ static void test_extreme_scales(void **state)
     assert_true(g_lean >= 10);
 }
 
+/* Small caps, many samples, a tiny planar ratio: the conditioning crosses
+ * the SFIT_FLAG_ROUNDING threshold, which the screen must also prove. */
+static void test_rounding_boundary(void **state)
+{
+    tu_rng_t g;
+    int i, flagged = 0;
+    (void)state;
+    g_lean = g_full = 0;
+    for (i = 0; i < 40; i++) {
+        const double theta = (6.0 + 0.5 * (double)i) * TU_PI / 180.0;
+        const sfit_fit_cfg_t cf = cfg_of(SFIT_MODE_SPHERE, 0.0f, 1e-6f);
+        sfit_result_t r;
+        tu_rng_seed(&g, 1606u + (uint64_t)i);
+        make_cap(&g, NMAX, 100.0, theta, 0.0, 1.0);
+        (void)compare(NMAX, &cf);
+        if (sfit_points_fit(g_fpts, NMAX, &cf, &r) == SFIT_OK
+            && (r.flags & (uint32_t)SFIT_FLAG_ROUNDING) != 0u) {
+            flagged++;
+        }
+    }
+    print_message("rounding sweep: %d screened, %d full, %d flagged\n", g_lean, g_full, flagged);
+    assert_true(flagged > 0 && flagged < 40);
+    assert_true(g_lean > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -318,6 +343,7 @@ int main(void)
         cmocka_unit_test(test_trust_boundary),
         cmocka_unit_test(test_degenerate_statuses),
         cmocka_unit_test(test_extreme_scales),
+        cmocka_unit_test(test_rounding_boundary),
     };
     return cmocka_run_group_tests_name("lean", tests, NULL, NULL);
 }
