@@ -258,33 +258,40 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
 static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
                                 const sfit_mat3_t *v, sfit_i_solution_t *out)
 {
-    const sfit_mat3_t *sg = &sys->sigma;
-    float v1[3], v2[3], k0, k1;
-    int i;
+    const float *sg = sys->sigma.m;
+    const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
+    float k0 = 0.0f, k1 = 0.0f;
+    int i, j;
     if (!(lamp->v[1] > SFIT_CHOL_PIVOT_EPS * lamp->v[2])) {
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
     for (i = 0; i < 3; i++) {
-        v1[i] = v->m[3 * i + 1];
-        v2[i] = v->m[3 * i + 2];
+        k0 += e[3 * i + 1] * sys->rhs.v[i];
+        k1 += e[3 * i + 2] * sys->rhs.v[i];
     }
-    k0 = sfit_i_dot3(v1, sys->rhs.v) / lamp->v[1];
-    k1 = sfit_i_dot3(v2, sys->rhs.v) / lamp->v[2];
+    k0 /= lamp->v[1];
+    k1 /= lamp->v[2];
     for (i = 0; i < 3; i++) {
-        out->w.v[i] = k0 * v1[i] + k1 * v2[i];
+        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
     }
     out->trace = lamp->v[1] + lamp->v[2];
     if (sys->noisy) {
         /* Trust on the kept plane: largest eigenvalue of the 2x2
          * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
-        float sv1[3], sv2[3], b00, b01, b11, h;
+        float b00 = 0.0f, b01 = 0.0f, b11 = 0.0f, h;
         for (i = 0; i < 3; i++) {
-            sv1[i] = sfit_i_dot3(&sg->m[3 * i], v1);
-            sv2[i] = sfit_i_dot3(&sg->m[3 * i], v2);
+            float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
+            for (j = 0; j < 3; j++) {
+                s1 += sg[3 * i + j] * e[3 * j + 1];
+                s2 += sg[3 * i + j] * e[3 * j + 2];
+            }
+            b00 += e[3 * i + 1] * s1;
+            b11 += e[3 * i + 2] * s2;
+            b01 += e[3 * i + 1] * s2;
         }
-        b00 = sfit_i_dot3(v1, sv1) / lamp->v[1];
-        b11 = sfit_i_dot3(v2, sv2) / lamp->v[2];
-        b01 = sfit_i_dot3(v1, sv2) / SFIT_SQRTF(lamp->v[1] * lamp->v[2]);
+        b00 /= lamp->v[1];
+        b11 /= lamp->v[2];
+        b01 /= SFIT_SQRTF(lamp->v[1] * lamp->v[2]);
         /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
         h = 0.5f * (b00 - b11);
         out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
