@@ -117,12 +117,11 @@ static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
     }
 }
 
-/* rho(L^-1 Sigma L^-T) for C' = L L^T; b is scratch. */
+/* rho(L^-1 Sigma L^-T) for C' = L L^T; b and w are scratch. */
 static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg, sfit_mat3_t *b,
-                                    float *rho)
+                                    sfit_vec3_t *w, float *rho)
 {
-    sfit_vec3_t w;
-    float y[3];
+    float *const y = w->v;
     int i;
     sfit_status_t st;
 
@@ -140,13 +139,13 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg,
     b->m[1] = b->m[3];
     b->m[2] = b->m[6];
     b->m[5] = b->m[7];
-    st = sfit_i_eig_sym(b->m, &w, NULL);
+    st = sfit_i_eig_sym(b->m, w, NULL);
     if (st != SFIT_OK) {
         return st;
     }
     *rho = 0.0f;
     for (i = 0; i < 3; i++) {
-        const float a = SFIT_FABSF(w.v[i]);
+        const float a = SFIT_FABSF(w->v[i]);
         if (a > *rho) {
             *rho = a;
         }
@@ -226,9 +225,9 @@ static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, sfit_mat3_t *cp
 
 /* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
  * the trust ratio from lamp (isotropic noise) or from L^-1 Sigma L^-T
- * (v is scratch). */
+ * (v and then lamp are scratch). */
 static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
-                                const sfit_vec3_t *lamp, int have_p, sfit_mat3_t *v,
+                                sfit_vec3_t *lamp, int have_p, sfit_mat3_t *v,
                                 sfit_i_solution_t *out)
 {
     sfit_status_t st;
@@ -243,7 +242,7 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
             /* rho(C'^-1 sigma^2 I) = sigma^2 / lambda_min(C'). */
             out->rho = sys->sigma.m[0] / lamp->v[0];
         } else {
-            st = prv_trust_chol(cp, &sys->sigma, v, &out->rho);
+            st = prv_trust_chol(cp, &sys->sigma, v, lamp, &out->rho); /* lamp: scratch */
             if (st != SFIT_OK) {
                 return st;
             }
