@@ -148,16 +148,37 @@ static void prv_buffer_moments(const sfit_gate_t *g, const uint8_t *keep, sfit_m
  * C = L L^T, packed W00, W11, W22, W10, W20, W21. The leverage of a sample
  * is then h = 1/N + |W (x - m)|^2, non-negative by construction even when
  * the third pivot of a (nearly) rank-2 C is rounding noise: there W22 is
- * huge and the gate lenient across the plane, never inverted. */
-static sfit_status_t prv_leverage(sfit_gate_t *g, const sfit_moments_t *m)
+ * huge and the gate lenient across the plane, never inverted. In planar
+ * mode that direction is lifted first (below). */
+static sfit_status_t prv_leverage(sfit_gate_t *g, const sfit_result_t *r,
+                                  const sfit_moments_t *m)
 {
     sfit_vec3_t mean;
     sfit_mat3_t c, l;
     float w[6], s;
     uint32_t n = sfit_moments_count(m);
     int j;
-    if (n < 2u || sfit_moments_stats(m, &mean, &c, NULL) != SFIT_OK
-        || sfit_mat3_chol(&c, &l) != SFIT_OK) {
+    if (n < 2u || sfit_moments_stats(m, &mean, &c, NULL) != SFIT_OK) {
+        return SFIT_E_DEGENERATE;
+    }
+    if (g->cfg.fit.mode == SFIT_MODE_PLANAR) {
+        /* A hinge by option: the circle does not depend on the spread
+         * across its plane; count that direction as if it had the largest
+         * spread (C + lambda_max a a^T, a the axis) so that a sample off
+         * the plane gets no leverage (else the gate opens wide across the
+         * plane and lets off-plane outliers in). Not in auto mode: there a
+         * planar fit is often a sphere seen on a short arc, and the
+         * leverage across the plane is what lets the sweeping stream in. */
+        const float *a = r->axis.v;
+        const float lmax = r->eigenvalues.v[2];
+        int i, k;
+        for (i = 0; i < 3; i++) {
+            for (k = 0; k < 3; k++) {
+                c.m[3 * i + k] += lmax * a[i] * a[k];
+            }
+        }
+    }
+    if (sfit_mat3_chol(&c, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
     }
     s = 1.0f / SFIT_SQRTF((float)(n - 1u));
@@ -194,7 +215,7 @@ static float prv_h(const sfit_gate_t *g, const sfit_vec3_t *x)
 /* Start gating from the current fit: reset the window. */
 static void prv_set_fit(sfit_gate_t *g, const sfit_result_t *r, const sfit_moments_t *m)
 {
-    if (prv_leverage(g, m) != SFIT_OK) {
+    if (prv_leverage(g, r, m) != SFIT_OK) {
         memset(g->lw, 0, sizeof g->lw);
         g->inv_n = 0.0f;
     }
