@@ -292,9 +292,9 @@ static void test_f3_stats_finite(void **state)
         const sfit_vec3_t x = {{(float)i, (float)(i * i), 1.0f / (float)(i + 1)}};
         assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
     }
-    m.bm2[0] = NAN;
+    m.blk.m2[0] = NAN;
     assert_int_equal(sfit_moments_stats(&m, &mean, &c, &s), SFIT_E_RANGE);
-    m.bm2[0] = FLT_MAX;
+    m.blk.m2[0] = FLT_MAX;
     m.tot.m2[0] = FLT_MAX;
     assert_int_equal(sfit_moments_stats(&m, &mean, &c, &s), SFIT_E_RANGE);
     /* 20 000 structures of random bytes (main: most gave OK with NaN/Inf). */

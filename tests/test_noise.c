@@ -423,6 +423,7 @@ static void test_estimate_from_sampled_fit(void **state)
             float th_raw, th;
             int i;
             cfg.mode = arc ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
+            cfg.eigen = 1; /* the coverage estimate needs the eigenvalues */
             make_pts(&g, arc, n, 100.0, grid[k] * DEG, 1.0);
             assert_int_equal(sfit_points_fit(g_fpts, n, &cfg, &r), SFIT_OK);
             assert_int_equal(sfit_coverage_estimate_theta(kd, &r.eigenvalues, &th_raw),
@@ -479,6 +480,8 @@ static void test_real_hip_coverage(void **state)
     const char *names[] = {"RTHI1", "RTHI2", "RTHI3", "RLFE", "RMFE", "RGT"};
     size_t k;
     (void)state;
+    sfit_fit_cfg_t fc = sfit_fit_cfg_default;
+    fc.eigen = 1; /* the coverage estimate needs the eigenvalues */
     for (k = 0; k < sizeof names / sizeof names[0]; k++) {
         char path[512];
         size_t n = 0, i;
@@ -492,7 +495,7 @@ static void test_real_hip_coverage(void **state)
         for (i = 0; i < n; i++) {
             tc_to_vec3(g_pts[i], &g_fpts[i]);
         }
-        assert_int_equal(sfit_points_fit(g_fpts, n, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_points_fit(g_fpts, n, &fc, &r), SFIT_OK);
         assert_int_equal(r.mode, SFIT_MODE_SPHERE);
         assert_int_equal(sfit_coverage_estimate_theta(SFIT_COVERAGE_CAP, &r.eigenvalues, &th),
                          SFIT_OK);

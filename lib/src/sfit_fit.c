@@ -21,11 +21,19 @@
  * the solve amplifies them by the conditioning of C': the centre's error
  * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. cond(C')
  * is bounded from C's eigenvalues: the smallest used one minus an upper
- * bound of the noise (sigma^2, or tr Sigma); one not positive flags. */
+ * bound of the noise (sigma^2, or tr Sigma); one not positive flags.
+ * prv_rounding_test: the model with lmax >= lambda_max(C) and
+ * lmin <= lambda_min(C'), as the screened solve bounds them. */
+static int prv_rounding_test(uint32_t n, float lmax, float lmin)
+{
+    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
+             <= SFIT_ROUNDING_TOL * lmin);
+}
+
 static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 {
     const float *lam = sol->eigenvalues.v;
-    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges so far */
     float noise = 0.0f, lmin;
     if (cfg->noise == SFIT_NOISE_ISO) {
         noise = cfg->noise_var;
@@ -35,23 +43,21 @@ static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfi
         /* GDKE: C' = C */
     }
     lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lam[2]
-                 * SFIT_SQRTF((float)merges + 1.0f)
-             <= SFIT_ROUNDING_TOL * lmin);
+    return prv_rounding_test(n, lam[2], lmin);
 }
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
-    .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f};
+    .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
+    .eigen = 0};
 
 sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
-    sfit_cmom_t t;
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
-    sfit_result_t r;
-    float r2;
-    int i;
+    float d[3], r2;
+    uint32_t n;
+    int i, exact;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
@@ -59,47 +65,68 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (st != SFIT_OK) {
         return st;
     }
-    sfit_i_moments_total(m, &t);
     memset(&sys, 0, sizeof sys);
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
-    sfit_i_cmom_system(&t, &sys.c, sys.rhs.v);
+    n = sfit_i_moments_system(m, &sys.c, sys.rhs.v, d);
     sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sys.sigma);
     sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
-    sys.scale = sfit_i_coincident_scale(m->origin, t.d);
+    sys.scale = sfit_i_coincident_scale(m->origin, d);
 
-    st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
+    /* The screened solve first (sphere, no or isotropic noise); the full
+     * solver when it trips, when asked for, or for planar / full-covariance. */
+    st = SFIT_I_SCREEN_TRIPPED;
+    if (cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
+        st = sfit_i_solve_lean(&sys.c, &sys.rhs, sys.sigma.m[0], sys.scale,
+                               (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
+                               &sol);
+        /* The bounds must also prove that the rounding flag stays clear and
+         * that the trust ratio is below the coverage limit (the bound of rho
+         * is an upper bound: the full solver decides when it is above). */
+        if (st == SFIT_OK && (prv_rounding_test(n, sol.lmax_hi, sol.lmin_lo)
+                              || sol.rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST))) {
+            st = SFIT_I_SCREEN_TRIPPED;
+        }
+    }
+    exact = (st != SFIT_OK);
+    if (exact) {
+        st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
+    }
     if (st != SFIT_OK) {
         return st;
     }
     /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
-    r2 = ((float)(t.n - 1u) / (float)t.n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
+    r2 = ((float)(n - 1u) / (float)n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
     if (!(r2 > 0.0f)) {
         return SFIT_E_NOT_POSDEF;
     }
-    memset(&r, 0, sizeof r);
-    r.radius = SFIT_SQRTF(r2);
+    r2 = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
-        r.center.v[i] = m->origin[i] + (t.d[i] + sol.w.v[i]);
+        sol.w.v[i] = m->origin[i] + (d[i] + sol.w.v[i]); /* the centre */
     }
-    if (!sfit_i_sphere_finite(&r.center, r.radius)) {
+    if (!sfit_i_sphere_finite(&sol.w, r2)) {
         return SFIT_E_RANGE;
     }
-    r.n = t.n;
-    sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
-    r.flags = sol.flags;
-    if (t.n < SFIT_FEW_SAMPLES) {
-        r.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    if (n < SFIT_FEW_SAMPLES) {
+        sol.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
     }
-    if (prv_rounding_flag(t.n, &sol, cfg)) {
-        r.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
+    if (exact && prv_rounding_flag(n, &sol, cfg)) {
+        sol.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
     }
-    if (r.trust_ratio > SFIT_COV_MAX_TRUST || t.n < SFIT_COV_MIN_SAMPLES) {
-        /* docs/coverage.md: the covariance no longer describes the error */
-        r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED | (uint32_t)SFIT_FLAG_COV_LIMIT;
-    }
-    r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
-    r.mode = sol.mode;
-    *out = r;
+    /* Every check passed: the result is written. */
+    memset(out, 0, sizeof *out);
+    out->center = sol.w;
+    out->radius = r2;
+    out->n = n;
+    out->eigenvalues = sol.eigenvalues;
+    out->axis = sol.axis;
+    out->leontief_ratio = sol.rho;
+    out->trust_ratio = sol.rho / (1.0f + sol.rho);
+    /* docs/coverage.md: outside the validated range the covariance no
+     * longer describes the error (decided on the exact ratio: see above). */
+    out->flags = sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
+    out->method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
+    out->mode = sol.mode;
+    out->exact = exact;
     return SFIT_OK;
 }
 

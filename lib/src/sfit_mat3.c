@@ -120,7 +120,7 @@ static int prv_rotate(float a[9], float v[9], int p, int q)
         a[3 * r + p] = nrp; a[3 * p + r] = nrp;
         a[3 * r + q] = nrq; a[3 * q + r] = nrq;
     }
-    for (k = 0; k < 3; k++) {
+    for (k = 0; (v != NULL) && k < 3; k++) {
         const float vkp = v[3 * k + p];
         const float vkq = v[3 * k + q];
         v[3 * k + p] = c * vkp - s * vkq;
@@ -135,31 +135,24 @@ static void prv_swap_cols(float w[3], float v[9], int i, int j)
     int k;
     w[i] = w[j];
     w[j] = t;
-    for (k = 0; k < 3; k++) {
+    for (k = 0; (v != NULL) && k < 3; k++) {
         t = v[3 * k + i];
         v[3 * k + i] = v[3 * k + j];
         v[3 * k + j] = t;
     }
 }
 
-sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v)
+sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
 {
-    float A[9], V[9], e[3];
     int sweep, k, converged = 0;
 
-    if (a == NULL || w == NULL) {
-        return SFIT_E_ARG;
-    }
-    /* Symmetric working copy from the lower triangle. */
-    A[0] = a->m[0]; A[4] = a->m[4]; A[8] = a->m[8];
-    A[1] = a->m[3]; A[3] = a->m[3];
-    A[2] = a->m[6]; A[6] = a->m[6];
-    A[5] = a->m[7]; A[7] = a->m[7];
     for (k = 0; k < 9; k++) {
         if (!sfit_i_isfinite(A[k])) {
             return SFIT_E_NONFINITE;
         }
-        V[k] = (k % 4 == 0) ? 1.0f : 0.0f;
+        if (V != NULL) {
+            V[k] = (k % 4 == 0) ? 1.0f : 0.0f;
+        }
     }
     for (sweep = 0; sweep < SFIT_JACOBI_MAX_SWEEPS; sweep++) {
         if (A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
@@ -175,21 +168,35 @@ sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_
     }
     /* Entries near FLT_MAX can overflow inside a rotation. */
     for (k = 0; k < 9; k++) {
-        if (!sfit_i_isfinite(A[k]) || !sfit_i_isfinite(V[k])) {
+        if (!sfit_i_isfinite(A[k]) || (V != NULL && !sfit_i_isfinite(V[k]))) {
             return SFIT_E_RANGE;
         }
     }
     if (!converged) {
         return SFIT_E_NO_CONVERGENCE;
     }
-    e[0] = A[0]; e[1] = A[4]; e[2] = A[8];
-    /* Sort ascending (3-element network). */
-    if (e[0] > e[1]) { prv_swap_cols(e, V, 0, 1); }
-    if (e[1] > e[2]) { prv_swap_cols(e, V, 1, 2); }
-    if (e[0] > e[1]) { prv_swap_cols(e, V, 0, 1); }
-    w->v[0] = e[0]; w->v[1] = e[1]; w->v[2] = e[2];
-    if (v != NULL) {
+    /* The diagonal, sorted ascending (3-element network) in place. */
+    A[1] = A[4];
+    A[2] = A[8];
+    if (A[0] > A[1]) { prv_swap_cols(A, V, 0, 1); }
+    if (A[1] > A[2]) { prv_swap_cols(A, V, 1, 2); }
+    if (A[0] > A[1]) { prv_swap_cols(A, V, 0, 1); }
+    w->v[0] = A[0]; w->v[1] = A[1]; w->v[2] = A[2];
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_mat3_eig_sym(const sfit_mat3_t *a, sfit_vec3_t *w, sfit_mat3_t *v)
+{
+    float A[9], V[9];
+    sfit_status_t st;
+
+    if (a == NULL || w == NULL) {
+        return SFIT_E_ARG;
+    }
+    sfit_i_sym_full(a, A);
+    st = sfit_i_eig_sym(A, w, (v != NULL) ? V : NULL);
+    if (st == SFIT_OK && v != NULL) {
         memcpy(v->m, V, sizeof V);
     }
-    return SFIT_OK;
+    return st;
 }

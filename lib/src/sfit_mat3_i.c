@@ -13,6 +13,14 @@ void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a)
     a->m[6] = p[4]; a->m[7] = p[5]; a->m[8] = p[2];
 }
 
+void sfit_i_sym_full(const sfit_mat3_t *a, float A[9])
+{
+    A[0] = a->m[0]; A[4] = a->m[4]; A[8] = a->m[8];
+    A[1] = a->m[3]; A[3] = a->m[3];
+    A[2] = a->m[6]; A[6] = a->m[6];
+    A[5] = a->m[7]; A[7] = a->m[7];
+}
+
 void sfit_i_sym_pack(const sfit_mat3_t *a, float p[6])
 {
     p[0] = a->m[0];

@@ -15,6 +15,16 @@
 /** @brief Unpack a packed symmetric matrix into a full row-major one. */
 void sfit_i_sym_unpack(const float p[6], sfit_mat3_t *a);
 
+/** @brief A[9] := the symmetric matrix of the lower triangle of a. */
+void sfit_i_sym_full(const sfit_mat3_t *a, float A[9]);
+
+/**
+ * @brief Jacobi eigen-decomposition in place: A (full symmetric, destroyed)
+ * and V (9 floats, or NULL when no eigenvectors are wanted) are working
+ * storage; w written on SFIT_OK. Statuses as sfit_mat3_eig_sym().
+ */
+sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V);
+
 /** @brief Pack the symmetric part of a (mean of each off-diagonal pair). */
 void sfit_i_sym_pack(const sfit_mat3_t *a, float p[6]);
 

@@ -5,10 +5,10 @@
  *
  * Implementation notes
  * --------------------
- * Inner level: the open block sums z = x - bref, z z^T and |z|^2 z, where
- * bref is the running mean at the block's start (the first sample for the
- * first block). Near a far-away sphere x - bref is exact in float
- * (Sterbenz) and |z| is of the order of the sphere's radius, so the sums
+ * Inner level: the open block sums z = x - origin, z z^T and |z|^2 z, where
+ * origin is moved to the running mean at the block's start (the first
+ * sample for the first block); the total keeps the exact residue. Near a
+ * far-away sphere x - origin is exact in float (Sterbenz) and |z| is of the order of the sphere's radius, so the sums
  * carry no large offset.
  *
  * Outer level: a full block is converted to centred moments about its own
@@ -44,56 +44,55 @@ sfit_status_t sfit_moments_reset(sfit_moments_t *m)
 
 uint32_t sfit_moments_count(const sfit_moments_t *m)
 {
-    return (m == NULL) ? 0u : m->tot.n + m->bn;
+    return (m == NULL) ? 0u : m->tot.n + m->blk.n;
 }
 
-/* Centred moments of the open block, mean expressed relative to `origin`. */
-static void prv_block_cmom(const sfit_moments_t *m, sfit_cmom_t *b)
+/* out += (2 M2 + tr(M2) I) u + n |u|^2 u with u = k delta: the shift of M3
+ * by u of a set with centred M2. */
+static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], float out[3])
 {
-    const float nb = (float)m->bn;
-    const float inv = 1.0f / nb;
-    float d[3], q, dd;
+    const float u0 = k * delta[0], u1 = k * delta[1], u2 = k * delta[2];
+    const float t = (s->m2[0] + s->m2[1] + s->m2[2]) + (float)s->n * (u0 * u0 + u1 * u1 + u2 * u2);
+    out[0] += 2.0f * (s->m2[0] * u0 + s->m2[3] * u1 + s->m2[4] * u2) + t * u0;
+    out[1] += 2.0f * (s->m2[3] * u0 + s->m2[1] * u1 + s->m2[5] * u2) + t * u1;
+    out[2] += 2.0f * (s->m2[4] * u0 + s->m2[5] * u1 + s->m2[2] * u2) + t * u2;
+}
+
+/* Centred moments of a block of raw sums about `origin` (b may alias raw):
+ * d = mean - origin, M2 = sum z z^T - (sum z) d^T, and M3 = sum |z|^2 z
+ * minus the shift of the centred set by d (prv_m3_shift). */
+static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
+{
+    const float inv = 1.0f / (float)raw->n;
+    float d[3];
     int i;
 
     for (i = 0; i < 3; i++) {
-        d[i] = m->bs[i] * inv;
+        d[i] = raw->d[i] * inv;
     }
-    /* M2 = sum z z^T - (sum z) d^T */
-    b->m2[0] = m->bm2[0] - m->bs[0] * d[0];
-    b->m2[1] = m->bm2[1] - m->bs[1] * d[1];
-    b->m2[2] = m->bm2[2] - m->bs[2] * d[2];
-    b->m2[3] = m->bm2[3] - m->bs[0] * d[1];
-    b->m2[4] = m->bm2[4] - m->bs[0] * d[2];
-    b->m2[5] = m->bm2[5] - m->bs[1] * d[2];
-    /* M3 = sum |z|^2 z - 2 (sum z z^T) d - tr(sum z z^T) d + 2 n |d|^2 d */
-    q = m->bm2[0] + m->bm2[1] + m->bm2[2];
-    dd = 2.0f * nb * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    b->m3[0] = m->bm3[0] - 2.0f * (m->bm2[0] * d[0] + m->bm2[3] * d[1] + m->bm2[4] * d[2])
-               - q * d[0] + dd * d[0];
-    b->m3[1] = m->bm3[1] - 2.0f * (m->bm2[3] * d[0] + m->bm2[1] * d[1] + m->bm2[5] * d[2])
-               - q * d[1] + dd * d[1];
-    b->m3[2] = m->bm3[2] - 2.0f * (m->bm2[4] * d[0] + m->bm2[5] * d[1] + m->bm2[2] * d[2])
-               - q * d[2] + dd * d[2];
-    for (i = 0; i < 3; i++) {
-        b->d[i] = (m->bref[i] - m->origin[i]) + d[i];
-    }
-    b->n = m->bn;
+    b->m2[0] = raw->m2[0] - raw->d[0] * d[0];
+    b->m2[1] = raw->m2[1] - raw->d[1] * d[1];
+    b->m2[2] = raw->m2[2] - raw->d[2] * d[2];
+    b->m2[3] = raw->m2[3] - raw->d[0] * d[1];
+    b->m2[4] = raw->m2[4] - raw->d[0] * d[2];
+    b->m2[5] = raw->m2[5] - raw->d[1] * d[2];
+    b->m3[0] = raw->m3[0]; /* element by element: b may alias raw */
+    b->m3[1] = raw->m3[1];
+    b->m3[2] = raw->m3[2];
+    b->d[0] = d[0];
+    b->d[1] = d[1];
+    b->d[2] = d[2];
+    b->n = raw->n;
+    prv_m3_shift(b, -1.0f, d, b->m3);
 }
 
-/* (2 M2 + tr(M2) I) u + n |u|^2 u, the shift of M3 by u. */
-static void prv_m3_shift(const sfit_cmom_t *s, const float u[3], float out[3])
+/* a := a U b, both means relative to the same origin. b is consumed (its
+ * mean is replaced by delta = m_B - m_A; no temporary on the stack) and
+ * must not alias a. */
+static void prv_cmom_merge(sfit_cmom_t *a, sfit_cmom_t *b)
 {
-    const float tr = s->m2[0] + s->m2[1] + s->m2[2];
-    const float k = (float)s->n * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    out[0] = 2.0f * (s->m2[0] * u[0] + s->m2[3] * u[1] + s->m2[4] * u[2]) + (tr + k) * u[0];
-    out[1] = 2.0f * (s->m2[3] * u[0] + s->m2[1] * u[1] + s->m2[5] * u[2]) + (tr + k) * u[1];
-    out[2] = 2.0f * (s->m2[4] * u[0] + s->m2[5] * u[1] + s->m2[2] * u[2]) + (tr + k) * u[2];
-}
-
-/* a := a U b, both means relative to the same origin. */
-static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
-{
-    float delta[3], ua[3], ub[3], sa[3], sb[3], fb, w;
+    float *const delta = b->d;
+    float fa, fb, w;
     int i;
 
     if (b->n == 0u) {
@@ -105,21 +104,17 @@ static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
     }
     {
         const float na = (float)a->n;
-        const float nb = (float)b->n;
-        const float n = na + nb;
-        fb = nb / n;
+        const float n = na + (float)b->n;
+        fb = (float)b->n / n;
+        fa = na / n;
         w = na * fb; /* n_A n_B / n */
-        for (i = 0; i < 3; i++) {
-            delta[i] = b->d[i] - a->d[i];
-            ua[i] = -fb * delta[i];          /* m_A - m */
-            ub[i] = (na / n) * delta[i];     /* m_B - m */
-        }
     }
-    prv_m3_shift(a, ua, sa);
-    prv_m3_shift(b, ub, sb);
     for (i = 0; i < 3; i++) {
-        a->m3[i] = a->m3[i] + b->m3[i] + sa[i] + sb[i];
+        delta[i] = b->d[i] - a->d[i];
+        a->m3[i] += b->m3[i];
     }
+    prv_m3_shift(a, -fb, delta, a->m3); /* m_A - m = -fb delta */
+    prv_m3_shift(b, fa, delta, a->m3);  /* m_B - m = fa delta */
     a->m2[0] += b->m2[0] + w * delta[0] * delta[0];
     a->m2[1] += b->m2[1] + w * delta[1] * delta[1];
     a->m2[2] += b->m2[2] + w * delta[2] * delta[2];
@@ -127,7 +122,7 @@ static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
     a->m2[4] += b->m2[4] + w * delta[0] * delta[2];
     a->m2[5] += b->m2[5] + w * delta[1] * delta[2];
     for (i = 0; i < 3; i++) {
-        a->d[i] = a->d[i] - ua[i];
+        a->d[i] += fb * delta[i];
     }
     a->n += b->n;
 }
@@ -135,65 +130,71 @@ static void prv_cmom_merge(sfit_cmom_t *a, const sfit_cmom_t *b)
 void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
 {
     *out = m->tot;
-    if (m->bn > 0u) {
+    if (m->blk.n > 0u) {
         sfit_cmom_t b;
-        prv_block_cmom(m, &b);
+        prv_centre(&m->blk, &b);
         prv_cmom_merge(out, &b);
     }
 }
 
-/* Fold the open block into the total and empty it. */
+/* Fold the open block into the total (centred in place) and empty it. */
 static void prv_flush(sfit_moments_t *m)
 {
-    sfit_cmom_t b;
-    if (m->bn == 0u) {
+    if (m->blk.n == 0u) {
         return;
     }
-    prv_block_cmom(m, &b);
-    prv_cmom_merge(&m->tot, &b);
-    m->bn = 0u;
-    memset(m->bs, 0, sizeof m->bs);
-    memset(m->bm2, 0, sizeof m->bm2);
-    memset(m->bm3, 0, sizeof m->bm3);
+    prv_centre(&m->blk, &m->blk);
+    prv_cmom_merge(&m->tot, &m->blk);
+    memset(&m->blk, 0, sizeof m->blk);
+}
+
+/* A new block is summed about the current mean: move the origin there,
+ * o' = fl(origin + d), and keep the exact residue d - (o' - origin) in
+ * tot.d (o' - origin is exact when |d| <= |origin|, Fast2Sum). */
+static void prv_rebase(sfit_moments_t *m)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        const float o = m->origin[i] + m->tot.d[i];
+        m->tot.d[i] -= o - m->origin[i];
+        m->origin[i] = o;
+    }
 }
 
 /* Accumulate one already validated sample. */
 static void prv_add(sfit_moments_t *m, const float x[3])
 {
+    sfit_cmom_t *const b = &m->blk;
     float z0, z1, z2, q00, q11, q22, q;
 
-    if (m->bn == 0u) {
+    if (b->n == 0u) {
         if (m->tot.n == 0u) {
             memcpy(m->origin, x, sizeof m->origin);
-            memcpy(m->bref, x, sizeof m->bref);
         } else {
-            /* Next block is summed about the current mean. */
-            m->bref[0] = m->origin[0] + m->tot.d[0];
-            m->bref[1] = m->origin[1] + m->tot.d[1];
-            m->bref[2] = m->origin[2] + m->tot.d[2];
+            prv_rebase(m);
         }
     }
-    z0 = x[0] - m->bref[0];
-    z1 = x[1] - m->bref[1];
-    z2 = x[2] - m->bref[2];
-    m->bs[0] += z0;
-    m->bs[1] += z1;
-    m->bs[2] += z2;
+    z0 = x[0] - m->origin[0];
+    z1 = x[1] - m->origin[1];
+    z2 = x[2] - m->origin[2];
+    b->d[0] += z0;
+    b->d[1] += z1;
+    b->d[2] += z2;
     q00 = z0 * z0;
     q11 = z1 * z1;
     q22 = z2 * z2;
-    m->bm2[0] += q00;
-    m->bm2[1] += q11;
-    m->bm2[2] += q22;
-    m->bm2[3] += z0 * z1;
-    m->bm2[4] += z0 * z2;
-    m->bm2[5] += z1 * z2;
+    b->m2[0] += q00;
+    b->m2[1] += q11;
+    b->m2[2] += q22;
+    b->m2[3] += z0 * z1;
+    b->m2[4] += z0 * z2;
+    b->m2[5] += z1 * z2;
     q = q00 + q11 + q22;
-    m->bm3[0] += q * z0;
-    m->bm3[1] += q * z1;
-    m->bm3[2] += q * z2;
-    m->bn++;
-    if (m->bn >= SFIT_SUM_BLOCK) {
+    b->m3[0] += q * z0;
+    b->m3[1] += q * z1;
+    b->m3[2] += q * z2;
+    b->n++;
+    if (b->n >= SFIT_SUM_BLOCK) {
         prv_flush(m);
     }
 }
@@ -282,6 +283,15 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
     for (i = 0; i < 3; i++) {
         b[i] = (0.5f * inv) * t->m3[i];
     }
+}
+
+uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3])
+{
+    sfit_cmom_t t;
+    sfit_i_moments_total(m, &t);
+    sfit_i_cmom_system(&t, c, b);
+    memcpy(d, t.d, sizeof t.d);
+    return t.n;
 }
 
 sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,

@@ -27,4 +27,11 @@ SFIT_INLINE sfit_status_t sfit_i_enough(sfit_status_t st, const sfit_moments_t *
  */
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 
+/**
+ * @brief The fit system of an accumulator with >= 2 samples: C and b as
+ * sfit_i_cmom_system(), d = mean - origin; returns the sample count (the
+ * totals stay in this function's frame, off the solver's stack path).
+ */
+uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3]);
+
 #endif /* SFIT_MOMENTS_I_H */

@@ -77,6 +77,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
         return SFIT_E_ARG;
     }
     fc.mode = SFIT_MODE_SPHERE;
+    fc.eigen = 1; /* the cap below needs lambda_min(C) */
     fc.planar_ratio = (cfg != NULL) ? cfg->planar_ratio : 0.0f;
     if (sfit_i_check_cfg(&fc) != SFIT_OK) {
         return SFIT_E_ARG;

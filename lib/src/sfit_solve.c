@@ -76,7 +76,7 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
         return SFIT_E_ARG;
     }
     if (!sfit_i_isfinite(cfg->planar_ratio) || cfg->planar_ratio < 0.0f
-        || cfg->planar_ratio >= 1.0f) {
+        || cfg->planar_ratio >= 1.0f || (cfg->eigen != 0 && cfg->eigen != 1)) {
         return SFIT_E_ARG;
     }
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);
@@ -188,34 +188,35 @@ static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
     }
 }
 
-/* rho(L^-1 Sigma L^-T) for C' = L L^T. */
-static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg, float *rho)
+/* rho(L^-1 Sigma L^-T) for C' = L L^T; b and w are scratch. */
+static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg, sfit_mat3_t *b,
+                                    sfit_vec3_t *w, float *rho)
 {
-    sfit_mat3_t b;
-    sfit_vec3_t w;
-    float x[9];
-    int i, j;
+    float *const y = w->v;
+    int i;
     sfit_status_t st;
 
-    /* X = L^-1 Sigma (Sigma's rows are its columns), B = L^-1 X^T. */
-    for (j = 0; j < 3; j++) {
-        sfit_i_chol_forward(l, &sg->m[3 * j], &x[3 * j]);
+    /* Y = L^-1 Sigma, row-major in b (Sigma's rows are its columns). */
+    for (i = 0; i < 3; i++) {
+        sfit_i_chol_forward(l, &sg->m[3 * i], y);
+        b->m[i] = y[0];
+        b->m[3 + i] = y[1];
+        b->m[6 + i] = y[2];
     }
-    for (j = 0; j < 3; j++) {
-        const float col[3] = {x[j], x[3 + j], x[6 + j]};
-        float y[3];
-        sfit_i_chol_forward(l, col, y);
-        b.m[j] = y[0];
-        b.m[3 + j] = y[1];
-        b.m[6 + j] = y[2];
+    /* B = L^-1 Y^T: row i of B from row i of Y, in place (B symmetric). */
+    for (i = 0; i < 3; i++) {
+        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
     }
-    st = sfit_mat3_eig_sym(&b, &w, NULL);
+    b->m[1] = b->m[3];
+    b->m[2] = b->m[6];
+    b->m[5] = b->m[7];
+    st = sfit_i_eig_sym(b->m, w, NULL);
     if (st != SFIT_OK) {
         return st;
     }
     *rho = 0.0f;
     for (i = 0; i < 3; i++) {
-        const float a = SFIT_FABSF(w.v[i]);
+        const float a = SFIT_FABSF(w->v[i]);
         if (a > *rho) {
             *rho = a;
         }
@@ -231,22 +232,41 @@ static int prv_sigma_iso(const sfit_mat3_t *sg)
            && sg->m[0] == sg->m[8];
 }
 
+/* cp := C - Sigma (C when there is no noise model). */
+static void prv_cprime(const sfit_i_system_t *sys, sfit_mat3_t *cp)
+{
+    int i;
+    *cp = sys->c;
+    if (sys->noisy) {
+        for (i = 0; i < 9; i++) {
+            cp->m[i] -= sys->sigma.m[i];
+        }
+    }
+}
+
+/* Eigen-decomposition of C' into lamp and v (cp is destroyed). */
+static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat3_t *v)
+{
+    const sfit_status_t st = sfit_i_eig_sym(cp->m, lamp, v->m);
+    return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+}
+
 /* The near-planar decision, lambda_min < ratio lambda_max, made on the
  * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
  * the noise: a noisy circle looks like a sphere through C). With isotropic
- * or no noise the eigen-decomposition of C' is C's shifted (*have_p = 1).
- * A full Sigma first tries Weyl's bounds, lambda_i(C) - tr(Sigma) <=
- * lambda_i(C') <= lambda_i(C); only when they cannot decide is C'
- * decomposed (then *have_p = 1 too). */
-static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, const sfit_mat3_t *cp,
-                                     const sfit_vec3_t *lam, const sfit_mat3_t *vec,
-                                     float ratio, sfit_vec3_t *lamp, sfit_mat3_t *vecp,
-                                     int *near, int *have_p)
+ * or no noise the eigen-decomposition of C' is C's shifted (*have_p = 1:
+ * lamp and C's eigenvectors in v). A full Sigma first tries Weyl's bounds,
+ * lambda_i(C) - tr(Sigma) <= lambda_i(C') <= lambda_i(C); only when they
+ * cannot decide is C' decomposed (cp destroyed, v := its eigenvectors,
+ * *have_p = 1 too). */
+static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, sfit_mat3_t *cp,
+                                     const sfit_vec3_t *lam, float ratio, sfit_vec3_t *lamp,
+                                     sfit_mat3_t *v, int *near, int *have_p)
 {
     const sfit_mat3_t *sg = &sys->sigma;
+    sfit_status_t st;
     int i;
     if (!sys->noisy || prv_sigma_iso(sg)) {
-        *vecp = *vec;
         for (i = 0; i < 3; i++) {
             lamp->v[i] = sys->noisy ? lam->v[i] - sg->m[0] : lam->v[i];
         }
@@ -265,127 +285,151 @@ static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, const sfit_mat3
             return SFIT_OK;
         }
     }
-    {
-        const sfit_status_t st = sfit_mat3_eig_sym(cp, lamp, vecp);
-        if (st != SFIT_OK) {
-            return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
-        }
+    st = prv_eig_cprime(cp, lamp, v);
+    if (st != SFIT_OK) {
+        return st;
     }
     *have_p = 1;
     *near = lamp->v[0] < ratio * lamp->v[2];
     return SFIT_OK;
 }
 
+/* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
+ * the trust ratio from lamp (isotropic noise) or from L^-1 Sigma L^-T
+ * (v and then lamp are scratch). */
+static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
+                                sfit_vec3_t *lamp, int have_p, sfit_mat3_t *v,
+                                sfit_i_solution_t *out)
+{
+    sfit_status_t st;
+    out->trace = cp->m[0] + cp->m[4] + cp->m[8];
+    st = sfit_mat3_chol(cp, cp);
+    if (st != SFIT_OK) {
+        return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
+    }
+    (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w);
+    if (sys->noisy) {
+        if (have_p && prv_sigma_iso(&sys->sigma) && lamp->v[0] > 0.0f) {
+            /* rho(C'^-1 sigma^2 I) = sigma^2 / lambda_min(C'). */
+            out->rho = sys->sigma.m[0] / lamp->v[0];
+        } else {
+            st = prv_trust_chol(cp, &sys->sigma, v, lamp, &out->rho); /* lamp: scratch */
+            if (st != SFIT_OK) {
+                return st;
+            }
+        }
+    }
+    out->mode = SFIT_MODE_SPHERE;
+    return SFIT_OK;
+}
+
+/* Planar (eq. 217): pseudo-inverse over the two largest eigen-directions of
+ * C' (lamp, v); the trust ratio over the kept plane. */
+static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
+                                const sfit_mat3_t *v, sfit_i_solution_t *out)
+{
+    const float *sg = sys->sigma.m;
+    const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
+    float k0 = 0.0f, k1 = 0.0f;
+    int i, j;
+    if (!(lamp->v[1] > SFIT_CHOL_PIVOT_EPS * lamp->v[2])) {
+        return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
+    }
+    for (i = 0; i < 3; i++) {
+        k0 += e[3 * i + 1] * sys->rhs.v[i];
+        k1 += e[3 * i + 2] * sys->rhs.v[i];
+    }
+    k0 /= lamp->v[1];
+    k1 /= lamp->v[2];
+    for (i = 0; i < 3; i++) {
+        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
+    }
+    out->trace = lamp->v[1] + lamp->v[2];
+    if (sys->noisy) {
+        /* Trust on the kept plane: largest eigenvalue of the 2x2
+         * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
+        float b00 = 0.0f, b01 = 0.0f, b11 = 0.0f, h;
+        for (i = 0; i < 3; i++) {
+            float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
+            for (j = 0; j < 3; j++) {
+                s1 += sg[3 * i + j] * e[3 * j + 1];
+                s2 += sg[3 * i + j] * e[3 * j + 2];
+            }
+            b00 += e[3 * i + 1] * s1;
+            b11 += e[3 * i + 2] * s2;
+            b01 += e[3 * i + 1] * s2;
+        }
+        b00 /= lamp->v[1];
+        b11 /= lamp->v[2];
+        b01 /= SFIT_SQRTF(lamp->v[1] * lamp->v[2]);
+        /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
+        h = 0.5f * (b00 - b11);
+        out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
+    }
+    prv_axis(v, 0, &out->axis);
+    out->mode = SFIT_MODE_PLANAR;
+    return SFIT_OK;
+}
+
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out)
 {
-    const sfit_mat3_t *sg = &sys->sigma;
-    sfit_mat3_t cp, vec, vecp, l;
-    sfit_vec3_t lam, lamp;
-    sfit_i_solution_t r;
-    float ratio, rho = 0.0f;
-    int i, planar, near = 0, have_p = 0;
+    sfit_mat3_t cp, v;
+    sfit_vec3_t lamp;
+    const sfit_vec3_t *const lam = &out->eigenvalues;
+    float ratio;
+    int i, near = 0, have_p = 0;
     sfit_status_t st;
 
-    st = sfit_mat3_eig_sym(&sys->c, &lam, &vec);
+    memset(out, 0, sizeof *out);
+    sfit_i_sym_full(&sys->c, cp.m);
+    st = sfit_i_eig_sym(cp.m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
     }
     /* Geometry checks on the eigenvalues of C. */
-    if (!(lam.v[2] > FLT_MIN) || lam.v[2] <= sys->scale * sys->scale
-        || lam.v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
+    if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
+        || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
         return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
     }
-    if (lam.v[1] <= SFIT_COLLINEAR_RATIO * lam.v[2]) {
+    if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
         return SFIT_E_DEGENERATE; /* collinear */
     }
     ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
-    for (i = 0; i < 9; i++) {
-        cp.m[i] = sys->c.m[i] - sg->m[i];
-    }
-    st = prv_planar_test(sys, &cp, &lam, &vec, ratio, &lamp, &vecp, &near, &have_p);
+    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
+    prv_cprime(sys, &cp);
+    st = prv_planar_test(sys, &cp, lam, ratio, &lamp, &v, &near, &have_p);
     if (st != SFIT_OK) {
         return st;
     }
-
-    memset(&r, 0, sizeof r);
-    r.eigenvalues = lam;
     if (near) {
-        r.flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
+        out->flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
     }
-    planar = (mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near);
-
-    if (!planar) {
-        /* Sphere: Cholesky of C' = C - Sigma_hat, w = C'^-1 b. */
-        st = sfit_mat3_chol(&cp, &l);
-        if (st != SFIT_OK) {
-            return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
-        }
-        (void)sfit_mat3_chol_solve(&l, &sys->rhs, &r.w);
-        r.trace = cp.m[0] + cp.m[4] + cp.m[8];
-        if (sys->noisy) {
-            st = prv_trust_chol(&l, sg, &rho);
-            if (st != SFIT_OK) {
-                return st;
-            }
-        }
-        prv_axis(&vec, 0, &r.axis);
-        r.mode = SFIT_MODE_SPHERE;
-    } else {
-        /* Planar (eq. 217): pseudo-inverse over the two largest
-         * eigen-directions of C'. With no noise model, or isotropic noise,
-         * C' has C's eigenvectors and eigenvalues shifted by sigma^2. */
-        float v1[3], v2[3], k0, k1;
+    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near)) {
         if (!have_p) {
-            st = sfit_mat3_eig_sym(&cp, &lamp, &vecp);
-            if (st != SFIT_OK) {
-                return st;
-            }
+            st = prv_eig_cprime(&cp, &lamp, &v);
         }
-        if (!(lamp.v[1] > SFIT_CHOL_PIVOT_EPS * lamp.v[2])) {
-            return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
+        st = (st == SFIT_OK) ? prv_planar(sys, &lamp, &v, out) : st;
+    } else {
+        if (have_p && !(sys->noisy == 0 || prv_sigma_iso(&sys->sigma))) {
+            prv_cprime(sys, &cp); /* destroyed by the decomposition of C' */
         }
-        for (i = 0; i < 3; i++) {
-            v1[i] = vecp.m[3 * i + 1];
-            v2[i] = vecp.m[3 * i + 2];
-        }
-        k0 = sfit_i_dot3(v1, sys->rhs.v) / lamp.v[1];
-        k1 = sfit_i_dot3(v2, sys->rhs.v) / lamp.v[2];
-        for (i = 0; i < 3; i++) {
-            r.w.v[i] = k0 * v1[i] + k1 * v2[i];
-        }
-        r.trace = lamp.v[1] + lamp.v[2];
-        if (sys->noisy) {
-            /* Trust on the kept plane: largest eigenvalue of the 2x2
-             * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
-            float sv1[3], sv2[3], b00, b01, b11, h;
-            for (i = 0; i < 3; i++) {
-                sv1[i] = sfit_i_dot3(&sg->m[3 * i], v1);
-                sv2[i] = sfit_i_dot3(&sg->m[3 * i], v2);
-            }
-            b00 = sfit_i_dot3(v1, sv1) / lamp.v[1];
-            b11 = sfit_i_dot3(v2, sv2) / lamp.v[2];
-            b01 = sfit_i_dot3(v1, sv2) / SFIT_SQRTF(lamp.v[1] * lamp.v[2]);
-            /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
-            h = 0.5f * (b00 - b11);
-            rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
-        }
-        prv_axis(&vecp, 0, &r.axis);
-        r.mode = SFIT_MODE_PLANAR;
+        st = prv_sphere(sys, &cp, &lamp, have_p, &v, out);
     }
-    r.rho = rho;
-    if (rho >= 1.0f) {
-        r.flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (out->rho >= 1.0f) {
+        out->flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
     }
     for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r.w.v[i])) {
+        if (!sfit_i_isfinite(out->w.v[i])) {
             return SFIT_E_RANGE;
         }
     }
-    if (!sfit_i_isfinite(r.rho) || !sfit_i_isfinite(r.trace)) {
+    if (!sfit_i_isfinite(out->rho) || !sfit_i_isfinite(out->trace)) {
         return SFIT_E_RANGE;
     }
-    *out = r;
     return SFIT_OK;
 }
 

@@ -29,6 +29,8 @@ typedef struct sfit_i_solution {
     float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
     uint32_t flags;          /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
+    float lmin_lo;           /**< screened solve only: <= lambda_min(C') */
+    float lmax_hi;           /**< screened solve only: >= lambda_max(C) */
 } sfit_i_solution_t;
 
 /** @brief The solution's summary in a result: eigenvalues, axis, Leontief
@@ -90,9 +92,23 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. Statuses as sfit_moments_fit().
+ * trust ratio included. Statuses as sfit_moments_fit(); out is scratch
+ * (partly written) on failure.
  */
 sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
+
+/** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
+#define SFIT_I_SCREEN_TRIPPED 1
+
+/**
+ * @brief The screened sphere solve of C' = C - var I (sfit_lean.c): SFIT_OK
+ * with w, trace and an upper bound of the trust ratio (rho) when a cheap
+ * bound on lambda_min(C') proves that sfit_i_solve() would return the same
+ * sphere, status and flags; else SFIT_I_SCREEN_TRIPPED (out is scratch).
+ * Eigenvalues and axis are left zero. ratio: the planar threshold in use.
+ */
+int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
+                      float ratio, sfit_i_solution_t *out);
 
 #endif /* SFIT_SOLVE_H */

@@ -147,6 +147,36 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
     } else {
         /* any other defined status */
     }
+    if (cfg->eigen == 0) {
+        /* The screened solve against the full solver on the same moments:
+         * the same status, flags, centre and radius; a trust bound that is
+         * not below the exact ratio. */
+        sfit_fit_cfg_t ce = *cfg;
+        sfit_result_t re;
+        sfit_status_t se;
+        ce.eigen = 1;
+        se = sfit_moments_fit(m, &ce, &re);
+        FZ_CHECK(se == st, "screened and full solve: different status");
+        if (st == SFIT_OK && se == SFIT_OK) {
+            FZ_CHECK(re.exact == 1, "full solve: exact not set");
+            if (r.flags != re.flags || r.mode != re.mode) {
+                (void)fprintf(stderr, "screened: flags 0x%x mode %d exact %d rho %g; full: flags 0x%x mode %d "
+                              "rho %g eig %g %g %g; cfg mode %d noise %d var %g ratio %g\n",
+                              (unsigned)r.flags, (int)r.mode, r.exact, (double)r.leontief_ratio,
+                              (unsigned)re.flags, (int)re.mode, (double)re.leontief_ratio,
+                              (double)re.eigenvalues.v[0], (double)re.eigenvalues.v[1],
+                              (double)re.eigenvalues.v[2], (int)cfg->mode, (int)cfg->noise,
+                              (double)cfg->noise_var, (double)cfg->planar_ratio);
+            }
+            FZ_CHECK(r.flags == re.flags && r.mode == re.mode && r.method == re.method,
+                     "screened and full solve: different flags");
+            FZ_CHECK(memcmp(r.center.v, re.center.v, sizeof r.center.v) == 0
+                         && r.radius == re.radius,
+                     "screened and full solve: different sphere");
+            FZ_CHECK(r.exact == 1 || r.leontief_ratio >= re.leontief_ratio,
+                     "screened solve: trust bound below the exact ratio");
+        }
+    }
 }
 
 /* Add one sample to accumulator a; check all-or-nothing. */

@@ -56,7 +56,9 @@ void tt_fit(void)
     tt_cap(12u, r, 0.25 * TU_PI, 0.5, TT_N, tt_f, tt_d);
     (void)sfit_moments_init(&m);
     (void)sfit_moments_add_block(&m, tt_f, TT_N, NULL);
-    if (TT_EQ_INT(sfit_moments_fit(&m, NULL, &res), SFIT_OK)
+    cfg = sfit_fit_cfg_default;
+    cfg.eigen = 1; /* eigenvalues checked below */
+    if (TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res), SFIT_OK)
         && TT_EQ_INT(ref_fit_sphere(REF_C3(tt_d), TT_N, NULL, &rf), 0)) {
         tt_cmp(&res, &rf, tt_tol_centre(TT_N, r, tt_kappa(REF_C3(tt_d), TT_N)));
         for (k = 0; k < 3; k++) {
@@ -65,8 +67,28 @@ void tt_fit(void)
     }
 
     tt_case("fit.batch_equals_solve");
-    if (TT_EQ_INT(sfit_points_fit(tt_f, TT_N, NULL, &res2), SFIT_OK)) {
+    if (TT_EQ_INT(sfit_points_fit(tt_f, TT_N, &cfg, &res2), SFIT_OK)) {
         TT_TRUE(memcmp(&res, &res2, sizeof res) == 0);
+    }
+
+    tt_case("fit.screened_equals_full");
+    /* The default (screened) solve on the same cap: the sphere of the full
+     * solver bit for bit, the same flags, a trust bound >= the exact ratio. */
+    for (k = 0; k < 2; k++) {
+        sfit_fit_cfg_t cs = sfit_fit_cfg_default;
+        cs.noise = (k == 0) ? SFIT_NOISE_NONE : SFIT_NOISE_ISO;
+        cs.noise_var = (k == 0) ? 0.0f : 0.25f;
+        cfg = cs;
+        cfg.eigen = 1;
+        if (TT_EQ_INT(sfit_moments_fit(&m, &cs, &res), SFIT_OK)
+            && TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res2), SFIT_OK)) {
+            TT_EQ_INT(res.exact, 0);
+            TT_EQ_INT(res2.exact, 1);
+            TT_TRUE(memcmp(res.center.v, res2.center.v, sizeof res.center.v) == 0);
+            TT_TRUE(res.radius == res2.radius);
+            TT_EQ_INT((int)res.flags, (int)res2.flags);
+            TT_TRUE(res.leontief_ratio >= res2.leontief_ratio);
+        }
     }
 
     tt_case("fit.ugdk_cap_vs_ref");

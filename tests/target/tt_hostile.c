@@ -108,7 +108,7 @@ static void tt_stats_psd_spread(void)
         }
     }
     TT_EQ_INT(sfit_moments_add_block(&m, p, 7u, NULL), SFIT_OK);
-    m.bm2[0] = NAN;
+    m.blk.m2[0] = NAN;
     TT_EQ_INT(sfit_moments_stats(&m, &mean, &c, &s), SFIT_E_RANGE);
 
     tt_case("noise covariance: indefinite E_ARG, singular PSD OK");

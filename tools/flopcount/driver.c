@@ -112,6 +112,8 @@ static sfit_vec3_t fc_w;
 static sfit_result_t fc_res;
 static sfit_fit_cfg_t fc_cfg_ugdk;
 static sfit_fit_cfg_t fc_cfg_planar;
+static sfit_fit_cfg_t fc_cfg_gdke_eig; /* cfg.eigen = 1: the full solver */
+static sfit_fit_cfg_t fc_cfg_ugdk_eig;
 static sfit_status_t fc_st;
 static sfit_selfcal_result_t fc_sc;      /* self-calibrated fit of fc_pts */
 static sfit_uncert_t fc_unc;
@@ -245,6 +247,10 @@ static void fc_setup(void)
     fc_cfg_ugdk.noise_var = fc_sigma * fc_sigma;
     fc_cfg_planar = sfit_fit_cfg_default;
     fc_cfg_planar.mode = SFIT_MODE_PLANAR;
+    fc_cfg_gdke_eig = sfit_fit_cfg_default;
+    fc_cfg_gdke_eig.eigen = 1;
+    fc_cfg_ugdk_eig = fc_cfg_ugdk;
+    fc_cfg_ugdk_eig.eigen = 1;
 #if FC_HAVE_MULTI
     {
         unsigned p;
@@ -398,14 +404,27 @@ static void fc_uncert_selfcal_half(void)
                                        fc_sc.noise_var, &fc_unc));
 }
 
+/* The default solve must take the screened path on the cap. */
 static void fc_solve_gdke(void)
 {
     fc_keep(sfit_moments_fit(&fc_mom_cap, NULL, &fc_res));
+    fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
 }
 
 static void fc_solve_ugdk(void)
 {
     fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
+    fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
+}
+
+static void fc_solve_gdke_eigen(void)
+{
+    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_gdke_eig, &fc_res));
+}
+
+static void fc_solve_ugdk_eigen(void)
+{
+    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_ugdk_eig, &fc_res));
 }
 
 static void fc_solve_planar(void)
@@ -617,6 +636,8 @@ static const fc_op_t fc_ops[] = {
     {"batch_total", "sfit_points_fit", NULL, fc_batch_n, NULL, NULL, 1u},
     {"solve_gdke", "sfit_moments_fit", NULL, fc_solve_gdke, NULL, NULL, 1u},
     {"solve_ugdk", "sfit_moments_fit", NULL, fc_solve_ugdk, NULL, NULL, 1u},
+    {"solve_gdke_eigen", "sfit_moments_fit", NULL, fc_solve_gdke_eigen, NULL, NULL, 1u},
+    {"solve_ugdk_eigen", "sfit_moments_fit", NULL, fc_solve_ugdk_eigen, NULL, NULL, 1u},
     {"chol_factor", "sfit_mat3_chol", NULL, fc_chol, NULL, NULL, 1u},
     {"chol_solve", "sfit_mat3_chol", NULL, fc_chol_and_subst, NULL, NULL, 1u},
     {"jacobi_eig", "sfit_mat3_eig_sym", NULL, fc_eig, NULL, NULL, 1u},

@@ -62,6 +62,36 @@ END {
 }' "$tmp/size.txt" | sort >"$tmp/code.txt"
 grep -v '^staticdata' "$tmp/code.txt"
 
+# ---- minimal application -----------------------------------------------------
+# minimal_app.c (moments + the default fit) linked with --gc-sections against
+# the -Os and -O2 objects: the .text/.rodata input sections taken from the
+# library (link map). Reported as the pseudo-module minimal_app (budget lines
+# code_os/code_o2 minimal_app); not part of code_total.
+srcroot=$(cd "$here/../.." && pwd)
+for opt in Os O2; do
+    if "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
+        -I"$srcroot/lib/include" -I"$srcroot/port" -I"$srcroot/port/cortex-m4f" \
+        -c "$here/minimal_app.c" -o "$tmp/minapp_$opt.o" &&
+        "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
+            -Wl,-Map="$tmp/minapp_$opt.map" "$tmp/minapp_$opt.o" "$m4f/libsfit_fp_$opt.a" \
+            -o "$tmp/minapp_$opt.elf" >/dev/null 2>&1; then
+        awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/minapp_$opt.map" | awk '
+        function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
+            for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
+            return v }
+        /^ \.(text|rodata)/ { if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
+            if (f ~ /libsfit_fp_/) tot += hex(sz) }
+        END { print tot + 0 }'
+    else
+        echo -1
+    fi
+done | tr '\n' ' ' | awk '{ printf "code minimal_app %d %d\n", $1, $2 }' >"$tmp/minapp.txt"
+cat "$tmp/minapp.txt"
+if grep -q -- '-1' "$tmp/minapp.txt"; then
+    echo "check minimal_app FAIL the minimal application did not link"
+    fail=1
+fi
+
 # ---- struct sizes -------------------------------------------------------------
 "$nm" -S "$m4f/libsfit_fp_sizes_a.a" | awk '$4 ~ /^fc_sizeof_/ { n = $4; sub(/^fc_sizeof_/, "", n); print n, $2 }' |
     while read -r n hx; do printf 'struct %s %d\n' "$n" "$((0x$hx))"; done
@@ -250,7 +280,8 @@ if [ -f "$budget" ]; then
         if (lim < 0) next
         if ($3 > lim || $4 > lim) { printf "check budget FAIL stack %s %d/%d B > %d B\n", $2, $3, $4, lim; bad = 1 }
     }
-    END { if (!bad) print "check budget ok within " ARGV[1]; exit bad }' "$budget" "$tmp/code.txt" "$tmp/stack_rec.txt" || fail=1
+    END { if (!bad) print "check budget ok within " ARGV[1]; exit bad }' "$budget" "$tmp/code.txt" \
+        "$tmp/minapp.txt" "$tmp/stack_rec.txt" || fail=1
 else
     echo "check budget ok no budget file ($budget)"
 fi

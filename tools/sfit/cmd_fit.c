@@ -70,6 +70,7 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->nfiles = 0;
     o->json = 0;
     o->cfg = sfit_fit_cfg_default;
+    o->cfg.eigen = 1; /* the tool reports eigenvalues and the exact trust ratio */
     o->weight = SFIT_MULTI_WEIGHT_EQUAL;
     o->auto_noise = 0;
     o->refine = 0;

@@ -22,7 +22,9 @@
 /**
  * @brief Upper bound on cyclic Jacobi sweeps (each sweep = 3 rotations).
  * A symmetric 3x3 matrix converges to float precision in 4-6 sweeps; the
- * bound makes the loop's worst case a compile-time constant. Range 1..64.
+ * bound makes the loop's worst case a compile-time constant. Below 8 the
+ * screened solve of sfit_moments_fit() is off (every fit runs the full
+ * solver, which may then stop with SFIT_E_NO_CONVERGENCE). Range 1..64.
  */
 #ifndef SFIT_JACOBI_MAX_SWEEPS
 #define SFIT_JACOBI_MAX_SWEEPS 12

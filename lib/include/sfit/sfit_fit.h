@@ -48,9 +48,14 @@ typedef struct sfit_fit_cfg {
                                       The ratio is taken on C' = C - Sigma_hat when a
                                       noise model is given (the noise-corrected
                                       covariance UGDK solves), on C otherwise. */
+    int eigen;                   /**< 0 (default): the screened solve, which skips the
+                                      eigen-decomposition when a cheap bound proves the
+                                      sphere well conditioned, not near-planar and
+                                      trusted (result: exact = 0). 1: always the full
+                                      solver (eigenvalues, axis, exact trust ratio). */
 } sfit_fit_cfg_t;
 
-/** @brief Defaults: auto mode, no noise compensation (GDKE). */
+/** @brief Defaults: auto mode, no noise compensation (GDKE), screened solve. */
 extern const sfit_fit_cfg_t sfit_fit_cfg_default;
 
 /** @brief Which estimator produced a result. */
@@ -64,12 +69,13 @@ typedef struct sfit_result {
     sfit_vec3_t center;      /**< Sphere centre, or circle centre in planar mode. */
     float radius;            /**< Sphere or circle radius. */
     uint32_t n;              /**< Samples used. */
-    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending. */
-    sfit_vec3_t axis;        /**< Unit eigenvector of the dropped (planar) or smallest
+    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending (zero when exact is 0). */
+    sfit_vec3_t axis;        /**< (Zero when exact is 0.) Unit eigenvector of the dropped (planar) or smallest
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
     float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
-                                  (0 for GDKE). It is also the factor by which
+                                  (0 for GDKE); when exact is 0, an upper bound of it
+                                  (below 1/2: the screen passed only for a trusted fit). It is also the factor by which
                                   GDKE shrinks the centre offset along the weakest
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
     float leontief_ratio;    /**< rho(C'^-1 Sigma_hat) = trust/(1 - trust): the estimate of
@@ -80,6 +86,10 @@ typedef struct sfit_result {
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
     sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */
+    int exact;               /**< 1: the full solver ran (eigenvalues, axis, exact trust
+                                  ratios); 0: the screened solve (same centre, radius,
+                                  status and flags; eigenvalues and axis zero, trust
+                                  ratios are upper bounds). */
 } sfit_result_t;
 
 /**
@@ -89,7 +99,7 @@ typedef struct sfit_result {
  * @param[in]  cfg  Options; NULL = ::sfit_fit_cfg_default.
  * @param[out] out  Result; written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind,
+ * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind, eigen not 0/1,
  *                            negative/non-finite variance, a covariance that is not
  *                            finite or fails the semi-definiteness checks)
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
@@ -101,6 +111,9 @@ typedef struct sfit_result {
  *                            (on the kept directions in planar mode)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost  111 FLOPs (GDKE), 113 (UGDK, sigma^2 I) when the screen passes
+ *            (cfg.eigen = 0); 334 / 347 with the full solver (tools/flopcount:
+ *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
  *             double-precision fit of the same samples for |c|/r <= 1e3, a
  *             spread >= SFIT_MIN_SPREAD and coordinates below 2^27

@@ -33,13 +33,12 @@ typedef struct sfit_cmom {
  * Initialise with sfit_moments_init() before use.
  */
 typedef struct sfit_moments {
-    float origin[3];    /**< First sample ever added: the frame of `tot`. */
+    float origin[3];    /**< Frame of `tot` and reference point of the open block:
+                             the first sample, then the rounded mean at each
+                             block start (tot.d keeps the rounding residue). */
     sfit_cmom_t tot;    /**< Merged full blocks, mean relative to origin. */
-    float bref[3];      /**< Reference point of the open block (absolute). */
-    uint32_t bn;        /**< Samples in the open block. */
-    float bs[3];        /**< Open block: sum z, z = x - bref. */
-    float bm2[6];       /**< Open block: sum z z^T (packed). */
-    float bm3[3];       /**< Open block: sum |z|^2 z. */
+    sfit_cmom_t blk;    /**< Open block, raw sums of z = x - origin: n, d = sum z,
+                             m2 = sum z z^T (packed), m3 = sum |z|^2 z. */
 } sfit_moments_t;
 
 /**

@@ -29,7 +29,9 @@ typedef enum sfit_multi_weight {
 
 /** @brief Options of a multi-marker fit. Start from ::sfit_multi_cfg_default. */
 typedef struct sfit_multi_cfg {
-    sfit_fit_cfg_t fit;          /**< Mode, noise model (Sigma_hat per sample), planar ratio. */
+    sfit_fit_cfg_t fit;          /**< Mode, noise model (Sigma_hat per sample), planar ratio;
+                                      fit.eigen must be 0 or 1 but has no effect (the
+                                      multi-marker solve always runs the full solver). */
     sfit_multi_weight_t weight;  /**< Weighting of the markers. */
 } sfit_multi_cfg_t;
 

@@ -566,6 +566,7 @@ static int cfg_get(PyObject *noise_var, PyObject *noise_cov, PyObject *mode, dou
                    sfit_fit_cfg_t *cfg)
 {
     *cfg = sfit_fit_cfg_default;
+    cfg->eigen = 1; /* fit() reports eigenvalues, axis and the exact trust ratio */
     if (mode != NULL && mode_get(mode, &cfg->mode) < 0) {
         return -1;
     }

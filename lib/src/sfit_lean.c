@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_lean.c
+ * @brief The screened sphere solve: Cholesky of C' = C - sigma^2 I and a
+ * lower bound of lambda_min(C') instead of the Jacobi eigen-decomposition,
+ * used when the bound proves the answer of the full solver.
+ *
+ * Implementation notes (derivation: docs/api.md#lean)
+ * ---------------------------------------------------
+ * For a symmetric positive definite 3x3 A with eigenvalues l1 <= l2 <= l3,
+ * det A = l1 l2 l3 and e2 = l1 l2 + l1 l3 + l2 l3 (the sum of the 2x2
+ * principal minors) >= l2 l3, so l1 >= det A / e2 (within a factor 3, tight
+ * when l1 << l2). det C' = (l00 l11 l22)^2 comes from the Cholesky factor
+ * that the solve needs anyway. With a relative margin of 2^-6 and an
+ * absolute one of 2^-12 tr(C) (each far above the rounding of the bound and
+ * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
+ * when the full solver would find: not coincident, not collinear, not
+ * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
+ * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted (the caller also
+ * checks the rounding flag of sfit_fit.c with lmin_lo / lmax_hi); it then
+ * returns the same centre and radius (the same Cholesky solve) and the same
+ * status and flags. Every doubt
+ * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
+ */
+#include "sfit_solve.h"
+
+#include <float.h>
+#include <string.h>
+
+/* Relative and absolute safety margins of the screen. */
+#define PRV_REL 0.015625f     /* 2^-6 */
+#define PRV_ABS 2.44140625e-4f /* 2^-12, times tr(C) */
+/* lambda_min(C') >= PRV_COND tr(C): bounds cond(C') so that the rounding
+ * of the full solver's trust ratio stays far below PRV_REL. */
+#define PRV_COND 9.765625e-4f /* 2^-10 */
+/* The screen promises that the full solver converges. A symmetric 3x3
+ * needs 4-6 Jacobi sweeps (SFIT_JACOBI_MAX_SWEEPS); with a bound below 8
+ * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off. */
+#define PRV_SWEEPS_OK (SFIT_JACOBI_MAX_SWEEPS >= 8)
+
+int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
+                      float ratio, sfit_i_solution_t *out)
+{
+    sfit_mat3_t l;
+    sfit_i_solution_t *const r = out; /* scratch until the screen passes */
+    const float *a = l.m;
+    float tr, s, e2, det, lo;
+    int i;
+
+    tr = c->m[0] + c->m[4] + c->m[8];
+    if (!PRV_SWEEPS_OK || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    /* C' = C - var I (lower triangle is what the Cholesky reads). */
+    l = *c;
+    l.m[0] -= var;
+    l.m[4] -= var;
+    l.m[8] -= var;
+    /* Everything relative to tr(C) (no overflow of the products; an
+     * underflow only weakens the bound): e2 / tr^2 and det C' / tr^3. */
+    s = 1.0f / tr;
+    {
+        const float b0 = a[0] * s, b4 = a[4] * s, b8 = a[8] * s;
+        const float b3 = a[3] * s, b6 = a[6] * s, b7 = a[7] * s;
+        e2 = (b0 * b4 - b3 * b3) + (b0 * b8 - b6 * b6) + (b4 * b8 - b7 * b7);
+    }
+    memset(r, 0, sizeof *r);
+    r->trace = a[0] + a[4] + a[8];
+    if (!(e2 > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    det = ((a[0] * a[0]) * s) * ((a[4] * a[4]) * s) * ((a[8] * a[8]) * s); /* det C' / tr^3 */
+    lo = (det / e2) * (1.0f - PRV_REL) - PRV_ABS; /* <= lambda_min(C') / tr */
+    if (ratio < SFIT_COLLINEAR_RATIO) {
+        ratio = SFIT_COLLINEAR_RATIO;
+    }
+    if (ratio < PRV_COND) {
+        ratio = PRV_COND;
+    }
+    /* lambda_max(C) <= tr: lo >= ratio (1 + margin) proves lambda_min >= ratio lambda_max. */
+    if (!(lo >= ratio * (1.0f + PRV_REL))) {
+        return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
+    }
+    lo *= tr; /* <= lambda_min(C') */
+    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)
+        || !(0.3f * tr > SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)) {
+        return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */
+    }
+    if (var > 0.0f) {
+        /* rho(C'^-1 sigma^2 I) = var / lambda_min(C') <= var / lo. */
+        if (!(var <= (1.0f - PRV_REL) * lo)) {
+            return SFIT_I_SCREEN_TRIPPED;
+        }
+        r->rho = var / lo;
+    }
+    (void)sfit_mat3_chol_solve(&l, rhs, &r->w);
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(r->w.v[i])) {
+            return SFIT_I_SCREEN_TRIPPED;
+        }
+    }
+    if (!sfit_i_isfinite(r->trace)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
+    r->mode = SFIT_MODE_SPHERE;
+    r->lmin_lo = lo;
+    r->lmax_hi = (1.0f + PRV_REL) * tr;
+    return SFIT_OK;
+}
