@@ -80,10 +80,12 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
         /* The bounds must also prove that the rounding flag stays clear and
-         * that the trust ratio is below the coverage limit (the bound of rho
-         * is an upper bound: the full solver decides when it is above). */
+         * that the fit is inside the coverage limit (sfit_i_cov_limit: the
+         * bound of rho is an upper bound, the full solver decides above it;
+         * so a screened result is never UNTRUSTED). */
         if (st == SFIT_OK && (prv_rounding_test(n, sol.lmax_hi, sol.lmin_lo)
-                              || sol.rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST))) {
+                              || sol.rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)
+                              || n < SFIT_COV_MIN_SAMPLES)) {
             st = SFIT_I_SCREEN_TRIPPED;
         }
     }
