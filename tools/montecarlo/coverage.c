@@ -27,10 +27,10 @@
 #include "sfit/sfit.h"
 #include "sfit_ref.h"
 #include "test_util.h"
+#include "cov_tally.h"
 
 #define NMAX 10000
 #define K_R 100.0
-#define CHI2_3_95 7.8147279
 
 static sfit_vec3_t g_pf[NMAX];
 static const double k_c[3] = {1000.0, -2000.0, 1500.0};
@@ -39,67 +39,13 @@ static const double k_axis[3] = {0.3, -0.5, 0.8};
 enum { EST_UGDK, EST_SELFCAL, EST_REFINED, EST_COUNT };
 static const char *const k_est_name[EST_COUNT] = {"ugdk", "selfcal", "refined"};
 
-typedef struct est_acc {
-    long ok, flagged, failed, covered;
-    double trust; /* sum of the reported trust ratio over OK results */
-    /* unflagged: centre errors and reported traces (cov / MC) */
-    double s[3], ss[3], rep;
-} est_acc_t;
-
-static void est_add(est_acc_t *a, sfit_status_t st, uint32_t flags, float trust,
-                    const sfit_vec3_t *c, const float cov[6])
-{
-    double e[3], d2;
-    int k;
-    if (st != SFIT_OK) {
-        a->failed++;
-        return;
-    }
-    a->ok++;
-    a->trust += (double)trust;
-    if ((flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-        a->flagged++;
-        return;
-    }
-    for (k = 0; k < 3; k++) {
-        e[k] = (double)c->v[k] - k_c[k];
-        a->s[k] += e[k];
-        a->ss[k] += e[k] * e[k];
-    }
-    a->rep += (double)cov[0] + (double)cov[1] + (double)cov[2];
-    d2 = tu_mahal_packed(cov, e);
-    if (d2 >= 0.0 && d2 <= CHI2_3_95) {
-        a->covered++;
-    }
-}
-
-static long est_unflagged(const est_acc_t *a)
-{
-    return a->ok - a->flagged;
-}
-
-/* reported / Monte Carlo covariance trace of the unflagged results */
-static double est_cov_ratio(const est_acc_t *a)
-{
-    const long t = est_unflagged(a);
-    double tr = 0.0;
-    int k;
-    if (t < 2) {
-        return 0.0;
-    }
-    for (k = 0; k < 3; k++) {
-        tr += (a->ss[k] - a->s[k] * a->s[k] / (double)t) / (double)(t - 1);
-    }
-    return (a->rep / (double)t) / tr;
-}
-
 typedef struct scen {
     double theta_deg, sr; /* cap half-angle, sigma / r */
     int n, trials;
 } scen_t;
 
 /* One scenario: trials with fixed seed, one accumulator per estimator. */
-static double run_scen(const scen_t *sc, uint64_t seed, est_acc_t acc[EST_COUNT])
+static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUNT])
 {
     const double theta = sc->theta_deg * TU_PI / 180.0, sig = sc->sr * K_R;
     double lmin, lmax;
@@ -137,17 +83,17 @@ static double run_scen(const scen_t *sc, uint64_t seed, est_acc_t acc[EST_COUNT]
             st = sfit_moments_uncert(&m, &r.center, r.radius, fc.noise_var,
                                      SFIT_UNCERT_NOISE_KNOWN, &u);
         }
-        est_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov);
+        cov_tally_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov, k_c);
         st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
         if (st == SFIT_OK && (s.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
             st = sfit_points_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
                                             s.noise_var, &u);
         }
-        est_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
-                u.center_cov);
+        cov_tally_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
+                      u.center_cov, k_c);
         st = sfit_points_fit_refined(g_pf, (size_t)sc->n, NULL, &rf);
-        est_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
-                &rf.geometric.center, rf.uncert.center_cov);
+        cov_tally_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
+                      &rf.geometric.center, rf.uncert.center_cov, k_c);
     }
     return sig * sig / (lmin + sig * sig); /* true trust ratio: sigma^2 / lambda_min(C) */
 }
@@ -172,7 +118,7 @@ int main(int argc, char **argv)
     if (argc > 6 && strcmp(argv[2], "one") == 0) {
         /* one scenario: OUTDIR one CAP SIGMA/R N TRIALS [SEED] */
         scen_t sc;
-        est_acc_t acc[EST_COUNT];
+        cov_tally_t acc[EST_COUNT];
         double tt;
         sc.theta_deg = atof(argv[3]);
         sc.sr = atof(argv[4]);
@@ -184,12 +130,12 @@ int main(int argc, char **argv)
         }
         tt = run_scen(&sc, (argc > 7) ? (uint64_t)atol(argv[7]) : 1u, acc);
         for (e = 0; e < EST_COUNT; e++) {
-            const long u = est_unflagged(&acc[e]);
+            const long u = cov_tally_unflagged(&acc[e]);
             printf("cap %.0f sigma/r %.3f N %d trust %.3f %-8s unflagged %ld coverage %.4f "
                    "flagged %ld failed %ld cov/MC %.3f\n",
                    sc.theta_deg, sc.sr, sc.n, tt, k_est_name[e], u,
                    (u > 0) ? (double)acc[e].covered / (double)u : -1.0, acc[e].flagged,
-                   acc[e].failed, est_cov_ratio(&acc[e]));
+                   acc[e].failed, cov_tally_ratio(&acc[e]));
         }
         return 0;
     }
@@ -220,7 +166,7 @@ int main(int argc, char **argv)
         for (si = 0; si < NSRS; si++) {
             for (ni = 0; ni < NNS; ni++) {
                 scen_t sc;
-                est_acc_t acc[EST_COUNT];
+                cov_tally_t acc[EST_COUNT];
                 double tt;
                 long fails = 0;
                 sc.theta_deg = k_caps[ci];
@@ -230,7 +176,7 @@ int main(int argc, char **argv)
                 tt = run_scen(&sc, 1000u + (uint64_t)idx++, acc);
                 fprintf(f, "| %.0f | %.3f | %d | %.3g |", sc.theta_deg, sc.sr, sc.n, tt);
                 for (e = 0; e < EST_COUNT; e++) {
-                    const long u = est_unflagged(&acc[e]);
+                    const long u = cov_tally_unflagged(&acc[e]);
                     const double cv = (u > 0) ? (double)acc[e].covered / (double)u : -1.0;
                     const double fl =
                         (acc[e].ok > 0) ? (double)acc[e].flagged / (double)acc[e].ok : 0.0;
@@ -238,7 +184,7 @@ int main(int argc, char **argv)
                             sc.theta_deg, sc.sr, sc.n, sc.trials, tt, k_est_name[e],
                             (acc[e].ok > 0) ? acc[e].trust / (double)acc[e].ok : 0.0,
                             acc[e].ok, acc[e].flagged, acc[e].failed, u, cv,
-                            est_cov_ratio(&acc[e]));
+                            cov_tally_ratio(&acc[e]));
                     if (u >= assess) {
                         fprintf(f, " %.3f |", cv);
                         rows++;
@@ -249,7 +195,7 @@ int main(int argc, char **argv)
                                     sc.theta_deg, sc.sr, sc.n, k_est_name[e], cv, u);
                         }
                         if (e == EST_SELFCAL) {
-                            const double q = est_cov_ratio(&acc[e]);
+                            const double q = cov_tally_ratio(&acc[e]);
                             qmin = (q < qmin) ? q : qmin;
                             qmax = (q > qmax) ? q : qmax;
                         }
@@ -264,7 +210,7 @@ int main(int argc, char **argv)
                     fprintf(f, " %.3f |", fl);
                     if (e == EST_SELFCAL) {
                         if (u >= assess) {
-                            fprintf(f, " %.3f |", est_cov_ratio(&acc[e]));
+                            fprintf(f, " %.3f |", cov_tally_ratio(&acc[e]));
                         } else {
                             fprintf(f, " - |");
                         }

@@ -23,11 +23,11 @@
 #include "sfit/sfit.h"
 #include "sfit_ref_joint.h"
 #include "test_util.h"
+#include "cov_tally.h"
 
 #define P 4
 #define K 5
 #define FMAX 1000
-#define CHI2_3_95 7.8147279
 
 static const double k_tpl[P][3] = {
     {70.0, 40.0, 10.0}, {-75.0, 35.0, 5.0}, {-60.0, -50.0, 30.0}, {65.0, -25.0, -45.0}};
@@ -123,60 +123,23 @@ static const jscen_t k_jscen[] = {
     {0.5, 30.0, 400}, {2.0, 30.0, 400}, {5.0, 60.0, 400}, {5.0, 30.0, 1000},
 };
 
-/* One scenario's tally: OK results, flagged, failed, covered, the centre
- * errors and reported traces of the unflagged ones. */
-typedef struct cacc {
-    long ok, flagged, fails, covered;
-    double s[3], ss[3], rep, trust;
-} cacc_t;
-
-/* One trial: its status, verdict, centre, reported covariance and truth. */
-static void cacc_add(cacc_t *a, sfit_status_t st, uint32_t flags, float trust,
+/* One trial with its covariance as a 3x3 matrix. */
+static void cacc_add(cov_tally_t *a, sfit_status_t st, uint32_t flags, float trust,
                      const sfit_vec3_t *c, const sfit_mat3_t *cov, const double truth[3])
 {
-    float p6[6];
-    double e[3], d2;
-    int k;
-    if (st != SFIT_OK) {
-        a->fails++;
-        return;
-    }
-    a->ok++;
-    a->trust += (double)trust;
-    if ((flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-        a->flagged++;
-        return;
-    }
-    p6[0] = cov->m[0];
-    p6[1] = cov->m[4];
-    p6[2] = cov->m[8];
-    p6[3] = cov->m[1];
-    p6[4] = cov->m[2];
-    p6[5] = cov->m[5];
-    for (k = 0; k < 3; k++) {
-        e[k] = (double)c->v[k] - truth[k];
-        a->s[k] += e[k];
-        a->ss[k] += e[k] * e[k];
-    }
-    a->rep += (double)p6[0] + (double)p6[1] + (double)p6[2];
-    d2 = tu_mahal_packed(p6, e);
-    a->covered += (d2 >= 0.0 && d2 <= CHI2_3_95);
+    const float p6[6] = {cov->m[0], cov->m[4], cov->m[8], cov->m[1], cov->m[2], cov->m[5]};
+    cov_tally_add(a, st, flags, trust, c, p6, truth);
 }
 
 /* The row's last columns: mean trust | trials | unflagged | coverage |
  * flagged | fails | reported / MC trace. */
-static void cacc_print(FILE *f, const cacc_t *a, int trials)
+static void cacc_print(FILE *f, const cov_tally_t *a, int trials)
 {
-    const long u = a->ok - a->flagged;
-    double tr = 0.0;
-    int k;
-    for (k = 0; k < 3 && u > 1; k++) {
-        tr += (a->ss[k] - a->s[k] * a->s[k] / (double)u) / (double)(u - 1);
-    }
+    const long u = cov_tally_unflagged(a);
     fprintf(f, " %.3f | %d | %ld | %.3f | %ld | %ld | %.3f |\n",
             (a->ok > 0) ? a->trust / (double)a->ok : 0.0, trials, u,
-            (u > 0) ? (double)a->covered / (double)u : -1.0, a->flagged, a->fails,
-            (u > 1) ? (a->rep / (double)u) / tr : 0.0);
+            (u > 0) ? (double)a->covered / (double)u : -1.0, a->flagged, a->failed,
+            cov_tally_ratio(a));
     fflush(f);
 }
 
@@ -210,7 +173,7 @@ static void run_multi(FILE *f, int quick)
         const double sig = sc->sr * 100.0, th = sc->cap * TU_PI / 180.0;
         const int trials = quick ? 100 : 1000;
         sfit_multi_cfg_t cfg = sfit_multi_cfg_default;
-        cacc_t acc;
+        cov_tally_t acc;
         tu_rng_t g;
         int t, p, i, k;
         memset(&acc, 0, sizeof acc);
@@ -287,7 +250,7 @@ int main(int argc, char **argv)
         const jscen_t *sc = &k_jscen[si];
         const int trials = quick ? 100 : 1000;
         sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
-        cacc_t acc;
+        cov_tally_t acc;
         tu_rng_t g;
         int t;
         memset(&acc, 0, sizeof acc);
