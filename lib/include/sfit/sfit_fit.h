@@ -50,8 +50,10 @@ typedef struct sfit_fit_cfg {
                                       covariance UGDK solves), on C otherwise. */
     int eigen;                   /**< 0 (default): the screened solve, which skips the
                                       eigen-decomposition when a cheap bound proves the
-                                      sphere well conditioned, not near-planar and
-                                      trusted (result: exact = 0). 1: always the full
+                                      sphere well conditioned, not near-planar,
+                                      trusted and inside the coverage limit
+                                      (SFIT_COV_MAX_TRUST, SFIT_COV_MIN_SAMPLES)
+                                      (result: exact = 0). 1: always the full
                                       solver (eigenvalues, axis, exact trust ratio). */
 } sfit_fit_cfg_t;
 
