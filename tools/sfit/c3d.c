@@ -291,6 +291,9 @@ static int read_labels(const c3d_in_t *in, const c3d_point_group_t *g, c3d_t *c)
         }
         len = (l->ndims >= 1) ? l->dims[0] : 0u;
         cnt = (l->ndims >= 2) ? l->dims[1] : (len > 0u ? 1u : 0u);
+        if (len > 0u && cnt > l->count / len) {
+            cnt = l->count / len; /* a zero third dimension: fewer bytes stored */
+        }
         for (i = 0; i < cnt && next < c->npoints; i++) {
             copy_label(in->b + l->data + i * len, len, c->labels[next++]);
         }
