@@ -61,6 +61,12 @@ static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], fl
 /* Centred moments of a block of raw sums about `origin` (b may alias raw):
  * d = mean - origin, M2 = sum z z^T - (sum z) d^T, and M3 = sum |z|^2 z
  * minus the shift of the centred set by d (prv_m3_shift). */
+/* max(v, 0); a NaN stays NaN (stats then says E_RANGE). */
+SFIT_INLINE float prv_nonneg(float v)
+{
+    return (v < 0.0f) ? 0.0f : v;
+}
+
 static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
 {
     const float inv = 1.0f / (float)raw->n;
@@ -70,9 +76,11 @@ static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
     for (i = 0; i < 3; i++) {
         d[i] = raw->d[i] * inv;
     }
-    b->m2[0] = raw->m2[0] - raw->d[0] * d[0];
-    b->m2[1] = raw->m2[1] - raw->d[1] * d[1];
-    b->m2[2] = raw->m2[2] - raw->d[2] * d[2];
+    /* A sum of squares about the mean is >= 0; the subtraction of two
+     * nearly equal raw sums can round below (found by fuzz_stream). */
+    b->m2[0] = prv_nonneg(raw->m2[0] - raw->d[0] * d[0]);
+    b->m2[1] = prv_nonneg(raw->m2[1] - raw->d[1] * d[1]);
+    b->m2[2] = prv_nonneg(raw->m2[2] - raw->d[2] * d[2]);
     b->m2[3] = raw->m2[3] - raw->d[0] * d[1];
     b->m2[4] = raw->m2[4] - raw->d[0] * d[2];
     b->m2[5] = raw->m2[5] - raw->d[1] * d[2];

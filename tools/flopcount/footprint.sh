@@ -66,7 +66,8 @@ grep -v '^staticdata' "$tmp/code.txt"
 # minimal_app.c (moments + the default fit) linked with --gc-sections against
 # the -Os and -O2 objects: the .text/.rodata input sections taken from the
 # library (link map). Reported as the pseudo-module minimal_app (budget lines
-# code_os/code_o2 minimal_app); not part of code_total.
+# code_os/code_o2 minimal_app); not part of code_total. -lm: a core without
+# an FPU takes sqrtf from libm (not counted: only libsfit's sections are).
 srcroot=$(cd "$here/../.." && pwd)
 for opt in Os O2; do
     if "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
@@ -74,7 +75,7 @@ for opt in Os O2; do
         -c "$here/minimal_app.c" -o "$tmp/minapp_$opt.o" &&
         "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
             -Wl,-Map="$tmp/minapp_$opt.map" "$tmp/minapp_$opt.o" "$m4f/libsfit_fp_$opt.a" \
-            -o "$tmp/minapp_$opt.elf" >/dev/null 2>&1; then
+            -lm -o "$tmp/minapp_$opt.elf" >/dev/null 2>&1; then
         awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/minapp_$opt.map" | awk '
         function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
             for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
