@@ -7,6 +7,7 @@
  * Layers (each header includes only the ones above it in this list):
  *   sfit_float.h   config, types, port; helpers on floats and samples
  *   sfit_mat3_i.h  packed symmetric storage, SPD inverse (sfit_mat3.c)
+ *   sfit_pass.h    one distance pass over a caller's samples (sfit_pass.c)
  *   sfit_moments_i.h  centred totals of an accumulator (sfit_moments.c)
  *   sfit_solve.h   the shared sphere / circle solver (sfit_solve.c)
  */

@@ -246,6 +246,29 @@ static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfi
     return SFIT_OK;
 }
 
+/* |res - off| of every buffered residual into g->wtmp, sorted; returns
+ * their median. */
+static float prv_abs_dev(sfit_gate_t *g, float off)
+{
+    uint32_t i;
+    for (i = 0u; i < g->nwarm; i++) {
+        g->wtmp[i] = SFIT_FABSF(g->wres[i] - off);
+    }
+    return prv_median(g->wtmp, g->nwarm); /* sorts wtmp */
+}
+
+/* Keep the buffered samples with |res - off| <= cut (g->wkeep); returns
+ * how many. */
+static uint32_t prv_keep_within(sfit_gate_t *g, float off, float cut)
+{
+    uint32_t i, nk = 0u;
+    for (i = 0u; i < g->nwarm; i++) {
+        g->wkeep[i] = (SFIT_FABSF(g->wres[i] - off) <= cut) ? 1u : 0u;
+        nk += g->wkeep[i];
+    }
+    return nk;
+}
+
 /* One least-trimmed-squares start: the interleaved subset s of `starts`,
  * then SFIT_GATE_CSTEPS concentration steps keeping the h smallest
  * residuals. Leaves the final subset in g->wkeep; returns 1 with its
@@ -253,37 +276,27 @@ static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfi
 static int prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h,
                          float *score)
 {
-    uint8_t *const keep = g->wkeep;
-    float *const res = g->wres, *const tmp = g->wtmp;
-    const uint32_t nw = g->nwarm;
     sfit_moments_t m;
     sfit_result_t fit;
     uint32_t i;
     int step;
 
-    for (i = 0u; i < nw; i++) {
-        keep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
+    for (i = 0u; i < g->nwarm; i++) {
+        g->wkeep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
     }
     for (step = 0; step <= SFIT_GATE_CSTEPS; step++) {
-        float cut;
-        if (prv_fit_keep(g, keep, &m, &fit, res) != SFIT_OK) {
+        if (prv_fit_keep(g, g->wkeep, &m, &fit, g->wres) != SFIT_OK) {
             return 0;
         }
-        for (i = 0u; i < nw; i++) {
-            tmp[i] = SFIT_FABSF(res[i]);
-        }
-        (void)prv_median(tmp, nw); /* sorts tmp */
-        cut = tmp[h - 1u];
+        (void)prv_abs_dev(g, 0.0f);
         *score = 0.0f;
         for (i = 0u; i < h; i++) {
-            *score += tmp[i] * tmp[i];
+            *score += g->wtmp[i] * g->wtmp[i];
         }
         if (step == SFIT_GATE_CSTEPS) {
             break;
         }
-        for (i = 0u; i < nw; i++) {
-            keep[i] = (SFIT_FABSF(res[i]) <= cut) ? 1u : 0u;
-        }
+        (void)prv_keep_within(g, 0.0f, g->wtmp[h - 1u]);
     }
     return 1;
 }
@@ -294,37 +307,23 @@ static int prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h
 static sfit_status_t prv_ksigma_cut(sfit_gate_t *g, sfit_moments_t *m, sfit_result_t *fit,
                                     uint32_t *nk)
 {
-    uint8_t *const keep = g->wkeep;
-    float *const res = g->wres, *const tmp = g->wtmp;
-    const uint32_t nw = g->nwarm;
-    float med, sr, thr;
-    uint32_t i;
-    sfit_status_t st = prv_fit_keep(g, g->wbest, m, fit, res);
+    float med, sr;
+    sfit_status_t st = prv_fit_keep(g, g->wbest, m, fit, g->wres);
 
     if (st != SFIT_OK) {
         return st;
     }
-    for (i = 0u; i < nw; i++) {
-        tmp[i] = res[i];
-    }
-    med = prv_median(tmp, nw);
-    for (i = 0u; i < nw; i++) {
-        tmp[i] = SFIT_FABSF(res[i] - med);
-    }
-    sr = SFIT_GATE_MAD_SIGMA * prv_median(tmp, nw);
+    memcpy(g->wtmp, g->wres, g->nwarm * sizeof g->wres[0]);
+    med = prv_median(g->wtmp, g->nwarm);
+    sr = SFIT_GATE_MAD_SIGMA * prv_abs_dev(g, med);
     if (sr * sr < g->cfg.noise_var) {
         sr = SFIT_SQRTF(g->cfg.noise_var);
     }
     if (sr * sr < prv_floor(fit->radius)) {
         sr = SFIT_SQRTF(prv_floor(fit->radius));
     }
-    thr = g->cfg.k * sr;
-    *nk = 0u;
-    for (i = 0u; i < nw; i++) {
-        keep[i] = (SFIT_FABSF(res[i] - med) <= thr) ? 1u : 0u;
-        *nk += keep[i];
-    }
-    return (*nk > SFIT_MIN_SAMPLES) ? prv_fit_keep(g, keep, m, fit, res) : SFIT_E_TOO_FEW;
+    *nk = prv_keep_within(g, med, g->cfg.k * sr);
+    return (*nk > SFIT_MIN_SAMPLES) ? prv_fit_keep(g, g->wkeep, m, fit, g->wres) : SFIT_E_TOO_FEW;
 }
 
 /* No fit yet: accept the buffer ungated until a refresh succeeds. */

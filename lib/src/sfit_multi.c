@@ -106,33 +106,33 @@ static const sfit_mat3_t *prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_
     return buf;
 }
 
-/* r_p^2 of one marker for the centre offset wc (= c - o). */
-static float prv_radius2(const prv_marker_t *pm, const sfit_mat3_t *sg, const float wc[3],
-                         const sfit_i_solution_t *sol)
+/* r_p^2 of one marker for the centre offset wc (= c - o), in the plane
+ * normal to axis when axis is not NULL. Turns pm->c into C'_p = C_p - sg. */
+static float prv_radius2(prv_marker_t *pm, const sfit_mat3_t *sg, const float wc[3],
+                         const float *axis)
 {
-    float cp[9], e[3], tr, r2;
+    float *const cp = pm->c.m;
+    float e[3], tr;
     int i;
     for (i = 0; i < 9; i++) {
-        cp[i] = pm->c.m[i] - sg->m[i];
+        cp[i] -= sg->m[i];
     }
     tr = cp[0] + cp[4] + cp[8];
     for (i = 0; i < 3; i++) {
         e[i] = pm->dm[i] - wc[i];
     }
-    if (sol->mode == SFIT_MODE_PLANAR) {
-        const float *a = sol->axis.v;
+    if (axis != NULL) {
         float ca[3], ea;
         for (i = 0; i < 3; i++) {
-            ca[i] = sfit_i_dot3(&cp[3 * i], a);
+            ca[i] = sfit_i_dot3(&cp[3 * i], axis);
         }
-        tr -= sfit_i_dot3(a, ca);
-        ea = sfit_i_dot3(e, a);
+        tr -= sfit_i_dot3(axis, ca);
+        ea = sfit_i_dot3(e, axis);
         for (i = 0; i < 3; i++) {
-            e[i] -= ea * a[i];
+            e[i] -= ea * axis[i];
         }
     }
-    r2 = ((float)(pm->n - 1u) / (float)pm->n) * tr + sfit_i_dot3(e, e);
-    return r2;
+    return ((float)(pm->n - 1u) / (float)pm->n) * tr + sfit_i_dot3(e, e);
 }
 
 /* What the radius passes read. */
@@ -158,7 +158,7 @@ static sfit_status_t prv_radii(const prv_radii_t *rc, float *out)
         float half_skew[3], r2 = 0.0f;
         if (prv_used(&rc->markers[p], rc->origin_ref, rc->d_ref, &pm)) {
             r2 = prv_radius2(&pm, prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew), rc->wc,
-                             rc->sol);
+                             (rc->sol->mode == SFIT_MODE_PLANAR) ? rc->sol->axis.v : NULL);
             if (out == NULL && !(r2 > 0.0f)) {
                 return SFIT_E_NOT_POSDEF;
             }
@@ -416,17 +416,9 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     memset(&a, 0, sizeof a);
     memset(&m, 0, sizeof m);
     for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
-        float w, e[3], r2, f;
-        w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
-        for (i = 0; i < 9; i++) {
-            pm.c.m[i] -= sg.m[i];
-        }
-        for (i = 0; i < 3; i++) {
-            e[i] = pm.dm[i] - co[i];
-        }
-        r2 = ((float)(pm.n - 1u) / (float)pm.n) * (pm.c.m[0] + pm.c.m[4] + pm.c.m[8])
-             + sfit_i_dot3(e, e);
-        f = w * w / (float)(pm.n - 1u) * r2;
+        const float w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
+        const float r2 = prv_radius2(&pm, &sg, co, NULL); /* pm.c is C'_p now */
+        const float f = w * w / (float)(pm.n - 1u) * r2;
         for (i = 0; i < 9; i++) {
             a.m[i] += w * pm.c.m[i];
             m.m[i] += f * pm.c.m[i];

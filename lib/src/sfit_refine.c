@@ -13,6 +13,7 @@
 #include <float.h>
 
 #include "sfit_mat3_i.h"
+#include "sfit_pass.h"
 
 /* A step is accepted while the cost grows by less than this many float
  * epsilons (relative): near the minimum the change is below the rounding
@@ -21,48 +22,50 @@
 
 const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u};
 
-/* Distance and direction of sample x from c0 + p; 0 if at the centre. */
-static int prv_dist(const sfit_vec3_t *x, const sfit_vec3_t *c0, const float p[3], float u[3],
-                    float *d)
-{
-    float z[3];
-    const float zero[3] = {0.0f, 0.0f, 0.0f};
-    int j;
-    for (j = 0; j < 3; j++) {
-        z[j] = (x->v[j] - c0->v[j]) - p[j];
-    }
-    return sfit_i_dist_dir(z, zero, d, u);
-}
-
-/* Pass A: mean direction, mean distance, cost. */
+/* What pass A yields: mean direction, mean distance, cost. */
 typedef struct prv_stats {
     float ubar[3];
     float dbar;
     float cost;
 } prv_stats_t;
 
+/* Pass B rows (ctx: the pass A statistics): packed (u - ubar)(u - ubar)^T,
+ * then (u - ubar)(d - dbar). */
+static void prv_row_lm(void *ctx, const float x[3], float d, const float u[3], float *t)
+{
+    const prv_stats_t *b = (const prv_stats_t *)ctx;
+    const float e = d - b->dbar;
+    float v[3];
+    int j;
+    (void)x;
+    for (j = 0; j < 3; j++) {
+        v[j] = u[j] - b->ubar[j];
+    }
+    t[0] = v[0] * v[0];
+    t[1] = v[1] * v[1];
+    t[2] = v[2] * v[2];
+    t[3] = v[0] * v[1];
+    t[4] = v[0] * v[2];
+    t[5] = v[1] * v[2];
+    t[6] = v[0] * e;
+    t[7] = v[1] * e;
+    t[8] = v[2] * e;
+}
+
+/* Pass A: mean direction, mean distance, cost; samples as z = (x - c0) - p,
+ * the cost summed as e = d - rref. */
 static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                                 const float p[3], float rref, prv_stats_t *st)
 {
     sfit_i_sum_t s;
-    float nf = (float)n, e1;
-    size_t i;
+    sfit_i_dirs_t q = {rref, 0, 5};
+    const float nf = (float)n;
+    float e1;
     int j;
 
-    memset(&s, 0, sizeof s);
-    for (i = 0; i < n; i++) {
-        float u[3], d, v[5];
-        if (!prv_dist(&pts[i], c0, p, u, &d)) {
-            return SFIT_E_DEGENERATE;
-        }
-        v[0] = u[0];
-        v[1] = u[1];
-        v[2] = u[2];
-        v[3] = d - rref;
-        v[4] = v[3] * v[3];
-        sfit_i_sum_add(&s, v, 5);
+    if (!sfit_i_pass(pts, n, c0->v, p, sfit_i_row_dirs, &q, 5, &s)) {
+        return SFIT_E_DEGENERATE;
     }
-    sfit_i_sum_end(&s, 5);
     for (j = 0; j < 3; j++) {
         st->ubar[j] = s.tot[j] / nf;
     }
@@ -83,29 +86,10 @@ static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, 
                        const prv_stats_t *st, float a[6], float g[3])
 {
     sfit_i_sum_t s;
-    size_t i;
+    prv_stats_t b = *st;
     int j;
 
-    memset(&s, 0, sizeof s);
-    for (i = 0; i < n; i++) {
-        float u[3], d = 0.0f, v[9], e;
-        (void)prv_dist(&pts[i], c0, p, u, &d); /* pass A saw no zero distance */
-        for (j = 0; j < 3; j++) {
-            u[j] -= st->ubar[j];
-        }
-        e = d - st->dbar;
-        v[0] = u[0] * u[0];
-        v[1] = u[1] * u[1];
-        v[2] = u[2] * u[2];
-        v[3] = u[0] * u[1];
-        v[4] = u[0] * u[2];
-        v[5] = u[1] * u[2];
-        v[6] = u[0] * e;
-        v[7] = u[1] * e;
-        v[8] = u[2] * e;
-        sfit_i_sum_add(&s, v, 9);
-    }
-    sfit_i_sum_end(&s, 9);
+    (void)sfit_i_pass(pts, n, c0->v, p, prv_row_lm, &b, 9, &s); /* pass A saw no zero distance */
     for (j = 0; j < 6; j++) {
         a[j] = s.tot[j];
     }

@@ -9,7 +9,17 @@
  */
 #include "sfit/sfit_selfcal.h"
 
+#include "sfit_pass.h"
 #include "sfit_solve.h"
+
+/* Rows (d - r, (d - r)^2) (ctx: the radius r). */
+static void prv_row_resid(void *ctx, const float x[3], float d, const float u[3], float *t)
+{
+    (void)x;
+    (void)u;
+    t[0] = d - *(const float *)ctx;
+    t[1] = t[0] * t[0];
+}
 
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_SELFCAL_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
@@ -23,19 +33,10 @@ static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_
 {
     sfit_i_sum_t s;
     float nf = (float)n, v;
-    size_t i;
 
-    memset(&s, 0, sizeof s);
-    for (i = 0; i < n; i++) {
-        float e[2], u[3];
-        if (!sfit_i_dist_dir(pts[i].v, c->v, &e[0], u)) {
-            return SFIT_E_DEGENERATE;
-        }
-        e[0] -= r;
-        e[1] = e[0] * e[0];
-        sfit_i_sum_add(&s, e, 2);
+    if (!sfit_i_pass(pts, n, c->v, NULL, prv_row_resid, &r, 2, &s)) {
+        return SFIT_E_DEGENERATE;
     }
-    sfit_i_sum_end(&s, 2);
     v = (s.tot[1] - s.tot[0] * (s.tot[0] / nf)) / (nf - 4.0f);
     if (!sfit_i_isfinite(v)) {
         return SFIT_E_RANGE;

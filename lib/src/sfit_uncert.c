@@ -8,6 +8,7 @@
 #include "sfit/sfit_uncert.h"
 
 #include "sfit_moments_i.h"
+#include "sfit_pass.h"
 
 static sfit_status_t prv_finish(const sfit_mat3_t *cov, float radius_var, const float crc[3],
                                 float noise_var, sfit_uncert_t *out)
@@ -106,23 +107,12 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                                    float *d0, int k, sfit_i_sum_t *s)
 {
-    size_t i;
-    memset(s, 0, sizeof *s);
-    for (i = 0; i < n; i++) {
-        float v[5];
-        if (!sfit_i_dist_dir(pts[i].v, c->v, &v[3], v)) {
-            return SFIT_E_DEGENERATE;
-        }
-        if (i == 0u) {
-            *d0 = v[3];
-        }
-        v[3] -= *d0;
-        if (k == 5) {
-            v[4] = v[3] * v[3];
-        }
-        sfit_i_sum_add(s, v, k);
+    sfit_i_dirs_t q = {0.0f, 1, 0};
+    q.k = k;
+    if (!sfit_i_pass(pts, n, c->v, NULL, sfit_i_row_dirs, &q, k, s)) {
+        return SFIT_E_DEGENERATE;
     }
-    sfit_i_sum_end(s, k);
+    *d0 = q.ref;
     return SFIT_OK;
 }
 
@@ -130,27 +120,71 @@ static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_
 static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
 static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
 
-/* Pass 2: [0..5] sum (u - ubar)(u - ubar)^T, [6..11] sum f (I - u u^T)/d
- * and [12] sum f^2 with f = d - dbar (the last two only when k == 13). */
-static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
-                             const float ub[3], float dbar, int k, sfit_i_sum_t *s)
+/* What pass 2 of the self-calibrated sandwich needs (docs/api.md#uncert). */
+typedef struct prv_sc {
+    float m[3];    /* sample mean */
+    float a[3];    /* m - c */
+    float p[3];    /* (N-1)/beta' a: weight of the noise equation in eta */
+    float dbar;    /* mean distance */
+    float mf2;     /* mean (d - dbar)^2 */
+    float kv;      /* (N-1)/N sigma^2 */
+    float alpha_n; /* alpha / N */
+    float sv;      /* (N-4)/N (sigma^2 - sigma^4/r^2) */
+} prv_sc_t;
+
+/* What the pass 2 rows read: ub and dbar, and sc for the self-calibrated
+ * sandwich (NULL for the other covariances). */
+typedef struct prv_p2 {
+    const float *ub;
+    float dbar;
+    const prv_sc_t *sc;
+} prv_p2_t;
+
+/* Pass 2 rows, with f = d - dbar:
+ * - sc NULL: [0..5] (u - ubar)(u - ubar)^T, [6..11] f (I - u u^T)/d and
+ *   [12] f^2 (the last two summed only when k == 13);
+ * - sc, the self-calibrated sandwich (k == 9, dbar = sc->dbar):
+ *   [0..5] eta eta^T (packed), [6..8] f u, with
+ *   eta = (gt y - 2 kv z)/2 + p (f^2 - sv + alpha_n gt),
+ *   z = x - c, y = x - m, gt = |z|^2 - mean |z|^2. */
+static void prv_row2(void *ctx, const float x[3], float d, const float u[3], float *t)
 {
-    size_t i;
+    const prv_p2_t *w = (const prv_p2_t *)ctx;
+    const prv_sc_t *q = w->sc;
+    const float f = d - w->dbar;
     int j;
-    memset(s, 0, sizeof *s);
-    for (i = 0; i < n; i++) {
-        float d, e[3], t[13], g;
-        (void)sfit_i_dist_dir(pts[i].v, c->v, &d, e); /* pass 1 saw no zero distance */
-        g = (d - dbar) / d;
+    if (q == NULL) {
+        const float g = f / d;
         for (j = 0; j < 6; j++) {
             const int r = k_row[j], c2 = k_col[j];
-            t[j] = (e[r] - ub[r]) * (e[c2] - ub[c2]);
-            t[6 + j] = g * (((j < 3) ? 1.0f : 0.0f) - e[r] * e[c2]);
+            t[j] = (u[r] - w->ub[r]) * (u[c2] - w->ub[c2]);
+            t[6 + j] = g * (((j < 3) ? 1.0f : 0.0f) - u[r] * u[c2]);
         }
-        t[12] = (d - dbar) * (d - dbar);
-        sfit_i_sum_add(s, t, k);
+        t[12] = f * f;
+    } else {
+        const float gt = f * (d + w->dbar) - q->mf2; /* |z|^2 - mean |z|^2, no cancellation */
+        const float xi = f * f - q->sv + q->alpha_n * gt;
+        float eta[3];
+        for (j = 0; j < 3; j++) {
+            const float y = x[j] - q->m[j];
+            eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
+            t[6 + j] = f * u[j];
+        }
+        for (j = 0; j < 6; j++) {
+            t[j] = eta[k_row[j]] * eta[k_col[j]];
+        }
     }
-    sfit_i_sum_end(s, k);
+}
+
+/* Pass 2 (pass 1 saw no zero distance). */
+static void prv_pass2(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c, const float *ub,
+                      float dbar, const prv_sc_t *sc, int k, sfit_i_sum_t *s)
+{
+    prv_p2_t w;
+    w.ub = ub;
+    w.dbar = dbar;
+    w.sc = sc;
+    (void)sfit_i_pass(pts, n, c->v, NULL, prv_row2, &w, k, s);
 }
 
 /* After the checks of the fit (st): samples checked (at least nmin),
@@ -188,7 +222,7 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
         return st;
     }
     nf = (float)n;
-    prv_pass_centred(pts, n, center, ub, d0, 6, &s);
+    prv_pass2(pts, n, center, ub, d0, NULL, 6, &s);
     sfit_i_sym_unpack(s.tot, &a);
     if (sfit_mat3_chol(&a, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
@@ -220,7 +254,7 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     }
     nf = (float)n;
     dbar = d0 + s.tot[3] / nf;
-    prv_pass_centred(pts, n, center, ub, dbar, 13, &s);
+    prv_pass2(pts, n, center, ub, dbar, NULL, 13, &s);
     s2 = s.tot[12] / (nf - 4.0f);
     if (!sfit_i_isfinite(s2)) {
         return SFIT_E_RANGE;
@@ -251,46 +285,6 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     }
     /* Var(r) = s^2 (1/N + ubar^T K Mu K ubar), K Mu K ubar = W q. */
     return prv_finish(&cov, s2 * (1.0f / nf + sfit_i_dot3(ub, wq)), crc, s2, out);
-}
-
-/* What pass 2 of the self-calibrated sandwich needs (docs/api.md#uncert). */
-typedef struct prv_sc {
-    float m[3];    /* sample mean */
-    float a[3];    /* m - c */
-    float p[3];    /* (N-1)/beta' a: weight of the noise equation in eta */
-    float dbar;    /* mean distance */
-    float mf2;     /* mean (d - dbar)^2 */
-    float kv;      /* (N-1)/N sigma^2 */
-    float alpha_n; /* alpha / N */
-    float sv;      /* (N-4)/N (sigma^2 - sigma^4/r^2) */
-} prv_sc_t;
-
-/* Pass 2: [0..5] sum eta eta^T (packed), [6..8] sum f u, with
- * eta_i = (gt_i y_i - 2 kv z_i)/2 + p (f_i^2 - sv + alpha_n gt_i),
- * z = x - c, y = x - m, f = d - dbar, gt = |z|^2 - mean |z|^2. */
-static void prv_sc_pass2(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
-                         const prv_sc_t *q, sfit_i_sum_t *s)
-{
-    size_t i;
-    int j;
-    memset(s, 0, sizeof *s);
-    for (i = 0; i < n; i++) {
-        float d, u[3], eta[3], t[9], f, gt, xi;
-        (void)sfit_i_dist_dir(pts[i].v, c->v, &d, u); /* pass 1 saw no zero distance */
-        f = d - q->dbar;
-        gt = f * (d + q->dbar) - q->mf2; /* |z|^2 - mean |z|^2 without cancellation */
-        xi = f * f - q->sv + q->alpha_n * gt;
-        for (j = 0; j < 3; j++) {
-            const float y = pts[i].v[j] - q->m[j];
-            eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
-            t[6 + j] = f * u[j];
-        }
-        for (j = 0; j < 6; j++) {
-            t[j] = eta[k_row[j]] * eta[k_col[j]];
-        }
-        sfit_i_sum_add(s, t, 9);
-    }
-    sfit_i_sum_end(s, 9);
 }
 
 sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
@@ -342,7 +336,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
         return SFIT_E_NOT_POSDEF;
     }
     sfit_i_chol_inverse(&l, &k);
-    prv_sc_pass2(pts, n, center, &q, &s);
+    prv_pass2(pts, n, center, NULL, q.dbar, &q, 9, &s);
     /* G = M~ - p w'^T, w' = -2 sum f u - 2 alpha a; G^-1 by Sherman-Morrison */
     for (i = 0; i < 3; i++) {
         w[i] = -2.0f * s.tot[6 + i] - 2.0f * alpha * q.a[i];
