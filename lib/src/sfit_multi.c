@@ -41,7 +41,39 @@ const sfit_multi_cfg_t sfit_multi_cfg_default = {
     .fit = {.mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .planar_ratio = 0.0f},
     .weight = SFIT_MULTI_WEIGHT_EQUAL};
 
-/* Per-marker quantities relative to the reference o = origin_ref + d_ref. */
+/* The markers of one call: the reference point o = origin_ref + d_ref
+ * (the first used marker's mean), the configuration's Sigma_hat and the
+ * per-marker noise models (NULL: Sigma_hat for every marker). */
+typedef struct prv_set {
+    const sfit_moments_t *markers;
+    size_t count;
+    const float *origin_ref; /* NULL until a used marker is seen */
+    float d_ref[3];
+    sfit_mat3_t sg_cfg;
+    const sfit_multi_noise_t *noise;
+} prv_set_t;
+
+static void prv_set_init(prv_set_t *set, const sfit_moments_t *markers, size_t count,
+                         const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise)
+{
+    memset(set, 0, sizeof *set);
+    set->markers = markers;
+    set->count = count;
+    set->noise = noise;
+    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &set->sg_cfg);
+}
+
+/* o := the mean of marker p (its total t). */
+static void prv_set_ref(prv_set_t *set, size_t p, const sfit_cmom_t *t)
+{
+    int i;
+    set->origin_ref = set->markers[p].origin;
+    for (i = 0; i < 3; i++) {
+        set->d_ref[i] = t->d[i];
+    }
+}
+
+/* Per-marker quantities relative to the reference o. */
 typedef struct prv_marker {
     sfit_mat3_t c; /* C_p */
     float s2[3];   /* S_p / 2 */
@@ -49,37 +81,34 @@ typedef struct prv_marker {
     uint32_t n;
 } prv_marker_t;
 
-static void prv_marker(const sfit_moments_t *m, const float origin_ref[3], const float d_ref[3],
-                       prv_marker_t *pm)
+static void prv_marker(const sfit_moments_t *m, const prv_set_t *set, prv_marker_t *pm)
 {
     sfit_cmom_t t;
     int i;
     sfit_i_moments_total(m, &t);
     sfit_i_cmom_system(&t, &pm->c, pm->s2);
     for (i = 0; i < 3; i++) {
-        pm->dm[i] = (m->origin[i] - origin_ref[i]) + (t.d[i] - d_ref[i]);
+        pm->dm[i] = (m->origin[i] - set->origin_ref[i]) + (t.d[i] - set->d_ref[i]);
     }
     pm->n = t.n;
 }
 
 /* 1 with pm filled when the marker has enough samples to be used. */
-static int prv_used(const sfit_moments_t *m, const float origin_ref[3], const float d_ref[3],
-                    prv_marker_t *pm)
+static int prv_used(const sfit_moments_t *m, const prv_set_t *set, prv_marker_t *pm)
 {
     if (sfit_moments_count(m) < SFIT_MIN_SAMPLES) {
         return 0;
     }
-    prv_marker(m, origin_ref, d_ref, pm);
+    prv_marker(m, set, pm);
     return 1;
 }
 
 
 /* The next used marker at or after *p, with pm filled; 0 when none is left. */
-static int prv_next(const sfit_moments_t *markers, size_t count, const float origin_ref[3],
-                    const float d_ref[3], size_t *p, prv_marker_t *pm)
+static int prv_next(const prv_set_t *set, size_t *p, prv_marker_t *pm)
 {
-    while (*p < count) {
-        if (prv_used(&markers[*p], origin_ref, d_ref, pm)) {
+    while (*p < set->count) {
+        if (prv_used(&set->markers[*p], set, pm)) {
             return 1;
         }
         (*p)++;
@@ -89,15 +118,16 @@ static int prv_next(const sfit_moments_t *markers, size_t count, const float ori
 
 /* Noise of marker p: Sigma_p (full) and t_p/2; the configuration's
  * Sigma_hat and no skew when there is no per-marker model. */
-static const sfit_mat3_t *prv_noise(const sfit_mat3_t *sg_cfg, const sfit_multi_noise_t *noise,
-                                    size_t p, sfit_mat3_t *buf, float half_skew[3])
+static const sfit_mat3_t *prv_noise(const prv_set_t *set, size_t p, sfit_mat3_t *buf,
+                                    float half_skew[3])
 {
+    const sfit_multi_noise_t *const noise = set->noise;
     int i;
     if (noise == NULL) {
         for (i = 0; i < 3; i++) {
             half_skew[i] = 0.0f; /* not read; defined for every path */
         }
-        return sg_cfg;
+        return &set->sg_cfg;
     }
     sfit_i_sigma(SFIT_NOISE_COV, 0.0f, &noise[p].cov, buf);
     for (i = 0; i < 3; i++) {
@@ -137,11 +167,7 @@ static float prv_radius2(prv_marker_t *pm, const sfit_mat3_t *sg, const float wc
 
 /* What the radius passes read. */
 typedef struct prv_radii {
-    const sfit_moments_t *markers;
-    size_t count;
-    const float *origin_ref, *d_ref;
-    const sfit_mat3_t *sg_cfg;
-    const sfit_multi_noise_t *noise;
+    const prv_set_t *set;
     const float *wc;
     const sfit_i_solution_t *sol;
 } prv_radii_t;
@@ -152,12 +178,12 @@ typedef struct prv_radii {
 static sfit_status_t prv_radii(const prv_radii_t *rc, float *out)
 {
     size_t p;
-    for (p = 0u; p < rc->count; p++) {
+    for (p = 0u; p < rc->set->count; p++) {
         prv_marker_t pm;
         sfit_mat3_t sg;
         float half_skew[3], r2 = 0.0f;
-        if (prv_used(&rc->markers[p], rc->origin_ref, rc->d_ref, &pm)) {
-            r2 = prv_radius2(&pm, prv_noise(rc->sg_cfg, rc->noise, p, &sg, half_skew), rc->wc,
+        if (prv_used(&rc->set->markers[p], rc->set, &pm)) {
+            r2 = prv_radius2(&pm, prv_noise(rc->set, p, &sg, half_skew), rc->wc,
                              (rc->sol->mode == SFIT_MODE_PLANAR) ? rc->sol->axis.v : NULL);
             if (out == NULL && !(r2 > 0.0f)) {
                 return SFIT_E_NOT_POSDEF;
@@ -183,11 +209,10 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     sfit_i_solution_t sol;
     sfit_multi_result_t r;
     prv_radii_t rc_radii;
-    sfit_mat3_t sg_cfg, sg, sg_sum;
+    prv_set_t set;
+    sfit_mat3_t sg, sg_sum;
     prv_marker_t pm;
     float half_skew[3];
-    const float *origin_ref = NULL;
-    float d_ref[3] = {0.0f, 0.0f, 0.0f};
     float wc[3], dbar[3] = {0.0f, 0.0f, 0.0f}, sw = 0.0f, scale = 0.0f;
     uint64_t n_total = 0u, sum_n1 = 0u;
     uint32_t used = 0u, skipped = 0u, flags = 0u;
@@ -198,6 +223,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     if (count == 0u) {
         return SFIT_E_TOO_FEW;
     }
+    prv_set_init(&set, markers, count, cfg, noise);
 
     /* Pass 1: which markers are used, counts, reference point, scale. */
     for (p = 0u; p < count; p++) {
@@ -209,11 +235,8 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
             continue;
         }
         sfit_i_moments_total(&markers[p], &t);
-        if (origin_ref == NULL) {
-            origin_ref = markers[p].origin;
-            for (i = 0; i < 3; i++) {
-                d_ref[i] = t.d[i];
-            }
+        if (set.origin_ref == NULL) {
+            prv_set_ref(&set, p, &t);
         }
         sc = sfit_i_coincident_scale(markers[p].origin, t.d);
         if (sc > scale) {
@@ -237,15 +260,14 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     }
 
     /* Pass 2: A = sum w_p C_p, b = sum w_p (C'_p (m_p - o) + S_p/2). */
-    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg_cfg);
     memset(&sys, 0, sizeof sys);
     memset(&sg_sum, 0, sizeof sg_sum);
-    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
+    for (p = 0u; prv_next(&set, &p, &pm); p++) {
         const sfit_mat3_t *sgp;
         float w;
         w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
         sw += w;
-        sgp = prv_noise(&sg_cfg, noise, p, &sg, half_skew);
+        sgp = prv_noise(&set, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
             sys.c.m[i] += w * pm.c.m[i];
         }
@@ -268,7 +290,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     }
     for (i = 0; i < 9; i++) {
         /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
-        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
+        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * set.sg_cfg.m[i];
     }
     sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
     sys.scale = scale;
@@ -296,7 +318,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
 
     /* Pass 3: every radius must be real before anything is written. */
     {
-        const prv_radii_t rc = {markers, count, origin_ref, d_ref, &sg_cfg, noise, wc, &sol};
+        const prv_radii_t rc = {&set, wc, &sol};
         st = prv_radii(&rc, NULL);
         if (st != SFIT_OK) {
             return st;
@@ -308,7 +330,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
 
     memset(&r, 0, sizeof r);
     for (i = 0; i < 3; i++) {
-        r.center.v[i] = origin_ref[i] + (d_ref[i] + wc[i]);
+        r.center.v[i] = set.origin_ref[i] + (set.d_ref[i] + wc[i]);
     }
     if (!sfit_i_finite3(r.center.v)) {
         return SFIT_E_RANGE;
@@ -374,10 +396,10 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
                                     const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,
                                     float noise_var, sfit_mat3_t *cov)
 {
-    sfit_mat3_t sg, a, m;
+    prv_set_t set;
+    sfit_mat3_t a, m;
     prv_marker_t pm;
-    const float *origin_ref = NULL;
-    float d_ref[3] = {0.0f, 0.0f, 0.0f}, co[3];
+    float co[3];
     uint64_t sum_n1 = 0u;
     uint32_t used = 0u;
     size_t p;
@@ -395,29 +417,26 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
         return SFIT_E_ARG;
     }
     used = sfit_i_multi_used(markers, count, &sum_n1);
-    for (p = 0u; p < count && origin_ref == NULL; p++) { /* the first used marker */
+    prv_set_init(&set, markers, count, cfg, NULL);
+    for (p = 0u; p < count && set.origin_ref == NULL; p++) { /* the first used marker */
         if (sfit_moments_count(&markers[p]) >= SFIT_MIN_SAMPLES) {
             sfit_cmom_t tot;
             sfit_i_moments_total(&markers[p], &tot);
-            origin_ref = markers[p].origin;
-            for (i = 0; i < 3; i++) {
-                d_ref[i] = tot.d[i];
-            }
+            prv_set_ref(&set, p, &tot);
         }
     }
-    if (origin_ref == NULL) { /* no marker has SFIT_MIN_SAMPLES samples (used == 0) */
+    if (set.origin_ref == NULL) { /* no marker has SFIT_MIN_SAMPLES samples (used == 0) */
         return SFIT_E_TOO_FEW;
     }
     for (i = 0; i < 3; i++) { /* c - o */
-        co[i] = (res->center.v[i] - origin_ref[i]) - d_ref[i];
+        co[i] = (res->center.v[i] - set.origin_ref[i]) - set.d_ref[i];
     }
     /* A = sum w_p C'_p, M = sum w_p^2 / (N_p - 1) r_p^2 C'_p */
-    sfit_i_sigma(cfg->fit.noise, cfg->fit.noise_var, &cfg->fit.noise_cov, &sg);
     memset(&a, 0, sizeof a);
     memset(&m, 0, sizeof m);
-    for (p = 0u; prv_next(markers, count, origin_ref, d_ref, &p, &pm); p++) {
+    for (p = 0u; prv_next(&set, &p, &pm); p++) {
         const float w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
-        const float r2 = prv_radius2(&pm, &sg, co, NULL); /* pm.c is C'_p now */
+        const float r2 = prv_radius2(&pm, &set.sg_cfg, co, NULL); /* pm.c is C'_p now */
         const float f = w * w / (float)(pm.n - 1u) * r2;
         for (i = 0; i < 9; i++) {
             a.m[i] += w * pm.c.m[i];
