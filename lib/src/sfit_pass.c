@@ -5,31 +5,117 @@
  */
 #include "sfit_pass.h"
 
-void sfit_i_row_dirs(void *ctx, const float x[3], float d, const float u[3], float *t)
+/* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
+static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
+static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
+
+/* The self-calibrated sandwich's row: packed eta eta^T, then f u. */
+static void prv_row_sandwich(const sfit_i_rows_t *q, const float x[3], float d, const float u[3],
+                             float *t)
 {
-    sfit_i_dirs_t *q = (sfit_i_dirs_t *)ctx;
-    (void)x;
-    if (q->first) {
-        q->ref = d;
-        q->first = 0;
+    const float f = d - q->dbar;
+    const float gt = f * (d + q->dbar) - q->mf2; /* |z|^2 - mean |z|^2, no cancellation */
+    const float xi = f * f - q->sv + q->alpha_n * gt;
+    float eta[3];
+    int j;
+    for (j = 0; j < 3; j++) {
+        const float y = x[j] - q->m[j];
+        eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
+        t[6 + j] = f * u[j];
     }
-    t[0] = u[0];
-    t[1] = u[1];
-    t[2] = u[2];
-    t[3] = d - q->ref;
-    if (q->k == 5) {
-        t[4] = t[3] * t[3];
+    for (j = 0; j < 6; j++) {
+        t[j] = eta[k_row[j]] * eta[k_col[j]];
     }
 }
 
-int sfit_i_pass(const sfit_vec3_t *pts, size_t n, const float c[3], const float *p,
-                sfit_i_row_fn row, void *ctx, int k, sfit_i_sum_t *s)
+/* Add the row (k floats, built in t) of sample x at distance d > 0,
+ * direction u to s. Each sfit_i_sum_add() has a constant count, so that
+ * the compiler unrolls it. */
+static void prv_row(sfit_i_rows_t *q, int k, const float x[3], float d, const float u[3],
+                    float *t, sfit_i_sum_t *s)
 {
+    float v[3], f;
+    int j;
+    switch (q->kind) {
+    case SFIT_I_ROWS_RESID:
+        t[0] = d - q->ref;
+        t[1] = t[0] * t[0];
+        sfit_i_sum_add(s, t, 2);
+        break;
+    case SFIT_I_ROWS_DIRS:
+        if (q->first) {
+            q->ref = d;
+            q->first = 0;
+        }
+        t[0] = u[0];
+        t[1] = u[1];
+        t[2] = u[2];
+        t[3] = d - q->ref;
+        if (k == 5) {
+            t[4] = t[3] * t[3];
+            sfit_i_sum_add(s, t, 5);
+        } else {
+            sfit_i_sum_add(s, t, 4);
+        }
+        break;
+    case SFIT_I_ROWS_LM:
+    case SFIT_I_ROWS_CENTRED:
+        f = d - q->dbar;
+        for (j = 0; j < 3; j++) {
+            v[j] = u[j] - q->ub[j];
+        }
+        for (j = 0; j < 6; j++) {
+            t[j] = v[k_row[j]] * v[k_col[j]];
+        }
+        if (q->kind == SFIT_I_ROWS_LM) {
+            for (j = 0; j < 3; j++) {
+                t[6 + j] = v[j] * f;
+            }
+            sfit_i_sum_add(s, t, 9);
+        } else {
+            const float g = f / d;
+            for (j = 0; j < 6; j++) {
+                t[6 + j] = g * (((j < 3) ? 1.0f : 0.0f) - u[k_row[j]] * u[k_col[j]]);
+            }
+            t[12] = f * f;
+            if (k == 13) {
+                sfit_i_sum_add(s, t, 13);
+            } else {
+                sfit_i_sum_add(s, t, 6);
+            }
+        }
+        break;
+    case SFIT_I_ROWS_SANDWICH:
+    default:
+        prv_row_sandwich(q, x, d, u, t);
+        sfit_i_sum_add(s, t, 9);
+        break;
+    }
+}
+
+void sfit_i_rows_init(sfit_i_rows_t *q, sfit_i_rows_kind_t kind, float ref, const float *ub,
+                      float dbar)
+{
+    int j;
+    memset(q, 0, sizeof *q);
+    q->kind = kind;
+    q->ref = ref;
+    for (j = 0; j < 3 && ub != NULL; j++) {
+        q->ub[j] = ub[j];
+    }
+    q->dbar = dbar;
+}
+
+int sfit_i_pass(const sfit_vec3_t *pts, size_t n, const float c[3], const float *p,
+                sfit_i_rows_t *q, int k, sfit_i_sum_t *s)
+{
+    float t[SFIT_I_SUM_MAX];
     size_t i;
     int j;
+    memset(t, 0, sizeof t); /* a row kind writes its first k */
     memset(s, 0, sizeof *s);
     for (i = 0; i < n; i++) {
-        float u[3], d, t[SFIT_I_SUM_MAX];
+        float u[3], d;
         int ok;
         if (p != NULL) {
             for (j = 0; j < 3; j++) {
@@ -42,8 +128,7 @@ int sfit_i_pass(const sfit_vec3_t *pts, size_t n, const float c[3], const float 
         if (!ok) {
             return 0;
         }
-        row(ctx, pts[i].v, d, u, t);
-        sfit_i_sum_add(s, t, k);
+        prv_row(q, k, pts[i].v, d, u, t, s);
     }
     sfit_i_sum_end(s, k);
     return 1;

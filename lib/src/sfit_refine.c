@@ -29,41 +29,19 @@ typedef struct prv_stats {
     float cost;
 } prv_stats_t;
 
-/* Pass B rows (ctx: the pass A statistics): packed (u - ubar)(u - ubar)^T,
- * then (u - ubar)(d - dbar). */
-static void prv_row_lm(void *ctx, const float x[3], float d, const float u[3], float *t)
-{
-    const prv_stats_t *b = (const prv_stats_t *)ctx;
-    const float e = d - b->dbar;
-    float v[3];
-    int j;
-    (void)x;
-    for (j = 0; j < 3; j++) {
-        v[j] = u[j] - b->ubar[j];
-    }
-    t[0] = v[0] * v[0];
-    t[1] = v[1] * v[1];
-    t[2] = v[2] * v[2];
-    t[3] = v[0] * v[1];
-    t[4] = v[0] * v[2];
-    t[5] = v[1] * v[2];
-    t[6] = v[0] * e;
-    t[7] = v[1] * e;
-    t[8] = v[2] * e;
-}
-
 /* Pass A: mean direction, mean distance, cost; samples as z = (x - c0) - p,
  * the cost summed as e = d - rref. */
 static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                                 const float p[3], float rref, prv_stats_t *st)
 {
     sfit_i_sum_t s;
-    sfit_i_dirs_t q = {rref, 0, 5};
+    sfit_i_rows_t q;
     const float nf = (float)n;
     float e1;
     int j;
 
-    if (!sfit_i_pass(pts, n, c0->v, p, sfit_i_row_dirs, &q, 5, &s)) {
+    sfit_i_rows_init(&q, SFIT_I_ROWS_DIRS, rref, NULL, 0.0f);
+    if (!sfit_i_pass(pts, n, c0->v, p, &q, 5, &s)) {
         return SFIT_E_DEGENERATE;
     }
     for (j = 0; j < 3; j++) {
@@ -86,10 +64,11 @@ static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, 
                        const prv_stats_t *st, float a[6], float g[3])
 {
     sfit_i_sum_t s;
-    prv_stats_t b = *st;
+    sfit_i_rows_t q;
     int j;
 
-    (void)sfit_i_pass(pts, n, c0->v, p, prv_row_lm, &b, 9, &s); /* pass A saw no zero distance */
+    sfit_i_rows_init(&q, SFIT_I_ROWS_LM, 0.0f, st->ubar, st->dbar);
+    (void)sfit_i_pass(pts, n, c0->v, p, &q, 9, &s); /* pass A saw no zero distance */
     for (j = 0; j < 6; j++) {
         a[j] = s.tot[j];
     }

@@ -12,15 +12,6 @@
 #include "sfit_pass.h"
 #include "sfit_solve.h"
 
-/* Rows (d - r, (d - r)^2) (ctx: the radius r). */
-static void prv_row_resid(void *ctx, const float x[3], float d, const float u[3], float *t)
-{
-    (void)x;
-    (void)u;
-    t[0] = d - *(const float *)ctx;
-    t[1] = t[0] * t[0];
-}
-
 /* Fewest samples: 4 sphere parameters plus one residual degree of freedom. */
 #define PRV_SELFCAL_MIN_N ((SFIT_MIN_SAMPLES > 5u) ? (size_t)SFIT_MIN_SAMPLES : (size_t)5u)
 
@@ -32,9 +23,11 @@ static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_
                                    float r, float *var)
 {
     sfit_i_sum_t s;
+    sfit_i_rows_t q;
     float nf = (float)n, v;
 
-    if (!sfit_i_pass(pts, n, c->v, NULL, prv_row_resid, &r, 2, &s)) {
+    sfit_i_rows_init(&q, SFIT_I_ROWS_RESID, r, NULL, 0.0f);
+    if (!sfit_i_pass(pts, n, c->v, NULL, &q, 2, &s)) {
         return SFIT_E_DEGENERATE;
     }
     v = (s.tot[1] - s.tot[0] * (s.tot[0] / nf)) / (nf - 4.0f);

@@ -107,84 +107,24 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
 static sfit_status_t prv_pass_dirs(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
                                    float *d0, int k, sfit_i_sum_t *s)
 {
-    sfit_i_dirs_t q = {0.0f, 1, 0};
-    q.k = k;
-    if (!sfit_i_pass(pts, n, c->v, NULL, sfit_i_row_dirs, &q, k, s)) {
+    sfit_i_rows_t q;
+    sfit_i_rows_init(&q, SFIT_I_ROWS_DIRS, 0.0f, NULL, 0.0f);
+    q.first = 1;
+    if (!sfit_i_pass(pts, n, c->v, NULL, &q, k, s)) {
         return SFIT_E_DEGENERATE;
     }
     *d0 = q.ref;
     return SFIT_OK;
 }
 
-/* Row and column of the packed entries (XX, YY, ZZ, XY, XZ, YZ). */
-static const uint8_t k_row[6] = {0u, 1u, 2u, 0u, 0u, 1u};
-static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
-
-/* What pass 2 of the self-calibrated sandwich needs (docs/api.md#uncert). */
-typedef struct prv_sc {
-    float m[3];    /* sample mean */
-    float a[3];    /* m - c */
-    float p[3];    /* (N-1)/beta' a: weight of the noise equation in eta */
-    float dbar;    /* mean distance */
-    float mf2;     /* mean (d - dbar)^2 */
-    float kv;      /* (N-1)/N sigma^2 */
-    float alpha_n; /* alpha / N */
-    float sv;      /* (N-4)/N (sigma^2 - sigma^4/r^2) */
-} prv_sc_t;
-
-/* What the pass 2 rows read: ub and dbar, and sc for the self-calibrated
- * sandwich (NULL for the other covariances). */
-typedef struct prv_p2 {
-    const float *ub;
-    float dbar;
-    const prv_sc_t *sc;
-} prv_p2_t;
-
-/* Pass 2 rows, with f = d - dbar:
- * - sc NULL: [0..5] (u - ubar)(u - ubar)^T, [6..11] f (I - u u^T)/d and
- *   [12] f^2 (the last two summed only when k == 13);
- * - sc, the self-calibrated sandwich (k == 9, dbar = sc->dbar):
- *   [0..5] eta eta^T (packed), [6..8] f u, with
- *   eta = (gt y - 2 kv z)/2 + p (f^2 - sv + alpha_n gt),
- *   z = x - c, y = x - m, gt = |z|^2 - mean |z|^2. */
-static void prv_row2(void *ctx, const float x[3], float d, const float u[3], float *t)
+/* Pass 2 of the moments and geometric covariances (pass 1 saw no zero
+ * distance): sfit_i_pass() rows SFIT_I_ROWS_CENTRED about ub and dbar. */
+static void prv_pass_centred(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c,
+                             const float ub[3], float dbar, int k, sfit_i_sum_t *s)
 {
-    const prv_p2_t *w = (const prv_p2_t *)ctx;
-    const prv_sc_t *q = w->sc;
-    const float f = d - w->dbar;
-    int j;
-    if (q == NULL) {
-        const float g = f / d;
-        for (j = 0; j < 6; j++) {
-            const int r = k_row[j], c2 = k_col[j];
-            t[j] = (u[r] - w->ub[r]) * (u[c2] - w->ub[c2]);
-            t[6 + j] = g * (((j < 3) ? 1.0f : 0.0f) - u[r] * u[c2]);
-        }
-        t[12] = f * f;
-    } else {
-        const float gt = f * (d + w->dbar) - q->mf2; /* |z|^2 - mean |z|^2, no cancellation */
-        const float xi = f * f - q->sv + q->alpha_n * gt;
-        float eta[3];
-        for (j = 0; j < 3; j++) {
-            const float y = x[j] - q->m[j];
-            eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
-            t[6 + j] = f * u[j];
-        }
-        for (j = 0; j < 6; j++) {
-            t[j] = eta[k_row[j]] * eta[k_col[j]];
-        }
-    }
-}
-
-/* Pass 2 (pass 1 saw no zero distance). */
-static void prv_pass2(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c, const float *ub,
-                      float dbar, const prv_sc_t *sc, int k, sfit_i_sum_t *s)
-{
-    prv_p2_t w;
-    w.ub = ub;
-    w.dbar = dbar;
-    w.sc = sc;
-    (void)sfit_i_pass(pts, n, c->v, NULL, prv_row2, &w, k, s);
+    sfit_i_rows_t q;
+    sfit_i_rows_init(&q, SFIT_I_ROWS_CENTRED, 0.0f, ub, dbar);
+    (void)sfit_i_pass(pts, n, c->v, NULL, &q, k, s);
 }
 
 /* After the checks of the fit (st): samples checked (at least nmin),
@@ -222,7 +162,7 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
         return st;
     }
     nf = (float)n;
-    prv_pass2(pts, n, center, ub, d0, NULL, 6, &s);
+    prv_pass_centred(pts, n, center, ub, d0, 6, &s);
     sfit_i_sym_unpack(s.tot, &a);
     if (sfit_mat3_chol(&a, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
@@ -254,7 +194,7 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     }
     nf = (float)n;
     dbar = d0 + s.tot[3] / nf;
-    prv_pass2(pts, n, center, ub, dbar, NULL, 13, &s);
+    prv_pass_centred(pts, n, center, ub, dbar, 13, &s);
     s2 = s.tot[12] / (nf - 4.0f);
     if (!sfit_i_isfinite(s2)) {
         return SFIT_E_RANGE;
@@ -295,7 +235,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
     sfit_i_sum_t s;
     sfit_vec3_t mean;
     sfit_mat3_t c, l, k, g, t, cov;
-    prv_sc_t q;
+    sfit_i_rows_t q;
     float nf, rho, v, alpha, betap, d0 = 0.0f, kp[3], wk[3], w[3], den, crc[3];
     int i, j;
     sfit_status_t st;
@@ -316,6 +256,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
     (void)sfit_moments_stats(&acc, &mean, &c, NULL);
     v = noise_var;
     rho = radius * radius;
+    sfit_i_rows_init(&q, SFIT_I_ROWS_SANDWICH, 0.0f, NULL, 0.0f);
     q.dbar = d0 + s.tot[3] / nf;
     q.mf2 = s.tot[4] / nf - (s.tot[3] / nf) * (s.tot[3] / nf);
     q.kv = ((nf - 1.0f) / nf) * v;
@@ -336,7 +277,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
         return SFIT_E_NOT_POSDEF;
     }
     sfit_i_chol_inverse(&l, &k);
-    prv_pass2(pts, n, center, NULL, q.dbar, &q, 9, &s);
+    (void)sfit_i_pass(pts, n, center->v, NULL, &q, 9, &s); /* pass 1 saw no zero distance */
     /* G = M~ - p w'^T, w' = -2 sum f u - 2 alpha a; G^-1 by Sherman-Morrison */
     for (i = 0; i < 3; i++) {
         w[i] = -2.0f * s.tot[6 + i] - 2.0f * alpha * q.a[i];
