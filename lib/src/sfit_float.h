@@ -187,6 +187,15 @@ SFIT_INLINE void sfit_i_sum_end(sfit_i_sum_t *s, int k)
     s->inblk = 0u;
 }
 
+/** @brief Count one term added to blk[0..k-1] by the caller (folds a full
+ * inner level). */
+SFIT_INLINE void sfit_i_sum_next(sfit_i_sum_t *s, int k)
+{
+    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
+        sfit_i_sum_end(s, k);
+    }
+}
+
 /** @brief Add one term of k quantities. */
 SFIT_INLINE void sfit_i_sum_add(sfit_i_sum_t *s, const float *v, int k)
 {
@@ -195,9 +204,7 @@ SFIT_INLINE void sfit_i_sum_add(sfit_i_sum_t *s, const float *v, int k)
     for (j = 0; j < k; j++) {
         s->blk[j] += v[j];
     }
-    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
-        sfit_i_sum_end(s, k);
-    }
+    sfit_i_sum_next(s, k);
 }
 
 #endif /* SFIT_FLOAT_H */

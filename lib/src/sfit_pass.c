@@ -11,7 +11,7 @@ static const uint8_t k_col[6] = {0u, 1u, 2u, 1u, 2u, 2u};
 
 /* The self-calibrated sandwich's row: packed eta eta^T, then f u. */
 static void prv_row_sandwich(const sfit_i_rows_t *q, const float x[3], float d, const float u[3],
-                             float *t)
+                             float *b)
 {
     const float f = d - q->dbar;
     const float gt = f * (d + q->dbar) - q->mf2; /* |z|^2 - mean |z|^2, no cancellation */
@@ -21,74 +21,66 @@ static void prv_row_sandwich(const sfit_i_rows_t *q, const float x[3], float d, 
     for (j = 0; j < 3; j++) {
         const float y = x[j] - q->m[j];
         eta[j] = 0.5f * gt * y - q->kv * (y + q->a[j]) + q->p[j] * xi;
-        t[6 + j] = f * u[j];
+        b[6 + j] += f * u[j];
     }
     for (j = 0; j < 6; j++) {
-        t[j] = eta[k_row[j]] * eta[k_col[j]];
+        b[j] += eta[k_row[j]] * eta[k_col[j]];
     }
 }
 
-/* Add the row (k floats, built in t) of sample x at distance d > 0,
- * direction u to s. Each sfit_i_sum_add() has a constant count, so that
- * the compiler unrolls it. */
+/* Add the row (k floats) of sample x at distance d > 0, direction u to the
+ * inner level b of the sum. */
 static void prv_row(sfit_i_rows_t *q, int k, const float x[3], float d, const float u[3],
-                    float *t, sfit_i_sum_t *s)
+                    float *b)
 {
-    float v[3], f;
+    float v[3], e;
     int j;
     switch (q->kind) {
     case SFIT_I_ROWS_RESID:
-        t[0] = d - q->ref;
-        t[1] = t[0] * t[0];
-        sfit_i_sum_add(s, t, 2);
+        e = d - q->ref;
+        b[0] += e;
+        b[1] += e * e;
         break;
     case SFIT_I_ROWS_DIRS:
         if (q->first) {
             q->ref = d;
             q->first = 0;
         }
-        t[0] = u[0];
-        t[1] = u[1];
-        t[2] = u[2];
-        t[3] = d - q->ref;
+        e = d - q->ref;
+        for (j = 0; j < 3; j++) {
+            b[j] += u[j];
+        }
+        b[3] += e;
         if (k == 5) {
-            t[4] = t[3] * t[3];
-            sfit_i_sum_add(s, t, 5);
-        } else {
-            sfit_i_sum_add(s, t, 4);
+            b[4] += e * e;
         }
         break;
     case SFIT_I_ROWS_LM:
     case SFIT_I_ROWS_CENTRED:
-        f = d - q->dbar;
+        e = d - q->dbar;
         for (j = 0; j < 3; j++) {
             v[j] = u[j] - q->ub[j];
         }
         for (j = 0; j < 6; j++) {
-            t[j] = v[k_row[j]] * v[k_col[j]];
+            b[j] += v[k_row[j]] * v[k_col[j]];
         }
         if (q->kind == SFIT_I_ROWS_LM) {
             for (j = 0; j < 3; j++) {
-                t[6 + j] = v[j] * f;
+                b[6 + j] += v[j] * e;
             }
-            sfit_i_sum_add(s, t, 9);
-        } else {
-            const float g = f / d;
+        } else if (k == 13) {
+            const float g = e / d;
             for (j = 0; j < 6; j++) {
-                t[6 + j] = g * (((j < 3) ? 1.0f : 0.0f) - u[k_row[j]] * u[k_col[j]]);
+                b[6 + j] += g * (((j < 3) ? 1.0f : 0.0f) - u[k_row[j]] * u[k_col[j]]);
             }
-            t[12] = f * f;
-            if (k == 13) {
-                sfit_i_sum_add(s, t, 13);
-            } else {
-                sfit_i_sum_add(s, t, 6);
-            }
+            b[12] += e * e;
+        } else {
+            /* k == 6: the packed (u - ub)(u - ub)^T alone */
         }
         break;
     case SFIT_I_ROWS_SANDWICH:
     default:
-        prv_row_sandwich(q, x, d, u, t);
-        sfit_i_sum_add(s, t, 9);
+        prv_row_sandwich(q, x, d, u, b);
         break;
     }
 }
@@ -109,10 +101,8 @@ void sfit_i_rows_init(sfit_i_rows_t *q, sfit_i_rows_kind_t kind, float ref, cons
 int sfit_i_pass(const sfit_vec3_t *pts, size_t n, const float c[3], const float *p,
                 sfit_i_rows_t *q, int k, sfit_i_sum_t *s)
 {
-    float t[SFIT_I_SUM_MAX];
     size_t i;
     int j;
-    memset(t, 0, sizeof t); /* a row kind writes its first k */
     memset(s, 0, sizeof *s);
     for (i = 0; i < n; i++) {
         float u[3], d;
@@ -128,7 +118,8 @@ int sfit_i_pass(const sfit_vec3_t *pts, size_t n, const float c[3], const float 
         if (!ok) {
             return 0;
         }
-        prv_row(q, k, pts[i].v, d, u, t, s);
+        prv_row(q, k, pts[i].v, d, u, s->blk);
+        sfit_i_sum_next(s, k);
     }
     sfit_i_sum_end(s, k);
     return 1;
