@@ -101,8 +101,10 @@ def main():
             rows.append((cap, sr, n, tt, est, ntr, ok, u, cov / u if u else -1.0,
                          rep / u / mc if mc > 0 else 0.0))
     assessed = [r for r in rows if r[7] >= o.assess * r[5]]
-    bad = 0
+    bad = bad_cov = bad_trace = 0
     for cap, sr, n, tt, est, ntr, ok, u, cv, q in assessed:
+        bad_cov += not (0.92 <= cv <= 0.98)
+        bad_trace += est == 1 and not (0.8 <= q <= 1.2)
         out = not (0.92 <= cv <= 0.98) or (est == 1 and not (0.8 <= q <= 1.2))
         bad += out
         if out or o.all:
@@ -112,7 +114,8 @@ def main():
     small = [r for r in rows if r[3] <= 0.1 and r[2] >= 100 and r[6] > 0]
     flmax = max([(r[6] - r[7]) / r[6] for r in small] + [0.0])
     q = [r[9] for r in assessed if r[4] == 1]
-    print(f"assessed rows {len(assessed)}, outside {bad}; coverage "
+    print(f"assessed rows {len(assessed)}, outside {bad} (coverage {bad_cov}, selfcal "
+          f"trace ratio {bad_trace}); coverage "
           f"{min(r[8] for r in assessed):.3f}-{max(r[8] for r in assessed):.3f}; "
           f"selfcal cov/MC {min(q):.3f}-{max(q):.3f}; "
           f"largest flagged fraction at true trust <= 0.1, N >= 100: {flmax:.3f}")
