@@ -14,8 +14,17 @@
  *
  * Usage: sfit_mc_coverage OUTDIR [quick]
  *        sfit_mc_coverage OUTDIR one CAP SIGMA/R N TRIALS [SEED]
+ *        sfit_mc_coverage OUTDIR trust CAP TRUST N TRIALS [SEED]
+ *        sfit_mc_coverage OUTFILE dump SCENFILE
  *   OUTDIR/coverage_table.md, OUTDIR/coverage.csv (quick: 1/10 of the trials)
  *   one: a single scenario printed to stdout.
+ *   trust: the same, sigma chosen so that the true trust ratio
+ *          sigma^2 / lambda_min(C) of the noisy population is TRUST.
+ *   dump: the scenarios of SCENFILE (lines "CAP SIGMA/R N TRIALS SEED"),
+ *          one line per trial and estimator into OUTFILE, for studying a
+ *          flag or widening rule after the fact (tools/montecarlo/cut_study.py;
+ *          build the library with -DSFIT_COV_MAX_TRUST=0.5f so that rule 3
+ *          does not pre-empt the rule under study).
  * The ctest sfit.uncert (test_coverage_subset) checks a fixed-seed subset.
  * Fixed seeds; identical output from run to run on the same platform.
  */
@@ -43,6 +52,32 @@ typedef struct scen {
     double theta_deg, sr; /* cap half-angle, sigma / r */
     int n, trials;
 } scen_t;
+
+/* dump mode: per-trial records (NULL: none) and the scenario's index. */
+static FILE *g_dump;
+static int g_dump_idx;
+
+/* One record of dump mode: scenario, estimator, status, flags, reported
+ * trust ratio, e^T Cov^-1 e (-1 when flagged, failed or Cov not positive
+ * definite), reported trace, centre error, noise variance the fit used. */
+static void dump_trial(int est, sfit_status_t st, uint32_t flags, float trust,
+                       const sfit_vec3_t *c, const float cov[6], float noise_var)
+{
+    double e[3], d2 = -1.0;
+    int k;
+    if (g_dump == NULL) {
+        return;
+    }
+    for (k = 0; k < 3; k++) {
+        e[k] = (double)c->v[k] - k_c[k];
+    }
+    if (st == SFIT_OK && (flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
+        d2 = tu_mahal_packed(cov, e);
+    }
+    fprintf(g_dump, "%d %d %d %u %.6g %.6g %.6g %.6g %.6g %.6g %.6g\n", g_dump_idx, est, (int)st,
+            (unsigned)flags, (double)trust, d2, (double)cov[0] + (double)cov[1] + (double)cov[2],
+            e[0], e[1], e[2], (double)noise_var);
+}
 
 /* One scenario: trials with fixed seed, one accumulator per estimator. */
 static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUNT])
@@ -75,6 +110,9 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         fc.mode = SFIT_MODE_SPHERE;
         fc.noise = SFIT_NOISE_ISO;
         fc.noise_var = (float)(sig * sig);
+        /* dump mode: the exact trust ratio (a screened result reports an
+         * upper bound of it, enough for the library's own cut only) */
+        fc.eigen = (g_dump != NULL) ? 1 : 0;
         st = sfit_points_fit(g_pf, (size_t)sc->n, &fc, &r);
         if (st == SFIT_OK) {
             sfit_moments_t m;
@@ -84,6 +122,8 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
                                      SFIT_UNCERT_NOISE_KNOWN, &u);
         }
         cov_tally_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov, k_c);
+        dump_trial(EST_UGDK, st, r.flags, r.trust_ratio, &r.center, u.center_cov, fc.noise_var);
+        memset(&u, 0, sizeof u);
         st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
         if (st == SFIT_OK && (s.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
             st = sfit_points_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
@@ -91,9 +131,13 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         }
         cov_tally_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
                       u.center_cov, k_c);
+        dump_trial(EST_SELFCAL, st, s.fit.flags, s.fit.trust_ratio, &s.fit.center, u.center_cov,
+                   s.noise_var);
         st = sfit_points_fit_refined(g_pf, (size_t)sc->n, NULL, &rf);
         cov_tally_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
                       &rf.geometric.center, rf.uncert.center_cov, k_c);
+        dump_trial(EST_REFINED, st, rf.start.fit.flags, rf.start.fit.trust_ratio,
+                   &rf.geometric.center, rf.uncert.center_cov, rf.start.noise_var);
     }
     return sig * sig / (lmin + sig * sig); /* true trust ratio: sigma^2 / lambda_min(C) */
 }
@@ -115,8 +159,36 @@ int main(int argc, char **argv)
     long rows = 0, outside = 0, trials_total = 0, few_rows = 0, few_n = 0, few_cov = 0;
     double flmax = 0.0, qmin = 1e30, qmax = 0.0;
     const long assess = quick ? 20 : 200; /* unflagged results for an assessed row */
-    if (argc > 6 && strcmp(argv[2], "one") == 0) {
-        /* one scenario: OUTDIR one CAP SIGMA/R N TRIALS [SEED] */
+    if (argc > 3 && strcmp(argv[2], "dump") == 0) {
+        /* OUTFILE dump SCENFILE: per-trial records of the listed scenarios */
+        FILE *in = fopen(argv[3], "r");
+        scen_t sc;
+        cov_tally_t acc[EST_COUNT];
+        long seed;
+        g_dump = (in != NULL) ? fopen(argv[1], "w") : NULL;
+        if (g_dump == NULL) {
+            perror((in == NULL) ? argv[3] : argv[1]);
+            return 1;
+        }
+        fprintf(g_dump, "# scen est status flags trust d2 trace ex ey ez noise_var\n");
+        while (fscanf(in, "%lf %lf %d %d %ld", &sc.theta_deg, &sc.sr, &sc.n, &sc.trials,
+                      &seed) == 5) {
+            double tt;
+            if (sc.n < 1 || sc.n > NMAX || sc.trials < 1) {
+                fprintf(stderr, "coverage: N in 1..%d, TRIALS >= 1\n", NMAX);
+                return 2;
+            }
+            tt = run_scen(&sc, (uint64_t)seed, acc);
+            fprintf(g_dump, "# scenario %d cap %.0f sigma_r %.6g n %d trials %d true_trust %.6g\n",
+                    g_dump_idx, sc.theta_deg, sc.sr, sc.n, sc.trials, tt);
+            g_dump_idx++;
+        }
+        fclose(in);
+        return (fclose(g_dump) == 0) ? 0 : 1;
+    }
+    if (argc > 6 && (strcmp(argv[2], "one") == 0 || strcmp(argv[2], "trust") == 0)) {
+        /* one scenario: OUTDIR one CAP SIGMA/R N TRIALS [SEED], or with
+         * trust the true trust ratio instead of sigma / r */
         scen_t sc;
         cov_tally_t acc[EST_COUNT];
         double tt;
@@ -127,6 +199,16 @@ int main(int argc, char **argv)
         if (sc.n < 1 || sc.n > NMAX || sc.trials < 1) {
             fprintf(stderr, "coverage: N in 1..%d, TRIALS >= 1\n", NMAX);
             return 2;
+        }
+        if (strcmp(argv[2], "trust") == 0) {
+            /* sigma^2 / (lambda0 + sigma^2) = T: sigma^2 = lambda0 T / (1 - T) */
+            double lmin, lmax;
+            if (!(sc.sr > 0.0 && sc.sr < 1.0)) {
+                fprintf(stderr, "coverage: TRUST in (0, 1)\n");
+                return 2;
+            }
+            ref_cap_eigs_numeric(sc.theta_deg * TU_PI / 180.0, K_R, &lmin, &lmax);
+            sc.sr = sqrt(lmin * sc.sr / (1.0 - sc.sr)) / K_R;
         }
         tt = run_scen(&sc, (argc > 7) ? (uint64_t)atol(argv[7]) : 1u, acc);
         for (e = 0; e < EST_COUNT; e++) {

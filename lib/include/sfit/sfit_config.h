@@ -101,7 +101,11 @@
  * ::SFIT_FLAG_COV_LIMIT: the second-order terms of the centre error (bias
  * and skew along the weakest direction) are no longer small against its
  * covariance, and the reported 95 % ellipsoid was measured to cover less
- * than 92 % of the truth (docs/coverage.md). Range (0, 0.5].
+ * than 92 % of the truth (docs/coverage.md). The cut is made on the fit's
+ * own (estimated) trust ratio: where the true ratio lies around it, the
+ * fits that pass are those whose ratio came out low, and they were
+ * measured to cover 82-92 % (docs/coverage.md, "Where it still falls
+ * short"). Range (0, 0.5].
  */
 #ifndef SFIT_COV_MAX_TRUST
 #define SFIT_COV_MAX_TRUST 0.35f
