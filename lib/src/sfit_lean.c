@@ -16,8 +16,8 @@
  * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
  * when the full solver would find: not coincident, not collinear, not
  * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
- * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted (the caller also
- * checks the rounding flag of sfit_fit.c with lmin_lo / lmax_hi); it then
+ * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted, without the rounding
+ * flag (sfit_i_rounding_test on the bounds) and inside the coverage limit; it then
  * returns the same centre and radius (the same Cholesky solve) and the same
  * status and flags. Every doubt
  * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
@@ -38,17 +38,21 @@
  * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off. */
 #define PRV_SWEEPS_OK (SFIT_JACOBI_MAX_SWEEPS >= 8)
 
-int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
-                      float ratio, sfit_i_solution_t *out)
+int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
+                      sfit_i_solution_t *out)
 {
     sfit_mat3_t l;
     sfit_i_solution_t *const r = out; /* scratch until the screen passes */
+    const sfit_mat3_t *const c = &sys->c;
     const float *a = l.m;
+    const float var = sys->var, scale = sys->scale;
     float tr, s, e2, det, lo;
     int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
-    if (!PRV_SWEEPS_OK || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+    /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags: the full solver
+     * decides (sfit_i_cov_limit). */
+    if (!PRV_SWEEPS_OK || n < SFIT_COV_MIN_SAMPLES || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* C' = C - var I (lower triangle is what the Cholesky reads). */
@@ -93,7 +97,7 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
         }
         r->rho = var / lo;
     }
-    (void)sfit_mat3_chol_solve(&l, rhs, &r->w);
+    (void)sfit_mat3_chol_solve(&l, &sys->rhs, &r->w);
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(r->w.v[i])) {
             return SFIT_I_SCREEN_TRIPPED;
@@ -102,8 +106,14 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     if (!sfit_i_isfinite(r->trace)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
+    /* The bounds must also prove that the rounding flag stays clear and
+     * that the fit is inside the coverage limit (the bound of rho is an
+     * upper bound, the full solver decides above it; so a screened result
+     * is never UNTRUSTED). */
+    if (sfit_i_rounding_test(n, (1.0f + PRV_REL) * tr, lo)
+        || r->rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
     r->mode = SFIT_MODE_SPHERE;
-    r->lmin_lo = lo;
-    r->lmax_hi = (1.0f + PRV_REL) * tr;
     return SFIT_OK;
 }

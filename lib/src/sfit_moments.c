@@ -135,14 +135,20 @@ static void prv_cmom_merge(sfit_cmom_t *a, sfit_cmom_t *b)
     a->n += b->n;
 }
 
-void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
+/* out := tot, merged with the open block blk (raw sums; NULL: none). */
+static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
-    *out = m->tot;
-    if (m->blk.n > 0u) {
+    *out = *tot;
+    if (blk != NULL && blk->n > 0u) {
         sfit_cmom_t b;
-        prv_centre(&m->blk, &b);
+        prv_centre(blk, &b);
         prv_cmom_merge(out, &b);
     }
+}
+
+void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
+{
+    prv_total(&m->tot, &m->blk, out);
 }
 
 /* Fold the open block into the total (centred in place) and empty it. */
@@ -225,6 +231,18 @@ sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t
     return sfit_moments_add_block(m, pts, n, NULL);
 }
 
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, float origin[3],
+                                 sfit_cmom_t *t)
+{
+    sfit_moments_t m;
+    const sfit_status_t st = sfit_i_moments_of(pts, n, &m);
+    if (st == SFIT_OK) {
+        sfit_i_moments_total(&m, t);
+        memcpy(origin, m.origin, sizeof m.origin);
+    }
+    return st;
+}
+
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
                                      size_t *bad)
 {
@@ -293,10 +311,11 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
     }
 }
 
-uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3])
+uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_mat3_t *c,
+                               float b[3], float d[3])
 {
     sfit_cmom_t t;
-    sfit_i_moments_total(m, &t);
+    prv_total(tot, blk, &t);
     sfit_i_cmom_system(&t, c, b);
     memcpy(d, t.d, sizeof t.d);
     return t.n;

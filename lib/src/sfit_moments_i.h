@@ -28,10 +28,20 @@ SFIT_INLINE sfit_status_t sfit_i_enough(sfit_status_t st, const sfit_moments_t *
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 
 /**
- * @brief The fit system of an accumulator with >= 2 samples: C and b as
+ * @brief The fit system of the totals tot and open block blk (raw sums of an
+ * accumulator; NULL when there is none) of >= 2 samples: C and b as
  * sfit_i_cmom_system(), d = mean - origin; returns the sample count (the
  * totals stay in this function's frame, off the solver's stack path).
  */
-uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3]);
+uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_mat3_t *c,
+                               float b[3], float d[3]);
+
+/**
+ * @brief The total t and origin of the n samples of a caller's array (the
+ * accumulator of sfit_i_moments_of() stays in this function's frame);
+ * statuses of sfit_moments_add_block().
+ */
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, float origin[3],
+                                 sfit_cmom_t *t);
 
 #endif /* SFIT_MOMENTS_I_H */

@@ -268,8 +268,10 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     }
     for (i = 0; i < 9; i++) {
         /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
-        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
+        sg_sum.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
     }
+    sys.sigma = &sg_sum;
+    sys.var = 0.0f;
     sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
     sys.scale = scale;
 

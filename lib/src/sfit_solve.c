@@ -170,6 +170,15 @@ void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfi
     }
 }
 
+/* Sigma_ij of a system: its lower triangle, or var I. */
+static float prv_sg(const sfit_i_system_t *sys, int i, int j)
+{
+    if (sys->sigma == NULL) {
+        return (i == j) ? sys->var : 0.0f;
+    }
+    return (i >= j) ? sys->sigma->m[3 * i + j] : sys->sigma->m[3 * j + i];
+}
+
 /* Column k of V as a vector, sign chosen so the largest component is > 0. */
 static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 {
@@ -189,19 +198,27 @@ static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 }
 
 /* rho(L^-1 Sigma L^-T) for C' = L L^T; b and w are scratch. */
-static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg, sfit_mat3_t *b,
-                                    sfit_vec3_t *w, float *rho)
+static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t *sys,
+                                    sfit_mat3_t *b, sfit_vec3_t *w, float *rho)
 {
-    float *const y = w->v;
-    int i;
+    float t;
+    int i, j;
     sfit_status_t st;
 
-    /* Y = L^-1 Sigma, row-major in b (Sigma's rows are its columns). */
+    /* Y^T = (L^-1 Sigma)^T: row i of b := L^-1 (row i of Sigma = its
+     * column i), in place; then transposed to Y. */
+    for (i = 0; i < 9; i++) {
+        b->m[i] = prv_sg(sys, i / 3, i % 3);
+    }
     for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &sg->m[3 * i], y);
-        b->m[i] = y[0];
-        b->m[3 + i] = y[1];
-        b->m[6 + i] = y[2];
+        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < i; j++) {
+            t = b->m[3 * i + j];
+            b->m[3 * i + j] = b->m[3 * j + i];
+            b->m[3 * j + i] = t;
+        }
     }
     /* B = L^-1 Y^T: row i of B from row i of Y, in place (B symmetric). */
     for (i = 0; i < 3; i++) {
@@ -226,10 +243,12 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg,
 
 /* 1 when Sigma is a multiple of I (or zero): then C' = C - Sigma has C's
  * eigenvectors and eigenvalues lambda - sigma^2. */
-static int prv_sigma_iso(const sfit_mat3_t *sg)
+static int prv_sigma_iso(const sfit_i_system_t *sys)
 {
-    return sg->m[1] == 0.0f && sg->m[2] == 0.0f && sg->m[5] == 0.0f && sg->m[0] == sg->m[4]
-           && sg->m[0] == sg->m[8];
+    const float *sg = (sys->sigma != NULL) ? sys->sigma->m : NULL;
+    return sg == NULL
+           || (sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4]
+               && sg[0] == sg[8]);
 }
 
 /* cp := C - Sigma (C when there is no noise model). */
@@ -239,7 +258,7 @@ static void prv_cprime(const sfit_i_system_t *sys, sfit_mat3_t *cp)
     *cp = sys->c;
     if (sys->noisy) {
         for (i = 0; i < 9; i++) {
-            cp->m[i] -= sys->sigma.m[i];
+            cp->m[i] -= prv_sg(sys, i / 3, i % 3);
         }
     }
 }
@@ -263,19 +282,19 @@ static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, sfit_mat3_t *cp
                                      const sfit_vec3_t *lam, float ratio, sfit_vec3_t *lamp,
                                      sfit_mat3_t *v, int *near, int *have_p)
 {
-    const sfit_mat3_t *sg = &sys->sigma;
     sfit_status_t st;
     int i;
-    if (!sys->noisy || prv_sigma_iso(sg)) {
+    if (!sys->noisy || prv_sigma_iso(sys)) {
         for (i = 0; i < 3; i++) {
-            lamp->v[i] = sys->noisy ? lam->v[i] - sg->m[0] : lam->v[i];
+            lamp->v[i] = sys->noisy ? lam->v[i] - prv_sg(sys, 0, 0) : lam->v[i];
         }
         *have_p = 1;
         *near = lamp->v[0] < ratio * lamp->v[2];
         return SFIT_OK;
     }
     {
-        const float trs = sg->m[0] + sg->m[4] + sg->m[8];
+        const float *sg = sys->sigma->m; /* a full Sigma: not isotropic */
+        const float trs = sg[0] + sg[4] + sg[8];
         if (lam->v[0] < ratio * (lam->v[2] - trs)) {
             *near = 1;
             return SFIT_OK;
@@ -309,11 +328,11 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
     }
     (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w);
     if (sys->noisy) {
-        if (have_p && prv_sigma_iso(&sys->sigma) && lamp->v[0] > 0.0f) {
+        if (have_p && prv_sigma_iso(sys) && lamp->v[0] > 0.0f) {
             /* rho(C'^-1 sigma^2 I) = sigma^2 / lambda_min(C'). */
-            out->rho = sys->sigma.m[0] / lamp->v[0];
+            out->rho = prv_sg(sys, 0, 0) / lamp->v[0];
         } else {
-            st = prv_trust_chol(cp, &sys->sigma, v, lamp, &out->rho); /* lamp: scratch */
+            st = prv_trust_chol(cp, sys, v, lamp, &out->rho); /* lamp: scratch */
             if (st != SFIT_OK) {
                 return st;
             }
@@ -328,7 +347,6 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
 static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
                                 const sfit_mat3_t *v, sfit_i_solution_t *out)
 {
-    const float *sg = sys->sigma.m;
     const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
     float k0 = 0.0f, k1 = 0.0f;
     int i, j;
@@ -352,8 +370,9 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         for (i = 0; i < 3; i++) {
             float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
             for (j = 0; j < 3; j++) {
-                s1 += sg[3 * i + j] * e[3 * j + 1];
-                s2 += sg[3 * i + j] * e[3 * j + 2];
+                const float g = prv_sg(sys, i, j);
+                s1 += g * e[3 * j + 1];
+                s2 += g * e[3 * j + 2];
             }
             b00 += e[3 * i + 1] * s1;
             b11 += e[3 * i + 2] * s2;
@@ -411,7 +430,7 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
         }
         st = (st == SFIT_OK) ? prv_planar(sys, &lamp, &v, out) : st;
     } else {
-        if (have_p && !(sys->noisy == 0 || prv_sigma_iso(&sys->sigma))) {
+        if (have_p && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
             prv_cprime(sys, &cp); /* destroyed by the decomposition of C' */
         }
         st = prv_sphere(sys, &cp, &lamp, have_p, &v, out);
