@@ -32,10 +32,12 @@ const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
     .eigen = 0};
 
-sfit_status_t sfit_i_fit_totals(const float origin[3], const sfit_cmom_t *tot,
-                                const sfit_cmom_t *blk, const sfit_fit_cfg_t *cfg,
-                                sfit_result_t *out)
+sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
+                                const sfit_fit_cfg_t *cfg, sfit_result_t *out)
 {
+    const float *const origin = (pt != NULL) ? pt->origin : m->origin;
+    const sfit_cmom_t *const tot = (pt != NULL) ? &pt->t : &m->tot;
+    const sfit_cmom_t *const blk = (pt != NULL) ? NULL : &m->blk;
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
     float d[3], r2;
@@ -115,5 +117,5 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     if (m == NULL || out == NULL) {
         return SFIT_E_ARG;
     }
-    return sfit_i_fit_totals(m->origin, &m->tot, &m->blk, cfg, out);
+    return sfit_i_fit_totals(m, NULL, cfg, out);
 }

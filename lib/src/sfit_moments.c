@@ -231,14 +231,13 @@ sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t
     return sfit_moments_add_block(m, pts, n, NULL);
 }
 
-sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, float origin[3],
-                                 sfit_cmom_t *t)
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total_t *out)
 {
     sfit_moments_t m;
     const sfit_status_t st = sfit_i_moments_of(pts, n, &m);
     if (st == SFIT_OK) {
-        sfit_i_moments_total(&m, t);
-        memcpy(origin, m.origin, sizeof m.origin);
+        sfit_i_moments_total(&m, &out->t);
+        memcpy(out->origin, m.origin, sizeof m.origin);
     }
     return st;
 }

@@ -36,12 +36,17 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_mat3_t *c,
                                float b[3], float d[3]);
 
+/** @brief The samples of an accumulator reduced to its total: origin + t. */
+typedef struct sfit_i_total {
+    float origin[3]; /**< the accumulator's origin */
+    sfit_cmom_t t;   /**< its total centred moments (sfit_i_moments_total()) */
+} sfit_i_total_t;
+
 /**
- * @brief The total t and origin of the n samples of a caller's array (the
- * accumulator of sfit_i_moments_of() stays in this function's frame);
- * statuses of sfit_moments_add_block().
+ * @brief The total of the n samples of a caller's array (the accumulator
+ * of sfit_i_moments_of() stays in this function's frame); statuses of
+ * sfit_moments_add_block().
  */
-sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, float origin[3],
-                                 sfit_cmom_t *t);
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total_t *out);
 
 #endif /* SFIT_MOMENTS_I_H */

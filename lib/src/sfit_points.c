@@ -14,13 +14,11 @@
 sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                               sfit_result_t *out)
 {
-    sfit_cmom_t t;
-    float origin[3];
+    sfit_i_total_t t;
     sfit_status_t st;
 
-    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG
-                                                 : sfit_i_points_total(pts, n, origin, &t);
-    return (st == SFIT_OK) ? sfit_i_fit_totals(origin, &t, NULL, cfg, out) : st;
+    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG : sfit_i_points_total(pts, n, &t);
+    return (st == SFIT_OK) ? sfit_i_fit_totals(NULL, &t, cfg, out) : st;
 }
 
 const sfit_refined_cfg_t sfit_refined_cfg_default = {

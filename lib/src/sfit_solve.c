@@ -326,7 +326,6 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
     if (st != SFIT_OK) {
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
-    (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w);
     if (sys->noisy) {
         if (have_p && prv_sigma_iso(sys) && lamp->v[0] > 0.0f) {
             /* rho(C'^-1 sigma^2 I) = sigma^2 / lambda_min(C'). */
@@ -338,6 +337,7 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
             }
         }
     }
+    (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w); /* lamp (= out->w) read above */
     out->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }
@@ -359,9 +359,6 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
     }
     k0 /= lamp->v[1];
     k1 /= lamp->v[2];
-    for (i = 0; i < 3; i++) {
-        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
-    }
     out->trace = lamp->v[1] + lamp->v[2];
     if (sys->noisy) {
         /* Trust on the kept plane: largest eigenvalue of the 2x2
@@ -385,6 +382,9 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         h = 0.5f * (b00 - b11);
         out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
     }
+    for (i = 0; i < 3; i++) { /* last: lamp is out->w (sfit_i_solve) */
+        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
+    }
     prv_axis(v, 0, &out->axis);
     out->mode = SFIT_MODE_PLANAR;
     return SFIT_OK;
@@ -394,7 +394,9 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
                            sfit_i_solution_t *out)
 {
     sfit_mat3_t cp, v;
-    sfit_vec3_t lamp;
+    /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
+     * prv_planar): no frame of their own. */
+    sfit_vec3_t *const lamp = &out->w;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     float ratio;
     int i, near = 0, have_p = 0;
@@ -417,7 +419,7 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
     ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
     prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
     prv_cprime(sys, &cp);
-    st = prv_planar_test(sys, &cp, lam, ratio, &lamp, &v, &near, &have_p);
+    st = prv_planar_test(sys, &cp, lam, ratio, lamp, &v, &near, &have_p);
     if (st != SFIT_OK) {
         return st;
     }
@@ -426,14 +428,14 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
     }
     if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near)) {
         if (!have_p) {
-            st = prv_eig_cprime(&cp, &lamp, &v);
+            st = prv_eig_cprime(&cp, lamp, &v);
         }
-        st = (st == SFIT_OK) ? prv_planar(sys, &lamp, &v, out) : st;
+        st = (st == SFIT_OK) ? prv_planar(sys, lamp, &v, out) : st;
     } else {
         if (have_p && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
             prv_cprime(sys, &cp); /* destroyed by the decomposition of C' */
         }
-        st = prv_sphere(sys, &cp, &lamp, have_p, &v, out);
+        st = prv_sphere(sys, &cp, lamp, have_p, &v, out);
     }
     if (st != SFIT_OK) {
         return st;

@@ -123,14 +123,12 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
                            sfit_i_solution_t *out);
 
 /**
- * @brief The fit of samples held as origin + the totals tot (centred) and
- * the open block blk (raw sums, NULL when there is none): the body of
- * sfit_moments_fit() and sfit_points_fit(), with their statuses after the
- * argument checks (cfg NULL: the defaults).
+ * @brief The fit of the samples of an accumulator m (pt NULL) or of a total
+ * pt (m not read): the body of sfit_moments_fit() and sfit_points_fit(),
+ * with their statuses after the argument checks (cfg NULL: the defaults).
  */
-sfit_status_t sfit_i_fit_totals(const float origin[3], const sfit_cmom_t *tot,
-                                const sfit_cmom_t *blk, const sfit_fit_cfg_t *cfg,
-                                sfit_result_t *out);
+sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
+                                const sfit_fit_cfg_t *cfg, sfit_result_t *out);
 
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
