@@ -40,7 +40,8 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     const sfit_cmom_t *const blk = (pt != NULL) ? NULL : &m->blk;
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
-    float d[3], r2;
+    const float *const d = sys.ms.d;
+    float r2;
     uint32_t n;
     int i, exact;
     sfit_status_t st;
@@ -54,7 +55,7 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
         return st;
     }
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
-    n = sfit_i_moments_system(tot, blk, &sys.c, sys.rhs.v, d);
+    n = sfit_i_moments_system(tot, blk, &sys.ms);
     sys.sigma = (cfg->noise == SFIT_NOISE_COV) ? &cfg->noise_cov : NULL;
     sys.var = (cfg->noise == SFIT_NOISE_ISO) ? cfg->noise_var : 0.0f;
     sys.noisy = (cfg->noise != SFIT_NOISE_NONE);

@@ -43,7 +43,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
 {
     sfit_mat3_t l;
     sfit_i_solution_t *const r = out; /* scratch until the screen passes */
-    const sfit_mat3_t *const c = &sys->c;
+    const sfit_mat3_t *const c = &sys->ms.c;
     const float *a = l.m;
     const float var = sys->var, scale = sys->scale;
     float tr, s, e2, det, lo;
@@ -97,7 +97,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         }
         r->rho = var / lo;
     }
-    (void)sfit_mat3_chol_solve(&l, &sys->rhs, &r->w);
+    (void)sfit_mat3_chol_solve(&l, &sys->ms.rhs, &r->w);
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(r->w.v[i])) {
             return SFIT_I_SCREEN_TRIPPED;

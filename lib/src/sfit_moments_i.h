@@ -27,14 +27,20 @@ SFIT_INLINE sfit_status_t sfit_i_enough(sfit_status_t st, const sfit_moments_t *
  */
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 
+/** @brief The linear system of a total: C, b and its mean. */
+typedef struct sfit_i_msys {
+    sfit_mat3_t c;   /**< C = M2/(N-1), full symmetric */
+    sfit_vec3_t rhs; /**< b = S/2 = M3/(2(N-1)) */
+    float d[3];      /**< mean - origin */
+} sfit_i_msys_t;
+
 /**
- * @brief The fit system of the totals tot and open block blk (raw sums of an
- * accumulator; NULL when there is none) of >= 2 samples: C and b as
- * sfit_i_cmom_system(), d = mean - origin; returns the sample count (the
- * totals stay in this function's frame, off the solver's stack path).
+ * @brief The fit system s of the totals tot and open block blk (raw sums of
+ * an accumulator; NULL when there is none) of >= 2 samples (C and b as
+ * sfit_i_cmom_system()); returns the sample count (the totals stay in this
+ * function's frame, off the solver's stack path).
  */
-uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_mat3_t *c,
-                               float b[3], float d[3]);
+uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s);
 
 /** @brief The samples of an accumulator reduced to its total: origin + t. */
 typedef struct sfit_i_total {

@@ -247,7 +247,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
         sw += w;
         sgp = prv_noise(&sg_cfg, noise, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
-            sys.c.m[i] += w * pm.c.m[i];
+            sys.ms.c.m[i] += w * pm.c.m[i];
         }
         if (noise != NULL) { /* one Sigma_hat: (sum w_p) Sigma_hat below */
             for (i = 0; i < 9; i++) {
@@ -262,7 +262,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
             const float *si = &sgp->m[3 * i];
             const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
                                         + (ci[2] - si[2]) * pm.dm[2]);
-            sys.rhs.v[i] += w * t;
+            sys.ms.rhs.v[i] += w * t;
             dbar[i] += w * pm.dm[i];
         }
     }

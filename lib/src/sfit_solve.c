@@ -251,11 +251,12 @@ static int prv_sigma_iso(const sfit_i_system_t *sys)
                && sg[0] == sg[8]);
 }
 
-/* cp := C - Sigma (C when there is no noise model). */
-static void prv_cprime(const sfit_i_system_t *sys, sfit_mat3_t *cp)
+/* cp := C - Sigma (C when there is no noise model), C from its packed
+ * lower triangle c6. */
+static void prv_cprime(const float c6[6], const sfit_i_system_t *sys, sfit_mat3_t *cp)
 {
     int i;
-    *cp = sys->c;
+    sfit_i_sym_unpack(c6, cp);
     if (sys->noisy) {
         for (i = 0; i < 9; i++) {
             cp->m[i] -= prv_sg(sys, i / 3, i % 3);
@@ -270,56 +271,58 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
     return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
 }
 
+/* prv_planar_test(): the bits of its result when it is not negative (a
+ * negative result is a status). */
+#define PRV_NEAR 1   /* lambda_min(C') < ratio lambda_max(C') */
+#define PRV_HAVE_P 2 /* lamp and v hold the eigen-decomposition of C' */
+
 /* The near-planar decision, lambda_min < ratio lambda_max, made on the
  * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
  * the noise: a noisy circle looks like a sphere through C). With isotropic
- * or no noise the eigen-decomposition of C' is C's shifted (*have_p = 1:
+ * or no noise the eigen-decomposition of C' is C's shifted (PRV_HAVE_P:
  * lamp and C's eigenvectors in v). A full Sigma first tries Weyl's bounds,
  * lambda_i(C) - tr(Sigma) <= lambda_i(C') <= lambda_i(C); only when they
  * cannot decide is C' decomposed (cp destroyed, v := its eigenvectors,
- * *have_p = 1 too). */
-static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, sfit_mat3_t *cp,
-                                     const sfit_vec3_t *lam, float ratio, sfit_vec3_t *lamp,
-                                     sfit_mat3_t *v, int *near, int *have_p)
+ * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR |
+ * PRV_HAVE_P bits, or a status < 0. */
+static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution_t *out)
 {
+    const float *const ratio = &out->trace; /* the threshold (sfit_i_solve) */
+    const sfit_vec3_t *const lam = &out->eigenvalues;
+    sfit_vec3_t *const lamp = &out->w;
     sfit_status_t st;
     int i;
     if (!sys->noisy || prv_sigma_iso(sys)) {
         for (i = 0; i < 3; i++) {
             lamp->v[i] = sys->noisy ? lam->v[i] - prv_sg(sys, 0, 0) : lam->v[i];
         }
-        *have_p = 1;
-        *near = lamp->v[0] < ratio * lamp->v[2];
-        return SFIT_OK;
+        return PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
     }
     {
         const float *sg = sys->sigma->m; /* a full Sigma: not isotropic */
         const float trs = sg[0] + sg[4] + sg[8];
-        if (lam->v[0] < ratio * (lam->v[2] - trs)) {
-            *near = 1;
-            return SFIT_OK;
+        if (lam->v[0] < *ratio * (lam->v[2] - trs)) {
+            return PRV_NEAR;
         }
-        if (lam->v[0] - trs >= ratio * lam->v[2]) {
-            *near = 0;
-            return SFIT_OK;
+        if (lam->v[0] - trs >= *ratio * lam->v[2]) {
+            return 0;
         }
     }
-    st = prv_eig_cprime(cp, lamp, v);
+    st = prv_eig_cprime(&sys->ms.c, lamp, v);
     if (st != SFIT_OK) {
-        return st;
+        return (int)st;
     }
-    *have_p = 1;
-    *near = lamp->v[0] < ratio * lamp->v[2];
-    return SFIT_OK;
+    return PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
 }
 
 /* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
  * the trust ratio from lamp (isotropic noise) or from L^-1 Sigma L^-T
  * (v and then lamp are scratch). */
-static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
-                                sfit_vec3_t *lamp, int have_p, sfit_mat3_t *v,
+static sfit_status_t prv_sphere(sfit_i_system_t *sys, int have_p, sfit_mat3_t *v,
                                 sfit_i_solution_t *out)
 {
+    sfit_mat3_t *const cp = &sys->ms.c;
+    sfit_vec3_t *const lamp = &out->w;
     sfit_status_t st;
     out->trace = cp->m[0] + cp->m[4] + cp->m[8];
     st = sfit_mat3_chol(cp, cp);
@@ -337,14 +340,14 @@ static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
             }
         }
     }
-    (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w); /* lamp (= out->w) read above */
+    (void)sfit_mat3_chol_solve(cp, &sys->ms.rhs, &out->w); /* lamp (= out->w) read above */
     out->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }
 
 /* Planar (eq. 217): pseudo-inverse over the two largest eigen-directions of
  * C' (lamp, v); the trust ratio over the kept plane. */
-static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
+SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
                                 const sfit_mat3_t *v, sfit_i_solution_t *out)
 {
     const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
@@ -354,8 +357,8 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
     for (i = 0; i < 3; i++) {
-        k0 += e[3 * i + 1] * sys->rhs.v[i];
-        k1 += e[3 * i + 2] * sys->rhs.v[i];
+        k0 += e[3 * i + 1] * sys->ms.rhs.v[i];
+        k1 += e[3 * i + 2] * sys->ms.rhs.v[i];
     }
     k0 /= lamp->v[1];
     k1 /= lamp->v[2];
@@ -390,21 +393,30 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
     return SFIT_OK;
 }
 
-sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out)
 {
-    sfit_mat3_t cp, v;
+    /* C's storage in the system is the working matrix (Jacobi, then C' and
+     * its factor); C itself is kept packed. */
+    sfit_mat3_t *const cp = &sys->ms.c;
+    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
      * prv_planar): no frame of their own. */
     sfit_vec3_t *const lamp = &out->w;
     const sfit_vec3_t *const lam = &out->eigenvalues;
-    float ratio;
-    int i, near = 0, have_p = 0;
-    sfit_status_t st;
+    int i, pt;
+    sfit_status_t st = SFIT_OK;
 
-    memset(out, 0, sizeof *out);
-    sfit_i_sym_full(&sys->c, cp.m);
-    st = sfit_i_eig_sym(cp.m, &out->eigenvalues, v.m);
+    /* The planar threshold waits in out->trace (set last by prv_sphere /
+     * prv_planar), stored before any call: no float register to keep. */
+    out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
+    memset(out, 0, offsetof(sfit_i_solution_t, trace));
+    out->rho = 0.0f;
+    out->flags = 0u;
+    out->mode = SFIT_MODE_SPHERE;
+    sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
+    st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
     }
@@ -416,26 +428,25 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
     if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
         return SFIT_E_DEGENERATE; /* collinear */
     }
-    ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
     prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
-    prv_cprime(sys, &cp);
-    st = prv_planar_test(sys, &cp, lam, ratio, lamp, &v, &near, &have_p);
-    if (st != SFIT_OK) {
-        return st;
+    prv_cprime(c6, sys, cp);
+    pt = prv_planar_test(sys, &v, out);
+    if (pt < 0) {
+        return (sfit_status_t)pt;
     }
-    if (near) {
+    if ((pt & PRV_NEAR) != 0) {
         out->flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
     }
-    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near)) {
-        if (!have_p) {
-            st = prv_eig_cprime(&cp, lamp, &v);
+    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && (pt & PRV_NEAR) != 0)) {
+        if ((pt & PRV_HAVE_P) == 0) {
+            st = prv_eig_cprime(cp, lamp, &v);
         }
         st = (st == SFIT_OK) ? prv_planar(sys, lamp, &v, out) : st;
     } else {
-        if (have_p && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
-            prv_cprime(sys, &cp); /* destroyed by the decomposition of C' */
+        if ((pt & PRV_HAVE_P) != 0 && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
+            prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
         }
-        st = prv_sphere(sys, &cp, lamp, have_p, &v, out);
+        st = prv_sphere(sys, (pt & PRV_HAVE_P) != 0, &v, out);
     }
     if (st != SFIT_OK) {
         return st;

@@ -15,12 +15,13 @@
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
-    sfit_mat3_t c;            /**< C (or sum of C_p): symmetric, its eigenvalues are reported */
+    sfit_i_msys_t ms;         /**< ms.c: C (or sum of C_p), symmetric (its lower triangle is
+                                   read), its eigenvalues are reported; ms.rhs: b; ms.d: the
+                                   fit's mean - origin (not read by the solver) */
     const sfit_mat3_t *sigma; /**< noise matrix Sigma subtracted from c, symmetric (its lower
                                    triangle is read); NULL: Sigma = var I */
     float var;                /**< sigma NULL: the isotropic variance (0 for GDKE) */
     int noisy;                /**< 1 for UGDK (a noise model given) */
-    sfit_vec3_t rhs;          /**< b */
     float scale;              /**< spread at or below which samples count as coincident */
 } sfit_i_system_t;
 
@@ -116,10 +117,11 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. Statuses as sfit_moments_fit(); out is scratch
+ * trust ratio included. sys->ms.c is used as working storage (destroyed).
+ * Statuses as sfit_moments_fit(); out is scratch
  * (partly written) on failure.
  */
-sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
 
 /**
