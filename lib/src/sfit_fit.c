@@ -56,9 +56,12 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     }
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
     n = sfit_i_moments_system(tot, blk, &sys.ms);
-    sys.sigma = (cfg->noise == SFIT_NOISE_COV) ? &cfg->noise_cov : NULL;
-    sys.var = (cfg->noise == SFIT_NOISE_ISO) ? cfg->noise_var : 0.0f;
-    sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
+    sys.noisy = (int)cfg->noise;
+    if (cfg->noise == SFIT_NOISE_COV) {
+        sys.sigma.m = &cfg->noise_cov;
+    } else {
+        sys.sigma.var = (cfg->noise == SFIT_NOISE_ISO) ? cfg->noise_var : 0.0f;
+    }
     sys.scale = sfit_i_coincident_scale(origin, d);
 
     /* The screened solve first (sphere, no or isotropic noise); the full
@@ -89,10 +92,10 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
         return SFIT_E_RANGE;
     }
     if (n < SFIT_FEW_SAMPLES) {
-        sol.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+        sol.flags |= (uint8_t)SFIT_FLAG_FEW_SAMPLES;
     }
     if (exact && prv_rounding_flag(n, &sol, cfg)) {
-        sol.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
+        sol.flags |= (uint8_t)SFIT_FLAG_ROUNDING;
     }
     /* Every check passed: the result is written. */
     memset(out, 0, sizeof *out);
@@ -105,7 +108,7 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     out->trust_ratio = sol.rho / (1.0f + sol.rho);
     /* docs/coverage.md: outside the validated range the covariance no
      * longer describes the error (decided on the exact ratio: see above). */
-    out->flags = sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
+    out->flags = (uint32_t)sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
     out->method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     out->mode = sol.mode;
     out->exact = exact;

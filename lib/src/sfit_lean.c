@@ -45,7 +45,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     sfit_i_solution_t *const r = out; /* scratch until the screen passes */
     const sfit_mat3_t *const c = &sys->ms.c;
     const float *a = l.m;
-    const float var = sys->var, scale = sys->scale;
+    const float var = sys->sigma.var, scale = sys->scale; /* SFIT_NOISE_NONE or _ISO */
     float tr, s, e2, det, lo;
     int i;
 

@@ -270,9 +270,9 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
         /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
         sg_sum.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * sg_cfg.m[i];
     }
-    sys.sigma = &sg_sum;
-    sys.var = 0.0f;
-    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
+    sys.sigma.m = &sg_sum;
+    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE) ? (int)SFIT_NOISE_COV
+                                                                     : (int)SFIT_NOISE_NONE;
     sys.scale = scale;
 
     st = sfit_i_solve(&sys, cfg->fit.mode, cfg->fit.planar_ratio, &sol);
@@ -319,7 +319,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     r.markers = used;
     r.skipped = skipped;
     sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
-    r.flags = sol.flags | flags | sfit_i_cov_limit(r.trust_ratio, r.n_total);
+    r.flags = (uint32_t)sol.flags | flags | sfit_i_cov_limit(r.trust_ratio, r.n_total);
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
 

@@ -170,13 +170,14 @@ void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfi
     }
 }
 
-/* Sigma_ij of a system: its lower triangle, or var I. */
+/* Sigma_ij of a system with a noise model: the lower triangle of the
+ * matrix, or var I. */
 static float prv_sg(const sfit_i_system_t *sys, int i, int j)
 {
-    if (sys->sigma == NULL) {
-        return (i == j) ? sys->var : 0.0f;
+    if (sys->noisy != (int)SFIT_NOISE_COV) {
+        return (i == j) ? sys->sigma.var : 0.0f;
     }
-    return (i >= j) ? sys->sigma->m[3 * i + j] : sys->sigma->m[3 * j + i];
+    return (i >= j) ? sys->sigma.m->m[3 * i + j] : sys->sigma.m->m[3 * j + i];
 }
 
 /* Column k of V as a vector, sign chosen so the largest component is > 0. */
@@ -245,7 +246,7 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t 
  * eigenvectors and eigenvalues lambda - sigma^2. */
 static int prv_sigma_iso(const sfit_i_system_t *sys)
 {
-    const float *sg = (sys->sigma != NULL) ? sys->sigma->m : NULL;
+    const float *sg = (sys->noisy == (int)SFIT_NOISE_COV) ? sys->sigma.m->m : NULL;
     return sg == NULL
            || (sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4]
                && sg[0] == sg[8]);
@@ -299,7 +300,7 @@ static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution
         return PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
     }
     {
-        const float *sg = sys->sigma->m; /* a full Sigma: not isotropic */
+        const float *sg = sys->sigma.m->m; /* a full Sigma: not isotropic */
         const float trs = sg[0] + sg[4] + sg[8];
         if (lam->v[0] < *ratio * (lam->v[2] - trs)) {
             return PRV_NEAR;
@@ -435,7 +436,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         return (sfit_status_t)pt;
     }
     if ((pt & PRV_NEAR) != 0) {
-        out->flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
+        out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
     }
     if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && (pt & PRV_NEAR) != 0)) {
         if ((pt & PRV_HAVE_P) == 0) {
@@ -452,7 +453,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         return st;
     }
     if (out->rho >= 1.0f) {
-        out->flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+        out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
     }
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(out->w.v[i])) {

@@ -18,10 +18,14 @@ typedef struct sfit_i_system {
     sfit_i_msys_t ms;         /**< ms.c: C (or sum of C_p), symmetric (its lower triangle is
                                    read), its eigenvalues are reported; ms.rhs: b; ms.d: the
                                    fit's mean - origin (not read by the solver) */
-    const sfit_mat3_t *sigma; /**< noise matrix Sigma subtracted from c, symmetric (its lower
-                                   triangle is read); NULL: Sigma = var I */
-    float var;                /**< sigma NULL: the isotropic variance (0 for GDKE) */
-    int noisy;                /**< 1 for UGDK (a noise model given) */
+    int noisy;                /**< the noise model (a sfit_noise_kind_t): SFIT_NOISE_NONE (0,
+                                   GDKE), SFIT_NOISE_ISO (Sigma = sigma.var I) or
+                                   SFIT_NOISE_COV (Sigma = *sigma.m, symmetric: its lower
+                                   triangle is read) */
+    union {
+        const sfit_mat3_t *m; /**< SFIT_NOISE_COV */
+        float var;            /**< SFIT_NOISE_ISO (0 for SFIT_NOISE_NONE) */
+    } sigma;                  /**< Sigma_hat, subtracted from c */
     float scale;              /**< spread at or below which samples count as coincident */
 } sfit_i_system_t;
 
@@ -32,9 +36,18 @@ typedef struct sfit_i_solution {
     sfit_vec3_t axis;        /**< dropped / smallest eigen-direction (unit, sign-normalised) */
     float trace;             /**< trace of C - Sigma over the directions used */
     float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
-    uint32_t flags;          /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
+    uint8_t flags;           /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED (and the fit's
+                                  FEW_SAMPLES, ROUNDING): one byte beside mode keeps the
+                                  fit's frame 8 bytes smaller on Cortex-M */
 } sfit_i_solution_t;
+
+/* Every flag a solution carries fits its byte. */
+typedef char sfit_i_solution_flags_fit[(SFIT_FLAG_UNTRUSTED | SFIT_FLAG_FEW_SAMPLES
+                                        | SFIT_FLAG_NEAR_PLANAR | SFIT_FLAG_ROUNDING)
+                                               <= 0xFF
+                                           ? 1
+                                           : -1];
 
 /** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
 #define SFIT_ROUNDING_K 0.5f
