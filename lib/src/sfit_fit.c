@@ -73,9 +73,15 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
                                &sol);
     }
     exact = (st != SFIT_OK);
+#if SFIT_FULL_SOLVER
     if (exact) {
         st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
     }
+#else
+    if (exact) {
+        return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
+    }
+#endif
     if (st != SFIT_OK) {
         return st;
     }

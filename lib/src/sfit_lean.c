@@ -35,8 +35,9 @@
 #define PRV_COND 9.765625e-4f /* 2^-10 */
 /* The screen promises that the full solver converges. A symmetric 3x3
  * needs 4-6 Jacobi sweeps (SFIT_JACOBI_MAX_SWEEPS); with a bound below 8
- * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off. */
-#define PRV_SWEEPS_OK (SFIT_JACOBI_MAX_SWEEPS >= 8)
+ * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off
+ * (unless there is no full solver: SFIT_FULL_SOLVER 0). */
+#define PRV_SWEEPS_OK (!SFIT_FULL_SOLVER || SFIT_JACOBI_MAX_SWEEPS >= 8)
 
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out)
@@ -50,9 +51,12 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
-    /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags: the full solver
-     * decides (sfit_i_cov_limit). */
-    if (!PRV_SWEEPS_OK || n < SFIT_COV_MIN_SAMPLES || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+    /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags (sfit_i_cov_limit,
+     * decided by the count alone): the full solver runs, so that a screened
+     * result is never UNTRUSTED; a build without it (SFIT_FULL_SOLVER 0)
+     * screens these too (same centre, radius and flags). */
+    if (!PRV_SWEEPS_OK || (SFIT_FULL_SOLVER && n < SFIT_COV_MIN_SAMPLES) || !(tr > 0.0f)
+        || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* C' = C - var I (lower triangle is what the Cholesky reads). */
