@@ -39,6 +39,13 @@
  * (unless there is no full solver: SFIT_FULL_SOLVER 0). */
 #define PRV_SWEEPS_OK (!SFIT_FULL_SOLVER || SFIT_JACOBI_MAX_SWEEPS >= 8)
 
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin)
+{
+    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
+             <= SFIT_ROUNDING_TOL * lmin);
+}
+
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out)
 {

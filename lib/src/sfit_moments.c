@@ -100,7 +100,6 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
 {
     float *const delta = b->d; /* m_B - m_A, then the merged mean */
     float fa, fb, w;
-    int i;
 
     if (b->n == 0u) {
         *b = *a;
@@ -116,10 +115,14 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
         fa = na / n;
         w = na * fb; /* n_A n_B / n */
     }
-    for (i = 0; i < 3; i++) {
-        delta[i] = b->d[i] - a->d[i];
-        b->m3[i] = a->m3[i] + b->m3[i];
-    }
+    /* Written out (no loop): fewer registers live, a smaller frame on
+     * sfit_moments_add's deepest path. */
+    delta[0] = b->d[0] - a->d[0];
+    delta[1] = b->d[1] - a->d[1];
+    delta[2] = b->d[2] - a->d[2];
+    b->m3[0] = a->m3[0] + b->m3[0];
+    b->m3[1] = a->m3[1] + b->m3[1];
+    b->m3[2] = a->m3[2] + b->m3[2];
     prv_m3_shift(a, -fb, delta, b->m3); /* m_A - m = -fb delta */
     prv_m3_shift(b, fa, delta, b->m3);  /* m_B - m = fa delta (b's m2 and n still B's) */
     b->m2[0] = a->m2[0] + (b->m2[0] + w * delta[0] * delta[0]);
@@ -128,9 +131,9 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
     b->m2[3] = a->m2[3] + (b->m2[3] + w * delta[0] * delta[1]);
     b->m2[4] = a->m2[4] + (b->m2[4] + w * delta[0] * delta[2]);
     b->m2[5] = a->m2[5] + (b->m2[5] + w * delta[1] * delta[2]);
-    for (i = 0; i < 3; i++) {
-        delta[i] = a->d[i] + fb * delta[i];
-    }
+    delta[0] = a->d[0] + fb * delta[0];
+    delta[1] = a->d[1] + fb * delta[1];
+    delta[2] = a->d[2] + fb * delta[2];
     b->n += a->n;
 }
 
@@ -299,15 +302,14 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
 
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
 {
+    /* Where the packed XX, YY, ZZ, XY, XZ, YZ go in the lower triangle. */
+    static const uint8_t k_lower[6] = {0u, 4u, 8u, 3u, 6u, 7u};
     const float inv = 1.0f / (float)(t->n - 1u);
-    const float *p = t->m2; /* packed XX, YY, ZZ, XY, XZ, YZ */
     int i;
-    c->m[0] = p[0] * inv;
-    c->m[4] = p[1] * inv;
-    c->m[8] = p[2] * inv;
-    c->m[1] = c->m[3] = p[3] * inv;
-    c->m[2] = c->m[6] = p[4] * inv;
-    c->m[5] = c->m[7] = p[5] * inv;
+    for (i = 0; i < 6; i++) {
+        c->m[k_lower[i]] = t->m2[i] * inv;
+    }
+    sfit_i_sym_full(c, c->m); /* in place: the upper triangle mirrored */
     for (i = 0; i < 3; i++) {
         b[i] = (0.5f * inv) * t->m3[i];
     }

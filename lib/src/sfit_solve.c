@@ -246,10 +246,12 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t 
  * eigenvectors and eigenvalues lambda - sigma^2. */
 static int prv_sigma_iso(const sfit_i_system_t *sys)
 {
-    const float *sg = (sys->noisy == (int)SFIT_NOISE_COV) ? sys->sigma.m->m : NULL;
-    return sg == NULL
-           || (sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4]
-               && sg[0] == sg[8]);
+    const float *sg;
+    if (sys->noisy != (int)SFIT_NOISE_COV) {
+        return 1;
+    }
+    sg = sys->sigma.m->m;
+    return sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4] && sg[0] == sg[8];
 }
 
 /* cp := C - Sigma (C when there is no noise model), C from its packed

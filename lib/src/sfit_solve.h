@@ -11,8 +11,6 @@
 #include "sfit/sfit_multi.h"
 #include "sfit_moments_i.h"
 
-#include <float.h>
-
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
     sfit_i_msys_t ms;         /**< ms.c: C (or sum of C_p), symmetric (its lower triangle is
@@ -62,14 +60,10 @@ typedef char sfit_i_solution_flags_fit[(SFIT_FLAG_UNTRUSTED | SFIT_FLAG_FEW_SAMP
  * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. lmax >=
  * lambda_max(C) and lmin <= lambda_min(C') (the full solver: C's largest
  * and C''s smallest used eigenvalue minus an upper bound of the noise; the
- * screened solve: its bounds); lmin not positive flags.
+ * screened solve: its bounds); lmin not positive flags (sfit_lean.c: one
+ * copy for both paths).
  */
-SFIT_INLINE int sfit_i_rounding_test(uint32_t n, float lmax, float lmin)
-{
-    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
-             <= SFIT_ROUNDING_TOL * lmin);
-}
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin);
 
 /** @brief The solution's summary in a result: eigenvalues, axis, Leontief
  * ratio rho and trust ratio rho / (1 + rho). */
