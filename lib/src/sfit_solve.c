@@ -274,10 +274,12 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
     return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
 }
 
-/* prv_planar_test(): the bits of its result when it is not negative (a
- * negative result is a status). */
+/* prv_planar_test(): the sum of these is its result when it is not
+ * negative (a negative result is a status). */
 #define PRV_NEAR 1   /* lambda_min(C') < ratio lambda_max(C') */
 #define PRV_HAVE_P 2 /* lamp and v hold the eigen-decomposition of C' */
+#define PRV_IS_NEAR(pt) (((pt) % 2) == 1)
+#define PRV_IS_P(pt) ((pt) >= PRV_HAVE_P)
 
 /* The near-planar decision, lambda_min < ratio lambda_max, made on the
  * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
@@ -286,8 +288,8 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
  * lamp and C's eigenvectors in v). A full Sigma first tries Weyl's bounds,
  * lambda_i(C) - tr(Sigma) <= lambda_i(C') <= lambda_i(C); only when they
  * cannot decide is C' decomposed (cp destroyed, v := its eigenvectors,
- * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR |
- * PRV_HAVE_P bits, or a status < 0. */
+ * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR +
+ * PRV_HAVE_P (each or none), or a status < 0. */
 static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution_t *out)
 {
     const float *const ratio = &out->trace; /* the threshold (sfit_i_solve) */
@@ -299,7 +301,7 @@ static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution
         for (i = 0; i < 3; i++) {
             lamp->v[i] = sys->noisy ? lam->v[i] - prv_sg(sys, 0, 0) : lam->v[i];
         }
-        return PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
+        return PRV_HAVE_P + ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
     }
     {
         const float *sg = sys->sigma.m->m; /* a full Sigma: not isotropic */
@@ -315,7 +317,7 @@ static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution
     if (st != SFIT_OK) {
         return (int)st;
     }
-    return PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
+    return PRV_HAVE_P + ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
 }
 
 /* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
@@ -437,19 +439,19 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
     if (pt < 0) {
         return (sfit_status_t)pt;
     }
-    if ((pt & PRV_NEAR) != 0) {
+    if (PRV_IS_NEAR(pt)) {
         out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
     }
-    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && (pt & PRV_NEAR) != 0)) {
-        if ((pt & PRV_HAVE_P) == 0) {
+    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && PRV_IS_NEAR(pt))) {
+        if (!PRV_IS_P(pt)) {
             st = prv_eig_cprime(cp, lamp, &v);
         }
         st = (st == SFIT_OK) ? prv_planar(sys, lamp, &v, out) : st;
     } else {
-        if ((pt & PRV_HAVE_P) != 0 && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
+        if (PRV_IS_P(pt) && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
             prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
         }
-        st = prv_sphere(sys, (pt & PRV_HAVE_P) != 0, &v, out);
+        st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }
     if (st != SFIT_OK) {
         return st;

@@ -36,16 +36,10 @@ typedef struct sfit_i_solution {
     float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
     uint8_t flags;           /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED (and the fit's
-                                  FEW_SAMPLES, ROUNDING): one byte beside mode keeps the
-                                  fit's frame 8 bytes smaller on Cortex-M */
+                                  FEW_SAMPLES, ROUNDING: every flag a solution carries is
+                                  below 0x100): one byte beside mode keeps the fit's frame
+                                  8 bytes smaller on Cortex-M */
 } sfit_i_solution_t;
-
-/* Every flag a solution carries fits its byte. */
-typedef char sfit_i_solution_flags_fit[(SFIT_FLAG_UNTRUSTED | SFIT_FLAG_FEW_SAMPLES
-                                        | SFIT_FLAG_NEAR_PLANAR | SFIT_FLAG_ROUNDING)
-                                               <= 0xFF
-                                           ? 1
-                                           : -1];
 
 /** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
 #define SFIT_ROUNDING_K 0.5f
