@@ -274,12 +274,12 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
     return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
 }
 
-/* prv_planar_test(): the sum of these is its result when it is not
- * negative (a negative result is a status). */
-#define PRV_NEAR 1   /* lambda_min(C') < ratio lambda_max(C') */
-#define PRV_HAVE_P 2 /* lamp and v hold the eigen-decomposition of C' */
-#define PRV_IS_NEAR(pt) (((pt) % 2) == 1)
-#define PRV_IS_P(pt) ((pt) >= PRV_HAVE_P)
+/* prv_planar_test(): the bits of its result when it is not negative (a
+ * negative result is a status). */
+#define PRV_NEAR 1u   /* lambda_min(C') < ratio lambda_max(C') */
+#define PRV_HAVE_P 2u /* lamp and v hold the eigen-decomposition of C' */
+#define PRV_IS_NEAR(pt) ((((unsigned)(pt)) & PRV_NEAR) != 0u) /* pt >= 0 */
+#define PRV_IS_P(pt) ((((unsigned)(pt)) & PRV_HAVE_P) != 0u)
 
 /* The near-planar decision, lambda_min < ratio lambda_max, made on the
  * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
@@ -288,7 +288,7 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
  * lamp and C's eigenvectors in v). A full Sigma first tries Weyl's bounds,
  * lambda_i(C) - tr(Sigma) <= lambda_i(C') <= lambda_i(C); only when they
  * cannot decide is C' decomposed (cp destroyed, v := its eigenvectors,
- * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR +
+ * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR |
  * PRV_HAVE_P (each or none), or a status < 0. */
 static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution_t *out)
 {
@@ -301,13 +301,13 @@ static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution
         for (i = 0; i < 3; i++) {
             lamp->v[i] = sys->noisy ? lam->v[i] - prv_sg(sys, 0, 0) : lam->v[i];
         }
-        return PRV_HAVE_P + ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
+        return (int)(PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0u));
     }
     {
         const float *sg = sys->sigma.m->m; /* a full Sigma: not isotropic */
         const float trs = sg[0] + sg[4] + sg[8];
         if (lam->v[0] < *ratio * (lam->v[2] - trs)) {
-            return PRV_NEAR;
+            return (int)PRV_NEAR;
         }
         if (lam->v[0] - trs >= *ratio * lam->v[2]) {
             return 0;
@@ -317,7 +317,7 @@ static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution
     if (st != SFIT_OK) {
         return (int)st;
     }
-    return PRV_HAVE_P + ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0);
+    return (int)(PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0u));
 }
 
 /* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
