@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_points.c
- * @brief The combined recipe over a caller's array: self-calibrated start,
- * geometric refinement, sandwich covariance (sfit_points_fit_refined()).
+ * @brief Fits over a caller's array: sfit_points_fit() and the combined
+ * recipe (self-calibrated start, geometric refinement, sandwich covariance:
+ * sfit_points_fit_refined()).
  */
 #include "sfit/sfit_refine.h"
 

@@ -419,7 +419,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
     memset(out, 0, offsetof(sfit_i_solution_t, trace));
     out->rho = 0.0f;
     out->flags = 0u;
-    out->mode = SFIT_MODE_SPHERE;
+    out->mode = SFIT_MODE_AUTO; /* set by prv_sphere / prv_planar */
     sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
     st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
