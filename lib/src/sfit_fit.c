@@ -10,27 +10,9 @@
 #include <float.h>
 #include <string.h>
 
-/** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
-#define SFIT_ROUNDING_K 0.5f
-/** Relative accuracy an unflagged result promises (the README's 1e-4 r). */
-#define SFIT_ROUNDING_TOL 1e-4f
-
-/* 1 when the float sums may not carry the result to SFIT_ROUNDING_TOL r.
- * Each block merge of the accumulator (one per SFIT_SUM_BLOCK samples)
- * rounds the totals relative to eps; the errors add as a random walk, and
- * the solve amplifies them by the conditioning of C': the centre's error
- * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. cond(C')
- * is bounded from C's eigenvalues: the smallest used one minus an upper
- * bound of the noise (sigma^2, or tr Sigma); one not positive flags.
- * prv_rounding_test: the model with lmax >= lambda_max(C) and
- * lmin <= lambda_min(C'), as the screened solve bounds them. */
-static int prv_rounding_test(uint32_t n, float lmax, float lmin)
-{
-    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
-             <= SFIT_ROUNDING_TOL * lmin);
-}
-
+/* The rounding flag of the full solver (sfit_i_rounding_test): cond(C')
+ * bounded from C's eigenvalues, the smallest used one minus an upper bound
+ * of the noise (sigma^2, or tr Sigma); one not positive flags. */
 static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 {
     const float *lam = sol->eigenvalues.v;
@@ -43,56 +25,63 @@ static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfi
         /* GDKE: C' = C */
     }
     lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
-    return prv_rounding_test(n, lam[2], lmin);
+    return sfit_i_rounding_test(n, lam[2], lmin);
 }
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
     .eigen = 0};
 
-sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
-                             sfit_result_t *out)
+sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
+                                const sfit_fit_cfg_t *cfg, sfit_result_t *out)
 {
+    const float *const origin = (pt != NULL) ? pt->origin : m->origin;
+    const sfit_cmom_t *const tot = (pt != NULL) ? &pt->t : &m->tot;
+    const sfit_cmom_t *const blk = (pt != NULL) ? NULL : &m->blk;
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
-    float d[3], r2;
+    const float *const d = sys.ms.d;
+    float r2;
     uint32_t n;
     int i, exact;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
-    st = (m == NULL || out == NULL) ? SFIT_E_ARG : sfit_i_enough(sfit_i_check_cfg(cfg), m);
+    st = sfit_i_check_cfg(cfg);
+    if (st == SFIT_OK && tot->n + ((blk != NULL) ? blk->n : 0u) < SFIT_MIN_SAMPLES) {
+        st = SFIT_E_TOO_FEW;
+    }
     if (st != SFIT_OK) {
         return st;
     }
-    memset(&sys, 0, sizeof sys);
     /* C = M2/(N-1); b = S/2 = M3/(2(N-1)). */
-    n = sfit_i_moments_system(m, &sys.c, sys.rhs.v, d);
-    sfit_i_sigma(cfg->noise, cfg->noise_var, &cfg->noise_cov, &sys.sigma);
-    sys.noisy = (cfg->noise != SFIT_NOISE_NONE);
-    sys.scale = sfit_i_coincident_scale(m->origin, d);
+    n = sfit_i_moments_system(tot, blk, &sys.ms);
+    sys.noisy = (int)cfg->noise;
+    if (cfg->noise == SFIT_NOISE_COV) {
+        sys.sigma.m = &cfg->noise_cov;
+    } else {
+        sys.sigma.var = (cfg->noise == SFIT_NOISE_ISO) ? cfg->noise_var : 0.0f;
+    }
+    sys.scale = sfit_i_coincident_scale(origin, d);
 
     /* The screened solve first (sphere, no or isotropic noise); the full
      * solver when it trips, when asked for, or for planar / full-covariance. */
     st = SFIT_I_SCREEN_TRIPPED;
     if (cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
-        st = sfit_i_solve_lean(&sys.c, &sys.rhs, sys.sigma.m[0], sys.scale,
+        st = sfit_i_solve_lean(&sys, n,
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
-        /* The bounds must also prove that the rounding flag stays clear and
-         * that the fit is inside the coverage limit (sfit_i_cov_limit: the
-         * bound of rho is an upper bound, the full solver decides above it;
-         * so a screened result is never UNTRUSTED). */
-        if (st == SFIT_OK && (prv_rounding_test(n, sol.lmax_hi, sol.lmin_lo)
-                              || sol.rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)
-                              || n < SFIT_COV_MIN_SAMPLES)) {
-            st = SFIT_I_SCREEN_TRIPPED;
-        }
     }
     exact = (st != SFIT_OK);
+#if SFIT_FULL_SOLVER
     if (exact) {
         st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
     }
+#else
+    if (exact) {
+        return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
+    }
+#endif
     if (st != SFIT_OK) {
         return st;
     }
@@ -103,16 +92,16 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     }
     r2 = SFIT_SQRTF(r2);
     for (i = 0; i < 3; i++) {
-        sol.w.v[i] = m->origin[i] + (d[i] + sol.w.v[i]); /* the centre */
+        sol.w.v[i] = origin[i] + (d[i] + sol.w.v[i]); /* the centre */
     }
     if (!sfit_i_sphere_finite(&sol.w, r2)) {
         return SFIT_E_RANGE;
     }
     if (n < SFIT_FEW_SAMPLES) {
-        sol.flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+        sol.flags |= (uint8_t)SFIT_FLAG_FEW_SAMPLES;
     }
     if (exact && prv_rounding_flag(n, &sol, cfg)) {
-        sol.flags |= (uint32_t)SFIT_FLAG_ROUNDING;
+        sol.flags |= (uint8_t)SFIT_FLAG_ROUNDING;
     }
     /* Every check passed: the result is written. */
     memset(out, 0, sizeof *out);
@@ -125,19 +114,18 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
     out->trust_ratio = sol.rho / (1.0f + sol.rho);
     /* docs/coverage.md: outside the validated range the covariance no
      * longer describes the error (decided on the exact ratio: see above). */
-    out->flags = sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
+    out->flags = (uint32_t)sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
     out->method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     out->mode = sol.mode;
     out->exact = exact;
     return SFIT_OK;
 }
 
-sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
-    sfit_moments_t acc;
-    sfit_status_t st;
-
-    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG : sfit_i_moments_of(pts, n, &acc);
-    return (st == SFIT_OK) ? sfit_moments_fit(&acc, cfg, out) : st;
+    if (m == NULL || out == NULL) {
+        return SFIT_E_ARG;
+    }
+    return sfit_i_fit_totals(m, NULL, cfg, out);
 }

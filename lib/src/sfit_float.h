@@ -22,6 +22,18 @@
 #include "sfit/sfit_types.h"
 #include "sfit_port.h"
 
+/**
+ * @brief Keeps a static function out of line where the compiler would inline
+ * it into its only caller: its locals then stay off the caller's frame, so
+ * that they are not on the stack during the caller's deeper calls (the
+ * worst-case stack of tools/flopcount/footprint.sh). No effect elsewhere.
+ */
+#if defined(__GNUC__)
+#define SFIT_I_NOINLINE __attribute__((noinline))
+#else
+#define SFIT_I_NOINLINE
+#endif
+
 /** @brief 1 when x is neither NaN nor Inf (bit test; no FP operation). */
 SFIT_INLINE int sfit_i_isfinite(float x)
 {

@@ -16,8 +16,8 @@
  * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
  * when the full solver would find: not coincident, not collinear, not
  * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
- * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted (the caller also
- * checks the rounding flag of sfit_fit.c with lmin_lo / lmax_hi); it then
+ * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted, without the rounding
+ * flag (sfit_i_rounding_test on the bounds) and inside the coverage limit; it then
  * returns the same centre and radius (the same Cholesky solve) and the same
  * status and flags. Every doubt
  * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
@@ -35,20 +35,35 @@
 #define PRV_COND 9.765625e-4f /* 2^-10 */
 /* The screen promises that the full solver converges. A symmetric 3x3
  * needs 4-6 Jacobi sweeps (SFIT_JACOBI_MAX_SWEEPS); with a bound below 8
- * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off. */
-#define PRV_SWEEPS_OK (SFIT_JACOBI_MAX_SWEEPS >= 8)
+ * the full solver may stop with SFIT_E_NO_CONVERGENCE, so the screen is off
+ * (unless there is no full solver: SFIT_FULL_SOLVER 0). */
+#define PRV_SWEEPS_OK (!SFIT_FULL_SOLVER || SFIT_JACOBI_MAX_SWEEPS >= 8)
 
-int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
-                      float ratio, sfit_i_solution_t *out)
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin)
+{
+    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
+    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
+             <= SFIT_ROUNDING_TOL * lmin);
+}
+
+int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
+                      sfit_i_solution_t *out)
 {
     sfit_mat3_t l;
     sfit_i_solution_t *const r = out; /* scratch until the screen passes */
+    const sfit_mat3_t *const c = &sys->ms.c;
     const float *a = l.m;
+    const float var = sys->sigma.var, scale = sys->scale; /* SFIT_NOISE_NONE or _ISO */
     float tr, s, e2, det, lo;
     int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
-    if (!PRV_SWEEPS_OK || !(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+    /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags (sfit_i_cov_limit,
+     * decided by the count alone): the full solver runs, so that a screened
+     * result is never UNTRUSTED; a build without it (SFIT_FULL_SOLVER 0)
+     * screens these too (same centre, radius and flags). */
+    if (!PRV_SWEEPS_OK || (SFIT_FULL_SOLVER && n < SFIT_COV_MIN_SAMPLES) || !(tr > 0.0f)
+        || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* C' = C - var I (lower triangle is what the Cholesky reads). */
@@ -93,7 +108,7 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
         }
         r->rho = var / lo;
     }
-    (void)sfit_mat3_chol_solve(&l, rhs, &r->w);
+    (void)sfit_mat3_chol_solve(&l, &sys->ms.rhs, &r->w);
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(r->w.v[i])) {
             return SFIT_I_SCREEN_TRIPPED;
@@ -102,8 +117,14 @@ int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, f
     if (!sfit_i_isfinite(r->trace)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
+    /* The bounds must also prove that the rounding flag stays clear and
+     * that the fit is inside the coverage limit (the bound of rho is an
+     * upper bound, the full solver decides above it; so a screened result
+     * is never UNTRUSTED). */
+    if (sfit_i_rounding_test(n, (1.0f + PRV_REL) * tr, lo)
+        || r->rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)) {
+        return SFIT_I_SCREEN_TRIPPED;
+    }
     r->mode = SFIT_MODE_SPHERE;
-    r->lmin_lo = lo;
-    r->lmax_hi = (1.0f + PRV_REL) * tr;
     return SFIT_OK;
 }

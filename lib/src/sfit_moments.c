@@ -94,20 +94,18 @@ static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
     prv_m3_shift(b, -1.0f, d, b->m3);
 }
 
-/* a := a U b, both means relative to the same origin. b is consumed (its
- * mean is replaced by delta = m_B - m_A; no temporary on the stack) and
- * must not alias a. */
-static void prv_cmom_merge(sfit_cmom_t *a, sfit_cmom_t *b)
+/* b := a U b, both means relative to the same origin (b is the result, so
+ * no temporary is needed on the stack). */
+static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
 {
-    float *const delta = b->d;
+    float *const delta = b->d; /* m_B - m_A, then the merged mean */
     float fa, fb, w;
-    int i;
 
     if (b->n == 0u) {
+        *b = *a;
         return;
     }
     if (a->n == 0u) {
-        *a = *b;
         return;
     }
     {
@@ -117,32 +115,42 @@ static void prv_cmom_merge(sfit_cmom_t *a, sfit_cmom_t *b)
         fa = na / n;
         w = na * fb; /* n_A n_B / n */
     }
-    for (i = 0; i < 3; i++) {
-        delta[i] = b->d[i] - a->d[i];
-        a->m3[i] += b->m3[i];
+    /* Written out (no loop): fewer registers live, a smaller frame on
+     * sfit_moments_add's deepest path. */
+    delta[0] = b->d[0] - a->d[0];
+    delta[1] = b->d[1] - a->d[1];
+    delta[2] = b->d[2] - a->d[2];
+    b->m3[0] = a->m3[0] + b->m3[0];
+    b->m3[1] = a->m3[1] + b->m3[1];
+    b->m3[2] = a->m3[2] + b->m3[2];
+    prv_m3_shift(a, -fb, delta, b->m3); /* m_A - m = -fb delta */
+    prv_m3_shift(b, fa, delta, b->m3);  /* m_B - m = fa delta (b's m2 and n still B's) */
+    b->m2[0] = a->m2[0] + (b->m2[0] + w * delta[0] * delta[0]);
+    b->m2[1] = a->m2[1] + (b->m2[1] + w * delta[1] * delta[1]);
+    b->m2[2] = a->m2[2] + (b->m2[2] + w * delta[2] * delta[2]);
+    b->m2[3] = a->m2[3] + (b->m2[3] + w * delta[0] * delta[1]);
+    b->m2[4] = a->m2[4] + (b->m2[4] + w * delta[0] * delta[2]);
+    b->m2[5] = a->m2[5] + (b->m2[5] + w * delta[1] * delta[2]);
+    delta[0] = a->d[0] + fb * delta[0];
+    delta[1] = a->d[1] + fb * delta[1];
+    delta[2] = a->d[2] + fb * delta[2];
+    b->n += a->n;
+}
+
+/* out := tot, merged with the open block blk (raw sums; NULL: none). */
+static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
+{
+    if (blk != NULL && blk->n > 0u) {
+        prv_centre(blk, out);
+        prv_cmom_merge(tot, out);
+    } else {
+        *out = *tot;
     }
-    prv_m3_shift(a, -fb, delta, a->m3); /* m_A - m = -fb delta */
-    prv_m3_shift(b, fa, delta, a->m3);  /* m_B - m = fa delta */
-    a->m2[0] += b->m2[0] + w * delta[0] * delta[0];
-    a->m2[1] += b->m2[1] + w * delta[1] * delta[1];
-    a->m2[2] += b->m2[2] + w * delta[2] * delta[2];
-    a->m2[3] += b->m2[3] + w * delta[0] * delta[1];
-    a->m2[4] += b->m2[4] + w * delta[0] * delta[2];
-    a->m2[5] += b->m2[5] + w * delta[1] * delta[2];
-    for (i = 0; i < 3; i++) {
-        a->d[i] += fb * delta[i];
-    }
-    a->n += b->n;
 }
 
 void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
 {
-    *out = m->tot;
-    if (m->blk.n > 0u) {
-        sfit_cmom_t b;
-        prv_centre(&m->blk, &b);
-        prv_cmom_merge(out, &b);
-    }
+    prv_total(&m->tot, &m->blk, out);
 }
 
 /* Fold the open block into the total (centred in place) and empty it. */
@@ -153,6 +161,7 @@ static void prv_flush(sfit_moments_t *m)
     }
     prv_centre(&m->blk, &m->blk);
     prv_cmom_merge(&m->tot, &m->blk);
+    m->tot = m->blk;
     memset(&m->blk, 0, sizeof m->blk);
 }
 
@@ -225,6 +234,17 @@ sfit_status_t sfit_i_moments_of(const sfit_vec3_t *pts, size_t n, sfit_moments_t
     return sfit_moments_add_block(m, pts, n, NULL);
 }
 
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total_t *out)
+{
+    sfit_moments_t m;
+    const sfit_status_t st = sfit_i_moments_of(pts, n, &m);
+    if (st == SFIT_OK) {
+        sfit_i_moments_total(&m, &out->t);
+        memcpy(out->origin, m.origin, sizeof m.origin);
+    }
+    return st;
+}
+
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
                                      size_t *bad)
 {
@@ -276,29 +296,31 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
         }
     }
     prv_cmom_merge(&dst->tot, &s);
+    dst->tot = s;
     return SFIT_OK;
 }
 
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
 {
+    /* Where the packed XX, YY, ZZ, XY, XZ, YZ go in the lower triangle. */
+    static const uint8_t k_lower[6] = {0u, 4u, 8u, 3u, 6u, 7u};
     const float inv = 1.0f / (float)(t->n - 1u);
-    float p[6];
     int i;
     for (i = 0; i < 6; i++) {
-        p[i] = t->m2[i] * inv;
+        c->m[k_lower[i]] = t->m2[i] * inv;
     }
-    sfit_i_sym_unpack(p, c);
+    sfit_i_sym_full(c, c->m); /* in place: the upper triangle mirrored */
     for (i = 0; i < 3; i++) {
         b[i] = (0.5f * inv) * t->m3[i];
     }
 }
 
-uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3])
+uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s)
 {
     sfit_cmom_t t;
-    sfit_i_moments_total(m, &t);
-    sfit_i_cmom_system(&t, c, b);
-    memcpy(d, t.d, sizeof t.d);
+    prv_total(tot, blk, &t);
+    sfit_i_cmom_system(&t, &s->c, s->rhs.v);
+    memcpy(s->d, t.d, sizeof t.d);
     return t.n;
 }
 

@@ -27,11 +27,32 @@ SFIT_INLINE sfit_status_t sfit_i_enough(sfit_status_t st, const sfit_moments_t *
  */
 void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 
+/** @brief The linear system of a total: C, b and its mean. */
+typedef struct sfit_i_msys {
+    sfit_mat3_t c;   /**< C = M2/(N-1), full symmetric */
+    sfit_vec3_t rhs; /**< b = S/2 = M3/(2(N-1)) */
+    float d[3];      /**< mean - origin */
+} sfit_i_msys_t;
+
 /**
- * @brief The fit system of an accumulator with >= 2 samples: C and b as
- * sfit_i_cmom_system(), d = mean - origin; returns the sample count (the
- * totals stay in this function's frame, off the solver's stack path).
+ * @brief The fit system s of the totals tot and open block blk (raw sums of
+ * an accumulator; NULL when there is none) of >= 2 samples (C and b as
+ * sfit_i_cmom_system()); returns the sample count (the totals stay in this
+ * function's frame, off the solver's stack path).
  */
-uint32_t sfit_i_moments_system(const sfit_moments_t *m, sfit_mat3_t *c, float b[3], float d[3]);
+uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s);
+
+/** @brief The samples of an accumulator reduced to its total: origin + t. */
+typedef struct sfit_i_total {
+    float origin[3]; /**< the accumulator's origin */
+    sfit_cmom_t t;   /**< its total centred moments (sfit_i_moments_total()) */
+} sfit_i_total_t;
+
+/**
+ * @brief The total of the n samples of a caller's array (the accumulator
+ * of sfit_i_moments_of() stays in this function's frame); statuses of
+ * sfit_moments_add_block().
+ */
+sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total_t *out);
 
 #endif /* SFIT_MOMENTS_I_H */

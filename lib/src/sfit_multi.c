@@ -269,7 +269,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
         sw += w;
         sgp = prv_noise(&set, p, &sg, half_skew);
         for (i = 0; i < 9; i++) {
-            sys.c.m[i] += w * pm.c.m[i];
+            sys.ms.c.m[i] += w * pm.c.m[i];
         }
         if (noise != NULL) { /* one Sigma_hat: (sum w_p) Sigma_hat below */
             for (i = 0; i < 9; i++) {
@@ -284,15 +284,17 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
             const float *si = &sgp->m[3 * i];
             const float t = pm.s2[i] + ((ci[0] - si[0]) * pm.dm[0] + (ci[1] - si[1]) * pm.dm[1]
                                         + (ci[2] - si[2]) * pm.dm[2]);
-            sys.rhs.v[i] += w * t;
+            sys.ms.rhs.v[i] += w * t;
             dbar[i] += w * pm.dm[i];
         }
     }
     for (i = 0; i < 9; i++) {
         /* one Sigma_hat: (sum w_p) Sigma_hat, as the single-marker fit */
-        sys.sigma.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * set.sg_cfg.m[i];
+        sg_sum.m[i] = (noise != NULL) ? sg_sum.m[i] : sw * set.sg_cfg.m[i];
     }
-    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE);
+    sys.sigma.m = &sg_sum;
+    sys.noisy = (noise != NULL || cfg->fit.noise != SFIT_NOISE_NONE) ? (int)SFIT_NOISE_COV
+                                                                     : (int)SFIT_NOISE_NONE;
     sys.scale = scale;
 
     st = sfit_i_solve(&sys, cfg->fit.mode, cfg->fit.planar_ratio, &sol);
@@ -339,7 +341,7 @@ static sfit_status_t prv_fit(const sfit_moments_t *markers, size_t count,
     r.markers = used;
     r.skipped = skipped;
     sfit_i_solution_out(&sol, &r.eigenvalues, &r.axis, &r.leontief_ratio, &r.trust_ratio);
-    r.flags = sol.flags | flags | sfit_i_cov_limit(r.trust_ratio, r.n_total);
+    r.flags = (uint32_t)sol.flags | flags | sfit_i_cov_limit(r.trust_ratio, r.n_total);
     r.method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     r.mode = sol.mode;
 

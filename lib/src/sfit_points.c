@@ -1,12 +1,26 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_points.c
- * @brief The combined recipe over a caller's array: self-calibrated start,
- * geometric refinement, sandwich covariance (sfit_points_fit_refined()).
+ * @brief Fits over a caller's array: sfit_points_fit() and the combined
+ * recipe (self-calibrated start, geometric refinement, sandwich covariance:
+ * sfit_points_fit_refined()).
  */
 #include "sfit/sfit_refine.h"
 
-#include "sfit_mat3_i.h"
+#include "sfit_solve.h"
+
+/* In this file, not beside sfit_moments_fit(): the accumulator and the
+ * solve then never share a frame (sfit_i_points_total keeps the one,
+ * sfit_i_fit_totals the other), which bounds the stack. */
+sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+                              sfit_result_t *out)
+{
+    sfit_i_total_t t;
+    sfit_status_t st;
+
+    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG : sfit_i_points_total(pts, n, &t);
+    return (st == SFIT_OK) ? sfit_i_fit_totals(NULL, &t, cfg, out) : st;
+}
 
 const sfit_refined_cfg_t sfit_refined_cfg_default = {
     .selfcal = {.planar_ratio = 0.0f},

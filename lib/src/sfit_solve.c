@@ -170,6 +170,16 @@ void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfi
     }
 }
 
+/* Sigma_ij of a system with a noise model: the lower triangle of the
+ * matrix, or var I. */
+static float prv_sg(const sfit_i_system_t *sys, int i, int j)
+{
+    if (sys->noisy != (int)SFIT_NOISE_COV) {
+        return (i == j) ? sys->sigma.var : 0.0f;
+    }
+    return (i >= j) ? sys->sigma.m->m[3 * i + j] : sys->sigma.m->m[3 * j + i];
+}
+
 /* Column k of V as a vector, sign chosen so the largest component is > 0. */
 static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 {
@@ -189,19 +199,27 @@ static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 }
 
 /* rho(L^-1 Sigma L^-T) for C' = L L^T; b and w are scratch. */
-static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg, sfit_mat3_t *b,
-                                    sfit_vec3_t *w, float *rho)
+static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t *sys,
+                                    sfit_mat3_t *b, sfit_vec3_t *w, float *rho)
 {
-    float *const y = w->v;
-    int i;
+    float t;
+    int i, j;
     sfit_status_t st;
 
-    /* Y = L^-1 Sigma, row-major in b (Sigma's rows are its columns). */
+    /* Y^T = (L^-1 Sigma)^T: row i of b := L^-1 (row i of Sigma = its
+     * column i), in place; then transposed to Y. */
+    for (i = 0; i < 9; i++) {
+        b->m[i] = prv_sg(sys, i / 3, i % 3);
+    }
     for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &sg->m[3 * i], y);
-        b->m[i] = y[0];
-        b->m[3 + i] = y[1];
-        b->m[6 + i] = y[2];
+        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < i; j++) {
+            t = b->m[3 * i + j];
+            b->m[3 * i + j] = b->m[3 * j + i];
+            b->m[3 * j + i] = t;
+        }
     }
     /* B = L^-1 Y^T: row i of B from row i of Y, in place (B symmetric). */
     for (i = 0; i < 3; i++) {
@@ -226,20 +244,25 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_mat3_t *sg,
 
 /* 1 when Sigma is a multiple of I (or zero): then C' = C - Sigma has C's
  * eigenvectors and eigenvalues lambda - sigma^2. */
-static int prv_sigma_iso(const sfit_mat3_t *sg)
+static int prv_sigma_iso(const sfit_i_system_t *sys)
 {
-    return sg->m[1] == 0.0f && sg->m[2] == 0.0f && sg->m[5] == 0.0f && sg->m[0] == sg->m[4]
-           && sg->m[0] == sg->m[8];
+    const float *sg;
+    if (sys->noisy != (int)SFIT_NOISE_COV) {
+        return 1;
+    }
+    sg = sys->sigma.m->m;
+    return sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4] && sg[0] == sg[8];
 }
 
-/* cp := C - Sigma (C when there is no noise model). */
-static void prv_cprime(const sfit_i_system_t *sys, sfit_mat3_t *cp)
+/* cp := C - Sigma (C when there is no noise model), C from its packed
+ * lower triangle c6. */
+static void prv_cprime(const float c6[6], const sfit_i_system_t *sys, sfit_mat3_t *cp)
 {
     int i;
-    *cp = sys->c;
+    sfit_i_sym_unpack(c6, cp);
     if (sys->noisy) {
         for (i = 0; i < 9; i++) {
-            cp->m[i] -= sys->sigma.m[i];
+            cp->m[i] -= prv_sg(sys, i / 3, i % 3);
         }
     }
 }
@@ -251,84 +274,87 @@ static sfit_status_t prv_eig_cprime(sfit_mat3_t *cp, sfit_vec3_t *lamp, sfit_mat
     return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
 }
 
+/* prv_planar_test(): the bits of its result when it is not negative (a
+ * negative result is a status). */
+#define PRV_NEAR 1u   /* lambda_min(C') < ratio lambda_max(C') */
+#define PRV_HAVE_P 2u /* lamp and v hold the eigen-decomposition of C' */
+#define PRV_IS_NEAR(pt) ((((unsigned)(pt)) & PRV_NEAR) != 0u) /* pt >= 0 */
+#define PRV_IS_P(pt) ((((unsigned)(pt)) & PRV_HAVE_P) != 0u)
+
 /* The near-planar decision, lambda_min < ratio lambda_max, made on the
  * noise-corrected C' = C - Sigma whenever a noise model is given (C holds
  * the noise: a noisy circle looks like a sphere through C). With isotropic
- * or no noise the eigen-decomposition of C' is C's shifted (*have_p = 1:
+ * or no noise the eigen-decomposition of C' is C's shifted (PRV_HAVE_P:
  * lamp and C's eigenvectors in v). A full Sigma first tries Weyl's bounds,
  * lambda_i(C) - tr(Sigma) <= lambda_i(C') <= lambda_i(C); only when they
  * cannot decide is C' decomposed (cp destroyed, v := its eigenvectors,
- * *have_p = 1 too). */
-static sfit_status_t prv_planar_test(const sfit_i_system_t *sys, sfit_mat3_t *cp,
-                                     const sfit_vec3_t *lam, float ratio, sfit_vec3_t *lamp,
-                                     sfit_mat3_t *v, int *near, int *have_p)
+ * PRV_HAVE_P too). The threshold is out->trace. Returns PRV_NEAR |
+ * PRV_HAVE_P (each or none), or a status < 0. */
+static int prv_planar_test(sfit_i_system_t *sys, sfit_mat3_t *v, sfit_i_solution_t *out)
 {
-    const sfit_mat3_t *sg = &sys->sigma;
+    const float *const ratio = &out->trace; /* the threshold (sfit_i_solve) */
+    const sfit_vec3_t *const lam = &out->eigenvalues;
+    sfit_vec3_t *const lamp = &out->w;
     sfit_status_t st;
     int i;
-    if (!sys->noisy || prv_sigma_iso(sg)) {
+    if (!sys->noisy || prv_sigma_iso(sys)) {
         for (i = 0; i < 3; i++) {
-            lamp->v[i] = sys->noisy ? lam->v[i] - sg->m[0] : lam->v[i];
+            lamp->v[i] = sys->noisy ? lam->v[i] - prv_sg(sys, 0, 0) : lam->v[i];
         }
-        *have_p = 1;
-        *near = lamp->v[0] < ratio * lamp->v[2];
-        return SFIT_OK;
+        return (int)(PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0u));
     }
     {
-        const float trs = sg->m[0] + sg->m[4] + sg->m[8];
-        if (lam->v[0] < ratio * (lam->v[2] - trs)) {
-            *near = 1;
-            return SFIT_OK;
+        const float *sg = sys->sigma.m->m; /* a full Sigma: not isotropic */
+        const float trs = sg[0] + sg[4] + sg[8];
+        if (lam->v[0] < *ratio * (lam->v[2] - trs)) {
+            return (int)PRV_NEAR;
         }
-        if (lam->v[0] - trs >= ratio * lam->v[2]) {
-            *near = 0;
-            return SFIT_OK;
+        if (lam->v[0] - trs >= *ratio * lam->v[2]) {
+            return 0;
         }
     }
-    st = prv_eig_cprime(cp, lamp, v);
+    st = prv_eig_cprime(&sys->ms.c, lamp, v);
     if (st != SFIT_OK) {
-        return st;
+        return (int)st;
     }
-    *have_p = 1;
-    *near = lamp->v[0] < ratio * lamp->v[2];
-    return SFIT_OK;
+    return (int)(PRV_HAVE_P | ((lamp->v[0] < *ratio * lamp->v[2]) ? PRV_NEAR : 0u));
 }
 
 /* Sphere: Cholesky of C' = C - Sigma_hat (cp, factored in place), w = C'^-1 b;
  * the trust ratio from lamp (isotropic noise) or from L^-1 Sigma L^-T
  * (v and then lamp are scratch). */
-static sfit_status_t prv_sphere(const sfit_i_system_t *sys, sfit_mat3_t *cp,
-                                sfit_vec3_t *lamp, int have_p, sfit_mat3_t *v,
+static sfit_status_t prv_sphere(sfit_i_system_t *sys, int have_p, sfit_mat3_t *v,
                                 sfit_i_solution_t *out)
 {
+    sfit_mat3_t *const cp = &sys->ms.c;
+    sfit_vec3_t *const lamp = &out->w;
     sfit_status_t st;
     out->trace = cp->m[0] + cp->m[4] + cp->m[8];
     st = sfit_mat3_chol(cp, cp);
     if (st != SFIT_OK) {
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
-    (void)sfit_mat3_chol_solve(cp, &sys->rhs, &out->w);
     if (sys->noisy) {
-        if (have_p && prv_sigma_iso(&sys->sigma) && lamp->v[0] > 0.0f) {
+        if (have_p && prv_sigma_iso(sys) && lamp->v[0] > 0.0f) {
             /* rho(C'^-1 sigma^2 I) = sigma^2 / lambda_min(C'). */
-            out->rho = sys->sigma.m[0] / lamp->v[0];
+            out->rho = prv_sg(sys, 0, 0) / lamp->v[0];
         } else {
-            st = prv_trust_chol(cp, &sys->sigma, v, lamp, &out->rho); /* lamp: scratch */
+            st = prv_trust_chol(cp, sys, v, lamp, &out->rho); /* lamp: scratch */
             if (st != SFIT_OK) {
                 return st;
             }
         }
     }
+    (void)sfit_mat3_chol_solve(cp, &sys->ms.rhs, &out->w); /* lamp (= out->w) read above */
     out->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }
 
 /* Planar (eq. 217): pseudo-inverse over the two largest eigen-directions of
  * C' (lamp, v); the trust ratio over the kept plane. */
-static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
+SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
                                 const sfit_mat3_t *v, sfit_i_solution_t *out)
 {
-    const float *sg = sys->sigma.m;
     const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
     float k0 = 0.0f, k1 = 0.0f;
     int i, j;
@@ -336,14 +362,11 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
     for (i = 0; i < 3; i++) {
-        k0 += e[3 * i + 1] * sys->rhs.v[i];
-        k1 += e[3 * i + 2] * sys->rhs.v[i];
+        k0 += e[3 * i + 1] * sys->ms.rhs.v[i];
+        k1 += e[3 * i + 2] * sys->ms.rhs.v[i];
     }
     k0 /= lamp->v[1];
     k1 /= lamp->v[2];
-    for (i = 0; i < 3; i++) {
-        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
-    }
     out->trace = lamp->v[1] + lamp->v[2];
     if (sys->noisy) {
         /* Trust on the kept plane: largest eigenvalue of the 2x2
@@ -352,8 +375,9 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         for (i = 0; i < 3; i++) {
             float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
             for (j = 0; j < 3; j++) {
-                s1 += sg[3 * i + j] * e[3 * j + 1];
-                s2 += sg[3 * i + j] * e[3 * j + 2];
+                const float g = prv_sg(sys, i, j);
+                s1 += g * e[3 * j + 1];
+                s2 += g * e[3 * j + 2];
             }
             b00 += e[3 * i + 1] * s1;
             b11 += e[3 * i + 2] * s2;
@@ -366,24 +390,38 @@ static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *l
         h = 0.5f * (b00 - b11);
         out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
     }
+    for (i = 0; i < 3; i++) { /* last: lamp is out->w (sfit_i_solve) */
+        out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
+    }
     prv_axis(v, 0, &out->axis);
     out->mode = SFIT_MODE_PLANAR;
     return SFIT_OK;
 }
 
-sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out)
 {
-    sfit_mat3_t cp, v;
-    sfit_vec3_t lamp;
+    /* C's storage in the system is the working matrix (Jacobi, then C' and
+     * its factor); C itself is kept packed. */
+    sfit_mat3_t *const cp = &sys->ms.c;
+    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    sfit_mat3_t v;
+    /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
+     * prv_planar): no frame of their own. */
+    sfit_vec3_t *const lamp = &out->w;
     const sfit_vec3_t *const lam = &out->eigenvalues;
-    float ratio;
-    int i, near = 0, have_p = 0;
-    sfit_status_t st;
+    int i, pt;
+    sfit_status_t st = SFIT_OK;
 
-    memset(out, 0, sizeof *out);
-    sfit_i_sym_full(&sys->c, cp.m);
-    st = sfit_i_eig_sym(cp.m, &out->eigenvalues, v.m);
+    /* The planar threshold waits in out->trace (set last by prv_sphere /
+     * prv_planar), stored before any call: no float register to keep. */
+    out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
+    memset(out, 0, offsetof(sfit_i_solution_t, trace));
+    out->rho = 0.0f;
+    out->flags = 0u;
+    out->mode = SFIT_MODE_AUTO; /* set by prv_sphere / prv_planar */
+    sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
+    st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
     }
@@ -395,32 +433,31 @@ sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float p
     if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
         return SFIT_E_DEGENERATE; /* collinear */
     }
-    ratio = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
     prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
-    prv_cprime(sys, &cp);
-    st = prv_planar_test(sys, &cp, lam, ratio, &lamp, &v, &near, &have_p);
-    if (st != SFIT_OK) {
-        return st;
+    prv_cprime(c6, sys, cp);
+    pt = prv_planar_test(sys, &v, out);
+    if (pt < 0) {
+        return (sfit_status_t)pt;
     }
-    if (near) {
-        out->flags |= (uint32_t)SFIT_FLAG_NEAR_PLANAR;
+    if (PRV_IS_NEAR(pt)) {
+        out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
     }
-    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && near)) {
-        if (!have_p) {
-            st = prv_eig_cprime(&cp, &lamp, &v);
+    if ((mode == SFIT_MODE_PLANAR) || (mode == SFIT_MODE_AUTO && PRV_IS_NEAR(pt))) {
+        if (!PRV_IS_P(pt)) {
+            st = prv_eig_cprime(cp, lamp, &v);
         }
-        st = (st == SFIT_OK) ? prv_planar(sys, &lamp, &v, out) : st;
+        st = (st == SFIT_OK) ? prv_planar(sys, lamp, &v, out) : st;
     } else {
-        if (have_p && !(sys->noisy == 0 || prv_sigma_iso(&sys->sigma))) {
-            prv_cprime(sys, &cp); /* destroyed by the decomposition of C' */
+        if (PRV_IS_P(pt) && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
+            prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
         }
-        st = prv_sphere(sys, &cp, &lamp, have_p, &v, out);
+        st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }
     if (st != SFIT_OK) {
         return st;
     }
     if (out->rho >= 1.0f) {
-        out->flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+        out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
     }
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(out->w.v[i])) {

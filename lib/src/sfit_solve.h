@@ -13,11 +13,18 @@
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
-    sfit_mat3_t c;     /**< C (or sum of C_p): symmetric, its eigenvalues are reported */
-    sfit_mat3_t sigma; /**< noise matrix subtracted from c (zero for GDKE) */
-    int noisy;         /**< 1 for UGDK (sigma given) */
-    sfit_vec3_t rhs;   /**< b */
-    float scale;       /**< spread at or below which samples count as coincident */
+    sfit_i_msys_t ms;         /**< ms.c: C (or sum of C_p), symmetric (its lower triangle is
+                                   read), its eigenvalues are reported; ms.rhs: b; ms.d: the
+                                   fit's mean - origin (not read by the solver) */
+    int noisy;                /**< the noise model (a sfit_noise_kind_t): SFIT_NOISE_NONE (0,
+                                   GDKE), SFIT_NOISE_ISO (Sigma = sigma.var I) or
+                                   SFIT_NOISE_COV (Sigma = *sigma.m, symmetric: its lower
+                                   triangle is read) */
+    union {
+        const sfit_mat3_t *m; /**< SFIT_NOISE_COV */
+        float var;            /**< SFIT_NOISE_ISO (0 for SFIT_NOISE_NONE) */
+    } sigma;                  /**< Sigma_hat, subtracted from c */
+    float scale;              /**< spread at or below which samples count as coincident */
 } sfit_i_system_t;
 
 /** @brief Solution of a system: w, the eigen-summary, trust. */
@@ -27,11 +34,30 @@ typedef struct sfit_i_solution {
     sfit_vec3_t axis;        /**< dropped / smallest eigen-direction (unit, sign-normalised) */
     float trace;             /**< trace of C - Sigma over the directions used */
     float rho;               /**< rho(C'^-1 Sigma): Leontief ratio (0 when not noisy) */
-    uint32_t flags;          /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED */
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
-    float lmin_lo;           /**< screened solve only: <= lambda_min(C') */
-    float lmax_hi;           /**< screened solve only: >= lambda_max(C) */
+    uint8_t flags;           /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED (and the fit's
+                                  FEW_SAMPLES, ROUNDING: every flag a solution carries is
+                                  below 0x100): one byte beside mode keeps the fit's frame
+                                  8 bytes smaller on Cortex-M */
 } sfit_i_solution_t;
+
+/** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
+#define SFIT_ROUNDING_K 0.5f
+/** Relative accuracy an unflagged result promises (the README's 1e-4 r). */
+#define SFIT_ROUNDING_TOL 1e-4f
+
+/**
+ * @brief 1 when the float sums may not carry the result to SFIT_ROUNDING_TOL r.
+ * Each block merge of the accumulator (one per SFIT_SUM_BLOCK samples)
+ * rounds the totals relative to eps; the errors add as a random walk, and
+ * the solve amplifies them by the conditioning of C': the centre's error
+ * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. lmax >=
+ * lambda_max(C) and lmin <= lambda_min(C') (the full solver: C's largest
+ * and C''s smallest used eigenvalue minus an upper bound of the noise; the
+ * screened solve: its bounds); lmin not positive flags (sfit_lean.c: one
+ * copy for both paths).
+ */
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin);
 
 /** @brief The solution's summary in a result: eigenvalues, axis, Leontief
  * ratio rho and trust ratio rho / (1 + rho). */
@@ -92,23 +118,35 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. Statuses as sfit_moments_fit(); out is scratch
+ * trust ratio included. sys->ms.c is used as working storage (destroyed).
+ * Statuses as sfit_moments_fit(); out is scratch
  * (partly written) on failure.
  */
-sfit_status_t sfit_i_solve(const sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
+
+/**
+ * @brief The fit of the samples of an accumulator m (pt NULL) or of a total
+ * pt (m not read): the body of sfit_moments_fit() and sfit_points_fit(),
+ * with their statuses after the argument checks (cfg NULL: the defaults).
+ */
+sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
+                                const sfit_fit_cfg_t *cfg, sfit_result_t *out);
 
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
 
 /**
- * @brief The screened sphere solve of C' = C - var I (sfit_lean.c): SFIT_OK
- * with w, trace and an upper bound of the trust ratio (rho) when a cheap
- * bound on lambda_min(C') proves that sfit_i_solve() would return the same
- * sphere, status and flags; else SFIT_I_SCREEN_TRIPPED (out is scratch).
- * Eigenvalues and axis are left zero. ratio: the planar threshold in use.
+ * @brief The screened sphere solve of C' = C - var I (sfit_lean.c) of n
+ * samples: SFIT_OK with w, trace and an upper bound of the Leontief ratio
+ * (rho) when a cheap bound on lambda_min(C') proves that sfit_i_solve()
+ * would return the same sphere, status and flags, and that neither the
+ * rounding flag (sfit_i_rounding_test) nor the coverage limit
+ * (sfit_i_cov_limit) would be raised; else SFIT_I_SCREEN_TRIPPED (out is
+ * scratch). Eigenvalues and axis are left zero. ratio: the planar
+ * threshold in use.
  */
-int sfit_i_solve_lean(const sfit_mat3_t *c, const sfit_vec3_t *rhs, float var, float scale,
-                      float ratio, sfit_i_solution_t *out);
+int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
+                      sfit_i_solution_t *out);
 
 #endif /* SFIT_SOLVE_H */

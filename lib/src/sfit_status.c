@@ -13,6 +13,7 @@ const char *sfit_status_str(sfit_status_t s)
     case SFIT_E_DEGENERATE: return "degenerate";
     case SFIT_E_NONFINITE: return "non_finite";
     case SFIT_E_RANGE: return "out_of_range";
+    case SFIT_E_UNSUPPORTED: return "unsupported";
     default: return "unknown";
     }
 }

@@ -14,7 +14,7 @@
 #include SFIT_TEST_HEADER
 #endif
 
-#if SFIT_JACOBI_MAX_SWEEPS != 20 || SFIT_SUM_BLOCK != 128u || SFIT_COORD_MAX_EXP != 26
+#if SFIT_JACOBI_MAX_SWEEPS != 20 || SFIT_FULL_SOLVER != 0 || SFIT_SUM_BLOCK != 128u || SFIT_COORD_MAX_EXP != 26
 #error "user configuration not seen (core knobs)"
 #endif
 #if SFIT_MIN_SAMPLES != 6u || SFIT_FEW_SAMPLES != 30u || SFIT_ENABLE_ASSERT != 1 || SFIT_COV_MIN_SAMPLES != 40u

@@ -191,6 +191,7 @@ static inline int fz_status_defined(sfit_status_t st)
     case SFIT_E_DEGENERATE:
     case SFIT_E_NONFINITE:
     case SFIT_E_RANGE:
+    case SFIT_E_UNSUPPORTED:
         return 1;
     default:
         return 0;

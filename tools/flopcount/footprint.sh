@@ -68,25 +68,31 @@ grep -v '^staticdata' "$tmp/code.txt"
 # library (link map). Reported as the pseudo-module minimal_app (budget lines
 # code_os/code_o2 minimal_app); not part of code_total. -lm: a core without
 # an FPU takes sqrtf from libm (not counted: only libsfit's sections are).
+# minimal_app_lean: the same application against the library built without
+# the full solver's fallback (libsfit_fp_lean_*, -DSFIT_FULL_SOLVER=0).
 srcroot=$(cd "$here/../.." && pwd)
-for opt in Os O2; do
-    if "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
-        -I"$srcroot/lib/include" -I"$srcroot/port" -I"$srcroot/port/cortex-m4f" \
-        -c "$here/minimal_app.c" -o "$tmp/minapp_$opt.o" &&
-        "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
-            -Wl,-Map="$tmp/minapp_$opt.map" "$tmp/minapp_$opt.o" "$m4f/libsfit_fp_$opt.a" \
-            -lm -o "$tmp/minapp_$opt.elf" >/dev/null 2>&1; then
-        awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/minapp_$opt.map" | awk '
-        function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
-            for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
-            return v }
-        /^ \.(text|rodata)/ { if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
-            if (f ~ /libsfit_fp_/) tot += hex(sz) }
-        END { print tot + 0 }'
-    else
-        echo -1
-    fi
-done | tr '\n' ' ' | awk '{ printf "code minimal_app %d %d\n", $1, $2 }' >"$tmp/minapp.txt"
+minapp() { # minapp NAME LIBPREFIX -> "code NAME OS O2"
+    for opt in Os O2; do
+        if [ -f "$m4f/lib$2_$opt.a" ] &&
+            "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
+                -I"$srcroot/lib/include" -I"$srcroot/port" -I"$srcroot/port/cortex-m4f" \
+                -c "$here/minimal_app.c" -o "$tmp/$1_$opt.o" &&
+            "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
+                -Wl,-Map="$tmp/$1_$opt.map" "$tmp/$1_$opt.o" "$m4f/lib$2_$opt.a" \
+                -lm -o "$tmp/$1_$opt.elf" >/dev/null 2>&1; then
+            awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/$1_$opt.map" | awk -v lib="lib$2_" '
+            function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
+                for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
+                return v }
+            /^ \.(text|rodata)/ { if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
+                if (index(f, lib) > 0) tot += hex(sz) }
+            END { print tot + 0 }'
+        else
+            echo -1
+        fi
+    done | tr '\n' ' ' | awk -v name="$1" '{ printf "code %s %d %d\n", name, $1, $2 }'
+}
+{ minapp minimal_app sfit_fp; minapp minimal_app_lean sfit_fp_lean; } >"$tmp/minapp.txt"
 cat "$tmp/minapp.txt"
 if grep -q -- '-1' "$tmp/minapp.txt"; then
     echo "check minimal_app FAIL the minimal application did not link"

@@ -149,6 +149,7 @@ const char *cli_status_message(sfit_status_t st)
                "than the spread of the samples";
     case SFIT_E_NO_CONVERGENCE: return "the iteration did not converge within its bound";
     case SFIT_E_RANGE: return "value out of the supported float range";
+    case SFIT_E_UNSUPPORTED: return "not in this build of the library (SFIT_FULL_SOLVER 0)";
     case SFIT_E_ARG: return "invalid option value";
     case SFIT_E_NONFINITE: return "non-finite value";
     case SFIT_OK: return "ok";

@@ -34,6 +34,29 @@
 #endif
 
 /**
+ * @brief 1 (default): sfit_moments_fit() and sfit_points_fit() fall back to
+ * the full solver (the Jacobi eigen-decomposition) whenever the screened
+ * solve cannot prove its answer, and serve cfg.eigen = 1, ::SFIT_MODE_PLANAR
+ * and ::SFIT_NOISE_COV. 0: a firmware build without that fallback (an
+ * application that only accumulates and fits then links about 2.5 KB less
+ * code, tools/flopcount/footprint.sh record minimal_app_lean): the fit
+ * returns ::SFIT_E_UNSUPPORTED, output untouched, where the full solver
+ * would have run (the screen trips: near-planar, collinear, coincident or
+ * ill-conditioned samples, a trust bound above SFIT_COV_MAX_TRUST, the
+ * rounding flag; or one of those options). Below SFIT_COV_MIN_SAMPLES
+ * samples such a build still fits (the flags are then decided by the count
+ * alone: UNTRUSTED | COV_LIMIT). Modules built on sfit_moments_fit() (gate,
+ * self-calibration, the incremental start) inherit the status; the others
+ * (multi, joint) keep the full solver. Range 0..1.
+ */
+#ifndef SFIT_FULL_SOLVER
+#define SFIT_FULL_SOLVER 1
+#endif
+#if (SFIT_FULL_SOLVER != 0) && (SFIT_FULL_SOLVER != 1)
+#error "SFIT_FULL_SOLVER must be 0 or 1"
+#endif
+
+/**
  * @brief Cholesky pivot threshold, relative to the largest diagonal entry.
  * A pivot <= SFIT_CHOL_PIVOT_EPS * max(diag) is reported as not positive
  * definite. Range (0, 1e-2].

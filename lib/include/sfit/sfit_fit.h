@@ -113,6 +113,9 @@ typedef struct sfit_result {
  *                            (on the kept directions in planar mode)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
+ * @retval SFIT_E_UNSUPPORTED built with SFIT_FULL_SOLVER 0 only: the screened
+ *                            solve cannot prove this fit (or cfg asks for
+ *                            eigen, planar mode or a full covariance)
  * @par Cost  111 FLOPs (GDKE), 113 (UGDK, sigma^2 I) when the screen passes
  *            (cfg.eigen = 0); 334 / 347 with the full solver (tools/flopcount:
  *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
@@ -136,6 +139,7 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
  * @retval SFIT_E_ARG         NULL out, NULL pts with n > 0, or an invalid option
  * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
  * @retval SFIT_E_RANGE       a coordinate out of range, or the result not finite
+ * @retval SFIT_E_UNSUPPORTED as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only)
  * @retval SFIT_E_TOO_FEW     n < SFIT_MIN_SAMPLES
  * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite

@@ -78,7 +78,9 @@ typedef enum sfit_status {
     SFIT_E_NO_CONVERGENCE = -4,/**< An iteration hit its compile-time bound. */
     SFIT_E_DEGENERATE = -5,    /**< Degenerate geometry: coincident, collinear or (sphere) planar. */
     SFIT_E_NONFINITE = -6,     /**< A NaN or Inf input (sample rejected, state unchanged). */
-    SFIT_E_RANGE = -7          /**< A finite value out of the supported range, or a counter full. */
+    SFIT_E_RANGE = -7,         /**< A finite value out of the supported range, or a counter full. */
+    SFIT_E_UNSUPPORTED = -8    /**< The call needs what this build leaves out (SFIT_FULL_SOLVER 0:
+                                    a fit the screened solve cannot prove). */
 } sfit_status_t;
 
 /**

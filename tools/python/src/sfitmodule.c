@@ -72,6 +72,7 @@ static const char *status_message(sfit_status_t st)
                "(try mode='planar')";
     case SFIT_E_NONFINITE: return "non-finite value (NaN or Inf)";
     case SFIT_E_RANGE: return "value out of the supported float range";
+    case SFIT_E_UNSUPPORTED: return "not in this build of the library (SFIT_FULL_SOLVER 0)";
     case SFIT_OK: return "ok";
     default: return "unknown status";
     }
