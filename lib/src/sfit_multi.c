@@ -433,16 +433,28 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     for (i = 0; i < 3; i++) { /* c - o */
         co[i] = (res->center.v[i] - set.origin_ref[i]) - set.d_ref[i];
     }
-    /* A = sum w_p C'_p, M = sum w_p^2 / (N_p - 1) r_p^2 C'_p */
+    /* A = sum w_p C'_p, M / sigma^2 = sum w_p^2 [(r_p^2 + 7.5 sigma^2) / (N_p - 1) C'_p
+     *   + sigma^2 N_p / (N_p - 1)^2 (r_p^2 I + a_p a_p^T)], a_p = m_p - c: the
+     * second-order term of sfit_moments_uncert() (known sigma^2) per marker */
     memset(&a, 0, sizeof a);
     memset(&m, 0, sizeof m);
     for (p = 0u; prv_next(&set, &p, &pm); p++) {
         const float w = sfit_i_multi_weight(cfg, pm.n, used, sum_n1);
         const float r2 = prv_radius2(&pm, &set.sg_cfg, co, NULL); /* pm.c is C'_p now */
-        const float f = w * w / (float)(pm.n - 1u) * r2;
+        const float n1 = (float)(pm.n - 1u);
+        const float ww = w * w / n1;
+        const float f = ww * (r2 + 7.5f * noise_var);
+        const float g = ww * ((float)pm.n / n1) * noise_var;
+        float ap[3];
+        for (i = 0; i < 3; i++) {
+            ap[i] = pm.dm[i] - co[i];
+        }
         for (i = 0; i < 9; i++) {
             a.m[i] += w * pm.c.m[i];
-            m.m[i] += f * pm.c.m[i];
+            m.m[i] += f * pm.c.m[i] + g * ap[i / 3] * ap[i % 3];
+        }
+        for (i = 0; i < 3; i++) {
+            m.m[4 * i] += g * r2;
         }
     }
     return sfit_i_center_cov(&a, res->mode, &res->axis, &m, noise_var, cov);
