@@ -1253,7 +1253,9 @@ static void test_center_cov(void **state)
                want[0] + want[4] + want[8]);
         /* the multi-marker formula (independent markers) against the double one
          * without the parent term: within 2e-3 of the largest entry (r_p^2 and
-         * C'_p from the moments against |y - c|^2 and y y^T sample by sample) */
+         * C'_p from the moments against |y - c|^2 and y y^T sample by sample;
+         * the reference is first order, the library's second-order term is
+         * ~1.5e-4 of the largest entry here: sigma^2 / lambda_min is small) */
         {
             sfit_multi_cfg_t mc = sfit_multi_cfg_default;
             sfit_multi_result_t mr;
@@ -1274,7 +1276,7 @@ static void test_center_cov(void **state)
             }
             printf("  multi-marker centre covariance (%s) vs double: %.3g of the largest entry\n",
                    hinge ? "hinge" : "ball", dm / bm);
-            assert_true(dm <= 2e-3 * bm); /* measured 1.6e-4 */
+            assert_true(dm <= 2e-3 * bm); /* measured 3.2e-4 (1.6e-4 first order) */
         }
     }
     printf("  centre covariance vs double: %.3g of the largest entry\n", worst);

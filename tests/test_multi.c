@@ -2,7 +2,9 @@
 /**
  * @file test_multi.c
  * @brief Tests of sfit_multi_fit(): MGDK / unbiased MGDK, weighting,
- * planar (hinge) case, real hip / elbow / knee markers, contract.
+ * planar (hinge) case, real hip / elbow / knee markers, contract; and of
+ * sfit_multi_center_cov() (one marker = sfit_moments_uncert(), double
+ * reference ref_multi_center_cov with the second-order term).
  *
  * Oracles: ref_fit_multi / ref_fit_multi_weighted (sfit_ref.h, sphere) and
  * ref_fit_multi_planar (sfit_ref_multi.h), independent double code fed the
@@ -15,6 +17,7 @@
 #include <string.h>
 
 #include "sfit/sfit_multi.h"
+#include "sfit/sfit_uncert.h"
 #include "sfit_ref.h"
 #include "sfit_ref_multi.h"
 
@@ -595,6 +598,164 @@ static void test_hinge_exact(void **state)
 }
 
 /* ---------------------------------------------------------------------- */
+/* 6b. Centre covariance: one marker = sfit_moments_uncert(); the double    */
+/*     reference with the second-order term.                               */
+
+static double trace9(const double *a)
+{
+    return a[0] + a[4] + a[8];
+}
+
+/* Largest |entry| of a 3x3 and the largest |difference| from a float one. */
+static double max_abs9(const double *a)
+{
+    double b = 0.0;
+    int i;
+    for (i = 0; i < 9; i++) {
+        b = fmax(b, fabs(a[i]));
+    }
+    return b;
+}
+
+static double max_diff9(const sfit_mat3_t *f, const double *d)
+{
+    double b = 0.0;
+    int i;
+    for (i = 0; i < 9; i++) {
+        b = fmax(b, fabs((double)f->m[i] - d[i]));
+    }
+    return b;
+}
+
+/* M = 1, w = 1: sfit_multi_center_cov() is sfit_moments_uncert() (noise
+ * known) for the same accumulator, centre, radius and sigma^2, with the
+ * second-order term included (a 30-degree cap at sigma/r = 0.02, trust
+ * ~0.17, where that term is half the first-order trace). Both invert the
+ * same float C' (condition ~50) in a different order: their difference is
+ * a rounding of a few eps * cond(C') (measured 9.1e-7 of the largest
+ * entry); 2e-4 is asserted, and the difference from the first-order double
+ * formula (ref_multi_center_cov, order2 = 0) must exceed 100x that. */
+static void test_center_cov_one_marker(void **state)
+{
+    static const double c[3] = {2712.5, -1480.25, 903.75};
+    const double rad = 100.0, th = 30.0 * 3.14159265358979323846 / 180.0, sigma = 2.0;
+    const size_t n = 1000;
+    const float var = (float)(sigma * sigma);
+    static const int packed[6] = {0, 4, 8, 1, 2, 5}; /* XX YY ZZ XY XZ YZ */
+    sfit_multi_cfg_t mc = sfit_multi_cfg_default;
+    sfit_multi_result_t mr;
+    sfit_uncert_t u;
+    sfit_mat3_t cov;
+    double d1[9], cd[3], big = 0.0, diff = 0.0;
+    float rad1 = 0.0f;
+    tu_rng_t g;
+    int wgt, i;
+    (void)state;
+
+    reset_markers();
+    tu_rng_seed(&g, 77);
+    make_caps(&g, 1, c, &rad, &th, &n, sigma);
+    mc.fit.noise = SFIT_NOISE_ISO;
+    mc.fit.noise_var = var;
+    for (wgt = 0; wgt < 2; wgt++) {
+        mc.weight = wgt ? SFIT_MULTI_WEIGHT_SAMPLES : SFIT_MULTI_WEIGHT_EQUAL;
+        assert_int_equal(sfit_multi_fit(g_acc, 1, &mc, &mr, &rad1), SFIT_OK);
+        assert_int_equal(mr.mode, SFIT_MODE_SPHERE);
+        assert_int_equal(sfit_multi_center_cov(g_acc, 1, &mc, &mr, var, &cov), SFIT_OK);
+        assert_int_equal(sfit_moments_uncert(&g_acc[0], &mr.center, rad1, var,
+                                             SFIT_UNCERT_NOISE_KNOWN, &u),
+                         SFIT_OK);
+        big = 0.0;
+        diff = 0.0;
+        for (i = 0; i < 6; i++) {
+            big = fmax(big, fabs((double)u.center_cov[i]));
+            diff = fmax(diff, fabs((double)cov.m[packed[i]] - (double)u.center_cov[i]));
+        }
+        assert_true(diff <= 2e-4 * big);
+    }
+    printf("  one marker: centre covariance vs sfit_moments_uncert: %.3g of the largest entry "
+           "(trace %.5g mm^2)\n",
+           diff / big, (double)(cov.m[0] + cov.m[4] + cov.m[8]));
+    /* the comparison resolves the second-order term */
+    tc_to_double3(&mr.center, cd);
+    assert_int_equal(ref_multi_center_cov(g_xs, g_n, 1, (const double[6]){sigma * sigma,
+                                          sigma * sigma, sigma * sigma, 0.0, 0.0, 0.0},
+                                          0, cd, NULL, sigma * sigma, 0, d1),
+                     0);
+    printf("  one marker: trace with / without the second-order term: %.4f\n",
+           (double)(cov.m[0] + cov.m[4] + cov.m[8]) / trace9(d1));
+    assert_true(max_diff9(&cov, d1) > 100.0 * 2e-4 * big);
+}
+
+/* Four markers (unequal radii, caps, counts): the float covariance against
+ * the double reference (moments in long double) at sigma = 4 mm, where the
+ * second-order term moves the trace by up to ~10 % (sphere; ~1 % forced
+ * planar, the weak axial direction being dropped), and at sigma = 0.05 mm,
+ * where it is below 1e-4 and the result is the first-order one. Equal and
+ * N_p - 1 weights, sphere and forced planar. Tolerance 3e-4 of the largest
+ * entry: float moments about each marker's mean, the float centre and
+ * A^-1 M A^-1 with cond(A) ~ 1e2 give some eps * cond (measured: printed,
+ * 2.7e-5 at sigma = 4 mm); the second-order term exceeds 10x the tolerance
+ * in every variant at sigma = 4 mm, and 1e-4 of the largest entry bounds the
+ * whole difference from first order at 0.05 mm. */
+static void test_center_cov_vs_reference(void **state)
+{
+    static const double c[3] = {2700.0, -1520.0, 880.0};
+    static const double rad[4] = {80.0, 140.0, 220.0, 310.0};
+    static const double th[4] = {0.5, 0.7, 0.4, 0.9};
+    static const size_t n[4] = {900, 1500, 300, 2000};
+    static const double sigmas[2] = {4.0, 0.05};
+    sfit_multi_cfg_t mc = sfit_multi_cfg_default;
+    sfit_multi_result_t r;
+    sfit_mat3_t cov;
+    tu_rng_t g;
+    int k, variant;
+    (void)state;
+
+    for (k = 0; k < 2; k++) {
+        const double s2 = sigmas[k] * sigmas[k];
+        const double cv[6] = {s2, s2, s2, 0.0, 0.0, 0.0};
+        double worst = 0.0, gain = 0.0;
+        reset_markers();
+        tu_rng_seed(&g, 4242 + (uint64_t)k);
+        make_caps(&g, 4, c, rad, th, n, sigmas[k]);
+        for (variant = 0; variant < 4; variant++) {
+            const int weighted = (variant & 1) != 0, planar = (variant & 2) != 0;
+            double d0[9], d1[9], cd[3], ax[3], big;
+            mc.fit = sfit_fit_cfg_default;
+            mc.fit.noise = SFIT_NOISE_ISO;
+            mc.fit.noise_var = (float)s2;
+            mc.fit.mode = planar ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
+            mc.weight = weighted ? SFIT_MULTI_WEIGHT_SAMPLES : SFIT_MULTI_WEIGHT_EQUAL;
+            assert_int_equal(sfit_multi_fit(g_acc, 4, &mc, &r, NULL), SFIT_OK);
+            assert_int_equal(r.mode, mc.fit.mode);
+            assert_int_equal(sfit_multi_center_cov(g_acc, 4, &mc, &r, (float)s2, &cov), SFIT_OK);
+            tc_to_double3(&r.center, cd);
+            tc_to_double3(&r.axis, ax);
+            assert_int_equal(ref_multi_center_cov(g_xs, g_n, 4, cv, weighted, cd,
+                                                  planar ? ax : NULL, s2, 1, d1),
+                             0);
+            assert_int_equal(ref_multi_center_cov(g_xs, g_n, 4, cv, weighted, cd,
+                                                  planar ? ax : NULL, s2, 0, d0),
+                             0);
+            big = max_abs9(d1);
+            worst = fmax(worst, max_diff9(&cov, d1) / big);
+            assert_true(max_diff9(&cov, d1) <= 3e-4 * big);
+            gain = fmax(gain, trace9(d1) / trace9(d0) - 1.0);
+            if (k == 0) { /* the term is resolved: first order alone fails */
+                assert_true(max_diff9(&cov, d0) > 10.0 * 3e-4 * big);
+            } else { /* small sigma^2 / lambda_min: the first-order result */
+                assert_true(max_diff9(&cov, d0) <= 1e-4 * max_abs9(d0));
+            }
+        }
+        printf("  sigma %.2f mm: centre covariance vs double %.3g of the largest entry; "
+               "second-order term adds up to %.3g of the trace\n",
+               sigmas[k], worst, gain);
+        assert_true(k == 0 ? gain > 0.05 : gain < 1e-4);
+    }
+}
+
+/* ---------------------------------------------------------------------- */
 /* 7. Skipped markers, contract, failures leave outputs untouched.         */
 
 static void test_skip_few(void **state)
@@ -717,6 +878,8 @@ int main(void)
         cmocka_unit_test(test_real_knee_planar),
         cmocka_unit_test(test_weighting_real_occlusion),
         cmocka_unit_test(test_hinge_exact),
+        cmocka_unit_test(test_center_cov_one_marker),
+        cmocka_unit_test(test_center_cov_vs_reference),
         cmocka_unit_test(test_skip_few),
         cmocka_unit_test(test_contract),
     };

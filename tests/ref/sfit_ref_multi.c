@@ -246,3 +246,110 @@ int ref_fit_multi_noise(const double *const *xs, const size_t *ns, size_t m,
     }
     return 0;
 }
+
+int ref_multi_center_cov(const double *const *xs, const size_t *ns, size_t m,
+                         const double *cov, int weighted, const double c[3],
+                         const double *axis, double var, int order2, double out[9])
+{
+    double A[3][3], Ai[3][3], M[3][3], T[3][3], sg[3][3], ev[3], V[3][3];
+    long double sum_n1 = 0.0L;
+    size_t p, i;
+    int r, q, l;
+    if (xs == NULL || ns == NULL || c == NULL || out == NULL || m == 0 || !(var >= 0.0)) {
+        return -1;
+    }
+    memset(sg, 0, sizeof sg);
+    if (cov != NULL) {
+        static const int ix[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+        for (l = 0; l < 6; l++) {
+            sg[ix[l][0]][ix[l][1]] = sg[ix[l][1]][ix[l][0]] = cov[l];
+        }
+    }
+    for (p = 0; p < m; p++) {
+        if (ns[p] < 2) {
+            return -1;
+        }
+        sum_n1 += (long double)(ns[p] - 1);
+    }
+    memset(A, 0, sizeof A);
+    memset(M, 0, sizeof M);
+    for (p = 0; p < m; p++) {
+        const double (*x)[3] = ref_m_pts(xs, p);
+        const long double n = (long double)ns[p], n1 = n - 1.0L;
+        const long double w = weighted ? n1 * (long double)m / sum_n1 : 1.0L;
+        long double mean[3] = {0.0L, 0.0L, 0.0L}, cp[3][3], a[3], r2 = 0.0L, f, g;
+        for (i = 0; i < ns[p]; i++) {
+            for (r = 0; r < 3; r++) {
+                mean[r] += (long double)x[i][r];
+            }
+        }
+        for (r = 0; r < 3; r++) {
+            mean[r] /= n;
+            a[r] = mean[r] - (long double)c[r];
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                long double s = 0.0L;
+                for (i = 0; i < ns[p]; i++) {
+                    s += ((long double)x[i][r] - mean[r]) * ((long double)x[i][q] - mean[q]);
+                }
+                cp[r][q] = s / n1 - (long double)sg[r][q];
+            }
+        }
+        for (r = 0; r < 3; r++) {
+            r2 += n1 / n * cp[r][r] + a[r] * a[r];
+        }
+        f = w * w / n1 * (r2 + (order2 ? 7.5L * (long double)var : 0.0L));
+        g = order2 ? w * w * n / (n1 * n1) * (long double)var : 0.0L;
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                A[r][q] += (double)(w * cp[r][q]);
+                M[r][q] += (double)(f * cp[r][q] + g * (a[r] * a[q] + (r == q ? r2 : 0.0L)));
+            }
+        }
+    }
+    if (axis != NULL) { /* A + (tr A) a a^T on the plane's complement: P A P + a a^T */
+        double aa[3], qa = 0.0;
+        for (r = 0; r < 3; r++) {
+            aa[r] = A[r][0] * axis[0] + A[r][1] * axis[1] + A[r][2] * axis[2];
+            qa += axis[r] * aa[r];
+        }
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++) {
+                A[r][q] += -axis[r] * aa[q] - aa[r] * axis[q] + (qa + 1.0) * axis[r] * axis[q];
+            }
+        }
+    }
+    ref_sym3_eig(REF_C3(A), ev, V);
+    if (!(ev[0] > 0.0)) {
+        return -1;
+    }
+    for (r = 0; r < 3; r++) {
+        for (q = 0; q < 3; q++) {
+            long double s = 0.0L;
+            for (l = 0; l < 3; l++) {
+                s += (long double)V[r][l] * (long double)V[q][l] / (long double)ev[l];
+            }
+            Ai[r][q] = (double)s - ((axis != NULL) ? axis[r] * axis[q] : 0.0);
+        }
+    }
+    for (r = 0; r < 3; r++) {
+        for (q = 0; q < 3; q++) {
+            long double s = 0.0L;
+            for (l = 0; l < 3; l++) {
+                s += (long double)Ai[r][l] * (long double)M[l][q];
+            }
+            T[r][q] = (double)s;
+        }
+    }
+    for (r = 0; r < 3; r++) {
+        for (q = 0; q < 3; q++) {
+            long double s = 0.0L;
+            for (l = 0; l < 3; l++) {
+                s += (long double)T[r][l] * (long double)Ai[l][q];
+            }
+            out[3 * r + q] = var * (double)s;
+        }
+    }
+    return 0;
+}

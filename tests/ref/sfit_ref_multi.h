@@ -46,6 +46,25 @@ int ref_fit_multi_noise(const double *const *xs, const size_t *ns, size_t m,
                         const double *cov9, const double *skew, int planar,
                         double center[3], double axis[3], double *radii);
 
+/**
+ * Covariance of a multi-marker centre c for independent isotropic noise of
+ * variance var on every coordinate (known var), with weights w_p (1, or
+ * (n_p - 1) m / sum_q (n_q - 1) when `weighted`), v_p = w_p / (n_p - 1):
+ * A^-1 M A^-1 with A = sum w_p C'_p, C'_p = C_p - Sigma (cov as in
+ * sfit_ref.h, NULL = none), r_p^2 = (n_p-1)/n_p tr C'_p + |m_p - c|^2,
+ * a_p = m_p - c and
+ *   M = var sum_p w_p^2 [(r_p^2 + 7.5 var order2) / (n_p - 1) C'_p
+ *       + order2 var n_p / (n_p - 1)^2 (r_p^2 I + a_p a_p^T)]
+ * (order2 = 0: first order; 1: with the second-order term of the
+ * single-marker formula, docs/multi.md#centre-covariance). Moments sample
+ * by sample in long double. axis != NULL: planar, the pseudo-inverse of A
+ * normal to the unit axis. Returns 0, or nonzero on bad input or a
+ * singular A.
+ */
+int ref_multi_center_cov(const double *const *xs, const size_t *ns, size_t m,
+                         const double *cov, int weighted, const double c[3],
+                         const double *axis, double var, int order2, double out[9]);
+
 #ifdef __cplusplus
 }
 #endif
