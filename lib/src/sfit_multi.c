@@ -402,6 +402,7 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     sfit_mat3_t a, m;
     prv_marker_t pm;
     float co[3];
+    const float v75 = 7.5f * noise_var;
     uint64_t sum_n1 = 0u;
     uint32_t used = 0u;
     size_t p;
@@ -443,19 +444,23 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
         const float r2 = prv_radius2(&pm, &set.sg_cfg, co, NULL); /* pm.c is C'_p now */
         const float n1 = (float)(pm.n - 1u);
         const float ww = w * w / n1;
-        const float f = ww * (r2 + 7.5f * noise_var);
+        const float f = ww * (r2 + v75);
         const float g = ww * ((float)pm.n / n1) * noise_var;
-        float ap[3];
+        float ap[3], ga[3];
+        int j;
         for (i = 0; i < 3; i++) {
             ap[i] = pm.dm[i] - co[i];
+            ga[i] = g * ap[i];
         }
-        for (i = 0; i < 9; i++) {
-            a.m[i] += w * pm.c.m[i];
-            m.m[i] += f * pm.c.m[i] + g * ap[i / 3] * ap[i % 3];
-        }
-        for (i = 0; i < 3; i++) {
+        for (i = 0; i < 3; i++) { /* lower triangles (C'_p is symmetric) */
+            for (j = 0; j <= i; j++) {
+                a.m[3 * i + j] += w * pm.c.m[3 * i + j];
+                m.m[3 * i + j] += f * pm.c.m[3 * i + j] + ga[i] * ap[j];
+            }
             m.m[4 * i] += g * r2;
         }
     }
+    sfit_i_sym_full(&a, a.m);
+    sfit_i_sym_full(&m, m.m);
     return sfit_i_center_cov(&a, res->mode, &res->axis, &m, noise_var, cov);
 }
