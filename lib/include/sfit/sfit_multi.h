@@ -131,13 +131,17 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
                                    sfit_multi_result_t *out, float *radii);
 
 /**
- * @brief Covariance of a common centre, to first order, for independent
- * isotropic noise of variance @p noise_var on every coordinate of every
- * sample (no noise shared between markers: for a joint, whose parent pose
- * error is shared, use sfit_joint_center_cov()):
+ * @brief Covariance of a common centre, to second order, for independent
+ * isotropic noise of known variance @p noise_var (s2) on every coordinate
+ * of every sample (no noise shared between markers: for a joint, whose
+ * parent pose error is shared, use sfit_joint_center_cov()):
  * Cov = A^-1 M A^-1, A = sum w_p C'_p,
- * M = noise_var sum_p w_p^2 / (N_p - 1) r_p^2 C'_p, r_p^2 the marker's
- * squared distance from the centre ((N_p - 1)/N_p tr C'_p + |m_p - c|^2).
+ * M = s2 sum_p w_p^2 [(r_p^2 + 7.5 s2) / (N_p - 1) C'_p
+ * + s2 N_p / (N_p - 1)^2 (r_p^2 I + a_p a_p^T)], a_p = m_p - c, r_p^2 the
+ * marker's squared distance from the centre ((N_p - 1)/N_p tr C'_p +
+ * |m_p - c|^2): the first-order term plus, per marker, the second-order
+ * term of sfit_moments_uncert() (SFIT_UNCERT_NOISE_KNOWN), which it equals
+ * for one marker.
  * Planar result: the pseudo-inverse normal to the axis (the covariance of
  * the centre's part normal to the axis). Derivation: docs/multi.md#centre-covariance.
  * @param[in]  markers    The accumulators that gave @p res.
