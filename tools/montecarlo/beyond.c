@@ -18,6 +18,7 @@
 #include "sfit/sfit.h"
 #include "sfit_ref.h"
 #include "test_util.h"
+#include "mc_out.h"
 
 #define NMAX 1000
 
@@ -76,7 +77,6 @@ static double trace6(const float p[6])
 
 int main(int argc, char **argv)
 {
-    char path[1024];
     FILE *f;
     size_t si;
     int quick = (argc > 2 && strcmp(argv[2], "quick") == 0);
@@ -84,10 +84,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: sfit_mc_beyond OUTDIR [quick]\n");
         return 2;
     }
-    snprintf(path, sizeof path, "%s/beyond_table.md", argv[1]);
-    f = fopen(path, "w");
+    f = mc_out_open(argv[1], "beyond_table.md");
     if (f == NULL) {
-        perror(path);
         return 1;
     }
     fprintf(f, "| theta | rho | sigma/r | N | trials | selfcal RMSE/sqrt(tr CRLB) | refined | "

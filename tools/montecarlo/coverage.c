@@ -37,6 +37,7 @@
 #include "sfit_ref.h"
 #include "test_util.h"
 #include "cov_tally.h"
+#include "mc_out.h"
 
 #define NMAX 10000
 #define K_R 100.0
@@ -152,7 +153,6 @@ static const int k_ns[] = {10, 30, 100, 1000, 10000};
 
 int main(int argc, char **argv)
 {
-    char path[1024];
     FILE *f, *csv;
     size_t ci, si, ni;
     int e, idx = 0, quick = (argc > 2 && strcmp(argv[2], "quick") == 0);
@@ -225,12 +225,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: sfit_mc_coverage OUTDIR [quick | one CAP SIGMA/R N TRIALS [SEED]]\n");
         return 2;
     }
-    snprintf(path, sizeof path, "%s/coverage_table.md", argv[1]);
-    f = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/coverage.csv", argv[1]);
-    csv = (f != NULL) ? fopen(path, "w") : NULL;
+    f = mc_out_open(argv[1], "coverage_table.md");
+    csv = (f != NULL) ? mc_out_open(argv[1], "coverage.csv") : NULL;
     if (f == NULL || csv == NULL) {
-        perror(path);
         return 1;
     }
     fprintf(csv, "cap,sigma_r,n,trials,true_trust,estimator,mean_trust,ok,flagged,failed,"

@@ -24,6 +24,7 @@
 #include "sfit_ref_joint.h"
 #include "test_util.h"
 #include "cov_tally.h"
+#include "mc_out.h"
 
 #define P 4
 #define K 5
@@ -214,7 +215,6 @@ static void run_multi(FILE *f, int quick)
 
 int main(int argc, char **argv)
 {
-    char path[1024];
     FILE *f;
     sfit_vec3_t tv[P];
     sfit_cluster_t cl;
@@ -232,10 +232,8 @@ int main(int argc, char **argv)
     if (sfit_cluster_init(&cl, tv, P) != SFIT_OK) {
         return 1;
     }
-    snprintf(path, sizeof path, "%s/coverage_joint.md", argv[1]);
-    f = fopen(path, "w");
+    f = mc_out_open(argv[1], "coverage_joint.md");
     if (f == NULL) {
-        perror(path);
         return 1;
     }
     fprintf(f, "Multi-marker (sfit_multi_fit, unbiased MGDK with the true sigma^2, "

@@ -34,7 +34,6 @@
  * for a cap, r^2/3 for the sphere. rho0 = sigma^2 / lambda_min(C0) is the
  * Leontief ratio of eq. 194 (the library's leontief_ratio).
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,6 +42,7 @@
 #include "sfit/sfit.h"
 #include "sfit_ref.h"
 #include "test_util.h"
+#include "mc_out.h"
 
 #define MC_NMAX 10000
 #define MC_R0 100.0
@@ -279,12 +279,8 @@ static double z3(double x)
 
 static FILE *open_out(const char *dir, const char *name)
 {
-    char path[1024];
-    FILE *f;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    f = fopen(path, "w");
+    FILE *f = mc_out_open(dir, name);
     if (f == NULL) {
-        fprintf(stderr, "sfit_mc: cannot write %s: %s\n", path, strerror(errno));
         exit(1);
     }
     return f;
