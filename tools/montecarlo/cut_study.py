@@ -23,7 +23,11 @@ with --upper Z) is above the cut (--cut, or per N with --cut-n N:C, the
 first N:C with N >= the sample count applies). --widen A multiplies the
 reported covariance of the estimators with an estimated noise level
 (selfcal, refined) by 1 + A where t (1 + Z2 s) is above the cut
-(--zone Z2; without --zone everywhere). A row is assessed with at least
+(--zone Z2; without --zone everywhere). --widen-sr K multiplies them
+(in the same zone) by 1 + K sigma_hat^2 / r^2, times s / s(100) with
+--decay: the second-order family of docs/coverage.md ("A widening by
+sigma / r"); r = 100, the radius of every scenario (K_R in coverage.c).
+A row is assessed with at least
 --assess (default 0.2) of its trials unflagged; it is reported when its
 coverage is outside 92-98 % or, for selfcal, its reported / Monte Carlo
 trace outside 0.8-1.2.
@@ -31,6 +35,9 @@ trace outside 0.8-1.2.
 import argparse
 import collections
 import math
+
+R_SCEN = 100.0  # K_R of tools/montecarlo/coverage.c
+S_100 = math.sqrt(2.0 / 96.0)  # s at N = 100
 
 CHI2_3_95 = 7.8147279
 EST = ("ugdk", "selfcal", "refined")
@@ -49,7 +56,7 @@ def load(path):
                 continue
             data[(int(a[0]), int(a[1]))].append(
                 (int(a[2]), int(a[3]), float(a[4]), float(a[5]), float(a[6]),
-                 float(a[7]), float(a[8]), float(a[9])))
+                 float(a[7]), float(a[8]), float(a[9]), float(a[10])))
     return scen, data
 
 
@@ -61,6 +68,8 @@ def main():
     p.add_argument("--upper", type=float, default=0.0)
     p.add_argument("--widen", type=float, default=0.0)
     p.add_argument("--zone", type=float, default=None)
+    p.add_argument("--widen-sr", type=float, default=0.0, help="K of 1 + K sigma^2/r^2")
+    p.add_argument("--decay", action="store_true", help="--widen-sr times s / s(100)")
     p.add_argument("--assess", type=float, default=0.2)
     p.add_argument("--all", action="store_true", help="print every assessed row")
     o = p.parse_args()
@@ -81,7 +90,7 @@ def main():
             c = cut_of(n)
             ok = fl = cov = 0
             es, ess, rep = [0.0] * 3, [0.0] * 3, 0.0
-            for st, flags, t, d2, trace, ex, ey, ez in trials:
+            for st, flags, t, d2, trace, ex, ey, ez, nv in trials:
                 if st != 0:
                     continue
                 ok += 1
@@ -91,6 +100,7 @@ def main():
                 w = 1.0
                 if est != 0 and (o.zone is None or t * (1.0 + o.zone * s) > c):
                     w += o.widen
+                    w *= 1.0 + o.widen_sr * nv / R_SCEN**2 * (s / S_100 if o.decay else 1.0)
                 for k, e in enumerate((ex, ey, ez)):
                     es[k] += e
                     ess[k] += e * e
