@@ -65,7 +65,8 @@ grep -v '^staticdata' "$tmp/code.txt"
 # ---- minimal application -----------------------------------------------------
 # minimal_app.c (moments + the default fit) linked with --gc-sections against
 # the -Os and -O2 objects: the .text/.rodata input sections taken from the
-# library (link map). Reported as the pseudo-module minimal_app (budget lines
+# library (link map); SFIT_MINAPP_DETAIL=1 lists them on stderr
+# ("section NAME OPT SECTION BYTES"). Reported as the pseudo-module minimal_app (budget lines
 # code_os/code_o2 minimal_app); not part of code_total. -lm: a core without
 # an FPU takes sqrtf from libm (not counted: only libsfit's sections are).
 # minimal_app_lean: the same application against the library built without
@@ -80,12 +81,14 @@ minapp() { # minapp NAME LIBPREFIX -> "code NAME OS O2"
             "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
                 -Wl,-Map="$tmp/$1_$opt.map" "$tmp/$1_$opt.o" "$m4f/lib$2_$opt.a" \
                 -lm -o "$tmp/$1_$opt.elf" >/dev/null 2>&1; then
-            awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/$1_$opt.map" | awk -v lib="lib$2_" '
+            awk '/^Linker script and memory map/ { on = 1 } on' "$tmp/$1_$opt.map" | awk -v lib="lib$2_" \
+                -v detail="${SFIT_MINAPP_DETAIL:-0}" -v tag="$1 $opt" '
             function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
                 for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
                 return v }
-            /^ \.(text|rodata)/ { if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
-                if (index(f, lib) > 0) tot += hex(sz) }
+            /^ \.(text|rodata)/ { sec = $1; if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
+                if (index(f, lib) > 0) { tot += hex(sz)
+                    if (detail == 1) printf "section %s %s %d\n", tag, sec, hex(sz) > "/dev/stderr" } }
             END { print tot + 0 }'
         else
             echo -1
