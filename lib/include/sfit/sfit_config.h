@@ -38,7 +38,7 @@
  * the full solver (the Jacobi eigen-decomposition) whenever the screened
  * solve cannot prove its answer, and serve cfg.eigen = 1, ::SFIT_MODE_PLANAR
  * and ::SFIT_NOISE_COV. 0: a firmware build without that fallback (an
- * application that only accumulates and fits then links about 2.5 KB less
+ * application that only accumulates and fits then links about 2.6 KB less
  * code, tools/flopcount/footprint.sh record minimal_app_lean): the fit
  * returns ::SFIT_E_UNSUPPORTED, output untouched, where the full solver
  * would have run (the screen trips: near-planar, collinear, coincident or

@@ -123,8 +123,8 @@ typedef struct sfit_multi_noise {
  * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
  * @retval SFIT_E_NO_CONVERGENCE  as sfit_multi_fit()
  * @retval SFIT_E_RANGE       as sfit_multi_fit()
- * @par Cost 8 markers: 2117 FLOPs, 15701 M4F instructions (tools/flopcount
- * "multi_solve_noise_total"; sfit_multi_fit() on them: 1616).
+ * @par Cost 8 markers: 2107 FLOPs, 15833 M4F instructions (tools/flopcount
+ * "multi_solve_noise_total"; sfit_multi_fit() on them: 1607).
  */
 sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
                                    const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,

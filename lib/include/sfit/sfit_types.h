@@ -84,7 +84,7 @@ typedef enum sfit_status {
 } sfit_status_t;
 
 /**
- * @brief Short constant name of a status ("ok", "too_few", ...).
+ * @brief Short constant name of a status ("ok", "too_few_samples", ...).
  * @param[in] s  Status code.
  * @return A static string; "unknown" for a value that is not a status.
  */
