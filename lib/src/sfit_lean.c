@@ -128,3 +128,33 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     r->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }
+
+#if !SFIT_FULL_SOLVER
+float sfit_i_lmin_lower(const sfit_mat3_t *c)
+{
+    sfit_mat3_t l;
+    const float tr = c->m[0] + c->m[4] + c->m[8];
+    float s, prod = 1.0f, minors = 0.0f, lo;
+    int i;
+    l = *c;
+    if (!(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+        return 0.0f;
+    }
+    s = 1.0f / tr;
+    /* e2 / tr^2: the three 2x2 principal minors of C / tr (i < j: rows
+     * (0,1), (0,2), (1,2) with off-diagonal entries m[3], m[6], m[7]). */
+    for (i = 0; i < 3; i++) {
+        const int p = (i == 2) ? 1 : 0, q = (i == 0) ? 1 : 2;
+        const float off = c->m[3 * q + p] * s;
+        minors += (c->m[4 * p] * s) * (c->m[4 * q] * s) - off * off;
+    }
+    if (!(minors > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
+        return 0.0f;
+    }
+    for (i = 0; i < 3; i++) { /* det C / tr^3 = prod (l_ii^2 / tr) */
+        prod *= (l.m[4 * i] * l.m[4 * i]) * s;
+    }
+    lo = ((prod / minors) * (1.0f - PRV_REL) - PRV_ABS) * tr;
+    return (lo > 0.0f && sfit_i_isfinite(lo)) ? lo : 0.0f;
+}
+#endif /* !SFIT_FULL_SOLVER */

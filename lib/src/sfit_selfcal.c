@@ -63,7 +63,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
     sfit_fit_cfg_t fc = sfit_fit_cfg_default;
     sfit_result_t fit;
     sfit_selfcal_result_t res;
-    float var = 0.0f, cap;
+    float var = 0.0f, cap, lmin;
     int it;
     sfit_status_t st;
 
@@ -71,7 +71,9 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
         return SFIT_E_ARG;
     }
     fc.mode = SFIT_MODE_SPHERE;
-    fc.eigen = 1; /* the cap below needs lambda_min(C) */
+    /* The cap below needs lambda_min(C): the full solver's eigenvalues, or
+     * without it (SFIT_FULL_SOLVER 0) the screen's lower bound. */
+    fc.eigen = (SFIT_FULL_SOLVER != 0) ? 1 : 0;
     fc.planar_ratio = (cfg != NULL) ? cfg->planar_ratio : 0.0f;
     if (sfit_i_check_cfg(&fc) != SFIT_OK) {
         return SFIT_E_ARG;
@@ -85,12 +87,24 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
     if (st != SFIT_OK) {
         return st;
     }
-    if (!(fit.eigenvalues.v[0] > 0.0f)) {
+#if SFIT_FULL_SOLVER
+    lmin = fit.eigenvalues.v[0];
+#else
+    {
+        sfit_mat3_t c;
+        (void)sfit_moments_stats(&acc, NULL, &c, NULL); /* fitted: N >= 2, finite */
+        lmin = sfit_i_lmin_lower(&c);
+        if (!(lmin > 0.0f)) {
+            return SFIT_E_UNSUPPORTED; /* the bound proves nothing: the full solver would decide */
+        }
+    }
+#endif
+    if (!(lmin > 0.0f)) {
         /* Rounding left C without a positive smallest eigenvalue: no noise
          * level can be compensated (the cap below would be negative). */
         return SFIT_E_DEGENERATE;
     }
-    cap = SFIT_SELFCAL_MAX_TRUST * fit.eigenvalues.v[0];
+    cap = SFIT_SELFCAL_MAX_TRUST * lmin;
     memset(&res, 0, sizeof res);
     for (it = 1; it <= SFIT_SELFCAL_MAX_ITERS; it++) {
         float v;
@@ -100,8 +114,14 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
             return st;
         }
         if (v >= cap) {
+#if SFIT_FULL_SOLVER
             v = cap;
             res.flags |= (uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
+#else
+            /* cap from a lower bound: whether the exact cap binds, and where,
+             * only the full solver's eigenvalue can tell */
+            return SFIT_E_UNSUPPORTED;
+#endif
         } else {
             res.flags &= ~(uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
         }

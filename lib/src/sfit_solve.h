@@ -149,4 +149,13 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out);
 
+/**
+ * @brief A lower bound of lambda_min(C) for a symmetric C (its lower
+ * triangle), the screen's bound: det C / e2(C) less the screen's margins
+ * (sfit_lean.c). 0 when it proves nothing (C not positive definite, not
+ * finite, or the margins exceed the bound). Used where a build without the
+ * full solver (SFIT_FULL_SOLVER 0) needs lambda_min (self-calibration's cap).
+ */
+float sfit_i_lmin_lower(const sfit_mat3_t *c); /* defined when SFIT_FULL_SOLVER is 0 */
+
 #endif /* SFIT_SOLVE_H */

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "sfit_ref.h"
+#include "sfit_solve.h" /* sfit_i_lmin_lower (internal) */
 
 #if SFIT_FULL_SOLVER != 0
 #error "test_lean_build.c is built with -DSFIT_FULL_SOLVER=0 (tests/CMakeLists.txt)"
@@ -208,6 +209,144 @@ static void test_options(void **state)
     assert_untouched(&r);
 }
 
+/* The modules built on sfit_moments_fit() inherit the status (their
+ * headers' @retval lists): self-calibration, the gate (fit and refresh)
+ * and the incremental start, each with its output untouched; on a cap the
+ * screen passes, they fit. */
+static void test_inherited(void **state)
+{
+    static sfit_gate_t g;
+    sfit_selfcal_result_t sc;
+    sfit_result_t r;
+    sfit_incr_t inc;
+    sfit_sphere_t sp, sentinel;
+    size_t i;
+    int acc;
+    (void)state;
+    memset(&sentinel, SENTINEL, sizeof sentinel);
+    make_circle(200, 80.0);
+    memset(&sc, SENTINEL, sizeof sc);
+    assert_int_equal(sfit_points_selfcal(g_fpts, 200, NULL, &sc), SFIT_E_UNSUPPORTED);
+    assert_untouched(&sc.fit);
+    assert_int_equal(sfit_gate_init(&g, NULL), SFIT_OK);
+    for (i = 0; i < 200; i++) {
+        assert_int_equal(sfit_gate_add(&g, &g_fpts[i], &acc), SFIT_OK);
+    }
+    memset(&r, SENTINEL, sizeof r);
+    assert_int_equal(sfit_gate_fit(&g, &r), SFIT_E_UNSUPPORTED);
+    assert_untouched(&r);
+    assert_int_equal(sfit_gate_refresh(&g), SFIT_E_UNSUPPORTED);
+    assert_int_equal(sfit_incr_init(&inc, NULL), SFIT_OK);
+    memset(&sp, SENTINEL, sizeof sp);
+    assert_int_equal(sfit_incr_start(&inc, g_fpts, 200, &sp), SFIT_E_UNSUPPORTED);
+    assert_memory_equal(&sp, &sentinel, sizeof sp);
+
+    make_cap(1606, 500, 100.0, 90.0, 0.5);
+    assert_int_equal(sfit_incr_start(&inc, g_fpts, 500, &sp), SFIT_OK);
+    assert_true(tc_dist(&sp.center, k_center) <= 0.5);
+}
+
+/* Self-calibration without the full solver: its cap on sigma^2 comes from
+ * the screen's lower bound of lambda_min(C). Where the noise stays below
+ * that cap the fit is the default build's: UGDK at the estimated sigma^2
+ * (compared with the double oracle at that sigma^2, as test_selfcal.c
+ * does); where it reaches the cap (the issue-14 case: 30-degree cap,
+ * sigma 5, N 1000, capped and flagged in the default build) the status is
+ * SFIT_E_UNSUPPORTED, output untouched. */
+static void test_selfcal(void **state)
+{
+    sfit_selfcal_result_t sc;
+    ref_fit_t rf;
+    double cov[6];
+    (void)state;
+    make_cap(1607, 800, 100.0, 35.0, 1.5);
+    assert_int_equal(sfit_points_selfcal(g_fpts, 800, NULL, &sc), SFIT_OK);
+    assert_int_equal(sc.flags, 0);
+    assert_int_equal(sc.fit.exact, 0);
+    assert_int_equal(sc.fit.method, SFIT_METHOD_UGDK);
+    assert_true(sc.noise_var > 0.5f * 2.25f && sc.noise_var < 1.5f * 2.25f);
+    cov[0] = cov[1] = cov[2] = (double)sc.noise_var;
+    cov[3] = cov[4] = cov[5] = 0.0;
+    assert_int_equal(ref_fit_sphere(REF_C3(g_pts), 800, cov, &rf), 0);
+    assert_true(tc_dist(&sc.fit.center, rf.center) < 1e-2); /* 1e-4 r, as test_selfcal.c */
+    assert_near(sc.fit.radius, rf.radius, 1e-2, "radius vs oracle");
+    assert_true((double)sc.fit.leontief_ratio >= rf.trust_ratio * (1.0 - 1e-3));
+
+    make_cap(1608, 1000, 100.0, 30.0, 5.0);
+    memset(&sc, SENTINEL, sizeof sc);
+    assert_int_equal(sfit_points_selfcal(g_fpts, 1000, NULL, &sc), SFIT_E_UNSUPPORTED);
+    assert_untouched(&sc.fit);
+}
+
+/* The bound behind self-calibration's cap: for symmetric positive definite
+ * C of every conditioning, 0 < lower <= lambda_min(C) (the double Jacobi
+ * reference of the float matrix) and lower >= lambda_min / 3 less the
+ * margins (e2 <= 3 l2 l3); 0 for a singular, indefinite or non-finite C. */
+static void test_lmin_lower(void **state)
+{
+    tu_rng_t g;
+    int t, i, j, k;
+    (void)state;
+    tu_rng_seed(&g, 1609);
+    for (t = 0; t < 2000; t++) {
+        double q[3][3], a[3][3], w[3], v[3][3], lam[3], norm, tr = 0.0, lo;
+        sfit_mat3_t c;
+        /* C = Q diag(lam) Q^T, Q from Gram-Schmidt of a random matrix,
+         * lambda_min / lambda_max from 1 down to 1e-6 */
+        for (i = 0; i < 3; i++) {
+            for (k = 0; k < 3; k++) {
+                q[i][k] = tu_rng_gauss(&g);
+            }
+            for (j = 0; j < i; j++) {
+                const double d = q[i][0] * q[j][0] + q[i][1] * q[j][1] + q[i][2] * q[j][2];
+                for (k = 0; k < 3; k++) {
+                    q[i][k] -= d * q[j][k];
+                }
+            }
+            norm = sqrt(q[i][0] * q[i][0] + q[i][1] * q[i][1] + q[i][2] * q[i][2]);
+            for (k = 0; k < 3; k++) {
+                q[i][k] /= norm;
+            }
+        }
+        lam[2] = 1000.0;
+        lam[1] = lam[2] * pow(10.0, -3.0 * tu_rng_uniform(&g));
+        lam[0] = lam[1] * pow(10.0, -3.0 * tu_rng_uniform(&g));
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                double s = 0.0;
+                for (k = 0; k < 3; k++) {
+                    s += q[k][i] * lam[k] * q[k][j];
+                }
+                c.m[3 * i + j] = (float)s;
+            }
+        }
+        for (i = 0; i < 3; i++) { /* the float matrix, symmetric, in double */
+            for (j = 0; j < 3; j++) {
+                a[i][j] = (double)c.m[3 * (i > j ? i : j) + (i > j ? j : i)];
+            }
+            tr += a[i][i];
+        }
+        ref_sym3_eig((const double (*)[3])a, w, v);
+        lo = (double)sfit_i_lmin_lower(&c);
+        assert_true(lo <= w[0]);
+        assert_true(lo >= (w[0] / 3.0) * (1.0 - 0.015625) - 2.44140625e-4 * tr - 1e-5 * w[0]);
+    }
+    {
+        sfit_mat3_t c;
+        memset(&c, 0, sizeof c);
+        c.m[0] = 1.0f;
+        c.m[4] = 1.0f; /* singular */
+        assert_true(sfit_i_lmin_lower(&c) == 0.0f);
+        c.m[8] = -1.0f; /* indefinite */
+        assert_true(sfit_i_lmin_lower(&c) == 0.0f);
+        c.m[8] = 1.0f;
+        c.m[3] = NAN;
+        assert_true(sfit_i_lmin_lower(&c) == 0.0f);
+        c.m[3] = 0.0f;
+        assert_true(sfit_i_lmin_lower(&c) > 0.3f); /* I: 1/3 less the margins */
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +354,9 @@ int main(void)
         cmocka_unit_test(test_few_samples_fit),
         cmocka_unit_test(test_tripped),
         cmocka_unit_test(test_options),
+        cmocka_unit_test(test_inherited),
+        cmocka_unit_test(test_selfcal),
+        cmocka_unit_test(test_lmin_lower),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -111,6 +111,8 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  * @retval SFIT_E_TOO_FEW  warm-up with fewer than SFIT_MIN_SAMPLES + 1 samples
  * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
  *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous fit
+ * @retval SFIT_E_UNSUPPORTED  as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only); the
+ *                  gate keeps its previous fit
  */
 sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
 
@@ -126,6 +128,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
+ * @retval SFIT_E_UNSUPPORTED as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only)
  */
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 

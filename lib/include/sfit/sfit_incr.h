@@ -98,6 +98,8 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat is not positive definite (UGDK)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
+ * @retval SFIT_E_UNSUPPORTED the batch check as sfit_moments_fit() (SFIT_FULL_SOLVER 0
+ *                            only)
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
                               sfit_sphere_t *out);

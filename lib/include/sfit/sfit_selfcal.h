@@ -60,6 +60,8 @@ typedef struct sfit_selfcal_result {
  *                                with the cap unless rounding; reported, not hidden)
  * @retval SFIT_E_NO_CONVERGENCE  sigma^2 still moving after SFIT_SELFCAL_MAX_ITERS
  *                                (or the eigen-solver hit its bound)
+ * @retval SFIT_E_UNSUPPORTED     a GDKE/UGDK step as sfit_moments_fit()
+ *                                (SFIT_FULL_SOLVER 0 only)
  */
 sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out);
