@@ -28,16 +28,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 src=$(cd "$here/../.." && pwd)
 objdump=${SFIT_OBJDUMP:-arm-none-eabi-objdump}
 qemu=${SFIT_QEMU:-qemu-system-arm}
-if ! command -v "$qemu" >/dev/null 2>&1; then
-    echo "count.sh: SKIP: '$qemu' not found" >&2
-    exit 77
-fi
-major=$("$qemu" --version | sed -n '1s/.*version \([0-9][0-9]*\)\..*/\1/p')
-if [ "${major:-0}" -ge 8 ]; then
-    onestep="-accel tcg,one-insn-per-tb=on"
-else
-    onestep="-singlestep"
-fi
+. "$src/port/cortex-m4f/qemu/onestep.sh" # $onestep, or exit 77 without QEMU
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM

@@ -57,16 +57,7 @@ size=$(( 0x${sym#* } ))
 stop=$(( start + size ))
 
 # One instruction per translation block: the option depends on QEMU's version.
-if ! command -v "$qemu" >/dev/null 2>&1; then
-    echo "count_insns.sh: SKIP: '$qemu' not found" >&2
-    exit 77
-fi
-major=$("$qemu" --version | sed -n '1s/.*version \([0-9][0-9]*\)\..*/\1/p')
-if [ "${major:-0}" -ge 8 ]; then
-    onestep="-accel tcg,one-insn-per-tb=on"
-else
-    onestep="-singlestep"
-fi
+. "$(dirname "$0")/onestep.sh"
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
