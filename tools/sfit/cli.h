@@ -85,6 +85,9 @@ void cli_print_json_string(const char *str);
 /** Print the JSON array of a result's flag names (sfit_flag, SFIT_MULTI_FLAG_SKIPPED). */
 void cli_print_flags_json(uint32_t flags);
 
+/** Print ,"noise_var":V,"noise_estimated":B (V null without a noise model). */
+void cli_print_noise_json(int has_noise, float noise_var, int estimated);
+
 /** Print a JSON array of 3 floats (round-trip precision). */
 void cli_print_vec(const float *v);
 
@@ -156,6 +159,11 @@ typedef struct cli_opt {
     float lo, hi;        /**< CLI_OPT_FLOATS: the bounds' values */
     cli_opt_fn_t fn;     /**< CLI_OPT_FN, CLI_OPT_FN0 */
 } cli_opt_t;
+
+/** The cli_args_t fields of a command that reads one FILE (const char *F). */
+#define CLI_ONE_FILE(F)                                                                     \
+    .pos = &(F), .max_pos = 1, .min_pos = 1, .extra = "one FILE expected",                 \
+    .missing = "FILE missing"
 
 /** A command's arguments: its option table, --cols, the positional arguments. */
 typedef struct cli_args {

@@ -176,36 +176,35 @@ void cli_print_json_string(const char *str)
 
 void cli_print_flags_json(uint32_t flags)
 {
+    static const struct {
+        uint32_t bit;
+        const char *name;
+    } names[] = {
+        {SFIT_FLAG_UNTRUSTED, "untrusted"},       {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
+        {SFIT_FLAG_NEAR_PLANAR, "near_planar"},   {SFIT_FLAG_ROUNDING, "rounding"},
+        {SFIT_SELFCAL_FLAG_CAPPED, "noise_capped"}, {SFIT_FLAG_COV_LIMIT, "cov_limit"},
+        {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
+    };
     const char *sep = "";
+    size_t k;
     printf("[");
-    if (flags & SFIT_FLAG_UNTRUSTED) {
-        printf("%s\"untrusted\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_FEW_SAMPLES) {
-        printf("%s\"few_samples\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_NEAR_PLANAR) {
-        printf("%s\"near_planar\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_ROUNDING) {
-        printf("%s\"rounding\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_SELFCAL_FLAG_CAPPED) {
-        printf("%s\"noise_capped\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_COV_LIMIT) {
-        printf("%s\"cov_limit\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_MULTI_FLAG_SKIPPED) {
-        printf("%s\"skipped_markers\"", sep);
+    for (k = 0; k < sizeof names / sizeof names[0]; k++) {
+        if ((flags & names[k].bit) != 0u) {
+            printf("%s\"%s\"", sep, names[k].name);
+            sep = ",";
+        }
     }
     printf("]");
+}
+
+void cli_print_noise_json(int has_noise, float noise_var, int estimated)
+{
+    if (has_noise) {
+        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)noise_var,
+               estimated ? "true" : "false");
+    } else {
+        printf(",\"noise_var\":null,\"noise_estimated\":false");
+    }
 }
 
 void cli_print_vec(const float *v)

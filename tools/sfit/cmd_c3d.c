@@ -58,8 +58,7 @@ static int c3d_parse_args(int argc, char **argv, c3d_opts_t *o)
         {.name = "--frames", .kind = CLI_OPT_FN, .dst = o, .fn = c3d_frames},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
-                             .pos = &o->file, .max_pos = 1, .min_pos = 1,
-                             .extra = "one FILE expected", .missing = "FILE missing",
+                             CLI_ONE_FILE(o->file),
                              .usage = c3d_usage};
     memset(o, 0, sizeof *o);
     o->last = -1;

@@ -83,8 +83,7 @@ static int cov_parse(int argc, char **argv, cov_opts_t *o)
          .err = "--rho-max needs one value in (0, 1]"},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
-                             .src = &o->src, .pos = &o->file, .max_pos = 1, .min_pos = 1,
-                             .extra = "one FILE expected", .missing = "FILE missing",
+                             .src = &o->src, CLI_ONE_FILE(o->file),
                              .usage = cov_usage};
     memset(o, 0, sizeof *o);
     o->mode = SFIT_MODE_AUTO;

@@ -193,6 +193,22 @@ static const char *method_name(const sfit_result_t *r, const fit_extra_t *x)
     return r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke";
 }
 
+/* ,"eigenvalues":[..],"trust_ratio":..,"leontief_ratio":..[,"axis":[..]],"flags":[..]
+ * of a single or a common-centre fit. */
+static void print_solution_json(const sfit_vec3_t *eig, float trust, float leontief,
+                                sfit_mode_t mode, const sfit_vec3_t *axis, uint32_t flags)
+{
+    printf(",\"eigenvalues\":");
+    cli_print_vec(eig->v);
+    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)trust, (double)leontief);
+    if (mode == SFIT_MODE_PLANAR) {
+        printf(",\"axis\":");
+        cli_print_vec(axis->v);
+    }
+    printf(",\"flags\":");
+    cli_print_flags_json(flags);
+}
+
 static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
 {
     int i;
@@ -201,22 +217,10 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
            method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
            in->missing);
     cli_print_vec(r->center.v);
-    printf(",\"radius\":%.9g,\"eigenvalues\":", (double)r->radius);
-    cli_print_vec(r->eigenvalues.v);
-    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)r->trust_ratio,
-           (double)r->leontief_ratio);
-    if (r->mode == SFIT_MODE_PLANAR) {
-        printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
-    }
-    printf(",\"flags\":");
-    cli_print_flags_json(r->flags);
-    if (x->has_noise) {
-        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)x->noise_var,
-               x->noise_estimated ? "true" : "false");
-    } else {
-        printf(",\"noise_var\":null,\"noise_estimated\":false");
-    }
+    printf(",\"radius\":%.9g", (double)r->radius);
+    print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
+                        r->flags);
+    cli_print_noise_json(x->has_noise, x->noise_var, x->noise_estimated);
     if (x->has_uncert) {
         printf(",\"center_cov\":[");
         for (i = 0; i < 6; i++) {
@@ -326,25 +330,17 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
 
 static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
                              const sfit_moments_t *acc, const float *radii,
-                             unsigned long rejected, unsigned long missing)
+                             const cli_input_t *all)
 {
     int k;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"weight\":\"%s\","
            "\"n\":%lu,\"rejected\":%lu,\"missing\":%lu,\"center\":",
            r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke", mode_name(r->mode),
            o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "samples" : "equal",
-           (unsigned long)r->n_total, rejected, missing);
+           (unsigned long)r->n_total, all->rejected, all->missing);
     cli_print_vec(r->center.v);
-    printf(",\"eigenvalues\":");
-    cli_print_vec(r->eigenvalues.v);
-    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)r->trust_ratio,
-           (double)r->leontief_ratio);
-    if (r->mode == SFIT_MODE_PLANAR) {
-        printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
-    }
-    printf(",\"flags\":");
-    cli_print_flags_json(r->flags);
+    print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
+                        r->flags);
     printf(",\"markers\":[");
     for (k = 0; k < o->nfiles; k++) {
         printf("%s{\"file\":", k > 0 ? "," : "");
@@ -361,7 +357,7 @@ static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
 
 static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
                               const sfit_moments_t *acc, const float *radii,
-                              unsigned long rejected)
+                              const cli_input_t *all)
 {
     double ss = 0.0;
     int k, nsingle = 0;
@@ -370,7 +366,7 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
         printf(", %lu skipped (fewer than %u samples)", (unsigned long)r->skipped,
                (unsigned)SFIT_MIN_SAMPLES);
     }
-    printf("\nsamples      %lu used, %lu rejected\n", (unsigned long)r->n_total, rejected);
+    printf("\nsamples      %lu used, %lu rejected\n", (unsigned long)r->n_total, all->rejected);
     printf("method       %s, %s solution, %s weights\n",
            r->method == SFIT_METHOD_UGDK ? "unbiased MGDK (C'_p = C_p - Sigma)" : "MGDK",
            mode_name(r->mode), o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "N_p - 1" : "equal");
@@ -448,9 +444,10 @@ static int fit_multi(const fit_opts_t *o)
     sfit_multi_cfg_t mc;
     sfit_multi_result_t r;
     sfit_status_t st;
-    unsigned long accepted = 0, rejected = 0, missing = 0;
+    cli_input_t all; /* the files' counts summed */
     int k, rc = CLI_OK;
 
+    memset(&all, 0, sizeof all);
     acc = (sfit_moments_t *)calloc((size_t)o->nfiles, sizeof *acc);
     radii = (float *)calloc((size_t)o->nfiles, sizeof *radii);
     if (acc == NULL || radii == NULL) {
@@ -461,39 +458,23 @@ static int fit_multi(const fit_opts_t *o)
     }
     for (k = 0; k < o->nfiles; k++) {
         cli_input_t in;
-        char why[TAB_ERR_MAX];
-        int rrc;
-        (void)sfit_moments_init(&acc[k]);
-        rrc = cli_read_xyz(o->files[k], &o->src, cli_add_to_moments, &acc[k], &in, why);
-        if (rrc != 0) {
-            rc = cli_input_failed(rrc, o->files[k], why, o->json);
+        rc = cli_read_moments(o->files[k], &o->src, o->json, &acc[k], &in);
+        if (rc != 0) {
             goto done;
         }
-        if (!o->json) {
-            cli_report_rejects(o->files[k], &in);
-        }
-        accepted += in.accepted;
-        rejected += in.rejected;
-        missing += in.missing;
+        all.accepted += in.accepted;
+        all.rejected += in.rejected;
+        all.missing += in.missing;
     }
     mc.fit = o->cfg;
     mc.weight = o->weight;
     st = sfit_multi_fit(acc, (size_t)o->nfiles, &mc, &r, radii);
     if (st != SFIT_OK) {
-        if (o->json) {
-            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
-                   sfit_status_str(st), cli_status_message(st), accepted, rejected);
-        } else {
-            fprintf(stderr, "sfit: common-centre fit failed (%s): %s\n", sfit_status_str(st),
-                    cli_status_message(st));
-        }
-        rc = CLI_FAIL;
-        goto done;
-    }
-    if (o->json) {
-        print_multi_json(o, &r, acc, radii, rejected, missing);
+        rc = cli_report_failure(st, "common-centre fit", NULL, o->json, &all);
+    } else if (o->json) {
+        print_multi_json(o, &r, acc, radii, &all);
     } else {
-        print_multi_human(o, &r, acc, radii, rejected);
+        print_multi_human(o, &r, acc, radii, &all);
     }
 done:
     free(acc);

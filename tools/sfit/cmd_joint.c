@@ -135,12 +135,7 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
            (double)r->leontief_ratio);
     cli_print_flags_json(r->flags);
-    if (jo->has_noise) {
-        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)jo->noise_var,
-               jo->noise_estimated ? "true" : "false");
-    } else {
-        printf(",\"noise_var\":null,\"noise_estimated\":false");
-    }
+    cli_print_noise_json(jo->has_noise, jo->noise_var, jo->noise_estimated);
     printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
            (double)jo->res.residual_mean, (double)jo->res.residual_max);
     cli_print_json_string(fr->units);

@@ -46,8 +46,7 @@ static int noise_parse(int argc, char **argv, noise_opts_t *o)
          .bounds = CLI_GE_LO, .lo = 0.0f, .required = 1, .err = "--radius needs one value >= 0"},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
-                             .src = &o->src, .pos = &o->file, .max_pos = 1, .min_pos = 1,
-                             .extra = "one FILE expected", .missing = "FILE missing",
+                             .src = &o->src, CLI_ONE_FILE(o->file),
                              .required = "--center and --radius are required",
                              .usage = noise_usage};
     memset(o, 0, sizeof *o);

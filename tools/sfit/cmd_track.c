@@ -59,8 +59,7 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
          .err = "--every needs a whole number >= 0"},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
-                             .src = &o->src, .pos = &o->file, .max_pos = 1, .min_pos = 1,
-                             .extra = "one FILE expected", .missing = "FILE missing",
+                             .src = &o->src, CLI_ONE_FILE(o->file),
                              .usage = track_usage};
     int rc;
     o->file = NULL;
