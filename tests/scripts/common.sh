@@ -35,3 +35,35 @@ cli_setup() {
     [ "$rc" -eq "$want" ] || fail "'$*': exit $rc, expected $want; stdout: $out; stderr: $(cat "$tmp/stderr")"
   }
 }
+
+# Option checks of the CLI scripts (need $sfit, $tmp and fail).
+# expect_usage MSG CMD ARGS...: `sfit CMD ARGS...` exits 2 with nothing on
+# stdout, the line "sfit: MSG" on stderr, then the usage of CMD.
+expect_usage() {
+  local want=$1 cmd=$2 rc; shift
+  set +e
+  "$sfit" "$@" >"$tmp/usage.out" 2>"$tmp/usage.err"; rc=$?
+  set -e
+  [ "$rc" -eq 2 ] || fail "'sfit $*': exit $rc, expected 2; stderr: $(cat "$tmp/usage.err")"
+  [ ! -s "$tmp/usage.out" ] || fail "'sfit $*': stdout not empty: $(cat "$tmp/usage.out")"
+  [ "$(sed -n 1p "$tmp/usage.err")" = "sfit: $want" ] \
+    || fail "'sfit $*': stderr '$(sed -n 1p "$tmp/usage.err")', expected 'sfit: $want'"
+  case $(sed -n 2p "$tmp/usage.err") in
+    "usage: sfit $cmd "*) ;;
+    *) fail "'sfit $*': no usage of $cmd after the message: $(cat "$tmp/usage.err")" ;;
+  esac
+}
+# expect_help CMD ARGS...: `sfit CMD ARGS...` exits 0 with the usage of CMD
+# on stdout and nothing on stderr.
+expect_help() {
+  local rc
+  set +e
+  "$sfit" "$@" >"$tmp/usage.out" 2>"$tmp/usage.err"; rc=$?
+  set -e
+  [ "$rc" -eq 0 ] || fail "'sfit $*': exit $rc, expected 0"
+  [ ! -s "$tmp/usage.err" ] || fail "'sfit $*': stderr not empty: $(cat "$tmp/usage.err")"
+  case $(sed -n 1p "$tmp/usage.out") in
+    "usage: sfit $1 "*) ;;
+    *) fail "'sfit $*': stdout is not the usage of $1: $(sed -n 1p "$tmp/usage.out")" ;;
+  esac
+}

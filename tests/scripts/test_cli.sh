@@ -4,6 +4,8 @@
 # codes, status names. Usage: test_cli.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1 src=$2
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"  # expect_usage, expect_help
 sfit="$build/bin/sfit"
 data="$src/tests/data"
 tmp=$(mktemp -d)
@@ -183,4 +185,77 @@ out=$("$sfit" fit --noise-var auto "$tmp/cap30.csv")
 echo "$out" | grep -q "condition of eq. 194 holds" && fail "cap30 text claims the condition: $out"
 echo "$out" | grep -q "^untrusted" || fail "cap30 text: no untrusted line: $out"
 echo "$out" | grep -q "reason     noise_capped" || fail "cap30 text: no reason: $out"
+# 10. The option parser (cli_parse) of fit, noise, coverage and track: each
+#     bad value, missing value, unknown option and missing FILE gives its
+#     own message, exit 2 and the usage; --help wins only before an error.
+x=x.csv
+expect_help fit --help
+expect_help fit -h
+expect_help fit --help --bogus
+expect_usage "unknown or incomplete option --bogus" fit --bogus --help
+expect_usage "unknown or incomplete option --bogus" fit --bogus $x
+expect_usage "FILE missing" fit
+expect_usage "FILE missing" fit --json
+expect_usage "unknown or incomplete option --gate" fit $x --gate
+expect_usage "--gate needs one value K > 1 (sigmas)" fit --gate 1 $x
+expect_usage "--gate needs one value K > 1 (sigmas)" fit --gate x $x
+expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var -1 $x
+expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var nan $x
+expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var 1 --noise-var 2 $x
+expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-cov 1,1,1,0,0,0 --noise-var 1 $x
+expect_usage "--noise-var auto: noise model given twice" fit --noise-var 1 --noise-var auto $x
+expect_usage "--noise-var auto: noise model given twice" fit --noise-var auto --noise-var auto $x
+expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-cov 1,1,1,0,0 $x
+expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-var auto --noise-cov 1,1,1,0,0,0 $x
+expect_usage "--mode is auto, sphere or planar" fit --mode cube $x
+expect_usage "--weight is equal or samples" fit --weight bogus $x
+expect_usage "--noise-var auto, --refine and --gate take one FILE" fit --refine $x $x
+expect_usage "--noise-var auto, --refine and --gate take one FILE" fit --gate 3 $x $x
+expect_usage "--gate does not combine with --noise-var auto / --refine" fit --gate 3 --refine $x
+expect_usage "--noise-var auto / --refine fit spheres (not --mode planar)" fit --noise-var auto --mode planar $x
+expect_help noise --help
+expect_usage "--center and --radius are required" noise $x
+expect_usage "--center and --radius are required" noise --center 1,2,3 $x
+expect_usage "--center and --radius are required" noise --radius 1
+expect_usage "FILE missing" noise --center 1,2,3 --radius 1
+expect_usage "--center needs X,Y,Z" noise --center 1,2 --radius 1 $x
+expect_usage "--radius needs one value >= 0" noise --center 1,2,3 --radius -1 $x
+expect_usage "--radius needs one value >= 0" noise --center 1,2,3 --radius abc $x
+expect_usage "one FILE expected" noise --center 1,2,3 --radius 1 $x $x
+expect_usage "unknown or incomplete option --radius" noise --center 1,2,3 $x --radius
+expect_help coverage -h
+expect_usage "FILE missing" coverage --cap
+expect_usage "--cap and --arc exclude each other" coverage --cap --arc --help
+expect_usage "--cap and --arc exclude each other" coverage --arc --cap $x
+expect_usage "--noise-var needs one finite value >= 0" coverage --noise-var -1 $x
+expect_usage "--noise-var needs one finite value >= 0" coverage --noise-var inf $x
+expect_usage "--rho-max needs one value in (0, 1]" coverage --rho-max 0 $x
+expect_usage "--rho-max needs one value in (0, 1]" coverage --rho-max 1.5 $x
+expect_usage "unknown or incomplete option --mode" coverage --mode planar $x
+expect_usage "one FILE expected" coverage $x $x
+out=$("$sfit" coverage --json --cap --cap --rho-max 1 "$data/mocap/knee_right/RATT.csv")
+echo "$out" | grep -q '"kind":"cap"' || fail "coverage --cap twice: $out"
+expect_help track --help
+expect_usage "FILE missing" track --every 5
+expect_usage "--every needs a whole number >= 0" track --every -1 $x
+expect_usage "--every needs a whole number >= 0" track --every 1.5 $x
+expect_usage "--every needs a whole number >= 0" track --every 99999999999999999999999 $x
+expect_usage "--noise-var needs one finite value >= 0" track --noise-var -1 $x
+expect_usage "--noise-var needs one finite value >= 0" track --noise-var inf $x
+expect_usage "unknown or incomplete option --every" track $x --every
+expect_usage "unknown or incomplete option --mode" track --mode planar $x
+expect_usage "one FILE expected" track $x $x
+# track: --every K prints after every K-th sample and after the last one;
+# --noise-var given twice keeps the last value (UGDK with V = 3 equals the
+# fit of the same samples, 0.001 mm away; with V = 1 it is 3.5 mm away)
+out=$("$sfit" track --every 600 "$data/mocap/hip_right/RTHI1.csv")
+[ "$(echo "$out" | awk 'NR > 1 { print $1 }' | tr '\n' ' ')" = "600 1200 1400 " ] || fail "track --every: $out"
+out=$("$sfit" track --json --every 0 --noise-var 1 --noise-var 3 "$data/mocap/hip_right/RTHI1.csv")
+fitout=$("$sfit" fit --json --mode sphere --noise-var 3 "$data/mocap/hip_right/RTHI1.csv")
+py '
+import json, sys, math
+t, f = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+assert t["n"] == 1400 and f["method"] == "ugdk", (t, f)
+assert math.dist(t["center"], f["center"]) <= 1e-3 * f["radius"], (t, f)
+' "$out" "$fitout" || fail "track --noise-var: $out / $fitout"
 echo "cli: all checks passed"

@@ -82,6 +82,24 @@ echo "$out" | grep -q "no column named 'W'" || fail "unknown column: $out"
 expect_rc 3 "$sfit" fit --json --cols 1,2,9 "$tmp/time.csv"
 expect_rc 3 "$sfit" fit --json --cols 1,2 "$tmp/time.csv"
 expect_rc 2 "$sfit" fit --cols
+# --cols is an option of every command that reads samples (not of c3d,
+# joint, skeleton); a missing or empty value is a usage error
+for cmd in fit "noise --center 0,0,0 --radius 1" coverage track; do
+  # shellcheck disable=SC2086
+  expect_usage "--cols needs a list of column names or 1-based indices" $cmd --cols
+  # shellcheck disable=SC2086
+  expect_usage "--cols needs a list of column names or 1-based indices" $cmd --cols "" "$tmp/time.csv"
+  # shellcheck disable=SC2086
+  expect_rc 3 "$sfit" $cmd --json --cols X,Y,W "$tmp/time.csv"
+  echo "$out" | grep -q "no column named 'W'" || fail "$cmd --cols X,Y,W: $out"
+done
+out=$("$sfit" track --json --every 0 --cols 4,5,2 "$tmp/time.csv")
+echo "$out" | grep -q '"n":1400' || fail "track --cols: $out"
+out=$("$sfit" coverage --json --cols X,Y,Z "$tmp/time.csv")
+echo "$out" | grep -q '"n":1400' || fail "coverage --cols: $out"
+expect_usage "unknown or incomplete option --cols" c3d --cols 1,2,3 x.c3d
+expect_usage "unknown or incomplete option --cols" joint x.c3d --parent A,B,C --child D --cols 1,2,3
+expect_usage "unknown or incomplete option --cols" skeleton m.txt x.c3d --cols 1,2,3
 # bad rows: wrong cell count and a selected cell that is not a number
 { cat "$tmp/time.csv"; echo "1,2,3"; echo "9.9,abc,ok,1,2"; echo "9.9,1,free text,2,3"; } > "$tmp/bad.csv"
 out=$("$sfit" fit --json "$tmp/bad.csv")
@@ -166,8 +184,25 @@ assert blanks > 0
 ' "$out" "$tmp/$v.c3d" "$tmp/$v.csv" "$v" || fail "c3d variant $v"
 done
 
-# 4. Truncated and corrupt C3D: exit 3, JSON format_error with a message.
+# 3b. The options of c3d: messages, exit 2 and the usage.
 hip="$data/c3d/biobuddy_right_hip.c3d"
+expect_help c3d --help
+expect_usage "FILE missing" c3d --json
+expect_usage "one FILE expected" c3d "$hip" "$hip"
+expect_usage "unknown or incomplete option --bogus" c3d "$hip" --bogus
+expect_usage "--frames needs F:L" c3d "$hip" --frames x
+expect_usage "--frames needs F:L" c3d "$hip" --frames 5
+expect_usage "--frames needs F:L" c3d "$hip" --frames -1:3
+expect_usage "--frames needs F:L, 0 <= F <= L" c3d "$hip" --frames 5:2
+expect_usage "--frames needs F:L, 0 <= F <= L" c3d "$hip" --frames 2:x
+expect_usage "--frames needs F:L, 0 <= F <= L" c3d "$hip" --frames 99999999999999999999:99999999999999999999
+for opt in --frames --export --markers; do
+  expect_usage "unknown or incomplete option $opt" c3d "$hip" $opt
+done
+expect_rc 3 "$sfit" c3d --json "$hip" --export "$tmp/x.csv" --frames 99999:100000
+echo "$out" | grep -q -- "--frames starts at 99999" || fail "c3d --frames past the end: $out"
+
+# 4. Truncated and corrupt C3D: exit 3, JSON format_error with a message.
 corrupt() { # corrupt NAME MESSAGE_PART: the file $tmp/NAME.c3d must fail clearly
   expect_rc 3 "$sfit" c3d --json "$tmp/$1.c3d"
   echo "$out" | grep -q '"status":"format_error"' || fail "$1: $out"

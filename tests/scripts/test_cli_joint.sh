@@ -194,6 +194,31 @@ m.write_c3d(sys.argv[1], ["A", "B", "C", "D"], [[(1.0, 2.0, 3.0)] * 3 + [(5.0, 5
 expect_rc 1 "$sfit" joint --json "$tmp/degen.c3d" --parent A,B,C --child D
 echo "$out" | grep -q '"stage":"template"' || fail "degenerate parent: $out"
 "$sfit" joint --help | grep -q "usage: sfit joint" || fail "joint --help"
+# The option parser of joint (cli_parse with the options joint and skeleton
+# share, CLI_JOINT_OPTS): each message, exit 2 and the usage.
+j=(joint "$hip" --parent "$pelvis" --child "$thigh")
+expect_help joint "$hip" --parent $pelvis --help
+expect_usage "FILE, --parent and --child are required" joint --parent $pelvis --child $thigh
+expect_usage "FILE, --parent and --child are required" joint "$hip" --child $thigh
+expect_usage "one FILE expected" "${j[@]}" "$hip"
+expect_usage "unknown or incomplete option --bogus" "${j[@]}" --bogus
+expect_usage "unknown or incomplete option --parent" joint "$hip" --child $thigh --parent
+expect_usage "unknown or incomplete option --trajectory" "${j[@]}" --trajectory
+expect_usage "--parent needs 3 to 8 markers" joint "$hip" --parent RASIS,LASIS --child RTHI1
+expect_usage "--parent needs a comma-separated list of marker names" joint "$hip" --parent RASIS,,LPSIS --child RTHI1
+expect_rc 2 "$sfit" joint "$hip" --parent $pelvis --child ,
+[ "$(head -n 2 "$tmp/stderr" | tr '\n' '|')" = "sfit: --child needs a comma-separated list of marker names|sfit: --child takes 1 to 8 markers|" ] \
+  || fail "--child ,: $(cat "$tmp/stderr")"
+for opt in --frames --noise-var --mode; do
+  expect_usage "$opt needs a value" "${j[@]}" $opt
+done
+expect_usage "--frames needs F:L, whole numbers with 0 <= F <= L" "${j[@]}" --frames 5:2
+expect_usage "--frames needs F:L, whole numbers with 0 <= F <= L" "${j[@]}" --frames a:b
+expect_usage "--frames needs F:L, whole numbers with 0 <= F <= L" "${j[@]}" --frames 99999999999999999999:1
+expect_usage "--noise-var needs auto or one finite value >= 0" "${j[@]}" --noise-var -1
+expect_usage "--noise-var needs auto or one finite value >= 0" "${j[@]}" --noise-var inf
+expect_usage "--noise-var given twice" "${j[@]}" --noise-var 1 --noise-var auto
+expect_usage "--mode is auto, sphere or planar" "${j[@]}" --mode cube
 
 # 7. Skeleton: the model in docs/, the same centre as `joint`, an SVG.
 "$sfit" skeleton "$src/docs/hip_model.txt" "$hip" --frames 0:498 --svg "$tmp/hip.svg" --json > "$tmp/sk.json"
@@ -213,4 +238,31 @@ assert len(list(svg.iter("{http://www.w3.org/2000/svg}line"))) >= 4
 printf 'joint a RASIS,LASIS RTHI1\n' > "$tmp/bad_model.txt"
 expect_rc 3 "$sfit" skeleton --json "$tmp/bad_model.txt" "$hip"
 echo "$out" | grep -q "3 to" || fail "bad model: $out"
+# The options of skeleton.
+model="$src/docs/hip_model.txt"
+expect_help skeleton -h
+expect_usage "MODEL and FILE are required" skeleton "$model"
+expect_usage "MODEL and FILE expected" skeleton "$model" "$hip" "$hip"
+expect_usage "unknown or incomplete option --bogus" skeleton "$model" "$hip" --bogus
+expect_usage "unknown or incomplete option --svg" skeleton "$model" "$hip" --svg
+expect_usage "unknown or incomplete option --frame" skeleton "$model" "$hip" --frame
+expect_usage "--frame needs a whole number >= 0" skeleton "$model" "$hip" --frame -1
+expect_usage "--frame needs a whole number >= 0" skeleton "$model" "$hip" --frame 5x
+expect_usage "--frames needs a value" skeleton "$model" "$hip" --frames
+expect_usage "--frames needs F:L, whole numbers with 0 <= F <= L" skeleton "$model" "$hip" --frames 3:1
+expect_usage "--noise-var needs auto or one finite value >= 0" skeleton "$model" "$hip" --noise-var -3
+expect_usage "--mode is auto, sphere or planar" skeleton "$model" "$hip" --mode cube
+printf 'joint a RASIS,LASIS,LPSIS RTHI1,RTHI2 cube\n' > "$tmp/mode_model.txt"
+expect_rc 3 "$sfit" skeleton --json "$tmp/mode_model.txt" "$hip"
+echo "$out" | grep -q "MODE is auto, sphere or planar" || fail "model MODE: $out"
+# --frame K: the lab-frame centre at frame K is the one `joint` gives there
+"$sfit" skeleton "$model" "$hip" --frames 0:498 --frame 40 --json > "$tmp/sk40.json"
+expect_rc 0 "$sfit" "${j[@]}" --frames 0:498 --trajectory "$tmp/traj.csv"
+py '
+import json, sys, csv, math
+o = json.load(open(sys.argv[1]))
+assert o["frame"] == 40, o["frame"]
+row = [r for r in csv.reader(open(sys.argv[2])) if r[0] == "40"][0]
+assert math.dist(o["joints"][0]["center_lab"], [float(v) for v in row[1:]]) <= 1e-3, (o, row)
+' "$tmp/sk40.json" "$tmp/traj.csv" || fail "skeleton --frame"
 echo "$name: all checks passed"

@@ -29,7 +29,7 @@ typedef struct cli_src {
 /**
  * If argv[*i] is a shared input option (--cols SPEC), consume it (and its
  * value) and return 1; 0 if it is not one; -1 (message on stderr) if its
- * value is missing.
+ * value is missing. cli_parse calls it for the commands that read samples.
  */
 int cli_input_opt(int argc, char **argv, int *i, cli_src_t *src);
 
@@ -85,6 +85,9 @@ void cli_print_json_string(const char *str);
 /** Print the JSON array of a result's flag names (sfit_flag, SFIT_MULTI_FLAG_SKIPPED). */
 void cli_print_flags_json(uint32_t flags);
 
+/** Print ,"noise_var":V,"noise_estimated":B (V null without a noise model). */
+void cli_print_noise_json(int has_noise, float noise_var, int estimated);
+
 /** Print a JSON array of 3 floats (round-trip precision). */
 void cli_print_vec(const float *v);
 
@@ -116,8 +119,76 @@ int cli_open_failed(const char *file, int json);
  */
 int cli_parse_outcome(int parse_rc, void (*usage)(FILE *));
 
-/** One positional FILE argument: rejects unknown options and a second FILE (0 ok). */
-int cli_positional(const char *arg, const char **file);
+/** auto | sphere | planar into *mode; 0, or -1 (*mode unchanged) for another word. */
+int cli_parse_mode(const char *s, sfit_mode_t *mode);
+
+/* ---- One option parser for every sub-command (cli_parse) ---- */
+
+/** What a command option takes (cli_opt_t.kind). */
+typedef enum cli_opt_kind {
+    CLI_OPT_FLAG,   /**< no value: *(int *)dst = 1 */
+    CLI_OPT_FLOATS, /**< n comma-separated floats, each within bounds (float *dst) */
+    CLI_OPT_COUNT,  /**< a whole number >= 0, strtoul (unsigned long *dst) */
+    CLI_OPT_INDEX,  /**< a whole number >= 0, strtol (long *dst) */
+    CLI_OPT_MODE,   /**< auto | sphere | planar (sfit_mode_t *dst) */
+    CLI_OPT_STRING, /**< the value itself, not copied (char **dst) */
+    CLI_OPT_FN,     /**< fn(dst, value) */
+    CLI_OPT_FN0     /**< no value: fn(dst, name) */
+} cli_opt_kind_t;
+
+/* Bounds of a CLI_OPT_FLOATS value (cli_opt_t.bounds, or-ed); NaN fails any. */
+#define CLI_GE_LO 1u /**< x >= lo */
+#define CLI_GT_LO 2u /**< x > lo */
+#define CLI_LE_HI 4u /**< x <= hi */
+#define CLI_LT_HI 8u /**< x < hi */
+
+/** A custom option: NULL when taken, else the message of a bad value (after "sfit: "). */
+typedef const char *(*cli_opt_fn_t)(void *dst, const char *value);
+
+/** One option of a command; unset fields are 0 (designated initializers). */
+typedef struct cli_opt {
+    const char *name;    /**< "--gate" */
+    cli_opt_kind_t kind;
+    void *dst;           /**< where the value goes (type by kind); FN, FN0: fn's context */
+    const char *err;     /**< message of a bad value, printed after "sfit: " */
+    int *seen;           /**< set to 1 once the option is taken (NULL: not kept) */
+    int required;        /**< not given: cli_args_t.required is the error */
+    int needs;           /**< value missing: "NAME needs a value" (0: the unknown-option message) */
+    int n;               /**< CLI_OPT_FLOATS: how many */
+    unsigned bounds;     /**< CLI_OPT_FLOATS: CLI_GE_LO, ... */
+    float lo, hi;        /**< CLI_OPT_FLOATS: the bounds' values */
+    cli_opt_fn_t fn;     /**< CLI_OPT_FN, CLI_OPT_FN0 */
+} cli_opt_t;
+
+/** The cli_args_t fields of a command that reads one FILE (const char *F). */
+#define CLI_ONE_FILE(F)                                                                     \
+    .pos = &(F), .max_pos = 1, .min_pos = 1, .extra = "one FILE expected",                 \
+    .missing = "FILE missing"
+
+/** A command's arguments: its option table, --cols, the positional arguments. */
+typedef struct cli_args {
+    const cli_opt_t *opts; /**< the command's options (at most 32) */
+    size_t nopts;
+    cli_src_t *src;        /**< --cols goes here; NULL: not an option of the command */
+    const char **pos;      /**< positional arguments, in order (max_pos of them) */
+    int max_pos, min_pos;
+    int *npos;             /**< how many were given (NULL: not kept) */
+    const char *extra;     /**< message when more than max_pos are given */
+    const char *missing;   /**< message when fewer than min_pos are given */
+    const char *required;  /**< message when a required option is not given */
+    void (*usage)(FILE *);
+} cli_args_t;
+
+/**
+ * Parse argv[1..argc-1] of a sub-command in order: --help / -h, --cols (if
+ * a->src), the options of the table (a value option without its value is
+ * an unknown or incomplete option, or "needs a value"), an unknown option,
+ * the positional arguments; then the required options and min_pos. The
+ * first error is printed on stderr ("sfit: ..."). Returns -1 to go on, or
+ * the exit status: CLI_OK after usage on stdout (--help), CLI_USAGE after
+ * the error and usage on stderr.
+ */
+int cli_parse(int argc, char **argv, const cli_args_t *a);
 
 /** Sub-commands: argv[0] is the sub-command name. */
 int cli_cmd_fit(int argc, char **argv);

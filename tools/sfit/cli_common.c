@@ -176,36 +176,35 @@ void cli_print_json_string(const char *str)
 
 void cli_print_flags_json(uint32_t flags)
 {
+    static const struct {
+        uint32_t bit;
+        const char *name;
+    } names[] = {
+        {SFIT_FLAG_UNTRUSTED, "untrusted"},       {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
+        {SFIT_FLAG_NEAR_PLANAR, "near_planar"},   {SFIT_FLAG_ROUNDING, "rounding"},
+        {SFIT_SELFCAL_FLAG_CAPPED, "noise_capped"}, {SFIT_FLAG_COV_LIMIT, "cov_limit"},
+        {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
+    };
     const char *sep = "";
+    size_t k;
     printf("[");
-    if (flags & SFIT_FLAG_UNTRUSTED) {
-        printf("%s\"untrusted\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_FEW_SAMPLES) {
-        printf("%s\"few_samples\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_NEAR_PLANAR) {
-        printf("%s\"near_planar\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_ROUNDING) {
-        printf("%s\"rounding\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_SELFCAL_FLAG_CAPPED) {
-        printf("%s\"noise_capped\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_FLAG_COV_LIMIT) {
-        printf("%s\"cov_limit\"", sep);
-        sep = ",";
-    }
-    if (flags & SFIT_MULTI_FLAG_SKIPPED) {
-        printf("%s\"skipped_markers\"", sep);
+    for (k = 0; k < sizeof names / sizeof names[0]; k++) {
+        if ((flags & names[k].bit) != 0u) {
+            printf("%s\"%s\"", sep, names[k].name);
+            sep = ",";
+        }
     }
     printf("]");
+}
+
+void cli_print_noise_json(int has_noise, float noise_var, int estimated)
+{
+    if (has_noise) {
+        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)noise_var,
+               estimated ? "true" : "false");
+    } else {
+        printf(",\"noise_var\":null,\"noise_estimated\":false");
+    }
 }
 
 void cli_print_vec(const float *v)
@@ -242,18 +241,136 @@ int cli_parse_outcome(int parse_rc, void (*usage)(FILE *))
     return CLI_USAGE;
 }
 
-int cli_positional(const char *arg, const char **file)
+int cli_parse_mode(const char *s, sfit_mode_t *mode)
 {
-    if (arg[0] == '-' && arg[1] != '\0') {
-        fprintf(stderr, "sfit: unknown or incomplete option %s\n", arg);
+    if (strcmp(s, "auto") == 0) {
+        *mode = SFIT_MODE_AUTO;
+    } else if (strcmp(s, "sphere") == 0) {
+        *mode = SFIT_MODE_SPHERE;
+    } else if (strcmp(s, "planar") == 0) {
+        *mode = SFIT_MODE_PLANAR;
+    } else {
         return -1;
     }
-    if (*file != NULL) {
-        fprintf(stderr, "sfit: one FILE expected\n");
-        return -1;
-    }
-    *file = arg;
     return 0;
+}
+
+static int in_bounds(float x, const cli_opt_t *o)
+{
+    return !(((o->bounds & CLI_GE_LO) != 0u && !(x >= o->lo))
+             || ((o->bounds & CLI_GT_LO) != 0u && !(x > o->lo))
+             || ((o->bounds & CLI_LE_HI) != 0u && !(x <= o->hi))
+             || ((o->bounds & CLI_LT_HI) != 0u && !(x < o->hi)));
+}
+
+/* Take the value v of option o: NULL, or the message of a bad value. */
+static const char *take_value(const cli_opt_t *o, char *v)
+{
+    char *end;
+    int k;
+    switch (o->kind) {
+    case CLI_OPT_FLOATS:
+        if (cli_parse_floats(v, (float *)o->dst, o->n) != 0) {
+            return o->err;
+        }
+        for (k = 0; k < o->n; k++) {
+            if (!in_bounds(((const float *)o->dst)[k], o)) {
+                return o->err;
+            }
+        }
+        return NULL;
+    case CLI_OPT_COUNT:
+        errno = 0;
+        *(unsigned long *)o->dst = strtoul(v, &end, 10);
+        return (v[0] == '-' || end == v || *end != '\0' || errno != 0) ? o->err : NULL;
+    case CLI_OPT_INDEX:
+        errno = 0;
+        *(long *)o->dst = strtol(v, &end, 10);
+        return (*end != '\0' || end == v || *(long *)o->dst < 0 || errno != 0) ? o->err : NULL;
+    case CLI_OPT_MODE:
+        return (cli_parse_mode(v, (sfit_mode_t *)o->dst) != 0) ? o->err : NULL;
+    case CLI_OPT_STRING:
+        *(char **)o->dst = v;
+        return NULL;
+    case CLI_OPT_FN:
+        return o->fn(o->dst, v);
+    case CLI_OPT_FLAG:
+    case CLI_OPT_FN0:
+    default:
+        return "internal error: option without a value";
+    }
+}
+
+static int parse_args(int argc, char **argv, const cli_args_t *a)
+{
+    unsigned long given = 0ul; /* bit k: opts[k] taken */
+    int i, npos = 0;
+    size_t k;
+    for (i = 1; i < argc; i++) {
+        char *s = argv[i];
+        const char *msg = NULL;
+        const cli_opt_t *o = NULL;
+        const int io = (a->src != NULL) ? cli_input_opt(argc, argv, &i, a->src) : 0;
+        if (io != 0) {
+            if (io < 0) {
+                return -1;
+            }
+            continue;
+        }
+        if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+            return 1;
+        }
+        for (k = 0; k < a->nopts && o == NULL; k++) {
+            if (strcmp(s, a->opts[k].name) == 0) {
+                o = &a->opts[k];
+                given |= 1ul << k; /* only read once the loop is over */
+            }
+        }
+        if (o != NULL && o->kind == CLI_OPT_FLAG) {
+            *(int *)o->dst = 1;
+        } else if (o != NULL && o->kind == CLI_OPT_FN0) {
+            msg = o->fn(o->dst, o->name);
+        } else if (o != NULL && i + 1 < argc) {
+            msg = take_value(o, argv[++i]);
+        } else if (o != NULL && o->needs) {
+            fprintf(stderr, "sfit: %s needs a value\n", s);
+            return -1;
+        } else if (s[0] == '-' && s[1] != '\0') {
+            fprintf(stderr, "sfit: unknown or incomplete option %s\n", s);
+            return -1;
+        } else if (npos < a->max_pos) {
+            a->pos[npos++] = s;
+        } else {
+            fprintf(stderr, "sfit: %s\n", a->extra);
+            return -1;
+        }
+        if (msg != NULL) {
+            fprintf(stderr, "sfit: %s\n", msg);
+            return -1;
+        }
+        if (o != NULL && o->seen != NULL) {
+            *o->seen = 1;
+        }
+    }
+    if (a->npos != NULL) {
+        *a->npos = npos;
+    }
+    for (k = 0; k < a->nopts; k++) {
+        if (a->opts[k].required && (given & (1ul << k)) == 0ul) {
+            fprintf(stderr, "sfit: %s\n", a->required);
+            return -1;
+        }
+    }
+    if (npos < a->min_pos) {
+        fprintf(stderr, "sfit: %s\n", a->missing);
+        return -1;
+    }
+    return 0;
+}
+
+int cli_parse(int argc, char **argv, const cli_args_t *a)
+{
+    return cli_parse_outcome(parse_args(argc, argv, a), a->usage);
 }
 
 int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,

@@ -11,6 +11,25 @@
 #include "c3d.h"
 #include "table.h"
 
+int cli_parse_frames(const char *s, long *first, long *last)
+{
+    char *end;
+    long a, b;
+    errno = 0;
+    a = strtol(s, &end, 10);
+    if (end == s || *end != ':' || a < 0) {
+        return 1;
+    }
+    s = end + 1;
+    b = strtol(s, &end, 10); /* errno of an overflow of F is still set */
+    if (end == s || *end != '\0' || b < a || errno != 0) {
+        return 2;
+    }
+    *first = a;
+    *last = b;
+    return 0;
+}
+
 int cli_split_list(char *s, char **items, int max)
 {
     int n = 0;

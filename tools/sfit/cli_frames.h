@@ -53,4 +53,11 @@ static inline const sfit_vec3_t *cli_frames_at(const cli_frames_t *fr, long f, i
  */
 int cli_split_list(char *s, char **items, int max);
 
+/**
+ * Parse F:L (whole numbers, 0 <= F <= L) into *first, *last. Returns 0;
+ * 1 if F or the ':' is wrong; 2 if L is (or a number overflows);
+ * *first and *last are unchanged on failure.
+ */
+int cli_parse_frames(const char *s, long *first, long *last);
+
 #endif /* SFIT_CLI_FRAMES_H */

@@ -2,7 +2,6 @@
 /** @file cli_joint.c  The joint centre over loaded trajectories (cli_joint.h). */
 #include "cli_joint.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,76 +18,30 @@ void cli_joint_opts_default(cli_joint_opts_t *o)
     o->noise_var = 0.0f;
 }
 
-static int parse_frames(const char *s, long *first, long *last)
+const char *cli_joint_frames_opt(void *dst, const char *v)
 {
-    char *end;
-    long a, b;
-    errno = 0;
-    a = strtol(s, &end, 10);
-    if (end == s || *end != ':' || a < 0 || errno != 0) {
-        return -1;
+    cli_joint_opts_t *o = (cli_joint_opts_t *)dst;
+    if (cli_parse_frames(v, &o->first, &o->last) != 0) {
+        return "--frames needs F:L, whole numbers with 0 <= F <= L";
     }
-    s = end + 1;
-    b = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || b < a || errno != 0) {
-        return -1;
-    }
-    *first = a;
-    *last = b;
-    return 0;
+    return NULL;
 }
 
-int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o, int *json)
+const char *cli_joint_noise_opt(void *dst, const char *v)
 {
-    const char *a = argv[*i];
-    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-        return 2;
+    cli_joint_opts_t *o = (cli_joint_opts_t *)dst;
+    if (o->noise != 0) {
+        return "--noise-var given twice";
     }
-    if (strcmp(a, "--json") == 0) {
-        *json = 1;
-        return 1;
-    }
-    if (strcmp(a, "--frames") != 0 && strcmp(a, "--noise-var") != 0 && strcmp(a, "--mode") != 0) {
-        return 0;
-    }
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "sfit: %s needs a value\n", a);
-        return -1;
-    }
-    (*i)++;
-    if (strcmp(a, "--frames") == 0) {
-        if (parse_frames(argv[*i], &o->first, &o->last) != 0) {
-            fprintf(stderr, "sfit: --frames needs F:L, whole numbers with 0 <= F <= L\n");
-            return -1;
-        }
-    } else if (strcmp(a, "--noise-var") == 0) {
-        if (o->noise != 0) {
-            fprintf(stderr, "sfit: --noise-var given twice\n");
-            return -1;
-        }
-        if (strcmp(argv[*i], "auto") == 0) {
-            o->noise = 2;
-        } else if (cli_parse_floats(argv[*i], &o->noise_var, 1) != 0 || !(o->noise_var >= 0.0f)
-                   || !(o->noise_var < 3.0e38f)) {
-            fprintf(stderr, "sfit: --noise-var needs auto or one finite value >= 0\n");
-            return -1;
-        } else {
-            o->noise = 1;
-        }
+    if (strcmp(v, "auto") == 0) {
+        o->noise = 2;
+    } else if (cli_parse_floats(v, &o->noise_var, 1) != 0 || !(o->noise_var >= 0.0f)
+               || !(o->noise_var < 3.0e38f)) {
+        return "--noise-var needs auto or one finite value >= 0";
     } else {
-        const char *md = argv[*i];
-        if (strcmp(md, "auto") == 0) {
-            o->mode = SFIT_MODE_AUTO;
-        } else if (strcmp(md, "sphere") == 0) {
-            o->mode = SFIT_MODE_SPHERE;
-        } else if (strcmp(md, "planar") == 0) {
-            o->mode = SFIT_MODE_PLANAR;
-        } else {
-            fprintf(stderr, "sfit: --mode is auto, sphere or planar\n");
-            return -1;
-        }
+        o->noise = 1;
     }
-    return 1;
+    return NULL;
 }
 
 void cli_joint_free(cli_joint_out_t *out)

@@ -15,6 +15,7 @@
 
 #include <stdio.h>
 
+#include "cli.h"
 #include "cli_frames.h"
 #include "sfit/sfit_joint.h"
 
@@ -61,13 +62,24 @@ void cli_joint_free(cli_joint_out_t *out);
 sfit_status_t cli_joint_lab(const cli_frames_t *fr, int np, const cli_joint_out_t *out, long f,
                             sfit_vec3_t *center, sfit_vec3_t *axis);
 
+/** --frames F:L into a cli_joint_opts_t (a cli_opt_fn_t). */
+const char *cli_joint_frames_opt(void *dst, const char *v);
+
+/** --noise-var V|auto into a cli_joint_opts_t (a cli_opt_fn_t). */
+const char *cli_joint_noise_opt(void *dst, const char *v);
+
 /**
- * Parse the options shared by joint and skeleton: --frames F:L,
- * --noise-var V|auto, --mode auto|sphere|planar, --json (sets *json) and
- * --help / -h. As cli_input_opt: 1 consumed, 0 not one, -1 bad value
- * (message printed); 2 for --help.
+ * The cli_opt_t entries of the options shared by joint and skeleton
+ * (--frames F:L, --noise-var V|auto, --mode auto|sphere|planar) for the
+ * cli_joint_opts_t *J; a missing value is "NAME needs a value".
  */
-int cli_joint_opt(int argc, char **argv, int *i, cli_joint_opts_t *o, int *json);
+#define CLI_JOINT_OPTS(J)                                                                   \
+    {.name = "--frames", .kind = CLI_OPT_FN, .dst = (J), .fn = cli_joint_frames_opt,       \
+     .needs = 1},                                                                          \
+    {.name = "--noise-var", .kind = CLI_OPT_FN, .dst = (J), .fn = cli_joint_noise_opt,     \
+     .needs = 1},                                                                          \
+    {.name = "--mode", .kind = CLI_OPT_MODE, .dst = &(J)->mode, .needs = 1,                \
+     .err = "--mode is auto, sphere or planar"}
 
 /** Defaults: every frame, auto mode, no noise model. */
 void cli_joint_opts_default(cli_joint_opts_t *o);

@@ -12,7 +12,6 @@
  */
 #include <errno.h>
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "c3d.h"
@@ -20,8 +19,8 @@
 #include "cli_frames.h"
 
 typedef struct c3d_opts {
-    const char *file, *out;
-    char *markers;
+    const char *file;
+    char *out, *markers;
     long first, last;
     int json;
 } c3d_opts_t;
@@ -38,45 +37,32 @@ static void c3d_usage(FILE *f)
           f);
 }
 
+/* --frames F:L (CLI_OPT_FN). */
+static const char *c3d_frames(void *dst, const char *v)
+{
+    c3d_opts_t *o = (c3d_opts_t *)dst;
+    const int rc = cli_parse_frames(v, &o->first, &o->last);
+    if (rc != 0) {
+        return (rc == 1) ? "--frames needs F:L" : "--frames needs F:L, 0 <= F <= L";
+    }
+    return NULL;
+}
+
+/* -1 to go on, or the exit status (cli_parse). */
 static int c3d_parse_args(int argc, char **argv, c3d_opts_t *o)
 {
-    int i;
+    const cli_opt_t opts[] = {
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--export", .kind = CLI_OPT_STRING, .dst = &o->out},
+        {.name = "--markers", .kind = CLI_OPT_STRING, .dst = &o->markers},
+        {.name = "--frames", .kind = CLI_OPT_FN, .dst = o, .fn = c3d_frames},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             CLI_ONE_FILE(o->file),
+                             .usage = c3d_usage};
     memset(o, 0, sizeof *o);
     o->last = -1;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(a, "--export") == 0 && i + 1 < argc) {
-            o->out = argv[++i];
-        } else if (strcmp(a, "--markers") == 0 && i + 1 < argc) {
-            o->markers = argv[++i];
-        } else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
-            char *end;
-            const char *s = argv[++i];
-            errno = 0;
-            o->first = strtol(s, &end, 10);
-            if (end == s || *end != ':' || o->first < 0) {
-                fprintf(stderr, "sfit: --frames needs F:L\n");
-                return -1;
-            }
-            s = end + 1;
-            o->last = strtol(s, &end, 10);
-            if (end == s || *end != '\0' || o->last < o->first || errno != 0) {
-                fprintf(stderr, "sfit: --frames needs F:L, 0 <= F <= L\n");
-                return -1;
-            }
-        } else if (cli_positional(a, &o->file) != 0) {
-            return -1;
-        }
-    }
-    if (o->file == NULL) {
-        fprintf(stderr, "sfit: FILE missing\n");
-        return -1;
-    }
-    return 0;
+    return cli_parse(argc, argv, &args);
 }
 
 static void put_cell(FILE *f, float v)
@@ -149,7 +135,7 @@ int cli_cmd_c3d(int argc, char **argv)
     char err[C3D_ERR_MAX];
     int k;
     {
-        const int prc = cli_parse_outcome(c3d_parse_args(argc, argv, &o), c3d_usage);
+        const int prc = c3d_parse_args(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }

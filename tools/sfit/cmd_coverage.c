@@ -13,8 +13,6 @@
 #include "cli.h"
 #include "sfit/sfit_noise.h"
 
-/* Also declared in cli.h once the command is registered there. */
-
 #define COV_RAD2DEG 57.29577951f
 
 typedef struct cov_opts {
@@ -58,52 +56,39 @@ static void cov_usage(FILE *f)
           f);
 }
 
+/* --cap / --arc (CLI_OPT_FN0). */
+static const char *cov_geometry(void *dst, const char *name)
+{
+    sfit_mode_t *mode = (sfit_mode_t *)dst;
+    const sfit_mode_t md = (name[2] == 'c') ? SFIT_MODE_SPHERE : SFIT_MODE_PLANAR;
+    if (*mode != SFIT_MODE_AUTO && *mode != md) {
+        return "--cap and --arc exclude each other";
+    }
+    *mode = md;
+    return NULL;
+}
+
+/* -1 to go on, or the exit status (cli_parse). */
 static int cov_parse(int argc, char **argv, cov_opts_t *o)
 {
-    int i;
+    const cli_opt_t opts[] = {
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--cap", .kind = CLI_OPT_FN0, .dst = &o->mode, .fn = cov_geometry},
+        {.name = "--arc", .kind = CLI_OPT_FN0, .dst = &o->mode, .fn = cov_geometry},
+        {.name = "--noise-var", .kind = CLI_OPT_FLOATS, .dst = &o->noise_var, .n = 1,
+         .bounds = CLI_GE_LO | CLI_LT_HI, .lo = 0.0f, .hi = 3.0e38f, .seen = &o->have_noise,
+         .err = "--noise-var needs one finite value >= 0"},
+        {.name = "--rho-max", .kind = CLI_OPT_FLOATS, .dst = &o->rho_max, .n = 1,
+         .bounds = CLI_GT_LO | CLI_LE_HI, .lo = 0.0f, .hi = 1.0f,
+         .err = "--rho-max needs one value in (0, 1]"},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .src = &o->src, CLI_ONE_FILE(o->file),
+                             .usage = cov_usage};
     memset(o, 0, sizeof *o);
     o->mode = SFIT_MODE_AUTO;
     o->rho_max = 1.0f;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int io = cli_input_opt(argc, argv, &i, &o->src);
-        if (io < 0) {
-            return -1;
-        } else if (io > 0) {
-            continue;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(a, "--cap") == 0 || strcmp(a, "--arc") == 0) {
-            const sfit_mode_t md = (a[2] == 'c') ? SFIT_MODE_SPHERE : SFIT_MODE_PLANAR;
-            if (o->mode != SFIT_MODE_AUTO && o->mode != md) {
-                fprintf(stderr, "sfit: --cap and --arc exclude each other\n");
-                return -1;
-            }
-            o->mode = md;
-        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], &o->noise_var, 1) != 0
-                || !(o->noise_var >= 0.0f) || !(o->noise_var < 3.0e38f)) {
-                fprintf(stderr, "sfit: --noise-var needs one finite value >= 0\n");
-                return -1;
-            }
-            o->have_noise = 1;
-        } else if (strcmp(a, "--rho-max") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], &o->rho_max, 1) != 0 || !(o->rho_max > 0.0f)
-                || !(o->rho_max <= 1.0f)) {
-                fprintf(stderr, "sfit: --rho-max needs one value in (0, 1]\n");
-                return -1;
-            }
-        } else if (cli_positional(a, &o->file) != 0) {
-            return -1;
-        }
-    }
-    if (o->file == NULL) {
-        fprintf(stderr, "sfit: FILE missing\n");
-        return -1;
-    }
-    return 0;
+    return cli_parse(argc, argv, &args);
 }
 
 /* Fit, then the coverage figures. Returns the fit's status. */
@@ -229,7 +214,7 @@ int cli_cmd_coverage(int argc, char **argv)
     sfit_status_t st;
 
     {
-        const int prc = cli_parse_outcome(cov_parse(argc, argv, &o), cov_usage);
+        const int prc = cov_parse(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }

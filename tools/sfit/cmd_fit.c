@@ -63,10 +63,93 @@ static void fit_usage(FILE *f)
           f);
 }
 
+/* --noise-var V|auto (CLI_OPT_FN): one noise model. */
+static const char *fit_noise_var(void *dst, const char *v)
+{
+    fit_opts_t *o = (fit_opts_t *)dst;
+    const int given = o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise;
+    if (strcmp(v, "auto") == 0) {
+        if (given) {
+            return "--noise-var auto: noise model given twice";
+        }
+        o->auto_noise = 1;
+        return NULL;
+    }
+    if (given || cli_parse_floats(v, &o->cfg.noise_var, 1) != 0 || !(o->cfg.noise_var >= 0.0f)) {
+        return "--noise-var needs one value >= 0 (not with --noise-cov)";
+    }
+    o->cfg.noise = SFIT_NOISE_ISO;
+    return NULL;
+}
+
+/* --noise-cov XX,YY,ZZ,XY,XZ,YZ (CLI_OPT_FN). */
+static const char *fit_noise_cov(void *dst, const char *v)
+{
+    fit_opts_t *o = (fit_opts_t *)dst;
+    float c[6];
+    float *m = o->cfg.noise_cov.m;
+    if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise || cli_parse_floats(v, c, 6) != 0) {
+        return "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)";
+    }
+    o->cfg.noise = SFIT_NOISE_COV;
+    m[0] = c[0]; m[4] = c[1]; m[8] = c[2];
+    m[1] = c[3]; m[3] = c[3];
+    m[2] = c[4]; m[6] = c[4];
+    m[5] = c[5]; m[7] = c[5];
+    return NULL;
+}
+
+/* --weight equal|samples (CLI_OPT_FN). */
+static const char *fit_weight(void *dst, const char *v)
+{
+    sfit_multi_weight_t *w = (sfit_multi_weight_t *)dst;
+    if (strcmp(v, "equal") == 0) {
+        *w = SFIT_MULTI_WEIGHT_EQUAL;
+    } else if (strcmp(v, "samples") == 0) {
+        *w = SFIT_MULTI_WEIGHT_SAMPLES;
+    } else {
+        return "--weight is equal or samples";
+    }
+    return NULL;
+}
+
+/* The combinations the options exclude; 0 or -1 (message printed). */
+static int fit_check(const fit_opts_t *o)
+{
+    const char *msg = NULL;
+    if ((o->auto_noise || o->refine || o->gate_k > 0.0f) && o->nfiles > 1) {
+        msg = "--noise-var auto, --refine and --gate take one FILE";
+    } else if (o->gate_k > 0.0f && (o->auto_noise || o->refine)) {
+        msg = "--gate does not combine with --noise-var auto / --refine";
+    } else if ((o->auto_noise || o->refine) && o->cfg.mode == SFIT_MODE_PLANAR) {
+        msg = "--noise-var auto / --refine fit spheres (not --mode planar)";
+    }
+    if (msg != NULL) {
+        fprintf(stderr, "sfit: %s\n", msg);
+        return -1;
+    }
+    return 0;
+}
+
+/* -1 to go on, or the exit status (cli_parse). o->files has argc slots. */
 static int fit_parse(int argc, char **argv, fit_opts_t *o)
 {
-    int i;
-    o->file = NULL;
+    const cli_opt_t opts[] = {
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--refine", .kind = CLI_OPT_FLAG, .dst = &o->refine},
+        {.name = "--gate", .kind = CLI_OPT_FLOATS, .dst = &o->gate_k, .n = 1,
+         .bounds = CLI_GT_LO, .lo = 1.0f, .err = "--gate needs one value K > 1 (sigmas)"},
+        {.name = "--noise-var", .kind = CLI_OPT_FN, .dst = o, .fn = fit_noise_var},
+        {.name = "--noise-cov", .kind = CLI_OPT_FN, .dst = o, .fn = fit_noise_cov},
+        {.name = "--mode", .kind = CLI_OPT_MODE, .dst = &o->cfg.mode,
+         .err = "--mode is auto, sphere or planar"},
+        {.name = "--weight", .kind = CLI_OPT_FN, .dst = &o->weight, .fn = fit_weight},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .src = &o->src, .pos = o->files, .max_pos = argc,
+                             .min_pos = 1, .npos = &o->nfiles, .missing = "FILE missing",
+                             .usage = fit_usage};
+    int rc;
     o->nfiles = 0;
     o->json = 0;
     o->cfg = sfit_fit_cfg_default;
@@ -76,102 +159,12 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->refine = 0;
     o->gate_k = 0.0f;
     o->src.cols = NULL;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int io = cli_input_opt(argc, argv, &i, &o->src);
-        if (io < 0) {
-            return -1;
-        } else if (io > 0) {
-            continue;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(a, "--refine") == 0) {
-            o->refine = 1;
-        } else if (strcmp(a, "--gate") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], &o->gate_k, 1) != 0 || !(o->gate_k > 1.0f)) {
-                fprintf(stderr, "sfit: --gate needs one value K > 1 (sigmas)\n");
-                return -1;
-            }
-        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc
-                   && strcmp(argv[i + 1], "auto") == 0) {
-            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise) {
-                fprintf(stderr, "sfit: --noise-var auto: noise model given twice\n");
-                return -1;
-            }
-            o->auto_noise = 1;
-            i++;
-        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc) {
-            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise
-                || cli_parse_floats(argv[++i], &o->cfg.noise_var, 1) != 0
-                || !(o->cfg.noise_var >= 0.0f)) {
-                fprintf(stderr, "sfit: --noise-var needs one value >= 0 (not with --noise-cov)\n");
-                return -1;
-            }
-            o->cfg.noise = SFIT_NOISE_ISO;
-        } else if (strcmp(a, "--noise-cov") == 0 && i + 1 < argc) {
-            float c[6];
-            float *m = o->cfg.noise_cov.m;
-            if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise
-                || cli_parse_floats(argv[++i], c, 6) != 0) {
-                fprintf(stderr, "sfit: --noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)\n");
-                return -1;
-            }
-            o->cfg.noise = SFIT_NOISE_COV;
-            m[0] = c[0]; m[4] = c[1]; m[8] = c[2];
-            m[1] = c[3]; m[3] = c[3];
-            m[2] = c[4]; m[6] = c[4];
-            m[5] = c[5]; m[7] = c[5];
-        } else if (strcmp(a, "--mode") == 0 && i + 1 < argc) {
-            const char *md = argv[++i];
-            if (strcmp(md, "auto") == 0) {
-                o->cfg.mode = SFIT_MODE_AUTO;
-            } else if (strcmp(md, "sphere") == 0) {
-                o->cfg.mode = SFIT_MODE_SPHERE;
-            } else if (strcmp(md, "planar") == 0) {
-                o->cfg.mode = SFIT_MODE_PLANAR;
-            } else {
-                fprintf(stderr, "sfit: --mode is auto, sphere or planar\n");
-                return -1;
-            }
-        } else if (strcmp(a, "--weight") == 0 && i + 1 < argc) {
-            const char *w = argv[++i];
-            if (strcmp(w, "equal") == 0) {
-                o->weight = SFIT_MULTI_WEIGHT_EQUAL;
-            } else if (strcmp(w, "samples") == 0) {
-                o->weight = SFIT_MULTI_WEIGHT_SAMPLES;
-            } else {
-                fprintf(stderr, "sfit: --weight is equal or samples\n");
-                return -1;
-            }
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
-            return -1;
-        } else {
-            if (o->file == NULL) {
-                o->file = a;
-            }
-            o->files[o->nfiles++] = a;
-        }
+    rc = cli_parse(argc, argv, &args);
+    o->file = o->files[0];
+    if (rc < 0 && fit_check(o) != 0) {
+        rc = cli_parse_outcome(-1, fit_usage);
     }
-    if (o->file == NULL) {
-        fprintf(stderr, "sfit: FILE missing\n");
-        return -1;
-    }
-    if ((o->auto_noise || o->refine || o->gate_k > 0.0f) && o->nfiles > 1) {
-        fprintf(stderr, "sfit: --noise-var auto, --refine and --gate take one FILE\n");
-        return -1;
-    }
-    if (o->gate_k > 0.0f && (o->auto_noise || o->refine)) {
-        fprintf(stderr, "sfit: --gate does not combine with --noise-var auto / --refine\n");
-        return -1;
-    }
-    if ((o->auto_noise || o->refine) && o->cfg.mode == SFIT_MODE_PLANAR) {
-        fprintf(stderr, "sfit: --noise-var auto / --refine fit spheres (not --mode planar)\n");
-        return -1;
-    }
-    return 0;
+    return rc;
 }
 
 static const char *mode_name(sfit_mode_t m)
@@ -200,6 +193,22 @@ static const char *method_name(const sfit_result_t *r, const fit_extra_t *x)
     return r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke";
 }
 
+/* ,"eigenvalues":[..],"trust_ratio":..,"leontief_ratio":..[,"axis":[..]],"flags":[..]
+ * of a single or a common-centre fit. */
+static void print_solution_json(const sfit_vec3_t *eig, float trust, float leontief,
+                                sfit_mode_t mode, const sfit_vec3_t *axis, uint32_t flags)
+{
+    printf(",\"eigenvalues\":");
+    cli_print_vec(eig->v);
+    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)trust, (double)leontief);
+    if (mode == SFIT_MODE_PLANAR) {
+        printf(",\"axis\":");
+        cli_print_vec(axis->v);
+    }
+    printf(",\"flags\":");
+    cli_print_flags_json(flags);
+}
+
 static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
 {
     int i;
@@ -208,22 +217,10 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
            method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
            in->missing);
     cli_print_vec(r->center.v);
-    printf(",\"radius\":%.9g,\"eigenvalues\":", (double)r->radius);
-    cli_print_vec(r->eigenvalues.v);
-    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)r->trust_ratio,
-           (double)r->leontief_ratio);
-    if (r->mode == SFIT_MODE_PLANAR) {
-        printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
-    }
-    printf(",\"flags\":");
-    cli_print_flags_json(r->flags);
-    if (x->has_noise) {
-        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)x->noise_var,
-               x->noise_estimated ? "true" : "false");
-    } else {
-        printf(",\"noise_var\":null,\"noise_estimated\":false");
-    }
+    printf(",\"radius\":%.9g", (double)r->radius);
+    print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
+                        r->flags);
+    cli_print_noise_json(x->has_noise, x->noise_var, x->noise_estimated);
     if (x->has_uncert) {
         printf(",\"center_cov\":[");
         for (i = 0; i < 6; i++) {
@@ -333,25 +330,17 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
 
 static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
                              const sfit_moments_t *acc, const float *radii,
-                             unsigned long rejected, unsigned long missing)
+                             const cli_input_t *all)
 {
     int k;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"weight\":\"%s\","
            "\"n\":%lu,\"rejected\":%lu,\"missing\":%lu,\"center\":",
            r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke", mode_name(r->mode),
            o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "samples" : "equal",
-           (unsigned long)r->n_total, rejected, missing);
+           (unsigned long)r->n_total, all->rejected, all->missing);
     cli_print_vec(r->center.v);
-    printf(",\"eigenvalues\":");
-    cli_print_vec(r->eigenvalues.v);
-    printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)r->trust_ratio,
-           (double)r->leontief_ratio);
-    if (r->mode == SFIT_MODE_PLANAR) {
-        printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
-    }
-    printf(",\"flags\":");
-    cli_print_flags_json(r->flags);
+    print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
+                        r->flags);
     printf(",\"markers\":[");
     for (k = 0; k < o->nfiles; k++) {
         printf("%s{\"file\":", k > 0 ? "," : "");
@@ -368,7 +357,7 @@ static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
 
 static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
                               const sfit_moments_t *acc, const float *radii,
-                              unsigned long rejected)
+                              const cli_input_t *all)
 {
     double ss = 0.0;
     int k, nsingle = 0;
@@ -377,7 +366,7 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
         printf(", %lu skipped (fewer than %u samples)", (unsigned long)r->skipped,
                (unsigned)SFIT_MIN_SAMPLES);
     }
-    printf("\nsamples      %lu used, %lu rejected\n", (unsigned long)r->n_total, rejected);
+    printf("\nsamples      %lu used, %lu rejected\n", (unsigned long)r->n_total, all->rejected);
     printf("method       %s, %s solution, %s weights\n",
            r->method == SFIT_METHOD_UGDK ? "unbiased MGDK (C'_p = C_p - Sigma)" : "MGDK",
            mode_name(r->mode), o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "N_p - 1" : "equal");
@@ -455,9 +444,10 @@ static int fit_multi(const fit_opts_t *o)
     sfit_multi_cfg_t mc;
     sfit_multi_result_t r;
     sfit_status_t st;
-    unsigned long accepted = 0, rejected = 0, missing = 0;
+    cli_input_t all; /* the files' counts summed */
     int k, rc = CLI_OK;
 
+    memset(&all, 0, sizeof all);
     acc = (sfit_moments_t *)calloc((size_t)o->nfiles, sizeof *acc);
     radii = (float *)calloc((size_t)o->nfiles, sizeof *radii);
     if (acc == NULL || radii == NULL) {
@@ -468,39 +458,23 @@ static int fit_multi(const fit_opts_t *o)
     }
     for (k = 0; k < o->nfiles; k++) {
         cli_input_t in;
-        char why[TAB_ERR_MAX];
-        int rrc;
-        (void)sfit_moments_init(&acc[k]);
-        rrc = cli_read_xyz(o->files[k], &o->src, cli_add_to_moments, &acc[k], &in, why);
-        if (rrc != 0) {
-            rc = cli_input_failed(rrc, o->files[k], why, o->json);
+        rc = cli_read_moments(o->files[k], &o->src, o->json, &acc[k], &in);
+        if (rc != 0) {
             goto done;
         }
-        if (!o->json) {
-            cli_report_rejects(o->files[k], &in);
-        }
-        accepted += in.accepted;
-        rejected += in.rejected;
-        missing += in.missing;
+        all.accepted += in.accepted;
+        all.rejected += in.rejected;
+        all.missing += in.missing;
     }
     mc.fit = o->cfg;
     mc.weight = o->weight;
     st = sfit_multi_fit(acc, (size_t)o->nfiles, &mc, &r, radii);
     if (st != SFIT_OK) {
-        if (o->json) {
-            printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
-                   sfit_status_str(st), cli_status_message(st), accepted, rejected);
-        } else {
-            fprintf(stderr, "sfit: common-centre fit failed (%s): %s\n", sfit_status_str(st),
-                    cli_status_message(st));
-        }
-        rc = CLI_FAIL;
-        goto done;
-    }
-    if (o->json) {
-        print_multi_json(o, &r, acc, radii, rejected, missing);
+        rc = cli_report_failure(st, "common-centre fit", NULL, o->json, &all);
+    } else if (o->json) {
+        print_multi_json(o, &r, acc, radii, &all);
     } else {
-        print_multi_human(o, &r, acc, radii, rejected);
+        print_multi_human(o, &r, acc, radii, &all);
     }
 done:
     free(acc);
@@ -630,14 +604,12 @@ int cli_cmd_fit(int argc, char **argv)
         return CLI_FAIL;
     }
     prc = fit_parse(argc, argv, &o);
-    if (prc != 0 || o.nfiles > 1) {
-        if (prc == 0) {
+    if (prc >= 0 || o.nfiles > 1) {
+        if (prc < 0) {
             prc = fit_multi(&o);
-            free(o.files);
-            return prc;
         }
         free(o.files);
-        return cli_parse_outcome(prc, fit_usage);
+        return prc;
     }
     free(o.files);
     o.files = NULL;

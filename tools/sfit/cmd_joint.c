@@ -27,7 +27,7 @@
 
 typedef struct joint_opts {
     const char *file;
-    const char *trajectory;
+    char *trajectory;
     int json;
     char *names[CLI_MARKERS_MAX]; /* parent markers, then child markers */
     int np, nc;
@@ -62,47 +62,44 @@ static int marker_list(char *arg, char **dst, int room, const char *what)
     return n;
 }
 
+/* -1 to go on, or the exit status (cli_parse). */
 static int joint_parse(int argc, char **argv, joint_opts_t *o)
 {
     char *parent = NULL, *child = NULL;
-    int i;
+    const cli_opt_t opts[] = {
+        CLI_JOINT_OPTS(&o->j),
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--parent", .kind = CLI_OPT_STRING, .dst = &parent, .required = 1},
+        {.name = "--child", .kind = CLI_OPT_STRING, .dst = &child, .required = 1},
+        {.name = "--trajectory", .kind = CLI_OPT_STRING, .dst = &o->trajectory},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .pos = &o->file, .max_pos = 1, .min_pos = 1,
+                             .extra = "one FILE expected",
+                             .missing = "FILE, --parent and --child are required",
+                             .required = "FILE, --parent and --child are required",
+                             .usage = joint_usage};
+    int rc;
     memset(o, 0, sizeof *o);
     cli_joint_opts_default(&o->j);
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int jo = cli_joint_opt(argc, argv, &i, &o->j, &o->json);
-        if (jo != 0) {
-            if (jo != 1) {
-                return (jo < 0) ? -1 : 1;
-            }
-        } else if (strcmp(a, "--parent") == 0 && i + 1 < argc) {
-            parent = argv[++i];
-        } else if (strcmp(a, "--child") == 0 && i + 1 < argc) {
-            child = argv[++i];
-        } else if (strcmp(a, "--trajectory") == 0 && i + 1 < argc) {
-            o->trajectory = argv[++i];
-        } else if (cli_positional(a, &o->file) != 0) {
-            return -1;
-        }
-    }
-    if (o->file == NULL || parent == NULL || child == NULL) {
-        fprintf(stderr, "sfit: FILE, --parent and --child are required\n");
-        return -1;
+    rc = cli_parse(argc, argv, &args);
+    if (rc >= 0) {
+        return rc;
     }
     o->np = marker_list(parent, o->names, SFIT_CLUSTER_MAX_MARKERS, "--parent");
     if (o->np < 0) {
-        return -1;
+        return cli_parse_outcome(-1, joint_usage);
     }
     if (o->np < 3) {
         fprintf(stderr, "sfit: --parent needs 3 to %d markers\n", SFIT_CLUSTER_MAX_MARKERS);
-        return -1;
+        return cli_parse_outcome(-1, joint_usage);
     }
     o->nc = marker_list(child, o->names + o->np, SFIT_JOINT_MAX_CHILD, "--child");
     if (o->nc < 0) {
         fprintf(stderr, "sfit: --child takes 1 to %d markers\n", SFIT_JOINT_MAX_CHILD);
-        return -1;
+        return cli_parse_outcome(-1, joint_usage);
     }
-    return 0;
+    return -1;
 }
 
 static const char *method_name(const sfit_multi_result_t *r)
@@ -138,12 +135,7 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
            (double)r->leontief_ratio);
     cli_print_flags_json(r->flags);
-    if (jo->has_noise) {
-        printf(",\"noise_var\":%.9g,\"noise_estimated\":%s", (double)jo->noise_var,
-               jo->noise_estimated ? "true" : "false");
-    } else {
-        printf(",\"noise_var\":null,\"noise_estimated\":false");
-    }
+    cli_print_noise_json(jo->has_noise, jo->noise_var, jo->noise_estimated);
     printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
            (double)jo->res.residual_mean, (double)jo->res.residual_max);
     cli_print_json_string(fr->units);
@@ -277,7 +269,7 @@ int cli_cmd_joint(int argc, char **argv)
     int rc;
 
     {
-        const int prc = cli_parse_outcome(joint_parse(argc, argv, &o), joint_usage);
+        const int prc = joint_parse(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }

@@ -12,13 +12,9 @@
 #include "cli.h"
 #include "sfit/sfit_noise.h"
 
-/* Also declared in cli.h once the command is registered there. */
-
 typedef struct noise_opts {
     const char *file;
     int json;
-    int have_center;
-    int have_radius;
     sfit_vec3_t center;
     float radius;
     cli_src_t src;
@@ -39,46 +35,22 @@ static void noise_usage(FILE *f)
           f);
 }
 
+/* -1 to go on, or the exit status (cli_parse). */
 static int noise_parse(int argc, char **argv, noise_opts_t *o)
 {
-    int i;
+    const cli_opt_t opts[] = {
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--center", .kind = CLI_OPT_FLOATS, .dst = &o->center, .n = 3, /* its v[3] */
+         .required = 1, .err = "--center needs X,Y,Z"},
+        {.name = "--radius", .kind = CLI_OPT_FLOATS, .dst = &o->radius, .n = 1,
+         .bounds = CLI_GE_LO, .lo = 0.0f, .required = 1, .err = "--radius needs one value >= 0"},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .src = &o->src, CLI_ONE_FILE(o->file),
+                             .required = "--center and --radius are required",
+                             .usage = noise_usage};
     memset(o, 0, sizeof *o);
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int io = cli_input_opt(argc, argv, &i, &o->src);
-        if (io < 0) {
-            return -1;
-        } else if (io > 0) {
-            continue;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(a, "--center") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], o->center.v, 3) != 0) {
-                fprintf(stderr, "sfit: --center needs X,Y,Z\n");
-                return -1;
-            }
-            o->have_center = 1;
-        } else if (strcmp(a, "--radius") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], &o->radius, 1) != 0 || !(o->radius >= 0.0f)) {
-                fprintf(stderr, "sfit: --radius needs one value >= 0\n");
-                return -1;
-            }
-            o->have_radius = 1;
-        } else if (cli_positional(a, &o->file) != 0) {
-            return -1;
-        }
-    }
-    if (!o->have_center || !o->have_radius) {
-        fprintf(stderr, "sfit: --center and --radius are required\n");
-        return -1;
-    }
-    if (o->file == NULL) {
-        fprintf(stderr, "sfit: FILE missing\n");
-        return -1;
-    }
-    return 0;
+    return cli_parse(argc, argv, &args);
 }
 
 static void noise_human(const char *file, const sfit_noise_est_t *e, const cli_input_t *in)
@@ -109,7 +81,7 @@ int cli_cmd_noise(int argc, char **argv)
     sfit_status_t st;
 
     {
-        const int prc = cli_parse_outcome(noise_parse(argc, argv, &o), noise_usage);
+        const int prc = noise_parse(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }

@@ -59,7 +59,8 @@ typedef struct sk_model {
 } sk_model_t;
 
 typedef struct sk_opts {
-    const char *model, *file, *svg;
+    const char *model, *file;
+    char *svg;
     int json;
     long frame; /* -1: first frame of the range */
     cli_joint_opts_t j;
@@ -80,46 +81,29 @@ static void sk_usage(FILE *f)
           f);
 }
 
+/* -1 to go on, or the exit status (cli_parse). */
 static int sk_parse(int argc, char **argv, sk_opts_t *o)
 {
-    int i;
+    const char *pos[2] = {NULL, NULL};
+    const cli_opt_t opts[] = {
+        CLI_JOINT_OPTS(&o->j),
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--svg", .kind = CLI_OPT_STRING, .dst = &o->svg},
+        {.name = "--frame", .kind = CLI_OPT_INDEX, .dst = &o->frame,
+         .err = "--frame needs a whole number >= 0"},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .pos = pos, .max_pos = 2, .min_pos = 2,
+                             .extra = "MODEL and FILE expected",
+                             .missing = "MODEL and FILE are required", .usage = sk_usage};
+    int rc;
     memset(o, 0, sizeof *o);
     o->frame = -1;
     cli_joint_opts_default(&o->j);
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int jo = cli_joint_opt(argc, argv, &i, &o->j, &o->json);
-        if (jo != 0) {
-            if (jo != 1) {
-                return (jo < 0) ? -1 : 1;
-            }
-        } else if (strcmp(a, "--svg") == 0 && i + 1 < argc) {
-            o->svg = argv[++i];
-        } else if (strcmp(a, "--frame") == 0 && i + 1 < argc) {
-            char *end;
-            errno = 0;
-            o->frame = strtol(argv[++i], &end, 10);
-            if (*end != '\0' || end == argv[i] || o->frame < 0 || errno != 0) {
-                fprintf(stderr, "sfit: --frame needs a whole number >= 0\n");
-                return -1;
-            }
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "sfit: unknown or incomplete option %s\n", a);
-            return -1;
-        } else if (o->model == NULL) {
-            o->model = a;
-        } else if (o->file == NULL) {
-            o->file = a;
-        } else {
-            fprintf(stderr, "sfit: MODEL and FILE expected\n");
-            return -1;
-        }
-    }
-    if (o->model == NULL || o->file == NULL) {
-        fprintf(stderr, "sfit: MODEL and FILE are required\n");
-        return -1;
-    }
-    return 0;
+    rc = cli_parse(argc, argv, &args);
+    o->model = pos[0];
+    o->file = pos[1];
+    return rc;
 }
 
 /* Read the model file. 0, -1 cannot open, -2 malformed (message in why). */
@@ -182,13 +166,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         j->child_list = tok[3];
         if (nt == 5) {
             j->has_mode = 1;
-            if (strcmp(tok[4], "auto") == 0) {
-                j->mode = SFIT_MODE_AUTO;
-            } else if (strcmp(tok[4], "sphere") == 0) {
-                j->mode = SFIT_MODE_SPHERE;
-            } else if (strcmp(tok[4], "planar") == 0) {
-                j->mode = SFIT_MODE_PLANAR;
-            } else {
+            if (cli_parse_mode(tok[4], &j->mode) != 0) {
                 (void)snprintf(why, whylen, "%s:%lu: MODE is auto, sphere or planar", path,
                                lineno);
                 free(copy);
@@ -614,7 +592,7 @@ int cli_cmd_skeleton(int argc, char **argv)
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
     {
-        const int prc = cli_parse_outcome(sk_parse(argc, argv, &o), sk_usage);
+        const int prc = sk_parse(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }

@@ -13,17 +13,10 @@
  * sample (unless that one was just printed). If no estimate exists at the
  * end, a JSON error object (or a message on stderr) and exit status 1.
  */
-#include <errno.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "cli.h"
 #include "table.h"
 #include "sfit/sfit_incr.h"
-
-/* Entry point of the sub-command (argv[0] = "track"); the dispatcher's
- * table calls it. Declared here until cli.h lists it:
- *   int cli_cmd_track(int argc, char **argv);   -- "track", "a new centre every K samples" */
 
 typedef struct track_opts {
     const char *file;
@@ -53,9 +46,22 @@ static void track_usage(FILE *f)
           f);
 }
 
+/* -1 to go on, or the exit status (cli_parse). */
 static int track_parse(int argc, char **argv, track_opts_t *o)
 {
-    int i;
+    int have_noise = 0;
+    const cli_opt_t opts[] = {
+        {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
+        {.name = "--noise-var", .kind = CLI_OPT_FLOATS, .dst = &o->cfg.noise_var, .n = 1,
+         .bounds = CLI_GE_LO | CLI_LT_HI, .lo = 0.0f, .hi = 3.0e38f, .seen = &have_noise,
+         .err = "--noise-var needs one finite value >= 0"},
+        {.name = "--every", .kind = CLI_OPT_COUNT, .dst = &o->every,
+         .err = "--every needs a whole number >= 0"},
+    };
+    const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
+                             .src = &o->src, CLI_ONE_FILE(o->file),
+                             .usage = track_usage};
+    int rc;
     o->file = NULL;
     o->json = 0;
     o->every = 1ul;
@@ -63,42 +69,11 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
     o->cfg.eigen = 1; /* the tool reports eigenvalues and the exact trust ratio */
     o->cfg.mode = SFIT_MODE_SPHERE;
     o->src.cols = NULL;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const int io = cli_input_opt(argc, argv, &i, &o->src);
-        if (io < 0) {
-            return -1;
-        } else if (io > 0) {
-            continue;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            return 1;
-        } else if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(a, "--noise-var") == 0 && i + 1 < argc) {
-            if (cli_parse_floats(argv[++i], &o->cfg.noise_var, 1) != 0
-                || !(o->cfg.noise_var >= 0.0f) || !(o->cfg.noise_var < 3.0e38f)) {
-                fprintf(stderr, "sfit: --noise-var needs one finite value >= 0\n");
-                return -1;
-            }
-            o->cfg.noise = SFIT_NOISE_ISO;
-        } else if (strcmp(a, "--every") == 0 && i + 1 < argc) {
-            const char *v = argv[++i];
-            char *end;
-            errno = 0;
-            o->every = strtoul(v, &end, 10);
-            if (v[0] == '-' || end == v || *end != '\0' || errno != 0) {
-                fprintf(stderr, "sfit: --every needs a whole number >= 0\n");
-                return -1;
-            }
-        } else if (cli_positional(a, &o->file) != 0) {
-            return -1;
-        }
+    rc = cli_parse(argc, argv, &args);
+    if (have_noise) {
+        o->cfg.noise = SFIT_NOISE_ISO;
     }
-    if (o->file == NULL) {
-        fprintf(stderr, "sfit: FILE missing\n");
-        return -1;
-    }
-    return 0;
+    return rc;
 }
 
 static void track_print(const track_opts_t *o, const sfit_sphere_t *e)
@@ -140,7 +115,7 @@ int cli_cmd_track(int argc, char **argv)
     sfit_status_t st;
 
     {
-        const int prc = cli_parse_outcome(track_parse(argc, argv, &o), track_usage);
+        const int prc = track_parse(argc, argv, &o);
         if (prc >= 0) {
             return prc;
         }
