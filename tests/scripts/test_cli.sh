@@ -197,15 +197,19 @@ expect_usage "unknown or incomplete option --bogus" fit --bogus $x
 expect_usage "FILE missing" fit
 expect_usage "FILE missing" fit --json
 expect_usage "unknown or incomplete option --gate" fit $x --gate
-expect_usage "--gate needs one value K > 1 (sigmas)" fit --gate 1 $x
-expect_usage "--gate needs one value K > 1 (sigmas)" fit --gate x $x
-expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var -1 $x
-expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var nan $x
-expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-var 1 --noise-var 2 $x
-expect_usage "--noise-var needs one value >= 0 (not with --noise-cov)" fit --noise-cov 1,1,1,0,0,0 --noise-var 1 $x
+expect_usage "--gate needs one finite value K > 1 (sigmas)" fit --gate 1 $x
+expect_usage "--gate needs one finite value K > 1 (sigmas)" fit --gate x $x
+expect_usage "--noise-var needs one finite value >= 0 (not with --noise-cov)" fit --noise-var -1 $x
+expect_usage "--noise-var needs one finite value >= 0 (not with --noise-cov)" fit --noise-var nan $x
+expect_usage "--noise-var needs one finite value >= 0 (not with --noise-cov)" fit --noise-var 1 --noise-var 2 $x
+expect_usage "--noise-var needs one finite value >= 0 (not with --noise-cov)" fit --noise-cov 1,1,1,0,0,0 --noise-var 1 $x
 expect_usage "--noise-var auto: noise model given twice" fit --noise-var 1 --noise-var auto $x
 expect_usage "--noise-var auto: noise model given twice" fit --noise-var auto --noise-var auto $x
 expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-cov 1,1,1,0,0 $x
+expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-cov 1,1,1,0,0,inf $x
+expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-cov nan,1,1,0,0,0 $x
+expect_usage "--noise-var needs one finite value >= 0 (not with --noise-cov)" fit --noise-var inf $x
+expect_usage "--gate needs one finite value K > 1 (sigmas)" fit --gate inf $x
 expect_usage "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)" fit --noise-var auto --noise-cov 1,1,1,0,0,0 $x
 expect_usage "--mode is auto, sphere or planar" fit --mode cube $x
 expect_usage "--weight is equal or samples" fit --weight bogus $x
@@ -218,10 +222,13 @@ expect_usage "--center and --radius are required" noise $x
 expect_usage "--center and --radius are required" noise --center 1,2,3 $x
 expect_usage "--center and --radius are required" noise --radius 1
 expect_usage "FILE missing" noise --center 1,2,3 --radius 1
-expect_usage "--center needs X,Y,Z" noise --center 1,2 --radius 1 $x
-expect_usage "--radius needs one value >= 0" noise --center 1,2,3 --radius -1 $x
-expect_usage "--radius needs one value >= 0" noise --center 1,2,3 --radius abc $x
+expect_usage "--center needs X,Y,Z (finite)" noise --center 1,2 --radius 1 $x
+expect_usage "--radius needs one finite value >= 0" noise --center 1,2,3 --radius -1 $x
+expect_usage "--radius needs one finite value >= 0" noise --center 1,2,3 --radius abc $x
 expect_usage "one FILE expected" noise --center 1,2,3 --radius 1 $x $x
+expect_usage "--center needs X,Y,Z (finite)" noise --center 1,nan,3 --radius 1 $x
+expect_usage "--center needs X,Y,Z (finite)" noise --center 1,2,-inf --radius 1 $x
+expect_usage "--radius needs one finite value >= 0" noise --center 1,2,3 --radius inf $x
 expect_usage "unknown or incomplete option --radius" noise --center 1,2,3 $x --radius
 expect_help coverage -h
 expect_usage "FILE missing" coverage --cap

@@ -75,8 +75,9 @@ static const char *fit_noise_var(void *dst, const char *v)
         o->auto_noise = 1;
         return NULL;
     }
-    if (given || cli_parse_floats(v, &o->cfg.noise_var, 1) != 0 || !(o->cfg.noise_var >= 0.0f)) {
-        return "--noise-var needs one value >= 0 (not with --noise-cov)";
+    if (given || cli_parse_floats(v, &o->cfg.noise_var, 1) != 0 || !(o->cfg.noise_var >= 0.0f)
+        || !(o->cfg.noise_var < 3.0e38f)) {
+        return "--noise-var needs one finite value >= 0 (not with --noise-cov)";
     }
     o->cfg.noise = SFIT_NOISE_ISO;
     return NULL;
@@ -88,8 +89,14 @@ static const char *fit_noise_cov(void *dst, const char *v)
     fit_opts_t *o = (fit_opts_t *)dst;
     float c[6];
     float *m = o->cfg.noise_cov.m;
+    int i;
     if (o->cfg.noise != SFIT_NOISE_NONE || o->auto_noise || cli_parse_floats(v, c, 6) != 0) {
         return "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)";
+    }
+    for (i = 0; i < 6; i++) {
+        if (!(c[i] > -3.0e38f && c[i] < 3.0e38f)) {
+            return "--noise-cov needs XX,YY,ZZ,XY,XZ,YZ (not with --noise-var)";
+        }
     }
     o->cfg.noise = SFIT_NOISE_COV;
     m[0] = c[0]; m[4] = c[1]; m[8] = c[2];
@@ -138,7 +145,8 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
         {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
         {.name = "--refine", .kind = CLI_OPT_FLAG, .dst = &o->refine},
         {.name = "--gate", .kind = CLI_OPT_FLOATS, .dst = &o->gate_k, .n = 1,
-         .bounds = CLI_GT_LO, .lo = 1.0f, .err = "--gate needs one value K > 1 (sigmas)"},
+         .bounds = CLI_GT_LO | CLI_LT_HI, .lo = 1.0f, .hi = 3.0e38f,
+         .err = "--gate needs one finite value K > 1 (sigmas)"},
         {.name = "--noise-var", .kind = CLI_OPT_FN, .dst = o, .fn = fit_noise_var},
         {.name = "--noise-cov", .kind = CLI_OPT_FN, .dst = o, .fn = fit_noise_cov},
         {.name = "--mode", .kind = CLI_OPT_MODE, .dst = &o->cfg.mode,

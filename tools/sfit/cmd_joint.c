@@ -53,11 +53,14 @@ static void joint_usage(FILE *f)
           f);
 }
 
-static int marker_list(char *arg, char **dst, int room, const char *what)
+/* Split LIST into lo..room marker names; one message and -1 otherwise. */
+static int marker_list(char *arg, char **dst, int lo, int room, const char *what)
 {
     const int n = cli_split_list(arg, dst, room);
-    if (n < 1) {
-        fprintf(stderr, "sfit: %s needs a comma-separated list of marker names\n", what);
+    if (n < lo) {
+        fprintf(stderr, "sfit: %s needs %d to %d comma-separated marker names\n", what, lo,
+                room);
+        return -1;
     }
     return n;
 }
@@ -86,20 +89,10 @@ static int joint_parse(int argc, char **argv, joint_opts_t *o)
     if (rc >= 0) {
         return rc;
     }
-    o->np = marker_list(parent, o->names, SFIT_CLUSTER_MAX_MARKERS, "--parent");
-    if (o->np < 0) {
-        return cli_parse_outcome(-1, joint_usage);
-    }
-    if (o->np < 3) {
-        fprintf(stderr, "sfit: --parent needs 3 to %d markers\n", SFIT_CLUSTER_MAX_MARKERS);
-        return cli_parse_outcome(-1, joint_usage);
-    }
-    o->nc = marker_list(child, o->names + o->np, SFIT_JOINT_MAX_CHILD, "--child");
-    if (o->nc < 0) {
-        fprintf(stderr, "sfit: --child takes 1 to %d markers\n", SFIT_JOINT_MAX_CHILD);
-        return cli_parse_outcome(-1, joint_usage);
-    }
-    return -1;
+    o->np = marker_list(parent, o->names, 3, SFIT_CLUSTER_MAX_MARKERS, "--parent");
+    o->nc = (o->np < 0) ? -1
+                        : marker_list(child, o->names + o->np, 1, SFIT_JOINT_MAX_CHILD, "--child");
+    return (o->nc < 0) ? cli_parse_outcome(-1, joint_usage) : -1;
 }
 
 static const char *method_name(const sfit_multi_result_t *r)

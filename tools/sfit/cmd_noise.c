@@ -41,9 +41,11 @@ static int noise_parse(int argc, char **argv, noise_opts_t *o)
     const cli_opt_t opts[] = {
         {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &o->json},
         {.name = "--center", .kind = CLI_OPT_FLOATS, .dst = &o->center, .n = 3, /* its v[3] */
-         .required = 1, .err = "--center needs X,Y,Z"},
+         .bounds = CLI_GT_LO | CLI_LT_HI, .lo = -3.0e38f, .hi = 3.0e38f, .required = 1,
+         .err = "--center needs X,Y,Z (finite)"},
         {.name = "--radius", .kind = CLI_OPT_FLOATS, .dst = &o->radius, .n = 1,
-         .bounds = CLI_GE_LO, .lo = 0.0f, .required = 1, .err = "--radius needs one value >= 0"},
+         .bounds = CLI_GE_LO | CLI_LT_HI, .lo = 0.0f, .hi = 3.0e38f, .required = 1,
+         .err = "--radius needs one finite value >= 0"},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
                              .src = &o->src, CLI_ONE_FILE(o->file),
