@@ -18,7 +18,7 @@ c_ugdk = "#d62728"; c_sc = "#1f5fbf"; c_geo = "#2ca02c"
 # est: "ugdk", "selfcal", "refined"; v: the value plotted
 sel(est, v) = (strcol(6) eq est && $11 >= 200) ? v : NaN
 self(est, v) = (strcol(6) eq est && $8 > 0) ? v : NaN
-set multiplot layout 1,2 title "Coverage of the reported 95 % centre ellipsoid (chi-square 3 dof), 1000 trials per scenario"
+set multiplot layout 1,2 title "Coverage of the reported 95 % centre ellipsoid (chi-square 3 dof), 10^4 trials per scenario at N <= 100, 3000 at N = 1000, 1000 at N = 10^4"
 set title "unflagged OK results (scenarios with >= 200 of them)"
 set xlabel "true trust ratio sigma^2 / lambda_min(C)"
 set ylabel "coverage"

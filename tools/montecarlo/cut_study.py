@@ -7,7 +7,8 @@ The records come from `sfit_mc_coverage OUTFILE dump SCENFILE` built
 against a library compiled with -DSFIT_COV_MAX_TRUST=0.5f, so that rule 3
 of docs/coverage.md does not pre-empt the rule under study (rules 1, 2 and
 4 stay in force: a record with SFIT_FLAG_UNTRUSTED stays flagged).
-Scenario lists: cut_grid.txt (the N >= 100 rows of the coverage table,
+Scenario lists: cut_grid.txt (the N >= 100 scenarios of the coverage table
+with 1000 trials each, as the table ran until 10^4 trials at N <= 100;
 same seeds), cut_scan.txt (true trust ratios 0.10-0.46 in steps of 0.03
 on 30-180 degree caps, N = 100, 300, 1000).
 

@@ -12,7 +12,8 @@
 #     claims.md into the output directory (default <source>/docs/figures);
 #     then sfit_mc_beyond writes beyond_table.md (docs/beyond.md), and
 #     sfit_mc_coverage coverage_table.md and coverage.csv (docs/coverage.md;
-#     245 scenarios x 3 estimators x 1000 trials, about 4 minutes of CPU;
+#     245 scenarios x 3 estimators x 10^4 trials at N <= 100, 3000 at
+#     N = 1000, 1000 at N = 10^4: about 3 minutes of CPU;
 #     --no-coverage skips it);
 #  3. draws the PNGs with gnuplot (tools/montecarlo/plots.gp, coverage.gp).
 # --quick: a tenth of the trials (smoke test), written by default into
@@ -36,7 +37,7 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift ;;
     --no-plot) plot=0 ;;
     --no-coverage) coverage=0 ;;
-    -h | --help) sed -n '3,22p' "$0"; exit 0 ;;
+    -h | --help) sed -n '3,23p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     esac
     shift
