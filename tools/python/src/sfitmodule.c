@@ -224,6 +224,14 @@ static int pts_get(PyObject *obj, pts_t *p, const char *what, int allow_one)
         Py_DECREF(shape);
         return -1;
     }
+    /* more rows than the library counts (uint32): refused before the
+     * float32 copy (a broadcast view of 2**32 rows costs nothing, its copy
+     * 48 GiB) */
+    if (nd == 2 && (uint64_t)PyArray_DIM(any, 0) > (uint64_t)UINT32_MAX) {
+        Py_DECREF(any);
+        raise_status(SFIT_E_RANGE, what, -1, -1);
+        return -1;
+    }
     f = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT32,
                                           NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     Py_DECREF(any);
@@ -233,11 +241,6 @@ static int pts_get(PyObject *obj, pts_t *p, const char *what, int allow_one)
     p->arr = f;
     p->v = (const sfit_vec3_t *)PyArray_DATA(f);
     p->n = (nd == 1) ? 1u : (size_t)PyArray_DIM(f, 0);
-    if ((uint64_t)p->n > (uint64_t)UINT32_MAX) {
-        pts_release(p);
-        raise_status(SFIT_E_RANGE, what, -1, -1);
-        return -1;
-    }
     return 0;
 }
 

@@ -238,6 +238,10 @@ def points_cases(call, allow_one=False, huge=False, base=P, centred=False):
     if huge:
         big = np.tile(b, (25_000, 1))  # 10**6 rows
         c.append(("10**6 rows", lambda: call(big), "ok"))
+    # more rows than a uint32 counts: a free broadcast view, refused before
+    # any copy (48 GiB)
+    c.append(("2**32 + 1 rows (broadcast view)",
+              lambda: call(np.broadcast_to(b[:1], (2 ** 32 + 1, 3))), sfit.RangeError))
     return c
 
 
@@ -1162,6 +1166,11 @@ if pytest is not None and __name__ != "__main__":
 if __name__ == "__main__":
     import faulthandler
     faulthandler.enable()
+    try:  # a regression that copies a huge view fails with MemoryError, not the OOM killer
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (8 << 30, resource.getrlimit(resource.RLIMIT_AS)[1]))
+    except (ImportError, ValueError, OSError):
+        pass
     if len(sys.argv) != 2:
         print("\n".join("%-28s %d cases" % (n, len(c)) for n, c in sorted(build_cases().items())))
         print("total: %d callables, %d cases" % (len(build_cases()),
