@@ -1801,6 +1801,13 @@ static int frames_get(PyObject *obj, frames_t *f, const char *what, int allow_on
         }
         return -1;
     }
+    /* more frames than the library counts (uint32): refused before the
+     * float32 copy of what may be a free broadcast view */
+    if (nd == 3 && (uint64_t)PyArray_DIM(any, 0) > (uint64_t)UINT32_MAX) {
+        Py_DECREF(any);
+        raise_status(SFIT_E_RANGE, what, -1, -1);
+        return -1;
+    }
     a = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT32,
                                           NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     Py_DECREF(any);

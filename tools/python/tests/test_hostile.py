@@ -719,6 +719,9 @@ def _joint_cases(T, res):
              ("too many markers", lambda: call(many), sfit.ArgError)]
         if not one:
             c.append(("(M, 3) one frame", lambda: call(f[0]), None if allow_one else sfit.ArgError))
+            c.append(("2**32 + 1 frames (broadcast view)",
+                      lambda: call(np.broadcast_to(f[:1], (2 ** 32 + 1,) + f.shape[1:])),
+                      sfit.RangeError))
         return c
 
     T["Cluster"] = (
