@@ -77,11 +77,11 @@ def _float(x, what):
 
 
 def _int(x, what):
-    """int(x); int(inf) (OverflowError) is an ArgError."""
-    try:
-        return int(x)
-    except OverflowError:
-        raise _arg_error("%s: number out of range" % what) from None
+    """int(x) of an int or an integral float; 1.5, NaN and Inf are an
+    ArgError (int() would truncate 1.5 to 1)."""
+    if isinstance(x, (float, _np.floating)) and not float(x).is_integer():
+        raise _arg_error("%s must be an integer, got %r" % (what, x))
+    return int(x)
 
 
 def _rebuild(cls, state):

@@ -443,7 +443,9 @@ def build_cases():
            ("n=2**32", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 32), sfit.Error),
            ("n=2**64+100", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 64 + 100), sfit.Error),
            ("n=2**70", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 70), sfit.Error),
-           ("n=1.5", lambda: sfit.calibration_std(0.1, 10.0, 1.5), None),
+           ("n=1.5", lambda: sfit.calibration_std(0.1, 10.0, 1.5), sfit.ArgError),
+           ("n=100.0", lambda: sfit.calibration_std(0.1, 10.0, 100.0), "ok"),
+           ("n=inf", lambda: sfit.calibration_std(0.1, 10.0, INF), sfit.ArgError),
            ("n=nan", lambda: sfit.calibration_std(0.1, 10.0, NAN), ValueError),
            ("n=None", lambda: sfit.calibration_std(0.1, 10.0, None), TypeError),
            ("n=str", lambda: sfit.calibration_std(0.1, 10.0, "x"), ValueError),
@@ -481,7 +483,8 @@ def build_cases():
         + number_cases(lambda v: sfit.refine(P, c0, 0, v), expect_bad=sfit.Error)
         + [(f"max_iters={m!r}", lambda m=m: sfit.refine(P, c0, m), exp)
            for m, exp in ((-1, sfit.ArgError), (2 ** 64 + 1, "ok"), (2 ** 70, "ok"),
-                          (NAN, ValueError), (None, TypeError), ("x", ValueError), (1, "ok"),
+                          (NAN, sfit.ArgError), (None, TypeError), ("x", ValueError), (1, "ok"),
+                          (2.5, sfit.ArgError), (INF, sfit.ArgError), (3.0, "ok"),
                           (10 ** 6, "ok"), (RaisingFloat(), None))])
     T["uncertainty"] = (
         points_cases(lambda x: sfit.uncertainty(x, c0, 10.0, 1e-3), centred=True)
@@ -540,7 +543,8 @@ def build_cases():
         ("subclass __init__ needs args",
          lambda: type("M", (sfit.Moments,), {"__init__": lambda self, a, b: None})
          .__new__(type("M", (sfit.Moments,), {"__init__": lambda self, a, b: None})).copy(), None),
-        ("pickle", lambda: pickle.dumps(fresh_m()), TypeError)]
+        ("pickle", lambda: pickle.dumps(fresh_m()), TypeError),
+        ("copy.copy", lambda: __import__("copy").copy(fresh_m()), TypeError)]
     T["Moments.stats"] = [("fresh", lambda: fresh_m().stats(), "ok"),
                           ("bare", lambda: bare_m().stats(), sfit.TooFewError),
                           ("one sample", lambda: sfit.Moments(P[0]).stats(), sfit.TooFewError),
@@ -593,7 +597,12 @@ def build_cases():
                            ("re-__init__ with garbage", lambda: state_case(
                                "re-init", fresh_i(), incr_state,
                                lambda s: s.__init__(noise_var=-1))[1](), sfit.ArgError),
-                           ("three args", lambda: sfit.Incremental(1, 2, 3), TypeError)])
+                           ("three args", lambda: sfit.Incremental(1, 2, 3), TypeError),
+                           ("subclass", lambda: type("I", (sfit.Incremental,), {})(1e-4).start(P), "ok"),
+                           ("subclass without super().__init__", lambda: type(
+                               "I", (sfit.Incremental,), {"__init__": lambda self: None})().update(P),
+                            "ok"),
+                           ("pickle", lambda: pickle.dumps(fresh_i()), TypeError)])
     T["Incremental.start"] = (
         [(lab, fn, "ok" if isinstance(exp, Same) else exp) for lab, fn, exp in points_cases(
             lambda x: state_case("start", fresh_i(), incr_state, lambda s: s.start(x))[1]())]
@@ -778,7 +787,8 @@ def _joint_cases(T, res):
         + [(f"n_child={k!r}", lambda k=k: sfit.Joint(cl(), k), exp)
            for k, exp in ((0, sfit.ArgError), (-1, (sfit.ArgError, OverflowError)),
                           (sfit.JOINT_MAX_CHILD + 1, sfit.ArgError), (2 ** 64 + 1, sfit.ArgError),
-                          (1.5, TypeError), (None, TypeError), ("2", TypeError))]
+                          (1.5, TypeError), (None, TypeError), ("2", TypeError),
+                          (True, None))]
         + [("parent None", lambda: sfit.Joint(None, 2), sfit.ArgError),
            ("parent array", lambda: sfit.Joint(tpl, 2), sfit.ArgError),
            ("parent bare cluster", lambda: sfit.Joint(bare_cl(), 2), sfit.ArgError),
@@ -788,7 +798,12 @@ def _joint_cases(T, res):
            ("marker + noise_var", lambda: sfit.Joint(cl(), 2, noise_var=1, marker_noise_var=1),
             sfit.ArgError),
            ("re-__init__ with garbage", lambda: state_case(
-               "re-init", jt(), joint_state, lambda j: j.__init__(cl(), 0))[1](), sfit.ArgError)])
+               "re-init", jt(), joint_state, lambda j: j.__init__(cl(), 0))[1](), sfit.ArgError),
+           ("re-__init__ with a bad option", lambda: state_case(
+               "re-init", jt(), joint_state, lambda j: j.__init__(cl(), 2, mode="cube"))[1](),
+            sfit.ArgError),
+           ("pickle", lambda: pickle.dumps(jt()), TypeError),
+           ("subclass", lambda: type("J", (sfit.Joint,), {})(cl(), 2).add(par, chi), "ok")])
     chi1 = chi  # (F, 2, 3)
     T["Joint.add"] = (
         [(lab, fn, exp) for lab, fn, exp in frames_cases(
