@@ -636,12 +636,11 @@ static int weight_get(const char *w, sfit_multi_weight_t *out)
     return 0;
 }
 
-/* A Python int argument in 0..max: TypeError for a non-int (as the "k"
- * format would), ArgError for a negative value or one above max (the "k"
- * and "K" formats silently wrap 2**64 + 1 to 1 and -1 to 2**64 - 1).
- * clamp: values above max become max instead. */
-static int uint_get(PyObject *o, unsigned long long max, int clamp, unsigned long long *out,
-                    const char *what)
+/* A Python int argument >= 0, values above max taken as max: TypeError
+ * for a non-int (as the "k" format would), ArgError for a negative value
+ * (the "k" format silently wraps -1 to 2**64 - 1 and 2**64 + 1 to 1). */
+static int count_get(PyObject *o, unsigned long long max, unsigned long long *out,
+                     const char *what)
 {
     int overflow = 0;
     long long v;
@@ -657,15 +656,7 @@ static int uint_get(PyObject *o, unsigned long long max, int clamp, unsigned lon
         raise_arg("%s must be >= 0, got %R", what, o);
         return -1;
     }
-    if (overflow > 0 || (unsigned long long)v > max) {
-        if (!clamp) {
-            raise_arg("%s must be at most %llu, got %R", what, max, o);
-            return -1;
-        }
-        *out = max;
-        return 0;
-    }
-    *out = (unsigned long long)v;
+    *out = (overflow > 0 || (unsigned long long)v > max) ? max : (unsigned long long)v;
     return 0;
 }
 
@@ -1527,7 +1518,7 @@ static PyObject *py_refine(PyObject *self, PyObject *args, PyObject *kw)
         return NULL;
     }
     /* 0 = the library default; more than 1000 iterations are 1000 */
-    if ((iters_o != NULL && uint_get(iters_o, 1000u, 1, &max_iters, "max_iters") < 0)
+    if ((iters_o != NULL && count_get(iters_o, 1000u, &max_iters, "max_iters") < 0)
         || vec3_get(center, &c0, "center") < 0) {
         return NULL;
     }
