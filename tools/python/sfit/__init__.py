@@ -19,8 +19,12 @@ library does:
   ``NoConvergenceError``, ``DegenerateError``, ``NonFiniteError``,
   ``RangeError``) with the attributes ``status`` (the library's name, e.g.
   ``"degenerate"``), ``code``, ``message``, ``n`` and ``rejected``. Bad
-  shapes, dtypes and option values raise ``ArgError`` (also a
-  ``ValueError``).
+  shapes, dtypes (complex, bool, object, str) and option values (NaN,
+  negative, out of range: integers are never wrapped around) raise
+  ``ArgError`` (also a ``ValueError``); something that is not a number at
+  all may raise Python's ``TypeError`` / ``ValueError``. A rejected call
+  leaves a state object (Moments, Incremental, Cluster, Joint) unchanged.
+  Result objects are read-only; they pickle and copy.
 
 Example::
 
@@ -31,6 +35,8 @@ Example::
     print(r.center, r.radius, r.flags)
 """
 from __future__ import annotations
+
+from collections.abc import Mapping as _Mapping
 
 import numpy as _np
 
@@ -61,18 +67,50 @@ library_version = __version__
 MIN_SAMPLES = _sfit.MIN_SAMPLES
 
 
+def _float(x, what):
+    """float(x); a number beyond float range (float(10**400) raises
+    OverflowError) is an ArgError like every other bad option value."""
+    try:
+        return float(x)
+    except OverflowError:
+        raise _arg_error("%s: number out of range" % what) from None
+
+
+def _int(x, what):
+    """int(x) of an int or an integral float; 1.5, NaN and Inf are an
+    ArgError (int() would truncate 1.5 to 1)."""
+    if isinstance(x, (float, _np.floating)) and not float(x).is_integer():
+        raise _arg_error("%s must be an integer, got %r" % (what, x))
+    return int(x)
+
+
+def _rebuild(cls, state):
+    """Unpickle a result (see _Record.__reduce__)."""
+    obj = cls.__new__(cls)
+    for k in cls.__slots__:
+        object.__setattr__(obj, k, state.get(k))
+    return obj
+
+
 class _Record:
-    """Base of the result types: attributes from a dict, a short repr."""
+    """Base of the result types: attributes from a dict, a short repr.
+    Read-only; copy.copy, copy.deepcopy and pickle work."""
 
     __slots__ = ()
     _repr_fields: tuple = ()
 
     def __init__(self, d):
+        if not isinstance(d, _Mapping):
+            raise TypeError("%s(d): d must be a mapping of the fields, not %s"
+                            % (type(self).__name__, type(d).__name__))
         for k in self.__slots__:
             object.__setattr__(self, k, d.get(k))
 
     def __setattr__(self, name, value):
         raise AttributeError("sfit results are read-only")
+
+    def __reduce__(self):
+        return (_rebuild, (type(self), {k: getattr(self, k) for k in self.__slots__}))
 
     def to_dict(self) -> dict:
         """The fields as a dict (arrays are copied)."""
@@ -164,8 +202,12 @@ class Uncertainty(_Record):
     _repr_fields = __slots__
 
     def __init__(self, d):
+        if not isinstance(d, _Mapping):
+            raise TypeError("Uncertainty(d): d must be a mapping of the fields, not %s"
+                            % type(d).__name__)
         d = dict(d)
-        d["noise_var"] = d.pop("uncert_noise_var")
+        if "uncert_noise_var" in d:
+            d["noise_var"] = d.pop("uncert_noise_var")
         super().__init__(d)
 
 
@@ -235,7 +277,7 @@ def fit(points, noise_var=None, noise_cov=None, mode="auto", refine=False, *,
         NotPosDefError, NoConvergenceError, RangeError: the library's status.
     """
     return FitResult(_sfit.fit(points, noise_var, noise_cov, mode, bool(refine),
-                               float(planar_ratio), gate))
+                               _float(planar_ratio, "planar_ratio"), gate))
 
 
 def fit_multi(markers, noise_var=None, noise_cov=None, mode="auto", weight="equal", *,
@@ -256,7 +298,7 @@ def fit_multi(markers, noise_var=None, noise_cov=None, mode="auto", weight="equa
         MultiResult with the common centre and the per-marker radii.
     """
     return MultiResult(_sfit.fit_multi(markers, noise_var, noise_cov, mode, weight,
-                                       float(planar_ratio)))
+                                       _float(planar_ratio, "planar_ratio")))
 
 
 class Moments(_sfit.Moments):
@@ -278,7 +320,8 @@ class Moments(_sfit.Moments):
         samples). Options as :func:`fit` (no "auto", no refine: those need the
         samples). With a noise_var, a sphere result carries center_cov and
         radius_var."""
-        return FitResult(self._fit(noise_var, noise_cov, mode, float(planar_ratio)))
+        return FitResult(self._fit(noise_var, noise_cov, mode,
+                                   _float(planar_ratio, "planar_ratio")))
 
     solve = fit
 
@@ -286,13 +329,14 @@ class Moments(_sfit.Moments):
         """Noise calibration against a known sphere (centre, radius >= 0; 0 =
         a fixed point): Tr(Sigma_hat) = mean |x - c0|^2 - r0^2 (eq. 177) and
         sigma^2 = Tr/3 with its predicted standard deviation (eq. 190)."""
-        return NoiseEstimate(self._calibrate_noise(center, float(radius)))
+        return NoiseEstimate(self._calibrate_noise(center, _float(radius, "radius")))
 
     def uncertainty(self, center, radius, noise_var, estimated=False) -> Uncertainty:
         """Centre covariance and radius variance of a fit of these samples
         from the moments alone (first + second order in the noise).
         estimated=True when noise_var came from the same samples."""
-        return Uncertainty(self._uncertainty(center, float(radius), noise_var, bool(estimated)))
+        return Uncertainty(self._uncertainty(center, _float(radius, "radius"), noise_var,
+                                             bool(estimated)))
 
 
 class Incremental(_sfit.Incremental):
@@ -336,30 +380,33 @@ class Incremental(_sfit.Incremental):
 def calibrate_noise(points, center, radius) -> NoiseEstimate:
     """Noise calibration from samples of a known sphere (centre, radius >= 0):
     see :meth:`Moments.calibrate_noise`. NaN rows are skipped and counted."""
+    if points is None:
+        raise _arg_error("calibrate_noise: points: not an array of numbers")
     return Moments(points).calibrate_noise(center, radius)
 
 
 def calibration_std(noise_var, radius, n) -> float:
     """Predicted standard deviation of a noise calibration (eq. 190, D = 3):
     sqrt(2 s2 (3 s2 + 2 r0^2) / (9 N))."""
-    return _sfit.calibration_std(float(noise_var), float(radius), int(n))
+    return _sfit.calibration_std(_float(noise_var, "noise_var"), _float(radius, "radius"),
+                                 _int(n, "n"))
 
 
 def coverage_eigs(kind, theta, radius):
     """(lmin, lmax): asymptotic covariance eigenvalues of a uniformly covered
     cap (kind="cap", eq. 210/211) or arc ("arc", eq. 203/204) of half-angle
     theta (radians, 0 < theta <= pi) and radius r."""
-    return _sfit.coverage_eigs(kind, float(theta), float(radius))
+    return _sfit.coverage_eigs(kind, _float(theta, "theta"), _float(radius, "radius"))
 
 
 def coverage_max_sigma(kind, theta, radius) -> float:
     """Largest noise sigma a coverage tolerates: sqrt(lmin(theta)) (eq. 212/213)."""
-    return _sfit.coverage_max_sigma(kind, float(theta), float(radius))
+    return _sfit.coverage_max_sigma(kind, _float(theta, "theta"), _float(radius, "radius"))
 
 
 def coverage_min_theta(kind, sigma_over_r) -> float:
     """Smallest half-angle (radians) at which sqrt(lmin)/r = sigma_over_r."""
-    return _sfit.coverage_min_theta(kind, float(sigma_over_r))
+    return _sfit.coverage_min_theta(kind, _float(sigma_over_r, "sigma_over_r"))
 
 
 def coverage_estimate_theta(kind, eigenvalues) -> float:
@@ -371,14 +418,15 @@ def coverage_estimate_theta(kind, eigenvalues) -> float:
 def residual_noise_var(points, center, radius) -> float:
     """sigma^2 from the radial residuals of a fit that agrees with the
     geometric fit to first order (one pass; curvature-corrected)."""
-    return _sfit.residual_noise_var(points, center, float(radius))
+    return _sfit.residual_noise_var(points, center, _float(radius, "radius"))
 
 
 def refine(points, center, max_iters=0, tol=0.0) -> RefineResult:
     """Geometric (orthogonal-distance) sphere fit, Levenberg-Marquardt in
     float started at ``center`` (e.g. a UGDK centre). max_iters 0 and tol 0
     are the library defaults."""
-    return RefineResult(_sfit.refine(points, center, int(max_iters), float(tol)))
+    return RefineResult(_sfit.refine(points, center, _int(max_iters, "max_iters"),
+                                     _float(tol, "tol")))
 
 
 def uncertainty(points, center, radius=None, noise_var=None) -> Uncertainty:
@@ -392,12 +440,26 @@ def uncertainty(points, center, radius=None, noise_var=None) -> Uncertainty:
         return Uncertainty(_sfit.uncertainty(points, center))
     if radius is None:
         raise _arg_error("uncertainty: radius is needed with noise_var")
-    return Uncertainty(_sfit.uncertainty(points, center, float(radius), noise_var))
+    return Uncertainty(_sfit.uncertainty(points, center, _float(radius, "radius"), noise_var))
 
 
 # ---------------------------------------------------------------------------
 # Functional joint centre (present when the C library has sfit_joint.h)
 # ---------------------------------------------------------------------------
+
+def _points3(points, what):
+    """(..., 3) real numbers as float64, else ArgError (np.asarray(None,
+    float) would be a NaN)."""
+    try:
+        a = _np.asarray(points)
+    except (TypeError, ValueError) as e:
+        raise _arg_error("%s: not an array of numbers (%s)" % (what, e)) from None
+    if a.dtype.kind not in "fiu":
+        raise _arg_error("%s: dtype %s is not a real number type" % (what, a.dtype))
+    if a.ndim < 1 or a.shape[-1] != 3:
+        raise _arg_error("%s: expected shape (..., 3), got %r" % (what, a.shape))
+    return a.astype(_np.float64)
+
 
 class Pose(_Record):
     """A rigid pose x_global = rotation @ x_segment + translation: rotation
@@ -408,12 +470,14 @@ class Pose(_Record):
     _repr_fields = __slots__
 
     def to_global(self, points):
-        """Map (..., 3) segment-frame points to the global frame (float64)."""
-        return _np.asarray(points, dtype=_np.float64) @ self.rotation.T + self.translation
+        """Map (..., 3) segment-frame points to the global frame (float64;
+        a NaN point maps to NaN)."""
+        return _points3(points, "Pose.to_global") @ self.rotation.T + self.translation
 
     def to_segment(self, points):
-        """Map (..., 3) global points to the segment frame (float64)."""
-        return (_np.asarray(points, dtype=_np.float64) - self.translation) @ self.rotation
+        """Map (..., 3) global points to the segment frame (float64; a NaN
+        point maps to NaN)."""
+        return (_points3(points, "Pose.to_segment") - self.translation) @ self.rotation
 
 
 class JointResult(_Record):
@@ -496,7 +560,10 @@ if hasattr(_sfit, "Joint"):
             """Centre and axis in the global frame, per frame of ``parent``
             ((Mp, 3) or (F, Mp, 3)): (centers (F, 3), axes (F, 3), valid (F,));
             NaN rows where the parent cannot be registered."""
-            return self._center_at(result._raw, parent)
+            raw = getattr(result, "_raw", None)
+            if not isinstance(raw, bytes):
+                raise _arg_error("Joint.center_at: result must be a JointResult of solve()")
+            return self._center_at(raw, parent)
 
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
                      weight="equal", marker_noise_var=None) -> JointResult:
@@ -523,8 +590,11 @@ if hasattr(_sfit, "Joint"):
             cl = template
         else:
             cl = Cluster(template)
-        child_arr = _np.asarray(child)
-        k = child_arr.shape[1] if child_arr.ndim == 3 else -1
+        try:
+            child_arr = _np.asarray(child)
+        except (TypeError, ValueError):
+            child_arr = None
+        k = child_arr.shape[1] if child_arr is not None and child_arr.ndim == 3 else -1
         if k < 1:
             raise _arg_error("joint_center: child must be (frames, markers, 3)")
         j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,

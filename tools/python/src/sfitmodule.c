@@ -224,6 +224,14 @@ static int pts_get(PyObject *obj, pts_t *p, const char *what, int allow_one)
         Py_DECREF(shape);
         return -1;
     }
+    /* more rows than the library counts (uint32): refused before the
+     * float32 copy (a broadcast view of 2**32 rows costs nothing, its copy
+     * 48 GiB) */
+    if (nd == 2 && (uint64_t)PyArray_DIM(any, 0) > (uint64_t)UINT32_MAX) {
+        Py_DECREF(any);
+        raise_status(SFIT_E_RANGE, what, -1, -1);
+        return -1;
+    }
     f = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT32,
                                           NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     Py_DECREF(any);
@@ -233,11 +241,6 @@ static int pts_get(PyObject *obj, pts_t *p, const char *what, int allow_one)
     p->arr = f;
     p->v = (const sfit_vec3_t *)PyArray_DATA(f);
     p->n = (nd == 1) ? 1u : (size_t)PyArray_DIM(f, 0);
-    if ((uint64_t)p->n > (uint64_t)UINT32_MAX) {
-        pts_release(p);
-        raise_status(SFIT_E_RANGE, what, -1, -1);
-        return -1;
-    }
     return 0;
 }
 
@@ -294,11 +297,37 @@ static long pts_filter(const pts_t *p, sfit_moments_t *acc, const sfit_vec3_t **
     return rejected;
 }
 
-/* Read a 3-vector argument (any sequence of 3 finite or not numbers). */
+/* obj as a C-contiguous float64 array of minnd..maxnd dimensions, when
+ * its values are real numbers (float, int, uint: not complex, bool, object
+ * or str, which a forced cast would silently truncate); else NULL, with
+ * any exception cleared (the caller raises its ArgError). */
+static PyArrayObject *real_f64(PyObject *obj, int minnd, int maxnd)
+{
+    PyArrayObject *a, *any = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, minnd, maxnd, 0);
+    char kind;
+    if (any == NULL) {
+        PyErr_Clear();
+        return NULL;
+    }
+    kind = PyArray_DESCR(any)->kind;
+    if (kind != 'f' && kind != 'i' && kind != 'u') {
+        Py_DECREF(any);
+        return NULL;
+    }
+    a = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT64,
+                                          NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    Py_DECREF(any);
+    if (a == NULL) {
+        PyErr_Clear();
+    }
+    return a;
+}
+
+/* Read a 3-vector argument (any sequence of 3 real numbers, finite or
+ * not: the library judges the values). */
 static int vec3_get(PyObject *obj, sfit_vec3_t *v, const char *what)
 {
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_FLOAT64, 1, 1,
-                                                        NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    PyArrayObject *a = real_f64(obj, 1, 1);
     const double *d;
     if (a == NULL || PyArray_DIM(a, 0) != 3) {
         Py_XDECREF(a);
@@ -479,12 +508,14 @@ static int uncert_into(PyObject *d, const sfit_uncert_t *u)
 /* mode: "auto" / "sphere" / "planar". */
 static int mode_get(PyObject *o, sfit_mode_t *m)
 {
-    const char *s = (o != NULL && PyUnicode_Check(o)) ? PyUnicode_AsUTF8(o) : NULL;
-    if (s != NULL && strcmp(s, "auto") == 0) {
+    /* PyUnicode_CompareWithASCIIString compares the whole string: "auto\0x"
+     * is not "auto" (strcmp on its UTF-8 would stop at the NUL) */
+    const int str = (o != NULL && PyUnicode_Check(o));
+    if (str && PyUnicode_CompareWithASCIIString(o, "auto") == 0) {
         *m = SFIT_MODE_AUTO;
-    } else if (s != NULL && strcmp(s, "sphere") == 0) {
+    } else if (str && PyUnicode_CompareWithASCIIString(o, "sphere") == 0) {
         *m = SFIT_MODE_SPHERE;
-    } else if (s != NULL && strcmp(s, "planar") == 0) {
+    } else if (str && PyUnicode_CompareWithASCIIString(o, "planar") == 0) {
         *m = SFIT_MODE_PLANAR;
     } else {
         PyErr_Clear();
@@ -519,12 +550,10 @@ static int nonneg_get(PyObject *o, float *x, const char *what)
 /* noise_cov: a (3, 3) symmetric array or 6 packed XX,YY,ZZ,XY,XZ,YZ. */
 static int cov_get(PyObject *o, sfit_mat3_t *m)
 {
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(o, NPY_FLOAT64, 1, 2,
-                                                        NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    PyArrayObject *a = real_f64(o, 1, 2);
     const double *d;
     int i;
     if (a == NULL) {
-        PyErr_Clear();
         raise_arg("noise_cov must be a (3, 3) array or 6 numbers XX,YY,ZZ,XY,XZ,YZ");
         return -1;
     }
@@ -604,6 +633,30 @@ static int weight_get(const char *w, sfit_multi_weight_t *out)
         raise_arg("weight must be 'equal' or 'samples', got '%s'", w);
         return -1;
     }
+    return 0;
+}
+
+/* A Python int argument >= 0, values above max taken as max: TypeError
+ * for a non-int (as the "k" format would), ArgError for a negative value
+ * (the "k" format silently wraps -1 to 2**64 - 1 and 2**64 + 1 to 1). */
+static int count_get(PyObject *o, unsigned long long max, unsigned long long *out,
+                     const char *what)
+{
+    int overflow = 0;
+    long long v;
+    if (!PyLong_Check(o)) {
+        PyErr_Format(PyExc_TypeError, "%s must be an int, not %.100s", what, Py_TYPE(o)->tp_name);
+        return -1;
+    }
+    v = PyLong_AsLongLongAndOverflow(o, &overflow);
+    if (v == -1 && PyErr_Occurred()) {
+        return -1;
+    }
+    if (overflow < 0 || (overflow == 0 && v < 0)) {
+        raise_arg("%s must be >= 0, got %R", what, o);
+        return -1;
+    }
+    *out = (overflow > 0 || (unsigned long long)v > max) ? max : (unsigned long long)v;
     return 0;
 }
 
@@ -840,12 +893,14 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
     if (PyArray_Check(markers) && PyArray_NDIM((PyArrayObject *)markers) != 3) {
         return raise_arg("fit_multi: markers must be a list of (N, 3) arrays or one (M, N, 3) array");
     }
-    seq = PySequence_Fast(markers, "fit_multi: markers must be a sequence of (N, 3) arrays");
+    /* a tuple of our own: PySequence_Fast would hand back the caller's list
+     * itself, whose items an item's __array__ may remove while we use them */
+    seq = PySequence_Tuple(markers);
     if (seq == NULL) {
         PyErr_Clear();
         return raise_arg("fit_multi: markers must be a sequence of (N, 3) arrays");
     }
-    count = PySequence_Fast_GET_SIZE(seq);
+    count = PyTuple_GET_SIZE(seq);
     if (count == 0) {
         Py_DECREF(seq);
         return raise_status(SFIT_E_TOO_FEW, "fit_multi", 0, 0);
@@ -863,7 +918,7 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
         sfit_vec3_t *own;
         size_t nv;
         (void)sfit_moments_init(&acc[k]);
-        if (pts_get(PySequence_Fast_GET_ITEM(seq, k), &p, "fit_multi: markers[i]", 0) < 0) {
+        if (pts_get(PyTuple_GET_ITEM(seq, k), &p, "fit_multi: markers[i]", 0) < 0) {
             goto done;
         }
         rej[k] = pts_filter(&p, &acc[k], &v, &own, &nv);
@@ -935,28 +990,29 @@ static int Moments_init(MomentsObject *self, PyObject *args, PyObject *kw)
 {
     static char *kwlist[] = {"points", NULL};
     PyObject *points = Py_None;
+    sfit_moments_t m; /* the new state, stored only on success */
+    long rej = 0;
     if (!PyArg_ParseTupleAndKeywords(args, kw, "|O", kwlist, &points)) {
         return -1;
     }
-    (void)sfit_moments_init(&self->m);
-    self->rejected = 0;
+    (void)sfit_moments_init(&m);
     if (points != Py_None) {
         pts_t p;
         const sfit_vec3_t *v;
         sfit_vec3_t *own;
         size_t nv;
-        long rej;
         if (pts_get(points, &p, "Moments(points)", 1) < 0) {
             return -1;
         }
-        rej = pts_filter(&p, &self->m, &v, &own, &nv);
+        rej = pts_filter(&p, &m, &v, &own, &nv);
         PyMem_RawFree(own);
         pts_release(&p);
         if (rej < 0) {
             return -1;
         }
-        self->rejected = rej;
     }
+    self->m = m;
+    self->rejected = rej;
     return 0;
 }
 
@@ -1015,6 +1071,14 @@ static PyObject *Moments_copy(MomentsObject *self, PyObject *unused)
     /* same (sub)type as self */
     MomentsObject *c = (MomentsObject *)PyObject_CallNoArgs((PyObject *)Py_TYPE(self));
     (void)unused;
+    if (c != NULL && !PyObject_TypeCheck((PyObject *)c, &MomentsType)) {
+        /* a subclass whose __new__ returns something else: never write a
+         * Moments state into it */
+        PyErr_Format(PyExc_TypeError, "Moments.copy: %.100s() returned %.100s, not a Moments",
+                     Py_TYPE(self)->tp_name, Py_TYPE(c)->tp_name);
+        Py_DECREF(c);
+        return NULL;
+    }
     if (c != NULL) {
         c->m = self->m;
         c->rejected = self->rejected;
@@ -1440,8 +1504,8 @@ static void valid_release(valid_t *w)
 static PyObject *py_refine(PyObject *self, PyObject *args, PyObject *kw)
 {
     static char *kwlist[] = {"points", "center", "max_iters", "tol", NULL};
-    PyObject *points, *center;
-    unsigned long max_iters = 0;
+    PyObject *points, *center, *iters_o = NULL;
+    unsigned long long max_iters = 0;
     double tol = 0.0;
     sfit_refine_cfg_t cfg = sfit_refine_cfg_default;
     sfit_vec3_t c0;
@@ -1449,14 +1513,16 @@ static PyObject *py_refine(PyObject *self, PyObject *args, PyObject *kw)
     sfit_status_t st;
     valid_t w;
     (void)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|kd", kwlist, &points, &center, &max_iters,
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|Od", kwlist, &points, &center, &iters_o,
                                      &tol)) {
         return NULL;
     }
-    if (vec3_get(center, &c0, "center") < 0) {
+    /* 0 = the library default; more than 1000 iterations are 1000 */
+    if ((iters_o != NULL && count_get(iters_o, 1000u, &max_iters, "max_iters") < 0)
+        || vec3_get(center, &c0, "center") < 0) {
         return NULL;
     }
-    cfg.max_iters = (uint32_t)(max_iters > 1000ul ? 1000ul : max_iters);
+    cfg.max_iters = (uint32_t)max_iters;
     cfg.tol = (float)tol;
     if (valid_get(points, &w, "points") < 0) {
         return NULL;
@@ -1549,16 +1615,30 @@ static PyObject *py_calibration_std(PyObject *self, PyObject *args, PyObject *kw
 {
     static char *kwlist[] = {"noise_var", "radius", "n", NULL};
     double nv, r0;
-    unsigned long long n;
+    PyObject *no;
+    unsigned long long n = 0;
+    int overflow = 0;
+    long long v;
     float sd;
     sfit_status_t st;
     (void)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "ddK", kwlist, &nv, &r0, &n)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "ddO", kwlist, &nv, &r0, &no)) {
         return NULL;
     }
-    if (n > (unsigned long long)UINT32_MAX) {
+    if (!PyLong_Check(no)) {
+        PyErr_Format(PyExc_TypeError, "calibration_std: n must be an int, not %.100s",
+                     Py_TYPE(no)->tp_name);
+        return NULL;
+    }
+    /* no wrap-around: n < 0 or beyond uint32 is out of range */
+    v = PyLong_AsLongLongAndOverflow(no, &overflow);
+    if (v == -1 && PyErr_Occurred()) {
+        return NULL;
+    }
+    if (overflow != 0 || v < 0 || (unsigned long long)v > (unsigned long long)UINT32_MAX) {
         return raise_status(SFIT_E_RANGE, "calibration_std", -1, -1);
     }
+    n = (unsigned long long)v;
     st = sfit_noise_calib_std((float)nv, (float)r0, (uint32_t)n, &sd);
     if (st != SFIT_OK) {
         return raise_status(st, "calibration_std", -1, -1);
@@ -1664,6 +1744,9 @@ static PyObject *py_status_name(PyObject *self, PyObject *arg)
     if (c == -1 && PyErr_Occurred()) {
         return NULL;
     }
+    if (c < -1000 || c > 1000) { /* no status: not truncated into one */
+        c = -1000;
+    }
     return PyUnicode_FromString(sfit_status_str((sfit_status_t)c));
 }
 
@@ -1709,6 +1792,13 @@ static int frames_get(PyObject *obj, frames_t *f, const char *what, int allow_on
         }
         return -1;
     }
+    /* more frames than the library counts (uint32): refused before the
+     * float32 copy of what may be a free broadcast view */
+    if (nd == 3 && (uint64_t)PyArray_DIM(any, 0) > (uint64_t)UINT32_MAX) {
+        Py_DECREF(any);
+        raise_status(SFIT_E_RANGE, what, -1, -1);
+        return -1;
+    }
     a = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_FLOAT32,
                                           NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     Py_DECREF(any);
@@ -1729,6 +1819,10 @@ typedef struct {
 } ClusterObject;
 
 static PyTypeObject ClusterType;
+
+/* The private argument of Cluster.from_frames' cls(g_cluster_shell): an
+ * empty shell that the classmethod fills in (Cluster(None) is an error). */
+static PyObject *g_cluster_shell;
 
 static int Cluster_init(ClusterObject *self, PyObject *args, PyObject *kw)
 {
@@ -1780,8 +1874,17 @@ static PyObject *Cluster_from_frames(PyObject *cls, PyObject *arg)
     if (st != SFIT_OK) {
         return raise_status(st, "Cluster.from_frames", -1, -1);
     }
-    o = (ClusterObject *)PyObject_CallOneArg(cls, Py_None);
+    o = (ClusterObject *)PyObject_CallOneArg(cls, g_cluster_shell);
     if (o == NULL) {
+        return NULL;
+    }
+    if (!PyObject_TypeCheck((PyObject *)o, &ClusterType)) {
+        /* a subclass whose __new__ returns something else: never write a
+         * template into it */
+        PyErr_Format(PyExc_TypeError,
+                     "Cluster.from_frames: %.100s() returned %.100s, not a Cluster",
+                     ((PyTypeObject *)cls)->tp_name, Py_TYPE(o)->tp_name);
+        Py_DECREF(o);
         return NULL;
     }
     o->cl = cl;
@@ -1853,10 +1956,10 @@ static PyObject *Cluster_get_frames_used(ClusterObject *self, void *closure)
     return PyLong_FromLong(self->frames_used);
 }
 
-/* tp_new/tp_init for the classmethod path: Cluster(None) is an empty shell */
+/* tp_init; from_frames' cls(g_cluster_shell) makes an empty shell */
 static int Cluster_init_any(ClusterObject *self, PyObject *args, PyObject *kw)
 {
-    if (kw == NULL && PyTuple_GET_SIZE(args) == 1 && PyTuple_GET_ITEM(args, 0) == Py_None) {
+    if (kw == NULL && PyTuple_GET_SIZE(args) == 1 && PyTuple_GET_ITEM(args, 0) == g_cluster_shell) {
         memset(&self->cl, 0, sizeof self->cl);
         self->frames_used = 0;
         return 0;
@@ -1903,14 +2006,15 @@ static int Joint_init(JointObject *self, PyObject *args, PyObject *kw)
     static char *kwlist[] = {"parent", "n_child", "noise_var", "noise_cov", "mode", "weight",
                              "planar_ratio", "marker_noise_var", NULL};
     PyObject *parent, *noise_var = Py_None, *noise_cov = Py_None, *mode = NULL;
-    PyObject *marker_var = Py_None;
-    unsigned long n_child = 1;
+    PyObject *marker_var = Py_None, *n_child_o;
+    unsigned long long n_child = 0;
     const char *weight = "equal";
     double planar_ratio = 0.0;
     sfit_joint_cfg_t cfg = sfit_joint_cfg_default;
+    sfit_joint_t *j;
     sfit_status_t st;
-    self->ready = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "Ok|OOOsdO", kwlist, &parent, &n_child, &noise_var,
+    /* a rejected (re-)__init__ leaves the object as it was */
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|OOOsdO", kwlist, &parent, &n_child_o, &noise_var,
                                      &noise_cov, &mode, &weight, &planar_ratio, &marker_var)) {
         return -1;
     }
@@ -1927,9 +2031,22 @@ static int Joint_init(JointObject *self, PyObject *args, PyObject *kw)
         raise_arg("Joint: parent must be a sfit.Cluster");
         return -1;
     }
-    if (n_child < 1ul || n_child > (unsigned long)SFIT_JOINT_MAX_CHILD) {
-        raise_arg("Joint: n_child must be in 1..%d", (int)SFIT_JOINT_MAX_CHILD);
+    if (!PyLong_Check(n_child_o)) {
+        PyErr_Format(PyExc_TypeError, "Joint: n_child must be an int, not %.100s",
+                     Py_TYPE(n_child_o)->tp_name);
         return -1;
+    }
+    {
+        int overflow = 0;
+        const long long v = PyLong_AsLongLongAndOverflow(n_child_o, &overflow);
+        if (v == -1 && PyErr_Occurred()) {
+            return -1;
+        }
+        if (overflow != 0 || v < 1 || v > (long long)SFIT_JOINT_MAX_CHILD) {
+            raise_arg("Joint: n_child must be in 1..%d", (int)SFIT_JOINT_MAX_CHILD);
+            return -1;
+        }
+        n_child = (unsigned long long)v;
     }
     if (is_auto(noise_var)) {
         raise_arg("Joint: noise_var='auto' is not supported (give a number)");
@@ -1940,11 +2057,19 @@ static int Joint_init(JointObject *self, PyObject *args, PyObject *kw)
         return -1;
     }
     cfg.n_child = (uint32_t)n_child;
-    st = sfit_joint_init(&self->j, &((ClusterObject *)parent)->cl, &cfg);
+    j = (sfit_joint_t *)PyMem_Malloc(sizeof *j);
+    if (j == NULL) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    st = sfit_joint_init(j, &((ClusterObject *)parent)->cl, &cfg);
     if (st != SFIT_OK) {
+        PyMem_Free(j);
         raise_status(st, "Joint", -1, -1);
         return -1;
     }
+    self->j = *j;
+    PyMem_Free(j);
     self->rejected_frames = 0;
     self->ready = 1;
     return 0;
@@ -2269,6 +2394,13 @@ PyMODINIT_FUNC PyInit__sfit(void)
         }
     }
 #if SFIT_PY_HAVE_JOINT
+    if (g_cluster_shell == NULL) {
+        g_cluster_shell = PyObject_CallNoArgs((PyObject *)&PyBaseObject_Type);
+        if (g_cluster_shell == NULL) {
+            Py_DECREF(m);
+            return NULL;
+        }
+    }
     if (PyType_Ready(&ClusterType) < 0 || PyType_Ready(&JointType) < 0
         || PyModule_AddObjectRef(m, "Cluster", (PyObject *)&ClusterType) < 0
         || PyModule_AddObjectRef(m, "Joint", (PyObject *)&JointType) < 0

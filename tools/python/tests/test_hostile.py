@@ -1,0 +1,1203 @@
+# SPDX-License-Identifier: MIT
+"""Hostile input to every public function, class and method of the sfit
+package: wrong types, garbage objects (whose __array__ raises, returns
+garbage or mutates the caller's list), wrong shapes and dtypes, non-contiguous
+and negative-stride views, NaN / Inf / +-1e38 / 2**27 entries, too few and
+degenerate samples, bad option values, subclasses whose __new__ returns
+something else, methods before __init__, after errors and repeated.
+
+The rule: every call either returns a result with no NaN / Inf in it (NaN
+only where documented: the rows of Joint.center_at / joint_center whose
+``valid`` is False) or raises sfit.Error (or one of its subclasses),
+TypeError or ValueError (or the hostile object's own exception). A crash,
+a SystemError or any other exception type is a defect. A call on a state
+object that raises leaves the state unchanged.
+
+Each public callable runs its cases in a child interpreter with
+faulthandler on, so a crash names the case that caused it. The table of
+cases must cover every public callable: test_table_covers_the_api fails
+when sfit.__all__, a class or the .pyi stub has one without cases.
+
+Run one callable's cases by hand (no argument: the table's size):
+    PYTHONPATH=build/python/lib python3 tools/python/tests/test_hostile.py fit
+Under AddressSanitizer: build the extension with CFLAGS=-fsanitize=address
+into another --build-lib and run the same with SFIT_NO_RLIMIT=1,
+PYTHONMALLOC=malloc, ASAN_OPTIONS=detect_leaks=0 and
+LD_PRELOAD=$(gcc -print-file-name=libasan.so).
+"""
+import ast
+import os
+import pickle
+import subprocess
+import sys
+import traceback
+
+import numpy as np
+
+import sfit
+
+try:
+    import pytest
+except ImportError:  # the child runner needs no pytest
+    pytest = None
+
+HAVE_JOINT = hasattr(sfit, "Joint")
+ALLOWED = (sfit.Error, TypeError, ValueError)
+NAN, INF = float("nan"), float("inf")
+
+
+class HostileError(Exception):
+    """Raised by the hostile objects themselves: passing it on is fine."""
+
+
+# ---------------------------------------------------------------------------
+# Hostile objects
+# ---------------------------------------------------------------------------
+
+class RaisingArray:
+    def __array__(self, dtype=None, copy=None):
+        raise HostileError("__array__")
+
+
+class GarbageArray:
+    """__array__ returns something that is not an ndarray."""
+
+    def __init__(self, what):
+        self.what = what
+
+    def __array__(self, dtype=None, copy=None):
+        return self.what
+
+
+class RaisingSequence:
+    def __len__(self):
+        return 5
+
+    def __getitem__(self, i):
+        raise HostileError("__getitem__")
+
+
+class LyingSequence:
+    """Claims 10**9 items, has 2."""
+
+    def __len__(self):
+        return 10 ** 9
+
+    def __getitem__(self, i):
+        if i >= 2:
+            raise IndexError(i)
+        return [1.0, 2.0, 3.0]
+
+
+class RaisingFloat:
+    def __float__(self):
+        raise HostileError("__float__")
+
+    def __index__(self):
+        raise HostileError("__index__")
+
+    def __bool__(self):
+        raise HostileError("__bool__")
+
+
+class HugeInt(int):
+    pass
+
+
+def sphere(n=40, c=(1.0, 2.0, 3.0), r=10.0, seed=5):
+    rng = np.random.default_rng(seed)
+    u = rng.normal(size=(n, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    return u * r + np.asarray(c) + rng.normal(scale=0.01, size=(n, 3))
+
+
+def circle(n=40, r=10.0):
+    t = np.linspace(0.0, 1.5, n)
+    return np.stack([r * np.cos(t), r * np.sin(t), np.full(n, 2.0)], axis=1)
+
+
+P = sphere()
+P32 = P.astype(np.float32)
+
+
+def _with_row(x, row, value):
+    y = np.array(x, dtype=np.float64)
+    y[row] = value
+    return y
+
+
+def _negative_stride(x):
+    v = np.array(x[::-1])[::-1]
+    assert v.strides[0] < 0
+    return v
+
+
+def _column_view(x):
+    w = np.zeros((len(x), 7))
+    w[:, 1:6:2] = x
+    return w[:, 1:6:2]
+
+
+def _readonly(x):
+    y = np.array(x)
+    y.flags.writeable = False
+    return y
+
+
+class Same:
+    """Expect success and the very result of `ref` (the float32 samples)."""
+
+    def __init__(self, ref):
+        self.ref = ref
+
+
+def _ok_like(exp):
+    return exp == "ok" or isinstance(exp, Same)
+
+
+def points_cases(call, allow_one=False, huge=False, base=P, centred=False):
+    """(label, thunk, expect) for an argument that takes (N, 3) samples
+    (centred: the call also takes the sphere's centre, so the rescaled
+    integer samples need not fit it).
+    expect: Same (accepted, equal to the call on the float32 samples),
+    "ok", an exception class, or None (any allowed outcome)."""
+    b = np.asarray(base, dtype=np.float64)
+    same = Same(lambda: call(b.astype(np.float32)))
+    c = [
+        # accepted layouts and dtypes: the very same float32 samples
+        ("float32", lambda: call(b.astype(np.float32)), same),
+        ("fortran", lambda: call(np.asfortranarray(b)), same),
+        ("strided rows", lambda: call(np.repeat(b, 2, axis=0)[::2]), same),
+        ("negative stride", lambda: call(_negative_stride(b)), same),
+        ("column view", lambda: call(_column_view(b)), same),
+        ("big-endian f8", lambda: call(b.astype(">f8")), same),
+        ("big-endian f4", lambda: call(b.astype(">f4")), same),
+        ("longdouble", lambda: call(b.astype(np.longdouble)), same),
+        ("readonly", lambda: call(_readonly(b)), same),
+        ("list", lambda: call(b.tolist()), same),
+        ("tuple", lambda: call(tuple(map(tuple, b.tolist()))), same),
+        # other real dtypes: accepted
+        ("int32", lambda: call(np.rint(b * 10).astype(np.int32)), None if centred else "ok"),
+        ("uint16", lambda: call(np.rint(b * 10 + 500).astype(np.uint16)), None if centred else "ok"),
+        ("float16", lambda: call(b.astype(np.float16)), "ok"),
+        # wrong types
+        ("None", lambda: call(None), sfit.ArgError),
+        ("str", lambda: call("abc"), sfit.ArgError),
+        ("bytes", lambda: call(b"abcdef"), sfit.ArgError),
+        ("dict", lambda: call({"x": 1}), sfit.ArgError),
+        ("object", lambda: call(object()), sfit.ArgError),
+        ("scalar", lambda: call(3.0), sfit.ArgError),
+        ("__array__ raises", lambda: call(RaisingArray()), sfit.ArgError),
+        ("__array__ -> str", lambda: call(GarbageArray("xyz")), sfit.ArgError),
+        ("__array__ -> None", lambda: call(GarbageArray(None)), sfit.ArgError),
+        ("__array__ -> object array", lambda: call(GarbageArray(np.array([[object()] * 3] * 5))),
+         sfit.ArgError),
+        ("__getitem__ raises", lambda: call(RaisingSequence()), sfit.ArgError),
+        ("lying __len__", lambda: call(LyingSequence()), None),  # numpy reads the 2 rows
+        ("ragged list", lambda: call([[1.0, 2.0, 3.0], [1.0, 2.0]]), sfit.ArgError),
+        # wrong dtypes
+        ("complex", lambda: call(b.astype(complex)), sfit.ArgError),
+        ("bool", lambda: call(b > 0), sfit.ArgError),
+        ("object dtype", lambda: call(b.astype(object)), sfit.ArgError),
+        ("str dtype", lambda: call(b.astype(str)), sfit.ArgError),
+        ("datetime64", lambda: call(np.zeros((10, 3), dtype="datetime64[s]")), sfit.ArgError),
+        ("structured", lambda: call(np.zeros(10, dtype="f4,f4,f4")), sfit.ArgError),
+        # wrong shapes
+        ("(N, 2)", lambda: call(b[:, :2]), sfit.ArgError),
+        ("(N, 4)", lambda: call(np.hstack([b, b[:, :1]])), sfit.ArgError),
+        ("(3, N)", lambda: call(np.ascontiguousarray(b.T)), sfit.ArgError),
+        ("(2, N, 3)", lambda: call(np.stack([b, b])), sfit.ArgError),
+        ("(N, 3, 1)", lambda: call(b[:, :, None]), sfit.ArgError),
+        ("(10, 0)", lambda: call(np.zeros((10, 0))), sfit.ArgError),
+        ("0-d", lambda: call(np.float64(1.0)), sfit.ArgError),
+        ("(4,)", lambda: call(np.ones(4)), sfit.ArgError),
+        # too few, degenerate
+        ("(0, 3)", lambda: call(np.zeros((0, 3))), sfit.TooFewError),
+        ("[]", lambda: call([]), sfit.TooFewError),
+        ("MIN_SAMPLES - 1", lambda: call(b[:sfit.MIN_SAMPLES - 1]), sfit.TooFewError),
+        ("all NaN", lambda: call(np.full((20, 3), NAN)), sfit.TooFewError),
+        ("all 1e30", lambda: call(b * 1e30), sfit.TooFewError),
+        ("coincident", lambda: call(np.ones((20, 3))), sfit.Error),
+        ("collinear", lambda: call(np.outer(np.arange(20.0), [1.0, 2.0, 3.0])), sfit.Error),
+        # entries the library rejects or that are extreme
+        ("NaN row", lambda: call(_with_row(b, 3, NAN)), "ok"),
+        ("Inf row", lambda: call(_with_row(b, 3, INF)), "ok"),
+        ("-Inf entry", lambda: call(_with_row(b, (3, 1), -INF)), "ok"),
+        ("1e38 row", lambda: call(_with_row(b, 3, 1e38)), "ok"),
+        ("-1e38 row", lambda: call(_with_row(b, 3, -1e38)), "ok"),
+        ("2**27 row", lambda: call(_with_row(b, 3, 2.0 ** 27)), "ok"),
+        ("1e300 row (inf in f32)", lambda: call(_with_row(b, 3, 1e300)), "ok"),
+        ("denormal row", lambda: call(_with_row(b, 3, 1e-40)), None),
+        ("far centre 1e7", lambda: call(b + 1e7), None),
+        ("tiny radius 1e-20", lambda: call(sphere(r=1e-20)), None),
+        ("huge radius 1e7", lambda: call(sphere(r=1e7)), None),
+        ("coplanar (circle)", lambda: call(circle()), None),
+    ]
+    if allow_one:
+        c += [("(3,) one sample", lambda: call(b[0]), "ok"),
+              ("(3,) NaN sample", lambda: call(np.array([NAN, 1.0, 2.0])), "ok"),
+              ("(3,) str", lambda: call(["a", "b", "c"]), sfit.ArgError)]
+    else:
+        c += [("(3,)", lambda: call(b[0]), sfit.ArgError)]
+    if huge:
+        big = np.tile(b, (25_000, 1))  # 10**6 rows
+        c.append(("10**6 rows", lambda: call(big), "ok"))
+    # more rows than a uint32 counts: a free broadcast view, refused before
+    # any copy (48 GiB)
+    c.append(("2**32 + 1 rows (broadcast view)",
+              lambda: call(np.broadcast_to(b[:1], (2 ** 32 + 1, 3))), sfit.RangeError))
+    return c
+
+
+def number_cases(call, expect_bad=sfit.ArgError, nonneg=True):
+    """Values for an argument that is a finite number (>= 0 when nonneg)."""
+    c = [("nan", lambda: call(NAN), expect_bad), ("inf", lambda: call(INF), expect_bad),
+         ("-inf", lambda: call(-INF), expect_bad), ("1e300", lambda: call(1e300), expect_bad),
+         ("None", lambda: call(None), None), ("str", lambda: call("bogus"), None),
+         ("list", lambda: call([1.0, 2.0]), None), ("object", lambda: call(object()), None),
+         ("complex", lambda: call(1 + 1j), None), ("10**400", lambda: call(10 ** 400), None),
+         ("__float__ raises", lambda: call(RaisingFloat()), None),
+         ("np.float32 nan", lambda: call(np.float32(NAN)), expect_bad),
+         ("1e39", lambda: call(1e39), None), ("1e38", lambda: call(1e38), None),
+         ("-1e38", lambda: call(-1e38), None), ("0", lambda: call(0.0), None)]
+    if nonneg:
+        c.append(("-1", lambda: call(-1.0), expect_bad))
+    return c
+
+
+def vec3_cases(call):
+    return [("None", lambda: call(None), sfit.ArgError), ("str", lambda: call("abc"), sfit.ArgError),
+            ("2 numbers", lambda: call([1.0, 2.0]), sfit.ArgError),
+            ("4 numbers", lambda: call([1.0, 2.0, 3.0, 4.0]), sfit.ArgError),
+            ("(3, 1)", lambda: call(np.ones((3, 1))), sfit.ArgError),
+            ("complex", lambda: call(np.ones(3, complex)), sfit.ArgError),
+            ("__array__ raises", lambda: call(RaisingArray()), sfit.ArgError),
+            ("NaN", lambda: call([NAN, 0.0, 0.0]), sfit.Error),
+            ("Inf", lambda: call([0.0, INF, 0.0]), sfit.Error),
+            ("1e38", lambda: call([1e38, 0.0, 0.0]), sfit.Error),
+            ("-1e38", lambda: call([0.0, 0.0, -1e38]), sfit.Error),
+            ("1e300", lambda: call([1e300, 0.0, 0.0]), sfit.Error),
+            ("strided", lambda: call(np.arange(9.0)[::3]), None),
+            ("big-endian", lambda: call(np.array([1.0, 2.0, 3.0], ">f8")), None)]
+
+
+def mode_cases(call):
+    return [(f"mode={m!r}", lambda m=m: call(m), sfit.ArgError)
+            for m in ("cube", "", None, 1, b"auto", "AUTO", "auto\0", RaisingFloat())]
+
+
+def cov_cases(call, solves=True):
+    bad = {"(2, 2)": np.eye(2), "(9,)": np.ones(9), "nan": np.eye(3) * NAN,
+           "inf": np.diag([INF, 1.0, 1.0]), "asymmetric": np.array([[1.0, 0.1, 0], [0, 1, 0], [0, 0, 1]]),
+           "str": "bogus", "complex": np.eye(3, dtype=complex), "object": object(),
+           "1e39": np.eye(3) * 1e39, "(3, 3, 1)": np.eye(3)[:, :, None],
+           "6 with nan": [1, 1, 1, 0, 0, NAN], "__array__ raises": RaisingArray()}
+    c = [(f"noise_cov {k}", lambda v=v: call(v), sfit.ArgError) for k, v in bad.items()]
+    # a constructor only stores the model: the solve refuses it later
+    c += [("noise_cov -eye", lambda: call(-np.eye(3)), sfit.Error if solves else None),
+          ("noise_cov huge", lambda: call(np.eye(3) * 1e30), sfit.Error if solves else None),
+          ("noise_cov 6 packed", lambda: call([1e-3, 1e-3, 1e-3, 0, 0, 0]), None)]
+    return c
+
+
+# ---------------------------------------------------------------------------
+# State objects: snapshots and hostile subclasses
+# ---------------------------------------------------------------------------
+
+def moments_state(m):
+    try:
+        st = tuple(a.tobytes() for a in m.stats())
+    except sfit.Error as e:
+        st = e.status
+    return (m.count, m.rejected, len(m), st)
+
+
+def incr_state(s):
+    try:
+        e = s.estimate()
+        est = (e.center.tobytes(), e.radius, e.n)
+    except sfit.Error as e:
+        est = e.status
+    return (s.count, s.rejected, est)
+
+
+def state_case(label, obj, snapshot, fn, expect=None):
+    """A call on a state object: if it raises, the state must be unchanged."""
+    def thunk():
+        before = snapshot(obj)
+        try:
+            return fn(obj)
+        except BaseException:
+            after = snapshot(obj)
+            if after != before:
+                raise AssertionError("%s: rejected call changed the state: %r -> %r"
+                                     % (label, before, after))
+            raise
+    return (label, thunk, expect)
+
+
+def _sub_new_returns(base, value):
+    return type("Evil" + base.__name__, (base,), {"__new__": lambda cls, *a, **k: value})
+
+
+def _joint_data(frames=12):
+    tpl = np.array([[100.0, 0, 0], [-100.0, 20, 0], [0, 90, 30], [10, -60, 80]])
+    par = np.stack([tpl + [0.0, 0.0, 0.1 * f] for f in range(frames)])
+    chi = np.stack([[[60 * np.cos(0.2 * f), 60 * np.sin(0.2 * f), 30.0 + f],
+                     [40 * np.cos(0.2 * f + 1), 40 * np.sin(0.2 * f + 1), 10.0]]
+                    for f in range(frames)])
+    return tpl, par, chi
+
+
+# ---------------------------------------------------------------------------
+# The table: public callable -> cases
+# ---------------------------------------------------------------------------
+
+def build_cases():
+    T = {}
+    c0 = sfit.fit(P).center
+
+    # --- functions over samples -------------------------------------------
+    T["fit"] = (points_cases(lambda x: sfit.fit(x), huge=True)
+                + number_cases(lambda v: sfit.fit(P, noise_var=v))
+                + [("noise_var 'auto'", lambda: sfit.fit(P, noise_var="auto"), "ok"),
+                   ("noise_var 'bogus'", lambda: sfit.fit(P, noise_var="bogus"), sfit.ArgError),
+                   ("noise_var True", lambda: sfit.fit(P, noise_var=True), sfit.ArgError),
+                   ("noise_var 1e6", lambda: sfit.fit(P, noise_var=1e6), sfit.Error),
+                   ("noise_var and noise_cov", lambda: sfit.fit(P, noise_var=1e-3,
+                                                                noise_cov=np.eye(3)), sfit.ArgError),
+                   ("auto and noise_cov", lambda: sfit.fit(P, noise_var="auto",
+                                                           noise_cov=np.eye(3)), sfit.ArgError),
+                   ("refine=True", lambda: sfit.fit(P, refine=True), "ok"),
+                   ("refine + noise_var", lambda: sfit.fit(P, refine=True, noise_var=1e-3), sfit.ArgError),
+                   ("refine planar", lambda: sfit.fit(P, refine=True, mode="planar"), sfit.ArgError),
+                   ("refine on circle", lambda: sfit.fit(circle(), refine=True), None),
+                   ("refine raising __bool__", lambda: sfit.fit(P, refine=RaisingFloat()), HostileError),
+                   ("auto on circle", lambda: sfit.fit(circle(), noise_var="auto"), None),
+                   ("planar on sphere", lambda: sfit.fit(P, mode="planar"), None),
+                   ("sphere on circle", lambda: sfit.fit(circle(), mode="sphere"), None),
+                   ("planar_ratio nan", lambda: sfit.fit(P, planar_ratio=NAN), sfit.ArgError),
+                   ("planar_ratio -1", lambda: sfit.fit(P, planar_ratio=-1), sfit.ArgError),
+                   ("planar_ratio 0.5", lambda: sfit.fit(P, planar_ratio=0.5), sfit.ArgError),
+                   ("planar_ratio str", lambda: sfit.fit(P, planar_ratio="bogus"), ValueError),
+                   ("planar_ratio None", lambda: sfit.fit(P, planar_ratio=None), TypeError),
+                   ("gate 4", lambda: sfit.fit(P, gate=4.0), "ok"),
+                   ("gate 4 + noise_var", lambda: sfit.fit(P, gate=4.0, noise_var=1e-4), "ok")]
+                + [(f"gate={g!r}", lambda g=g: sfit.fit(P, gate=g), sfit.ArgError)
+                   for g in (0, 1, 1.0, -3, NAN, INF, "bogus", object(), RaisingFloat(), [4.0])]
+                + [("gate + auto", lambda: sfit.fit(P, gate=4.0, noise_var="auto"), sfit.ArgError),
+                   ("gate + refine", lambda: sfit.fit(P, gate=4.0, refine=True), sfit.ArgError),
+                   ("gate on garbage", lambda: sfit.fit(np.full((30, 3), NAN), gate=3.0), sfit.TooFewError),
+                   ("unknown keyword", lambda: sfit.fit(P, bogus=1), TypeError)]
+                + mode_cases(lambda m: sfit.fit(P, mode=m))
+                + cov_cases(lambda v: sfit.fit(P, noise_cov=v)))
+
+    def mk_list(x):
+        return [x, sphere(seed=6)]
+    multi = points_cases(lambda x: sfit.fit_multi(mk_list(x)))
+    # a marker with too few valid rows is skipped (documented), not an error
+    multi = [(lab, fn, ("ok" if exp in (sfit.TooFewError, sfit.Error) else exp))
+             if lab in ("(0, 3)", "[]", "MIN_SAMPLES - 1", "all NaN", "all 1e30", "coincident",
+                        "collinear") else (lab, fn, exp) for lab, fn, exp in multi]
+    multi = [(lab, fn, None if lab == "coincident" or lab == "collinear" else exp)
+             for lab, fn, exp in multi]
+    T["fit_multi"] = (
+        multi
+        + [("empty list", lambda: sfit.fit_multi([]), sfit.TooFewError),
+           ("None", lambda: sfit.fit_multi(None), sfit.ArgError),
+           ("str", lambda: sfit.fit_multi("abc"), sfit.ArgError),
+           ("dict", lambda: sfit.fit_multi({0: P}), sfit.ArgError),
+           ("2-D array", lambda: sfit.fit_multi(P), sfit.ArgError),
+           ("(M, N, 3)", lambda: sfit.fit_multi(np.stack([P, sphere(seed=6)])), "ok"),
+           ("(M, N, 3) big-endian", lambda: sfit.fit_multi(np.stack([P, sphere(seed=6)]).astype(">f8")), "ok"),
+           ("(M, 0, 3)", lambda: sfit.fit_multi(np.zeros((2, 0, 3))), sfit.TooFewError),
+           ("(0, N, 3)", lambda: sfit.fit_multi(np.zeros((0, 5, 3))), sfit.TooFewError),
+           ("generator", lambda: sfit.fit_multi(x for x in (P, sphere(seed=6))), "ok"),
+           ("raising sequence", lambda: sfit.fit_multi(RaisingSequence()), sfit.ArgError),
+           ("lying sequence", lambda: sfit.fit_multi(LyingSequence()), sfit.ArgError),
+           ("list cleared by __array__", lambda: _multi_mutating("clear"), None),
+           ("list grown by __array__", lambda: _multi_mutating("grow"), None),
+           ("list item replaced by __array__", lambda: _multi_mutating("replace"), None),
+           ("weight 'bogus'", lambda: sfit.fit_multi([P, P], weight="bogus"), sfit.ArgError),
+           ("weight None", lambda: sfit.fit_multi([P, P], weight=None), TypeError),
+           ("weight 'samples'", lambda: sfit.fit_multi([P, P], weight="samples"), "ok"),
+           ("weight with NUL", lambda: sfit.fit_multi([P, P], weight="equal\0"), ValueError),
+           ("noise_var 'auto'", lambda: sfit.fit_multi([P, P], noise_var="auto"), sfit.ArgError),
+           ("planar_ratio nan", lambda: sfit.fit_multi([P, P], planar_ratio=NAN), sfit.ArgError)]
+        + number_cases(lambda v: sfit.fit_multi([P, P], noise_var=v))
+        + mode_cases(lambda m: sfit.fit_multi([P, P], mode=m))
+        + cov_cases(lambda v: sfit.fit_multi([P, P], noise_cov=v)))
+
+    T["calibrate_noise"] = (
+        points_cases(lambda x: sfit.calibrate_noise(x, (1.0, 2.0, 3.0), 10.0), allow_one=True,
+                     centred=True)
+        + vec3_cases(lambda v: sfit.calibrate_noise(P, v, 10.0))
+        + number_cases(lambda v: sfit.calibrate_noise(P, (1.0, 2.0, 3.0), v), expect_bad=sfit.Error))
+    # calibrate_noise accepts one (3,) sample but needs MIN_SAMPLES: TooFew is fine too
+    # a known sphere needs no geometry from the samples: few or degenerate
+    # samples may calibrate
+    relax = ("MIN_SAMPLES - 1", "coincident", "collinear")
+    T["calibrate_noise"] = [(lab, fn, None if lab.startswith("(3,)") or lab in relax else exp)
+                            for lab, fn, exp in T["calibrate_noise"]]
+    T["calibration_std"] = (
+        number_cases(lambda v: sfit.calibration_std(v, 10.0, 100), expect_bad=sfit.Error)
+        + number_cases(lambda v: sfit.calibration_std(0.1, v, 100), expect_bad=sfit.Error)
+        + [("n=0", lambda: sfit.calibration_std(0.1, 10.0, 0), sfit.Error),
+           ("n=-1", lambda: sfit.calibration_std(0.1, 10.0, -1), sfit.Error),
+           ("n=2**32", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 32), sfit.Error),
+           ("n=2**64+100", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 64 + 100), sfit.Error),
+           ("n=2**70", lambda: sfit.calibration_std(0.1, 10.0, 2 ** 70), sfit.Error),
+           ("n=1.5", lambda: sfit.calibration_std(0.1, 10.0, 1.5), sfit.ArgError),
+           ("n=100.0", lambda: sfit.calibration_std(0.1, 10.0, 100.0), "ok"),
+           ("n=inf", lambda: sfit.calibration_std(0.1, 10.0, INF), sfit.ArgError),
+           ("n=nan", lambda: sfit.calibration_std(0.1, 10.0, NAN), ValueError),
+           ("n=None", lambda: sfit.calibration_std(0.1, 10.0, None), TypeError),
+           ("n=str", lambda: sfit.calibration_std(0.1, 10.0, "x"), ValueError),
+           ("n raising", lambda: sfit.calibration_std(0.1, 10.0, RaisingFloat()), None)])
+    for name in ("coverage_eigs", "coverage_max_sigma"):
+        fn = getattr(sfit, name)
+        T[name] = (
+            [(f"kind={k!r}", lambda k=k, fn=fn: fn(k, 1.0, 1.0), None if k is None else
+              (TypeError, ValueError)) for k in ("sphere", "", None, b"cap", 1, "cap\0")]
+            + number_cases(lambda v, fn=fn: fn("cap", v, 1.0), expect_bad=sfit.Error)
+            + number_cases(lambda v, fn=fn: fn("arc", 1.0, v), expect_bad=sfit.Error)
+            + [("theta 3.2", lambda fn=fn: fn("cap", 3.2, 1.0), sfit.Error),
+               ("ok", lambda fn=fn: fn("arc", 1.0, 2.0), "ok")])
+    T["coverage_min_theta"] = (
+        [(f"kind={k!r}", lambda k=k: sfit.coverage_min_theta(k, 0.1), None)
+         for k in ("sphere", "", None, 1)]
+        + number_cases(lambda v: sfit.coverage_min_theta("cap", v), expect_bad=sfit.Error)
+        + number_cases(lambda v: sfit.coverage_min_theta("arc", v), expect_bad=sfit.Error))
+    T["coverage_estimate_theta"] = (
+        [(f"kind={k!r}", lambda k=k: sfit.coverage_estimate_theta(k, [1.0, 2.0, 3.0]), None)
+         for k in ("sphere", "", None, 1)]
+        + vec3_cases(lambda v: sfit.coverage_estimate_theta("cap", v))
+        + vec3_cases(lambda v: sfit.coverage_estimate_theta("arc", v))
+        + [("negative eig", lambda: sfit.coverage_estimate_theta("arc", [-1.0, 1.0, 2.0]), None),
+           ("descending", lambda: sfit.coverage_estimate_theta("cap", [3.0, 2.0, 1.0]), None),
+           ("zeros", lambda: sfit.coverage_estimate_theta("cap", [0.0, 0.0, 0.0]), None)])
+    T["residual_noise_var"] = (
+        [(lab, fn, None if lab in relax else exp) for lab, fn, exp in
+         points_cases(lambda x: sfit.residual_noise_var(x, c0, 10.0), centred=True)]
+        + vec3_cases(lambda v: sfit.residual_noise_var(P, v, 10.0))
+        + number_cases(lambda v: sfit.residual_noise_var(P, c0, v), expect_bad=sfit.Error))
+    T["refine"] = (
+        points_cases(lambda x: sfit.refine(x, c0), centred=True)
+        + vec3_cases(lambda v: sfit.refine(P, v))
+        + number_cases(lambda v: sfit.refine(P, c0, 0, v), expect_bad=sfit.Error)
+        + [(f"max_iters={m!r}", lambda m=m: sfit.refine(P, c0, m), exp)
+           for m, exp in ((-1, sfit.ArgError), (2 ** 64 + 1, "ok"), (2 ** 70, "ok"),
+                          (NAN, sfit.ArgError), (None, TypeError), ("x", ValueError), (1, "ok"),
+                          (2.5, sfit.ArgError), (INF, sfit.ArgError), (3.0, "ok"),
+                          (10 ** 6, "ok"), (RaisingFloat(), None))])
+    T["uncertainty"] = (
+        points_cases(lambda x: sfit.uncertainty(x, c0, 10.0, 1e-3), centred=True)
+        + points_cases(lambda x: sfit.uncertainty(x, c0), centred=True)
+        + vec3_cases(lambda v: sfit.uncertainty(P, v, 10.0, 1e-3))
+        + vec3_cases(lambda v: sfit.uncertainty(P, v))
+        + number_cases(lambda v: sfit.uncertainty(P, c0, v, 1e-3), expect_bad=sfit.Error)
+        + number_cases(lambda v: sfit.uncertainty(P, c0, 10.0, v))
+        + [("noise_var without radius", lambda: sfit.uncertainty(P, c0, None, 1e-3), sfit.ArgError),
+           ("noise_var 'auto'", lambda: sfit.uncertainty(P, c0, 10.0, "auto"), sfit.ArgError)])
+
+    # --- Moments -------------------------------------------------------------
+    def fresh_m():
+        return sfit.Moments(P)
+
+    def bare_m():
+        return sfit.Moments.__new__(sfit.Moments)  # __init__ never called
+
+    T["Moments"] = (points_cases(lambda x: sfit.Moments(x), allow_one=True)
+                    + [("no args", lambda: sfit.Moments(), "ok"),
+                       ("two args", lambda: sfit.Moments(P, P), TypeError),
+                       ("bad keyword", lambda: sfit.Moments(pts=P), TypeError),
+                       ("re-__init__ with garbage",
+                        lambda: state_case("re-init", fresh_m(), moments_state,
+                                           lambda m: m.__init__(np.ones((4, 2))))[1](), sfit.ArgError),
+                       ("re-__init__ with None", lambda: _reinit(fresh_m(), None), "ok"),
+                       ("subclass", lambda: type("M", (sfit.Moments,), {})(P), "ok")])
+    # Moments(x) with too few samples is a valid (empty or short) accumulator
+    # Moments(None) is the documented empty accumulator; few samples are fine
+    T["Moments"] = [(lab, fn, "ok" if exp in (sfit.TooFewError, sfit.Error) or lab == "None" else exp)
+                    for lab, fn, exp in T["Moments"]]
+    T["Moments.add"] = (
+        [(lab, (lambda fn=fn: fn()), "ok" if _ok_like(exp) or exp in (sfit.TooFewError, sfit.Error) else exp)
+         for lab, fn, exp in points_cases(
+             lambda x: state_case("add", fresh_m(), moments_state, lambda m: m.add(x))[1](),
+             allow_one=True, huge=True)]
+        + [("before __init__", lambda: bare_m().add(P), "ok")])
+    T["Moments.merge"] = [
+        ("self", lambda: (lambda m: m.merge(m))(fresh_m()), None),
+        ("None", lambda: fresh_m().merge(None), sfit.ArgError),
+        ("Incremental", lambda: fresh_m().merge(sfit.Incremental()), sfit.ArgError),
+        ("array", lambda: fresh_m().merge(P), sfit.ArgError),
+        ("bare", lambda: fresh_m().merge(bare_m()), "ok"),
+        ("into bare", lambda: bare_m().merge(fresh_m()), "ok"),
+        ("subclass", lambda: fresh_m().merge(type("M", (sfit.Moments,), {})(P)), "ok"),
+        ("C base", lambda: fresh_m().merge(sfit._sfit.Moments(P)), "ok")]
+    T["Moments.reset"] = [("fresh", lambda: fresh_m().reset(), None),
+                          ("bare", lambda: bare_m().reset(), None),
+                          ("arg", lambda: fresh_m().reset(1), TypeError)]
+    T["Moments.copy"] = [
+        ("fresh", lambda: fresh_m().copy(), "ok"), ("bare", lambda: bare_m().copy(), "ok"),
+        ("subclass", lambda: type("M", (sfit.Moments,), {})(P).copy(), "ok"),
+        ("subclass __new__ -> int", lambda: _evil_instance(sfit.Moments, 42).copy(), TypeError),
+        ("subclass __new__ -> Incremental",
+         lambda: _evil_instance(sfit.Moments, sfit.Incremental()).copy(), TypeError),
+        ("subclass __init__ needs args",
+         lambda: type("M", (sfit.Moments,), {"__init__": lambda self, a, b: None})
+         .__new__(type("M", (sfit.Moments,), {"__init__": lambda self, a, b: None})).copy(), None),
+        ("pickle", lambda: pickle.dumps(fresh_m()), TypeError),
+        ("copy.copy", lambda: __import__("copy").copy(fresh_m()), TypeError)]
+    T["Moments.stats"] = [("fresh", lambda: fresh_m().stats(), "ok"),
+                          ("bare", lambda: bare_m().stats(), sfit.TooFewError),
+                          ("one sample", lambda: sfit.Moments(P[0]).stats(), sfit.TooFewError),
+                          ("coincident", lambda: sfit.Moments(np.ones((20, 3))).stats(), None),
+                          ("1e7 offset", lambda: sfit.Moments(P + 1e7).stats(), None)]
+    for meth in ("fit", "solve"):
+        T["Moments." + meth] = (
+            [("fresh", lambda meth=meth: getattr(fresh_m(), meth)(), "ok"),
+             ("bare", lambda meth=meth: getattr(bare_m(), meth)(), sfit.TooFewError),
+             ("noise_var 'auto'", lambda meth=meth: getattr(fresh_m(), meth)(noise_var="auto"),
+              sfit.ArgError),
+             ("coincident", lambda meth=meth: getattr(sfit.Moments(np.ones((20, 3))), meth)(), sfit.Error),
+             ("after failed fit", lambda meth=meth: _after_error(
+                 fresh_m(), lambda m: getattr(m, meth)(mode="cube"), lambda m: getattr(m, meth)()), "ok"),
+             ("planar_ratio nan", lambda meth=meth: getattr(fresh_m(), meth)(planar_ratio=NAN),
+              sfit.ArgError)]
+            + number_cases(lambda v, meth=meth: getattr(fresh_m(), meth)(noise_var=v))
+            + mode_cases(lambda m, meth=meth: getattr(fresh_m(), meth)(mode=m))
+            + cov_cases(lambda v, meth=meth: getattr(fresh_m(), meth)(noise_cov=v)))
+    T["Moments.calibrate_noise"] = (
+        vec3_cases(lambda v: fresh_m().calibrate_noise(v, 10.0))
+        + number_cases(lambda v: fresh_m().calibrate_noise(c0, v), expect_bad=sfit.Error)
+        + [("bare", lambda: bare_m().calibrate_noise(c0, 10.0), sfit.TooFewError)])
+    T["Moments.uncertainty"] = (
+        vec3_cases(lambda v: fresh_m().uncertainty(v, 10.0, 1e-3))
+        + number_cases(lambda v: fresh_m().uncertainty(c0, v, 1e-3), expect_bad=sfit.Error)
+        + number_cases(lambda v: fresh_m().uncertainty(c0, 10.0, v))
+        + [("bare", lambda: bare_m().uncertainty(c0, 10.0, 1e-3), sfit.Error),
+           ("estimated raising", lambda: fresh_m().uncertainty(c0, 10.0, 1e-3, RaisingFloat()),
+            HostileError)])
+    for prop in ("count", "rejected"):
+        T["Moments." + prop] = [("fresh", lambda prop=prop: getattr(fresh_m(), prop), "ok"),
+                                ("bare", lambda prop=prop: getattr(bare_m(), prop), "ok"),
+                                ("set", lambda prop=prop: setattr(fresh_m(), prop, 5),
+                                 AttributeError)]
+
+    # --- Incremental -------------------------------------------------------
+    def fresh_i(**kw):
+        s = sfit.Incremental(**kw)
+        s.start(P)
+        return s
+
+    def bare_i():
+        return sfit.Incremental.__new__(sfit.Incremental)
+
+    T["Incremental"] = (number_cases(lambda v: sfit.Incremental(noise_var=v))
+                        + cov_cases(lambda v: sfit.Incremental(noise_cov=v), solves=False)
+                        + [("noise_var 'auto'", lambda: sfit.Incremental(noise_var="auto"), sfit.ArgError),
+                           ("both", lambda: sfit.Incremental(1e-3, np.eye(3)), sfit.ArgError),
+                           ("re-__init__ with garbage", lambda: state_case(
+                               "re-init", fresh_i(), incr_state,
+                               lambda s: s.__init__(noise_var=-1))[1](), sfit.ArgError),
+                           ("three args", lambda: sfit.Incremental(1, 2, 3), TypeError),
+                           ("subclass", lambda: type("I", (sfit.Incremental,), {})(1e-4).start(P), "ok"),
+                           ("subclass without super().__init__", lambda: type(
+                               "I", (sfit.Incremental,), {"__init__": lambda self: None})().update(P),
+                            "ok"),
+                           ("pickle", lambda: pickle.dumps(fresh_i()), TypeError)])
+    T["Incremental.start"] = (
+        [(lab, fn, "ok" if isinstance(exp, Same) else exp) for lab, fn, exp in points_cases(
+            lambda x: state_case("start", fresh_i(), incr_state, lambda s: s.start(x))[1]())]
+        + [("before __init__", lambda: bare_i().start(P), "ok"),
+           ("with noise 1e6", lambda: sfit.Incremental(noise_var=1e6).start(P), sfit.Error)])
+    T["Incremental.add"] = (
+        [(lab, fn, "ok" if _ok_like(exp) or exp in (sfit.TooFewError, sfit.Error) else exp)
+         for lab, fn, exp in points_cases(
+             lambda x: state_case("add", fresh_i(), incr_state, lambda s: s.add(x))[1](),
+             allow_one=True)]
+        + [("before __init__", lambda: bare_i().add(P), "ok")])
+    T["Incremental.update"] = (
+        [(lab, fn, None if isinstance(exp, Same) or lab.startswith("(3,)") else exp)
+         for lab, fn, exp in points_cases(lambda x: sfit.Incremental().update(x), allow_one=True)]
+        + [("before __init__", lambda: bare_i().update(P), "ok"),
+           ("after failed add", lambda: _after_error(fresh_i(), lambda s: s.add("x"),
+                                                      lambda s: s.update(P[0])), "ok")])
+    T["Incremental.estimate"] = [("fresh", lambda: fresh_i().estimate(), "ok"),
+                                 ("empty", lambda: sfit.Incremental().estimate(), sfit.TooFewError),
+                                 ("bare", lambda: bare_i().estimate(), sfit.TooFewError),
+                                 ("coincident", lambda: _est_after(np.ones((20, 3))), sfit.Error),
+                                 ("collinear", lambda: _est_after(
+                                     np.outer(np.arange(20.0), [1.0, 2.0, 3.0])), sfit.Error),
+                                 ("circle", lambda: _est_after(circle()), None)]
+    T["Incremental.track"] = (
+        [(lab, fn, None if _ok_like(exp) or exp in (sfit.TooFewError, sfit.Error) else exp)
+         for lab, fn, exp in points_cases(lambda x: sfit.Incremental().track(x))]
+        + [("before __init__", lambda: bare_i().track(P), "ok"),
+           ("with noise 1e6", lambda: sfit.Incremental(noise_var=1e6).track(P), None)])
+    T["Incremental.reset"] = [("fresh", lambda: fresh_i().reset(), None),
+                              ("bare", lambda: bare_i().reset(), None),
+                              ("arg", lambda: fresh_i().reset(1), TypeError)]
+    for prop in ("count", "rejected"):
+        T["Incremental." + prop] = [("fresh", lambda prop=prop: getattr(fresh_i(), prop), "ok"),
+                                    ("bare", lambda prop=prop: getattr(bare_i(), prop), "ok"),
+                                    ("set", lambda prop=prop: setattr(fresh_i(), prop, 5),
+                                     AttributeError)]
+
+    # --- result records ------------------------------------------------------
+    res = {"FitResult": sfit.fit(P), "MultiResult": sfit.fit_multi([P, P]),
+           "NoiseEstimate": sfit.calibrate_noise(P, c0, 10.0),
+           "Uncertainty": sfit.uncertainty(P, c0, 10.0, 1e-3), "RefineResult": sfit.refine(P, c0),
+           "Estimate": fresh_i().estimate(), "Track": sfit.Incremental().track(P)}
+    if HAVE_JOINT:
+        tpl, par, chi = _joint_data()
+        res["Pose"] = sfit.Cluster(tpl).register(par[0])
+        res["JointResult"] = sfit.joint_center(par, chi, mode="planar")
+    for name, r in res.items():
+        cls = getattr(sfit, name)
+        T[name] = [("None", lambda cls=cls: cls(None), TypeError),
+                   ("int", lambda cls=cls: cls(5), TypeError),
+                   ("str", lambda cls=cls: cls("abc"), TypeError),
+                   ("empty dict", lambda cls=cls: cls({}), None),
+                   ("no args", lambda cls=cls: cls(), TypeError),
+                   ("setattr", lambda r=r: setattr(r, "n", 1), AttributeError),
+                   ("pickle round trip", lambda r=r: _pickle_equal(r), None if name == "JointResult"
+                    else "ok")]
+        T[name + ".to_dict"] = [("real", lambda r=r: r.to_dict(), "ok"),
+                                ("of empty", lambda cls=cls: cls({}).to_dict(), None),
+                                ("arg", lambda r=r: r.to_dict(1), TypeError)]
+
+    if HAVE_JOINT:
+        _joint_cases(T, res)
+    return T
+
+
+def _joint_cases(T, res):
+    tpl, par, chi = _joint_data()
+    pose = res["Pose"]
+    for meth in ("to_global", "to_segment"):
+        T["Pose." + meth] = [
+            ("(N, 3)", lambda meth=meth: getattr(pose, meth)(P), "ok"),
+            ("(3,)", lambda meth=meth: getattr(pose, meth)(P[0]), "ok"),
+            ("None", lambda meth=meth: getattr(pose, meth)(None), (TypeError, ValueError)),
+            ("str", lambda meth=meth: getattr(pose, meth)("abc"), (TypeError, ValueError)),
+            ("(N, 2)", lambda meth=meth: getattr(pose, meth)(P[:, :2]), ValueError),
+            ("object", lambda meth=meth: getattr(pose, meth)(object()), sfit.ArgError),
+            ("__array__ raises", lambda meth=meth: getattr(pose, meth)(RaisingArray()), HostileError)]
+
+    def cl():
+        return sfit.Cluster(tpl)
+
+    def bare_cl():
+        return sfit.Cluster.__new__(sfit.Cluster)
+
+    def frames_cases(call, allow_one, base=par, one=False):
+        """An argument of (F, M, 3) frames (one=True: a single (M, 3)
+        frame; allow_one: (M, 3) is also accepted as one frame)."""
+        f = np.asarray(base[0] if one else base, dtype=np.float64)
+        mx = sfit.CLUSTER_MAX_MARKERS + 1
+        many = np.zeros(f.shape[:-2] + (mx, 3)) + np.arange(mx)[:, None] * [1.0, 0.5, 0.25]
+        many[..., 1] = np.arange(mx) ** 2
+        c = [("float32", lambda: call(f.astype(np.float32)), "ok"),
+             ("fortran", lambda: call(np.asfortranarray(f)), "ok"),
+             ("negative stride", lambda: call(_negative_stride(f)), "ok"),
+             ("big-endian", lambda: call(f.astype(">f8")), "ok"),
+             ("list", lambda: call(f.tolist()), "ok"),
+             ("int", lambda: call(np.rint(f).astype(np.int32)), "ok"),
+             ("None", lambda: call(None), sfit.ArgError),
+             ("str", lambda: call("abc"), sfit.ArgError),
+             ("object", lambda: call(object()), sfit.ArgError),
+             ("__array__ raises", lambda: call(RaisingArray()), sfit.ArgError),
+             ("__array__ -> str", lambda: call(GarbageArray("x")), sfit.ArgError),
+             ("complex", lambda: call(f.astype(complex)), sfit.ArgError),
+             ("bool", lambda: call(f > 0), sfit.ArgError),
+             ("object dtype", lambda: call(f.astype(object)), sfit.ArgError),
+             ("(..., 2)", lambda: call(f[..., :2]), sfit.ArgError),
+             ("(..., 4)", lambda: call(np.concatenate([f, f[..., :1]], axis=-1)), sfit.ArgError),
+             ("4-D", lambda: call(f.reshape((1,) * (5 - f.ndim) + f.shape)[0]), sfit.ArgError),
+             ("(3,)", lambda: call(f.reshape(-1, 3)[0]), sfit.ArgError),
+             ("no frames / no markers", lambda: call(f[:0]), None),
+             ("(..., 0, 3)", lambda: call(f[..., :0, :]), sfit.Error),
+             ("NaN entry", lambda: call(_with_row(f, (1, 1), NAN)), None),
+             ("all NaN", lambda: call(np.full_like(f, NAN)), None),
+             ("Inf entry", lambda: call(_with_row(f, (1, 1), INF)), None),
+             ("1e38 entry", lambda: call(_with_row(f, (1, 1), 1e38)), None),
+             ("-1e38 entry", lambda: call(_with_row(f, (1, 1), -1e38)), None),
+             ("2**27 entry", lambda: call(_with_row(f, (1, 1), 2.0 ** 27)), None),
+             ("1e300 entry", lambda: call(_with_row(f, (1, 1), 1e300)), None),
+             ("coincident", lambda: call(np.ones_like(f)), None),
+             ("collinear", lambda: call(np.broadcast_to(
+                 np.outer(np.arange(f.shape[-2], dtype=float), [1.0, 2.0, 3.0]), f.shape)), None),
+             ("too many markers", lambda: call(many), sfit.ArgError)]
+        if not one:
+            c.append(("(M, 3) one frame", lambda: call(f[0]), None if allow_one else sfit.ArgError))
+            c.append(("2**32 + 1 frames (broadcast view)",
+                      lambda: call(np.broadcast_to(f[:1], (2 ** 32 + 1,) + f.shape[1:])),
+                      sfit.RangeError))
+        return c
+
+    T["Cluster"] = (
+        frames_cases(lambda x: sfit.Cluster(x), True, one=True)
+        + [("None", lambda: sfit.Cluster(None), sfit.ArgError),
+           ("no args", lambda: sfit.Cluster(), TypeError),
+           ("two markers", lambda: sfit.Cluster(tpl[:2]), sfit.Error),
+           ("(F, M, 3)", lambda: sfit.Cluster(par), sfit.ArgError),
+           ("re-__init__ with garbage", lambda: _reinit_cluster(cl(), tpl[:, :2]), sfit.ArgError),
+           ("re-__init__ with 2 markers", lambda: _reinit_cluster(cl(), tpl[:2]), sfit.Error),
+           ("pickle", lambda: pickle.dumps(cl()), TypeError)])
+    T["Cluster.from_frames"] = (
+        frames_cases(lambda x: sfit.Cluster.from_frames(x), True)
+        + [("subclass", lambda: type("C", (sfit.Cluster,), {}).from_frames(par), "ok"),
+           ("subclass __new__ -> list", lambda: _sub_new_returns(sfit.Cluster, [1, 2]).from_frames(par),
+            TypeError),
+           ("subclass __new__ -> Moments",
+            lambda: _sub_new_returns(sfit.Cluster, sfit.Moments()).from_frames(par), TypeError),
+           ("subclass __init__ raises", lambda: type("C", (sfit.Cluster,), {
+               "__init__": lambda self, *a: (_ for _ in ()).throw(HostileError("init"))})
+            .from_frames(par), None)])
+    T["Cluster.register"] = (
+        frames_cases(lambda x: cl().register(x), True, one=True)
+        + [("(F, M, 3)", lambda: cl().register(par), sfit.ArgError),
+           ("wrong marker count", lambda: cl().register(par[0, :3]), sfit.ArgError),
+           ("bare cluster", lambda: bare_cl().register(par[0]), sfit.ArgError),
+           ("bare cluster, (0, 3)", lambda: bare_cl().register(np.zeros((0, 3))), sfit.Error)])
+    for prop in ("positions", "count", "frames_used"):
+        T["Cluster." + prop] = [("fresh", lambda prop=prop: getattr(cl(), prop), "ok"),
+                                ("bare", lambda prop=prop: getattr(bare_cl(), prop), "ok"),
+                                ("set", lambda prop=prop: setattr(cl(), prop, 5), AttributeError)]
+
+    def jt(**kw):
+        j = sfit.Joint(cl(), 2, **kw)
+        j.add(par, chi)
+        return j
+
+    def bare_j():
+        return sfit.Joint.__new__(sfit.Joint)
+
+    def joint_state(j):
+        try:
+            r = j.solve()
+            s = (r.center.tobytes(), r.radii.tobytes())
+        except sfit.Error as e:
+            s = e.status
+        return (j.frames, j.rejected_frames, s)
+
+    T["Joint"] = (
+        number_cases(lambda v: sfit.Joint(cl(), 2, noise_var=v))
+        + number_cases(lambda v: sfit.Joint(cl(), 2, marker_noise_var=v))
+        + cov_cases(lambda v: sfit.Joint(cl(), 2, noise_cov=v), solves=False)
+        + mode_cases(lambda m: sfit.Joint(cl(), 2, mode=m))
+        + [(f"n_child={k!r}", lambda k=k: sfit.Joint(cl(), k), exp)
+           for k, exp in ((0, sfit.ArgError), (-1, (sfit.ArgError, OverflowError)),
+                          (sfit.JOINT_MAX_CHILD + 1, sfit.ArgError), (2 ** 64 + 1, sfit.ArgError),
+                          (1.5, TypeError), (None, TypeError), ("2", TypeError),
+                          (True, None))]
+        + [("parent None", lambda: sfit.Joint(None, 2), sfit.ArgError),
+           ("parent array", lambda: sfit.Joint(tpl, 2), sfit.ArgError),
+           ("parent bare cluster", lambda: sfit.Joint(bare_cl(), 2), sfit.ArgError),
+           ("weight bogus", lambda: sfit.Joint(cl(), 2, weight="bogus"), sfit.ArgError),
+           ("planar_ratio nan", lambda: sfit.Joint(cl(), 2, planar_ratio=NAN), sfit.ArgError),
+           ("noise_var 'auto'", lambda: sfit.Joint(cl(), 2, noise_var="auto"), sfit.ArgError),
+           ("marker + noise_var", lambda: sfit.Joint(cl(), 2, noise_var=1, marker_noise_var=1),
+            sfit.ArgError),
+           ("re-__init__ with garbage", lambda: state_case(
+               "re-init", jt(), joint_state, lambda j: j.__init__(cl(), 0))[1](), sfit.ArgError),
+           ("re-__init__ with a bad option", lambda: state_case(
+               "re-init", jt(), joint_state, lambda j: j.__init__(cl(), 2, mode="cube"))[1](),
+            sfit.ArgError),
+           ("pickle", lambda: pickle.dumps(jt()), TypeError),
+           ("subclass", lambda: type("J", (sfit.Joint,), {})(cl(), 2).add(par, chi), "ok")])
+    chi1 = chi  # (F, 2, 3)
+    T["Joint.add"] = (
+        [(lab, fn, exp) for lab, fn, exp in frames_cases(
+            lambda x: state_case("add parent", jt(), joint_state, lambda j: j.add(x, chi1))[1](),
+            True)]
+        + [(lab, fn, exp) for lab, fn, exp in frames_cases(
+            lambda x: state_case("add child", jt(), joint_state, lambda j: j.add(par, x))[1](),
+            True, base=chi)]
+        + [("frame count mismatch", lambda: jt().add(par, chi[:-1]), sfit.ArgError),
+           ("one vs many", lambda: jt().add(par[0], chi), sfit.ArgError),
+           ("child count mismatch", lambda: jt().add(par, chi[:, :1]), sfit.ArgError),
+           ("before __init__", lambda: bare_j().add(par, chi), sfit.ArgError),
+           ("after failed __init__", lambda: _after_failed_joint_init(cl()), sfit.ArgError),
+           ("one arg", lambda: jt().add(par), TypeError)])
+    for meth in ("solve", "fit"):
+        T["Joint." + meth] = [("fresh", lambda meth=meth: getattr(jt(mode="planar"), meth)(), "ok"),
+                              ("auto", lambda meth=meth: getattr(jt(), meth)(), None),
+                              ("empty", lambda meth=meth: getattr(sfit.Joint(cl(), 2), meth)(),
+                               sfit.TooFewError),
+                              ("before __init__", lambda meth=meth: getattr(bare_j(), meth)(),
+                               sfit.ArgError),
+                              ("twice", lambda meth=meth: (lambda j: (getattr(j, meth)(),
+                                                                      getattr(j, meth)()))(
+                                  jt(mode="planar")), "ok")]
+    jres = jt(mode="planar").solve()
+    T["Joint.center_at"] = (
+        frames_cases(lambda x: jt(mode="planar").center_at(jres, x), True)
+        + [("result None", lambda: jt().center_at(None, par), sfit.ArgError),
+           ("foreign raw bytes", lambda: jt().center_at(_fake_result(jres, b"\xff"), par), None),
+           ("NaN raw bytes", lambda: jt().center_at(_fake_result(jres, NAN), par), None),
+           ("short raw bytes", lambda: jt().center_at(_fake_result(jres, b"x"), par), sfit.ArgError),
+           ("raw str", lambda: jt().center_at(_fake_result(jres, "abc"), par), sfit.ArgError),
+           ("wrong marker count", lambda: jt().center_at(jres, par[:, :3]), sfit.ArgError),
+           ("before __init__", lambda: bare_j().center_at(jres, par), sfit.ArgError)])
+    T["Joint.noise_cov"] = (number_cases(lambda v: jt().noise_cov(v))
+                            + [("before __init__", lambda: bare_j().noise_cov(0.1), sfit.ArgError),
+                               ("empty joint", lambda: sfit.Joint(cl(), 2).noise_cov(0.1), None)])
+    T["Joint.reset"] = [("fresh", lambda: jt().reset(), None), ("bare", lambda: bare_j().reset(), None),
+                        ("arg", lambda: jt().reset(1), TypeError)]
+    for prop in ("frames", "rejected_frames"):
+        T["Joint." + prop] = [("fresh", lambda prop=prop: getattr(jt(), prop), "ok"),
+                              ("bare", lambda prop=prop: getattr(bare_j(), prop), "ok"),
+                              ("set", lambda prop=prop: setattr(jt(), prop, 5), AttributeError)]
+    T["joint_center"] = (
+        frames_cases(lambda x: sfit.joint_center(x, chi, mode="planar"), False)
+        + frames_cases(lambda x: sfit.joint_center(par, x, mode="planar"), False, base=chi)
+        + [("template Cluster", lambda: sfit.joint_center(par, chi, cl(), mode="planar"), "ok"),
+           ("template array", lambda: sfit.joint_center(par, chi, tpl, mode="planar"), "ok"),
+           ("template garbage", lambda: sfit.joint_center(par, chi, "abc"), sfit.ArgError),
+           ("template bare cluster", lambda: sfit.joint_center(par, chi, bare_cl()), sfit.ArgError),
+           ("child (F, 0, 3)", lambda: sfit.joint_center(par, chi[:, :0]), sfit.ArgError),
+           ("child None", lambda: sfit.joint_center(par, None), sfit.ArgError),
+           ("child __array__ raises", lambda: sfit.joint_center(par, RaisingArray()), None),
+           ("frame count mismatch", lambda: sfit.joint_center(par, chi[:-1]), sfit.ArgError)]
+        + mode_cases(lambda m: sfit.joint_center(par, chi, mode=m))
+        + number_cases(lambda v: sfit.joint_center(par, chi, noise_var=v)))
+
+
+# --- helpers of the table ---------------------------------------------------
+
+def _evil_instance(base, value):
+    cls = _sub_new_returns(base, value)
+    obj = base.__new__(cls)
+    base.__init__(obj, P)
+    return obj
+
+
+def _reinit(m, arg):
+    m.__init__(arg)
+    return m
+
+
+def _reinit_cluster(c, arg):
+    before = c.positions.tobytes(), c.count, c.frames_used
+    try:
+        c.__init__(arg)
+    finally:
+        after = c.positions.tobytes(), c.count, c.frames_used
+        if after != before:
+            raise AssertionError("Cluster re-__init__ with garbage changed the template")
+
+
+def _after_error(obj, bad, good):
+    try:
+        bad(obj)
+    except ALLOWED:
+        pass
+    else:
+        raise AssertionError("the bad call did not raise")
+    return good(obj)
+
+
+def _est_after(x):
+    s = sfit.Incremental()
+    s.add(x)
+    return s.estimate()
+
+
+def _after_failed_joint_init(c):
+    j = sfit.Joint.__new__(sfit.Joint)
+    try:
+        j.__init__(c, 0)
+    except sfit.ArgError:
+        pass
+    return j.add(np.zeros((2, 4, 3)), np.zeros((2, 2, 3)))
+
+
+def _fake_result(res, raw):
+    d = {k: getattr(res, k) for k in type(res).__slots__}
+    if isinstance(raw, float):
+        raw = np.full(len(res._raw) // 4, raw, dtype=np.float32).tobytes()
+    elif raw == b"\xff":
+        raw = b"\xff" * len(res._raw)
+    d["_raw"] = raw
+    return type(res)(d)
+
+
+def _multi_mutating(how):
+    lst = []
+
+    class Mutator:
+        def __array__(self, dtype=None, copy=None):
+            if how == "clear":
+                lst.clear()
+            elif how == "grow":
+                lst.extend([P] * 100)
+            else:
+                lst[:] = [object()] * len(lst)
+            import gc
+            gc.collect()
+            return P
+
+    lst[:] = [Mutator(), Mutator(), P, np.array(P), sphere(seed=9), sphere(seed=10)]
+    return sfit.fit_multi(lst)
+
+
+def _pickle_equal(r):
+    r2 = pickle.loads(pickle.dumps(r))
+    assert type(r2) is type(r)
+    for k in type(r).__slots__:
+        a, b = getattr(r, k), getattr(r2, k)
+        if isinstance(a, np.ndarray):
+            assert np.array_equal(a, b, equal_nan=True), k
+        elif k not in ("cluster",):
+            assert a == b or (a != a and b != b), k
+    return r2
+
+
+# ---------------------------------------------------------------------------
+# Checking one outcome
+# ---------------------------------------------------------------------------
+
+def nonfinite(x, path="result"):
+    """The path of the first NaN / Inf in a result, or None."""
+    if isinstance(x, (bool, np.bool_, int, np.integer, str, bytes, type(None))):
+        return None
+    if isinstance(x, (float, np.floating)):
+        return None if np.isfinite(x) else path
+    if isinstance(x, np.ndarray):
+        if x.dtype.kind in "fc" and not np.all(np.isfinite(x)):
+            return path
+        return None
+    if isinstance(x, dict):
+        for k, v in x.items():
+            p = nonfinite(v, "%s[%r]" % (path, k))
+            if p:
+                return p
+        return None
+    if isinstance(x, (list, tuple)):
+        for i, v in enumerate(x):
+            p = nonfinite(v, "%s[%d]" % (path, i))
+            if p:
+                return p
+        return None
+    for k in getattr(type(x), "__slots__", ()):
+        if not k.startswith("_") and k != "cluster":
+            p = nonfinite(getattr(x, k, None), path + "." + k)
+            if p:
+                return p
+    return None
+
+
+def _valid_rows(name, out):
+    """The documented NaN rows: Joint.center_at / joint_center where not valid."""
+    if name == "Joint.center_at" and isinstance(out, tuple) and len(out) == 3:
+        return np.asarray(out[2], dtype=bool)
+    if name == "joint_center" and getattr(out, "valid", None) is not None:
+        return np.asarray(out.valid, dtype=bool)
+    return None
+
+
+def _names_of(expect):
+    want = expect if isinstance(expect, tuple) else (expect,)
+    return "/".join(w.__name__ for w in want)
+
+
+def check(name, label, thunk, expect):
+    """'PASS' or 'FAIL: why'."""
+    allowed = ALLOWED + (HostileError,)
+    if expect is AttributeError or (isinstance(expect, tuple) and AttributeError in expect):
+        allowed += (AttributeError,)
+    try:
+        out = thunk()
+    except AssertionError as e:
+        return "FAIL: " + str(e)
+    except BaseException as e:  # noqa: B902  (everything is judged)
+        if isinstance(e, SystemError) or not isinstance(e, allowed):
+            return "FAIL: %s: %s\n%s" % (type(e).__name__, e, traceback.format_exc())
+        if isinstance(e, sfit.Error):
+            for a in ("status", "code", "message", "n", "rejected"):
+                if not hasattr(e, a):
+                    return "FAIL: %s without attribute %s" % (type(e).__name__, a)
+            if not str(e):
+                return "FAIL: empty message"
+        if _ok_like(expect):
+            return "FAIL: expected success, got %s: %s" % (type(e).__name__, e)
+        if expect is not None and not isinstance(e, expect) and not isinstance(e, HostileError):
+            return "FAIL: expected %s, got %s: %s" % (_names_of(expect), type(e).__name__, e)
+        return "PASS"
+    if not (expect is None or _ok_like(expect)):
+        return "FAIL: expected %s, the call returned %r" % (_names_of(expect), out)
+    if name in ("Joint.center_at", "joint_center"):
+        p = _nonfinite_joint(name, out, _valid_rows(name, out))
+    else:
+        p = nonfinite(out)
+    if p:
+        return "FAIL: non-finite value in %s: %r" % (p, out)
+    if isinstance(expect, Same):
+        ref = expect.ref()
+        if not _same(out, ref):
+            return "FAIL: differs from the call on the float32 samples: %r vs %r" % (out, ref)
+    return "PASS"
+
+
+def _nonfinite_joint(name, out, valid):
+    if valid is None:
+        return nonfinite(out)
+    if name == "Joint.center_at":
+        c, a, v = out
+        parts = {"centers": c, "axes": a}
+    else:
+        parts = {"center_global": out.center_global, "axis_global": out.axis_global}
+        rest = {k: getattr(out, k) for k in type(out).__slots__
+                if k not in parts and k not in ("_raw", "cluster", "valid")}
+        p = nonfinite(rest, "result")
+        if p:
+            return p
+    for k, arr in parts.items():
+        arr = np.asarray(arr)
+        if not np.all(np.isfinite(arr[valid])):
+            return k + " (a valid row)"
+        if np.any(np.isfinite(arr[~valid])):
+            return k + " (an invalid row is not NaN)"
+    return None
+
+
+def _same(a, b):
+    if isinstance(a, sfit.Moments):
+        return isinstance(b, sfit.Moments) and moments_state(a) == moments_state(b)
+    if isinstance(a, np.ndarray):
+        return isinstance(b, np.ndarray) and np.array_equal(a, b)
+    slots = getattr(type(a), "__slots__", None)
+    if slots:
+        return all(_same(getattr(a, k), getattr(b, k)) for k in slots if k != "_raw")
+    if isinstance(a, (tuple, list)):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    return a == b or (a != a and b != b)
+
+
+# ---------------------------------------------------------------------------
+# Child runner and the tests
+# ---------------------------------------------------------------------------
+
+def run_child(name):
+    cases = build_cases()[name]
+    for i, (label, thunk, expect) in enumerate(cases):
+        print("START\t%d\t%s" % (i, label), flush=True)
+        verdict = check(name, label, thunk, expect)
+        print("END\t%d\t%s" % (i, verdict.replace("\n", "\\n")), flush=True)
+    print("DONE\t%d" % len(cases), flush=True)
+
+
+def public_api():
+    """Every public callable of the package: functions and classes of
+    sfit.__all__ (not the exception types), and the public methods and
+    properties of those classes, as "name" / "Class.member"."""
+    names = set()
+    for n in sfit.__all__:
+        obj = getattr(sfit, n)
+        if isinstance(obj, type) and issubclass(obj, BaseException):
+            continue
+        if not callable(obj):
+            continue
+        names.add(n)
+        if isinstance(obj, type):
+            for m in dir(obj):
+                if m.startswith("_"):
+                    continue
+                attr = obj.__dict__.get(m, None)
+                for klass in obj.__mro__:
+                    if m in klass.__dict__:
+                        attr = klass.__dict__[m]
+                        break
+                kind = type(attr).__name__
+                if kind == "member_descriptor":  # a record's slot: data
+                    continue
+                names.add("%s.%s" % (n, m))
+    return names
+
+
+def stub_api():
+    """The same names from the type stub sfit/__init__.pyi."""
+    path = os.path.join(os.path.dirname(sfit.__file__), "__init__.pyi")
+    tree = ast.parse(open(path, encoding="utf-8").read())
+    names = set()
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef):
+            names.add(node.name)
+        elif isinstance(node, ast.ClassDef):
+            bases = [getattr(b, "id", "") for b in node.bases]
+            if "Exception" in bases or "Error" in bases:
+                continue
+            names.add(node.name)
+            for sub in node.body:
+                if isinstance(sub, ast.FunctionDef) and not sub.name.startswith("_"):
+                    names.add("%s.%s" % (node.name, sub.name))
+    if not HAVE_JOINT:
+        names -= {n for n in names if n.split(".")[0] in ("Pose", "Cluster", "JointResult",
+                                                             "Joint", "joint_center")}
+    return names
+
+
+def _names():
+    try:
+        return sorted(build_cases())
+    except Exception:  # reported by test_table_builds
+        return []
+
+
+if pytest is not None and __name__ != "__main__":
+
+    def test_table_builds():
+        build_cases()
+
+    def test_table_covers_the_api():
+        table = set(build_cases())
+        missing = sorted(public_api() - table)
+        assert not missing, "public callables without hostile cases: %s" % missing
+        stub_missing = sorted(stub_api() - table)
+        assert not stub_missing, "callables of the .pyi stub without hostile cases: %s" % stub_missing
+        not_public = sorted(table - public_api())
+        assert not not_public, "cases for callables that are not public: %s" % not_public
+        small = sorted(n for n, c in build_cases().items() if len(c) < 3)
+        assert not small, "fewer than 3 hostile cases: %s" % small
+
+    @pytest.mark.parametrize("name", _names())
+    def test_hostile(name):
+        env = dict(os.environ, PYTHONFAULTHANDLER="1")
+        p = subprocess.run([sys.executable, "-X", "faulthandler", os.path.abspath(__file__), name],
+                           capture_output=True, text=True, env=env, timeout=600)
+        started, failures, done = {}, [], False
+        for line in p.stdout.splitlines():
+            parts = line.split("\t", 2)
+            if parts[0] == "START":
+                started[parts[1]] = parts[2]
+            elif parts[0] == "END":
+                label = started.pop(parts[1])
+                if parts[2] != "PASS":
+                    failures.append("%s [%s]: %s" % (name, label, parts[2].replace("\\n", "\n")))
+            elif parts[0] == "DONE":
+                done = True
+        if not done or p.returncode != 0:
+            failures.append("%s: the child died (rc %d) during %s\n%s" % (
+                name, p.returncode, list(started.values()), p.stderr[-3000:]))
+        assert not failures, "\n".join(failures)
+
+
+if __name__ == "__main__":
+    import faulthandler
+    faulthandler.enable()
+    try:  # a regression that copies a huge view fails with MemoryError, not the OOM killer
+        if os.environ.get("SFIT_NO_RLIMIT"):  # e.g. under AddressSanitizer
+            raise ImportError
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (8 << 30, resource.getrlimit(resource.RLIMIT_AS)[1]))
+    except (ImportError, ValueError, OSError):
+        pass
+    if len(sys.argv) != 2:
+        print("\n".join("%-28s %d cases" % (n, len(c)) for n, c in sorted(build_cases().items())))
+        print("total: %d callables, %d cases" % (len(build_cases()),
+                                                 sum(len(c) for c in build_cases().values())))
+    else:
+        run_child(sys.argv[1])
