@@ -1322,6 +1322,22 @@ static void test_center_cov(void **state)
     assert_int_equal(sfit_multi_center_cov(g_j.child, 0, NULL, &res.fit, 0.25f, &cov),
                      SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
+    /* a corrupted child accumulator (counts valid, origin not finite): its
+     * statistics are not finite, SFIT_E_RANGE with either noise model
+     * (its mean and C were read unwritten before: valgrind) */
+    {
+        static sfit_joint_t jb;
+        int nm;
+        for (nm = 0; nm < 2; nm++) {
+            jb = g_j;
+            jb.cfg.noise_model = nm ? SFIT_JOINT_NOISE_MARKER : SFIT_JOINT_NOISE_SOLVE;
+            jb.child[1].origin[2] = INFINITY;
+            assert_int_equal(sfit_joint_center_cov(&jb, &res, &g_parf[0][0], &g_chif[0][0],
+                                                   g_nf, 0.25f, &cov),
+                             SFIT_E_RANGE);
+        }
+        assert_memory_equal(&cov, &sent, sizeof cov);
+    }
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
                                            &cov), SFIT_E_TOO_FEW);

@@ -553,7 +553,9 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_
         if (!cm[i].used) {
             continue;
         }
-        (void)prv_acc_stats(&j->child[i], &mean, &c, NULL);
+        if (prv_acc_stats(&j->child[i], &mean, &c, NULL) != SFIT_OK) {
+            return SFIT_E_RANGE; /* a corrupted accumulator: mean and C unwritten */
+        }
         w = sfit_i_multi_weight(&j->cfg.solve, n, used, sum_n1);
         if (marker) {
             if (!prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one)) {

@@ -236,7 +236,8 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
  *                            or an unknown mode
  * @retval SFIT_E_TOO_FEW     nf is 0, or no child marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
- * @retval SFIT_E_RANGE       the result would not be finite
+ * @retval SFIT_E_RANGE       the result would not be finite, or a child
+ *                            accumulator is corrupted (statistics not finite)
  * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs, 8098.5 M4F instructions per
  * frame (tools/flopcount "joint_center_cov_frame").
  */
