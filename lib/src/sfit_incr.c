@@ -324,7 +324,8 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     q = s->q + s->q_lo;                                            /* [1]    : 10 */
 
     /* Geometry: coincident when the largest per-axis spread is rounding
-     * noise of the coordinates (as sfit_moments_fit, SFIT_COINCIDENT_ULPS);
+     * noise of the coordinates (as sfit_moments_fit, SFIT_COINCIDENT_ULPS)
+     * or below SFIT_MIN_SPREAD;
      * coincident, collinear or planar also when an LDL^T pivot is
      * <= SFIT_CHOL_PIVOT_EPS * the largest diagonal entry (below). */
     dmax = m[0];
@@ -334,6 +335,11 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     if (SFIT_FABSF(s->p[1]) > amax) { amax = SFIT_FABSF(s->p[1]); }
     if (SFIT_FABSF(s->p[2]) > amax) { amax = SFIT_FABSF(s->p[2]); }
     sc = (SFIT_COINCIDENT_ULPS * FLT_EPSILON) * amax;               /* [1]    : 11 */
+    if (sc < SFIT_MIN_SPREAD) {
+        /* a spread too small for float (as sfit_moments_fit): the third
+         * moments' cubes lose their digits and the centre is silently off */
+        sc = SFIT_MIN_SPREAD;
+    }
     if (!(dmax > nm1 * (sc * sc)) || !sfit_i_isfinite(dmax)) {      /* [2]    : 13 */
         return SFIT_E_DEGENERATE;
     }
