@@ -46,7 +46,8 @@
  * rounding flag; or one of those options). Below SFIT_COV_MIN_SAMPLES
  * samples such a build still fits (the flags are then decided by the count
  * alone: UNTRUSTED | COV_LIMIT). Modules built on sfit_moments_fit() (gate,
- * self-calibration, the incremental start) inherit the status;
+ * self-calibration, the incremental start) inherit the status (the
+ * incremental start checks a full noise covariance with its own solve);
  * self-calibration takes its noise cap from the screen's lower bound of
  * lambda_min(C) and returns ::SFIT_E_UNSUPPORTED where the noise estimate
  * reaches it (elsewhere its result is the default build's, exact = 0). The

@@ -98,7 +98,9 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat is not positive definite (UGDK)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
  * @retval SFIT_E_UNSUPPORTED the batch check as sfit_moments_fit() (SFIT_FULL_SOLVER 0
- *                            only)
+ *                            only; a full covariance, SFIT_NOISE_COV, which that
+ *                            build's sfit_moments_fit() does not serve, is checked by
+ *                            this estimator's own solve instead)
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
                               sfit_sphere_t *out);
