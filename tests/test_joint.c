@@ -1181,6 +1181,18 @@ static void test_noise_cov(void **state)
     assert_int_equal(sfit_joint_marker_noise(&g_j, INFINITY, nl), SFIT_E_NONFINITE);
     assert_int_equal(sfit_joint_marker_noise(&g_j, 1e38f, nl), SFIT_E_RANGE);
     assert_memory_equal(nl, nsent, sizeof nl);
+    /* a corrupted child accumulator (valid count, non-finite totals): it
+     * was taken for a marker without samples (SFIT_OK from the others);
+     * now SFIT_E_RANGE, outputs untouched */
+    {
+        static sfit_joint_t jb;
+        jb = g_j;
+        jb.child[2].tot.m2[1] = NAN;
+        assert_int_equal(sfit_joint_noise_cov(&jb, 0.25f, &cov), SFIT_E_RANGE);
+        assert_memory_equal(&cov, &sent, sizeof cov);
+        assert_int_equal(sfit_joint_marker_noise(&jb, 0.25f, nl), SFIT_E_RANGE);
+        assert_memory_equal(nl, nsent, sizeof nl);
+    }
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);

@@ -175,7 +175,8 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
  * @retval SFIT_E_ARG        NULL j/cov, garbage counters, or marker_var negative
  * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
  * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
- * @retval SFIT_E_RANGE    the result would not be finite
+ * @retval SFIT_E_RANGE    the result would not be finite, or a child accumulator
+ *                         is corrupted (statistics not finite)
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
 sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit_mat3_t *cov);
@@ -197,7 +198,8 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
  * @retval SFIT_E_ARG        NULL j/noise, garbage counters, or marker_var negative
  * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
  * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
- * @retval SFIT_E_RANGE      a model would not be finite
+ * @retval SFIT_E_RANGE      a model would not be finite, or a child accumulator is
+ *                           corrupted (statistics not finite)
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
 sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
