@@ -1023,6 +1023,16 @@ static void test_contract(void **state)
             assert_int_equal(sfit_joint_reset(&j2), SFIT_E_ARG);
             assert_int_equal(sfit_joint_center_at(&j2, &res, g_parf[0], P, &c, NULL), SFIT_E_ARG);
         }
+        /* corrupted options (sfit_joint_init() checks them): SFIT_E_ARG from
+         * the fit with either noise model (the per-marker model returned an
+         * unlisted SFIT_E_NONFINITE for a NaN variance) */
+        for (which = 0; which < 2; which++) {
+            j2 = g_j;
+            j2.cfg.solve.fit.noise = SFIT_NOISE_ISO;
+            j2.cfg.solve.fit.noise_var = NAN;
+            j2.cfg.noise_model = which ? SFIT_JOINT_NOISE_MARKER : SFIT_JOINT_NOISE_SOLVE;
+            assert_int_equal(sfit_joint_fit(&j2, &res, NULL), SFIT_E_ARG);
+        }
     }
     /* reset keeps template and options, forgets frames */
     assert_int_equal(sfit_joint_reset(NULL), SFIT_E_ARG);

@@ -439,7 +439,8 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
     memset(&r, 0, sizeof r);
     cfg = j->cfg.solve;
     if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
-        if (cfg.fit.noise != SFIT_NOISE_ISO) {
+        /* the options were checked by sfit_joint_init(): a corrupted state */
+        if (cfg.fit.noise != SFIT_NOISE_ISO || sfit_i_check_multi_cfg(&cfg) != SFIT_OK) {
             return SFIT_E_ARG;
         }
         prv_pose_noise_t pn;

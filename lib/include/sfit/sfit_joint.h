@@ -143,7 +143,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                    the centre (distance to the axis for a hinge; 0 for a marker
  *                    skipped for too few samples); written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL j/out, or garbage counters in the state
+ * @retval SFIT_E_ARG         NULL j/out, or garbage counters or options in the state
  * @retval SFIT_E_TOO_FEW     no child marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_DEGENERATE  as the multi-marker solve (coincident/collinear, or
  *                            singular sphere system)

@@ -117,7 +117,8 @@ typedef struct sfit_multi_noise {
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL markers/noise/out, an invalid option, cfg->fit.noise
  *                            not SFIT_NOISE_NONE, a non-finite entry of a noise model or
- *                            a covariance with a negative diagonal or 2x2 minor
+ *                            a covariance that is not positive semi-definite (a negative
+ *                            principal minor, as sfit_fit_cfg_t::noise_cov)
  * @retval SFIT_E_TOO_FEW     as sfit_multi_fit()
  * @retval SFIT_E_DEGENERATE  as sfit_multi_fit()
  * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
