@@ -1004,6 +1004,18 @@ static void test_contract(void **state)
     assert_int_equal(sfit_joint_center_at(&g_j, &res, NULL, P, &c, &a), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, NULL, &a), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P + 1, &c, &a), SFIT_E_ARG);
+    /* a non-finite centre or axis in res: SFIT_E_NONFINITE (it was
+     * SFIT_E_RANGE, as if the mapping had overflowed) */
+    {
+        sfit_joint_result_t rb = res;
+        rb.fit.center.v[0] = NAN;
+        assert_int_equal(sfit_joint_center_at(&g_j, &rb, g_parf[0], P, &c, &a),
+                         SFIT_E_NONFINITE);
+        rb = res;
+        rb.fit.axis.v[2] = INFINITY;
+        assert_int_equal(sfit_joint_center_at(&g_j, &rb, g_parf[0], P, &c, NULL),
+                         SFIT_E_NONFINITE);
+    }
 
     /* garbage counters in the state -> SFIT_E_ARG everywhere, no crash */
     {

@@ -512,6 +512,9 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
     if (j == NULL || res == NULL || parent == NULL || center == NULL || !prv_state_ok(j)) {
         return SFIT_E_ARG;
     }
+    if (!sfit_i_finite3(res->fit.center.v) || !sfit_i_finite3(res->fit.axis.v)) {
+        return SFIT_E_NONFINITE; /* as sfit_joint_center_cov() */
+    }
     st = sfit_cluster_register(&j->parent, parent, n_parent, &ps, NULL);
     if (st != SFIT_OK) {
         return st;

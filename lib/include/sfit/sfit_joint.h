@@ -260,7 +260,8 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
  *                       written only on SFIT_OK.
  * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_TOO_FEW, SFIT_E_DEGENERATE, SFIT_E_NONFINITE,
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
- *         (SFIT_E_ARG also for a NULL res/center or garbage counters)
+ *         (SFIT_E_ARG also for a NULL res/center or garbage counters;
+ *         SFIT_E_NONFINITE also for a non-finite centre or axis in res)
  * @par Cost 4 parent markers: 1043 FLOPs, 5472 M4F instructions (tools/flopcount
  * "joint_center_at").
  */
