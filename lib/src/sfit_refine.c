@@ -85,7 +85,8 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
                                     const sfit_refine_cfg_t *cfg, float *tol, uint32_t *maxit)
 {
     if (!sfit_i_isfinite(cfg->tol)
-        || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
+        || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))
+        || cfg->accept_unconverged > 1u) {
         return SFIT_E_ARG;
     }
     *tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
