@@ -260,13 +260,16 @@
 
 /**
  * @brief Iteration bound of the self-calibration (each iteration = one pass
- * over the samples + one solve). Range 1..100.
+ * over the samples + one solve). The convergence test compares two
+ * successive noise estimates, the first one against nothing (0): with 1
+ * or 2 passes every noisy fit ended in SFIT_E_NO_CONVERGENCE; caps of 30 to
+ * 120 degrees converge in 3. Range 3..100.
  */
 #ifndef SFIT_SELFCAL_MAX_ITERS
 #define SFIT_SELFCAL_MAX_ITERS 12
 #endif
-#if (SFIT_SELFCAL_MAX_ITERS < 1) || (SFIT_SELFCAL_MAX_ITERS > 100)
-#error "SFIT_SELFCAL_MAX_ITERS must be in 1..100"
+#if (SFIT_SELFCAL_MAX_ITERS < 3) || (SFIT_SELFCAL_MAX_ITERS > 100)
+#error "SFIT_SELFCAL_MAX_ITERS must be in 3..100"
 #endif
 
 /**
