@@ -50,7 +50,10 @@
  * incremental start checks a full noise covariance with its own solve);
  * self-calibration takes its noise cap from the screen's lower bound of
  * lambda_min(C) and returns ::SFIT_E_UNSUPPORTED where the noise estimate
- * reaches it (elsewhere its result is the default build's, exact = 0). The
+ * reaches it, and, as any fit, where the screen cannot prove one of its fits
+ * (e.g. a trust ratio above SFIT_COV_MAX_TRUST, which the default build
+ * fits and flags UNTRUSTED | COV_LIMIT: a 30-degree cap, r = 100, sigma = 3,
+ * N = 1000); elsewhere its result is the default build's (exact = 0). The
  * others (multi, joint) keep the full solver. Range 0..1.
  */
 #ifndef SFIT_FULL_SOLVER
