@@ -153,7 +153,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
  * @par Cost 5 child markers: 933 FLOPs, 6531 M4F instructions (tools/flopcount "joint_fit");
- * with SFIT_JOINT_NOISE_MARKER 3279 FLOPs, 27384 instructions ("joint_fit_marker").
+ * with SFIT_JOINT_NOISE_MARKER 3279 FLOPs, 27431 instructions ("joint_fit_marker").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
@@ -240,7 +240,7 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
  * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite, or a child
  *                            accumulator is corrupted (statistics not finite)
- * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs, 8123.4 M4F instructions per
+ * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs, 8123.5 M4F instructions per
  * frame (tools/flopcount "joint_center_cov_frame").
  */
 sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
@@ -262,7 +262,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
  *         (SFIT_E_ARG also for a NULL res/center or garbage counters;
  *         SFIT_E_NONFINITE also for a non-finite centre or axis in res)
- * @par Cost 4 parent markers: 1043 FLOPs, 5472 M4F instructions (tools/flopcount
+ * @par Cost 4 parent markers: 1043 FLOPs, 5495 M4F instructions (tools/flopcount
  * "joint_center_at").
  */
 sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,
