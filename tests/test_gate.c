@@ -173,6 +173,57 @@ static void test_warmup_degenerate(void **state)
     assert_int_equal(gs.gated, 1);
 }
 
+/* An early refresh of the warm-up (before the buffer is full) runs the
+ * robust start on what is buffered: each of its fits must have
+ * SFIT_MIN_SAMPLES samples. With 24 buffered samples the 8 interleaved
+ * subsets had 3 samples each, every start failed with SFIT_E_TOO_FEW and
+ * the gate went ungated, keeping the outliers (as every full warm-up did
+ * in a build with SFIT_MIN_SAMPLES 9..14). Samples that cannot give a fit
+ * (collinear) are reported as such, not as too few. */
+static void test_warmup_refresh_early(void **state)
+{
+    sfit_gate_t gt;
+    sfit_gate_stats_t gs;
+    sfit_result_t r;
+    tu_rng_t g;
+    int n, i;
+    (void)state;
+    for (n = 24; n <= 32; n += 4) {
+        tu_rng_seed(&g, 67u + (uint64_t)n);
+        assert_int_equal(sfit_gate_init(&gt, NULL), SFIT_OK);
+        for (i = 0; i < n; i++) {
+            double p[3];
+            sfit_vec3_t v;
+            tu_sample_cap(&g, k_c, K_R, k_axis, 1.0, 0.5, p);
+            if (i == 5 || i == 18) {
+                p[0] += 3.0 * K_R; /* two gross outliers */
+            }
+            tc_to_vec3(p, &v);
+            assert_int_equal(sfit_gate_add(&gt, &v, NULL), SFIT_OK);
+        }
+        assert_int_equal(sfit_gate_refresh(&gt), SFIT_OK);
+        assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
+        printf("  early refresh with %d samples: %u outliers\n", n, (unsigned)gs.outliers);
+        assert_int_equal(gs.gated, 1);
+        /* both gross outliers out (a clean sample may fall outside the cut
+         * of a MAD scale from ~20 residuals), the centre clean: one of
+         * them kept would move it by tens of mm, sigma = 0.5 mm by < 1 */
+        assert_true(gs.outliers >= 2u && gs.outliers <= 4u);
+        assert_int_equal(gs.accepted + gs.outliers, (uint32_t)n);
+        assert_int_equal(sfit_gate_fit(&gt, &r), SFIT_OK);
+        assert_true(tc_dist(&r.center, k_c) < 2.0);
+    }
+    assert_int_equal(sfit_gate_init(&gt, NULL), SFIT_OK);
+    for (i = 0; i < 24; i++) {
+        const sfit_vec3_t v = {{(float)i, 2.0f * (float)i, 5.0f}};
+        assert_int_equal(sfit_gate_add(&gt, &v, NULL), SFIT_OK);
+    }
+    assert_int_equal(sfit_gate_refresh(&gt), SFIT_E_DEGENERATE);
+    assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
+    assert_int_equal(gs.gated, 0);
+    assert_int_equal(gs.accepted, 24);
+}
+
 static void test_contract(void **state)
 {
     sfit_gate_t gt, copy;
@@ -220,6 +271,7 @@ int main(void)
         cmocka_unit_test(test_label_swaps),
         cmocka_unit_test(test_counts_and_floor),
         cmocka_unit_test(test_warmup_degenerate),
+        cmocka_unit_test(test_warmup_refresh_early),
         cmocka_unit_test(test_contract),
     };
     return cmocka_run_group_tests_name("gate", tests, NULL, NULL);

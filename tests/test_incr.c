@@ -622,6 +622,50 @@ static void test_degenerate(void **state)
     }
 }
 
+/* A spread too small for float (SFIT_MIN_SPREAD): the third moments' cubes
+ * lose their digits. sfit_moments_fit() refuses such samples; the
+ * incremental fit returned a centre 2.8e-3 r off (radius 1e-14 at the
+ * origin, exact samples) with SFIT_OK. A small sphere above the limit
+ * still fits (radius 1e-6: within 1e-4 r). */
+static void test_tiny_spread(void **state)
+{
+    static const double c0[3] = {0.0, 0.0, 0.0}, ax[3] = {0.0, 0.6, 0.8};
+    sfit_vec3_t v[60];
+    sfit_incr_t s;
+    sfit_sphere_t e, sentinel;
+    sfit_moments_t m;
+    sfit_result_t r;
+    tu_rng_t g;
+    int i, k;
+    (void)state;
+    memset(&sentinel, 0xA5, sizeof sentinel);
+    for (k = 0; k < 2; k++) {
+        const double rad = (k == 0) ? 1e-14 : 1e-6;
+        tu_rng_seed(&g, 71u);
+        for (i = 0; i < 60; i++) {
+            double x[3];
+            tu_sample_cap(&g, c0, rad, ax, 1.2, 0.0, x);
+            v[i] = vec_of(x);
+        }
+        (void)sfit_moments_init(&m);
+        assert_int_equal(sfit_moments_add_block(&m, v, 60, NULL), SFIT_OK);
+        assert_int_equal(sfit_incr_init(&s, NULL), SFIT_OK);
+        for (i = 0; i < 60; i++) {
+            assert_int_equal(sfit_incr_add(&s, &v[i]), SFIT_OK);
+        }
+        e = sentinel;
+        if (k == 0) {
+            assert_int_equal(sfit_moments_fit(&m, NULL, &r), SFIT_E_DEGENERATE);
+            assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_DEGENERATE);
+            assert_memory_equal(&e, &sentinel, sizeof e);
+        } else {
+            assert_int_equal(sfit_moments_fit(&m, NULL, &r), SFIT_OK);
+            assert_int_equal(sfit_incr_fit(&s, &e), SFIT_OK);
+            assert_true(tc_dist(&e.center, c0) < 1e-4 * rad);
+        }
+    }
+}
+
 static void test_ugdk_not_posdef(void **state)
 {
     sfit_incr_t s, before;
@@ -706,6 +750,7 @@ int main(void)
         cmocka_unit_test(test_too_few),
         cmocka_unit_test(test_reject_sample),
         cmocka_unit_test(test_degenerate),
+        cmocka_unit_test(test_tiny_spread),
         cmocka_unit_test(test_ugdk_not_posdef),
         cmocka_unit_test(test_start_update_reset),
     };

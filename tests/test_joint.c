@@ -1004,6 +1004,18 @@ static void test_contract(void **state)
     assert_int_equal(sfit_joint_center_at(&g_j, &res, NULL, P, &c, &a), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P, NULL, &a), SFIT_E_ARG);
     assert_int_equal(sfit_joint_center_at(&g_j, &res, g_parf[0], P + 1, &c, &a), SFIT_E_ARG);
+    /* a non-finite centre or axis in res: SFIT_E_NONFINITE (it was
+     * SFIT_E_RANGE, as if the mapping had overflowed) */
+    {
+        sfit_joint_result_t rb = res;
+        rb.fit.center.v[0] = NAN;
+        assert_int_equal(sfit_joint_center_at(&g_j, &rb, g_parf[0], P, &c, &a),
+                         SFIT_E_NONFINITE);
+        rb = res;
+        rb.fit.axis.v[2] = INFINITY;
+        assert_int_equal(sfit_joint_center_at(&g_j, &rb, g_parf[0], P, &c, NULL),
+                         SFIT_E_NONFINITE);
+    }
 
     /* garbage counters in the state -> SFIT_E_ARG everywhere, no crash */
     {
@@ -1022,6 +1034,16 @@ static void test_contract(void **state)
             assert_int_equal(sfit_joint_fit(&j2, &res, NULL), SFIT_E_ARG);
             assert_int_equal(sfit_joint_reset(&j2), SFIT_E_ARG);
             assert_int_equal(sfit_joint_center_at(&j2, &res, g_parf[0], P, &c, NULL), SFIT_E_ARG);
+        }
+        /* corrupted options (sfit_joint_init() checks them): SFIT_E_ARG from
+         * the fit with either noise model (the per-marker model returned an
+         * unlisted SFIT_E_NONFINITE for a NaN variance) */
+        for (which = 0; which < 2; which++) {
+            j2 = g_j;
+            j2.cfg.solve.fit.noise = SFIT_NOISE_ISO;
+            j2.cfg.solve.fit.noise_var = NAN;
+            j2.cfg.noise_model = which ? SFIT_JOINT_NOISE_MARKER : SFIT_JOINT_NOISE_SOLVE;
+            assert_int_equal(sfit_joint_fit(&j2, &res, NULL), SFIT_E_ARG);
         }
     }
     /* reset keeps template and options, forgets frames */
@@ -1181,6 +1203,18 @@ static void test_noise_cov(void **state)
     assert_int_equal(sfit_joint_marker_noise(&g_j, INFINITY, nl), SFIT_E_NONFINITE);
     assert_int_equal(sfit_joint_marker_noise(&g_j, 1e38f, nl), SFIT_E_RANGE);
     assert_memory_equal(nl, nsent, sizeof nl);
+    /* a corrupted child accumulator (valid count, non-finite totals): it
+     * was taken for a marker without samples (SFIT_OK from the others);
+     * now SFIT_E_RANGE, outputs untouched */
+    {
+        static sfit_joint_t jb;
+        jb = g_j;
+        jb.child[2].tot.m2[1] = NAN;
+        assert_int_equal(sfit_joint_noise_cov(&jb, 0.25f, &cov), SFIT_E_RANGE);
+        assert_memory_equal(&cov, &sent, sizeof cov);
+        assert_int_equal(sfit_joint_marker_noise(&jb, 0.25f, nl), SFIT_E_RANGE);
+        assert_memory_equal(nl, nsent, sizeof nl);
+    }
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_noise_cov(&g_j, 0.25f, &cov), SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
@@ -1322,6 +1356,22 @@ static void test_center_cov(void **state)
     assert_int_equal(sfit_multi_center_cov(g_j.child, 0, NULL, &res.fit, 0.25f, &cov),
                      SFIT_E_TOO_FEW);
     assert_memory_equal(&cov, &sent, sizeof cov);
+    /* a corrupted child accumulator (counts valid, origin not finite): its
+     * statistics are not finite, SFIT_E_RANGE with either noise model
+     * (its mean and C were read unwritten before: valgrind) */
+    {
+        static sfit_joint_t jb;
+        int nm;
+        for (nm = 0; nm < 2; nm++) {
+            jb = g_j;
+            jb.cfg.noise_model = nm ? SFIT_JOINT_NOISE_MARKER : SFIT_JOINT_NOISE_SOLVE;
+            jb.child[1].origin[2] = INFINITY;
+            assert_int_equal(sfit_joint_center_cov(&jb, &res, &g_parf[0][0], &g_chif[0][0],
+                                                   g_nf, 0.25f, &cov),
+                             SFIT_E_RANGE);
+        }
+        assert_memory_equal(&cov, &sent, sizeof cov);
+    }
     assert_int_equal(sfit_joint_reset(&g_j), SFIT_OK);
     assert_int_equal(sfit_joint_center_cov(&g_j, &res, &g_parf[0][0], &g_chif[0][0], g_nf, 0.25f,
                                            &cov), SFIT_E_TOO_FEW);

@@ -170,6 +170,33 @@ static void test_chol_errors_leave_output(void **state)
         assert_int_equal(sfit_mat3_chol_solve(&l, NULL, &v), SFIT_E_ARG);
         assert_int_equal(sfit_mat3_chol_solve(&l, &v, NULL), SFIT_E_ARG);
     }
+    /* A factor not from sfit_mat3_chol() (a zero or NaN pivot) or a
+     * non-finite right-hand side: SFIT_E_RANGE, x untouched (it was
+     * SFIT_OK with Inf / NaN in x). */
+    {
+        const sfit_mat3_t good = {{2, 0, 0, 1, 3, 0, -1, 2, 4}};
+        sfit_mat3_t l;
+        sfit_vec3_t v = {{1, 2, 3}}, x, xs;
+        int k;
+        memset(&xs, 0x5A, sizeof xs);
+        for (k = 0; k < 4; k++) {
+            l = good;
+            v.v[0] = 1.0f;
+            if (k == 0) {
+                l.m[4] = 0.0f;
+            } else if (k == 1) {
+                l.m[8] = NAN;
+            } else if (k == 2) {
+                v.v[0] = INFINITY;
+            } else {
+                l.m[0] = 1e-30f; /* overflow */
+                v.v[0] = 1e30f;
+            }
+            x = xs;
+            assert_int_equal(sfit_mat3_chol_solve(&l, &v, &x), SFIT_E_RANGE);
+            assert_memory_equal(&x, &xs, sizeof x);
+        }
+    }
 }
 
 static void check_eig(const sfit_mat3_t *a, double ad[3][3], double rel)

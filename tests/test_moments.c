@@ -231,6 +231,29 @@ static void test_counter_limit(void **state)
     (void)sfit_moments_add(&other, &g_fpts[3]);
     assert_int_equal(sfit_moments_merge(&m, &other), SFIT_E_RANGE);
     assert_memory_equal(&m, &before, sizeof m);
+    /* a corrupted src (valid count, a non-finite total or origin) is
+     * refused, dst unchanged: merged, it made every later fit of dst fail */
+    {
+        sfit_moments_t dst, src;
+        int k;
+        make_cap(8, 120, 1.0, 0.5);
+        for (k = 0; k < 3; k++) {
+            (void)sfit_moments_init(&dst);
+            (void)sfit_moments_add_block(&dst, g_fpts, 20, NULL);
+            (void)sfit_moments_init(&src);
+            (void)sfit_moments_add_block(&src, &g_fpts[20], 100, NULL);
+            if (k == 0) {
+                src.origin[1] = NAN;
+            } else if (k == 1) {
+                src.tot.m3[2] = INFINITY;
+            } else {
+                src.blk.m2[4] = NAN;
+            }
+            before = dst;
+            assert_int_equal(sfit_moments_merge(&dst, &src), SFIT_E_RANGE);
+            assert_memory_equal(&dst, &before, sizeof dst);
+        }
+    }
 }
 
 static void test_contract(void **state)

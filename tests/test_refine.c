@@ -284,6 +284,11 @@ static void test_bounds_and_contract(void **state)
     r = sentinel;
     cfg.tol = 0.5f;
     assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    /* accept_unconverged is 0 or 1 (as sfit_fit_cfg_t::eigen): 2 was taken for 1 */
+    cfg.tol = 0.0f;
+    cfg.accept_unconverged = 2u;
+    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    cfg.accept_unconverged = 0u;
     assert_int_equal(sfit_points_refine(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_points_refine(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_points_refine(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);

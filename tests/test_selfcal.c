@@ -326,6 +326,13 @@ static void test_contract(void **state)
     assert_int_equal(sfit_points_noise_var(g_pf, 4, &c, 1.0f, &v), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_points_noise_var(g_pf, 50, &c, 0.0f, &v), SFIT_E_ARG);
     assert_int_equal(sfit_points_noise_var(g_pf, 50, NULL, 1.0f, &v), SFIT_E_ARG);
+    /* a non-finite centre or radius: SFIT_E_NONFINITE, as the header lists */
+    {
+        sfit_vec3_t cn = c;
+        cn.v[2] = NAN;
+        assert_int_equal(sfit_points_noise_var(g_pf, 50, &cn, 1.0f, &v), SFIT_E_NONFINITE);
+        assert_int_equal(sfit_points_noise_var(g_pf, 50, &c, INFINITY, &v), SFIT_E_NONFINITE);
+    }
     assert_true(v == -7.0f);
 }
 

@@ -306,6 +306,21 @@ static void test_contract(void **state)
     /* sigma^2 above lambda_min(C): C - sigma^2 I not PD */
     assert_int_equal(sfit_moments_uncert(&m, &c, 100.0f, 1e6f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_NOT_POSDEF);
+    /* a corrupted accumulator (enough samples, a non-finite origin): its
+     * statistics are not finite, SFIT_E_RANGE as sfit_moments_stats() says
+     * (the mean and C were read unwritten before: valgrind) */
+    {
+        sfit_moments_t bad = m;
+        bad.origin[0] = INFINITY;
+        assert_int_equal(sfit_moments_uncert(&bad, &c, 100.0f, 0.25f, SFIT_UNCERT_NOISE_KNOWN,
+                                             &u),
+                         SFIT_E_RANGE);
+        bad = m;
+        bad.tot.m2[0] = NAN;
+        assert_int_equal(sfit_moments_uncert(&bad, &c, 100.0f, 0.25f,
+                                             SFIT_UNCERT_NOISE_ESTIMATED, &u),
+                         SFIT_E_RANGE);
+    }
     assert_int_equal(sfit_points_uncert(g_pf, 3, &c, 1.0f, 1.0f, &u), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_points_uncert(g_pf, 100, &c, 0.0f, 1.0f, &u), SFIT_E_ARG);
     g_pf[9] = c;

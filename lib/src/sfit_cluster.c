@@ -236,7 +236,9 @@ static void prv_refine(const float h[9], sfit_mat3_t *r)
     if (prv_chol(&hess, &l) != SFIT_OK) {
         return;
     }
-    (void)prv_chol_solve(&l, &g, &w);
+    if (prv_chol_solve(&l, &g, &w) != SFIT_OK) {
+        return; /* not finite: no step */
+    }
     w2 = sfit_i_dot3(w.v, w.v);
     if (!(w2 < 1e-2f)) {
         return;

@@ -271,22 +271,24 @@ static uint32_t prv_keep_within(sfit_gate_t *g, float off, float cut)
 
 /* One least-trimmed-squares start: the interleaved subset s of `starts`,
  * then SFIT_GATE_CSTEPS concentration steps keeping the h smallest
- * residuals. Leaves the final subset in g->wkeep; returns 1 with its
- * trimmed score when every fit succeeded. */
-static int prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h,
-                         float *score)
+ * residuals. Leaves the final subset in g->wkeep; returns SFIT_OK with its
+ * trimmed score when every fit succeeded, else the failed fit's status. */
+static sfit_status_t prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h,
+                                   float *score)
 {
     sfit_moments_t m;
     sfit_result_t fit;
     uint32_t i;
     int step;
+    sfit_status_t st;
 
     for (i = 0u; i < g->nwarm; i++) {
         g->wkeep[i] = (starts == 1u || i % starts == s) ? 1u : 0u;
     }
     for (step = 0; step <= SFIT_GATE_CSTEPS; step++) {
-        if (prv_fit_keep(g, g->wkeep, &m, &fit, g->wres) != SFIT_OK) {
-            return 0;
+        st = prv_fit_keep(g, g->wkeep, &m, &fit, g->wres);
+        if (st != SFIT_OK) {
+            return st;
         }
         (void)prv_abs_dev(g, 0.0f);
         *score = 0.0f;
@@ -298,7 +300,7 @@ static int prv_lts_start(sfit_gate_t *g, uint32_t s, uint32_t starts, uint32_t h
         }
         (void)prv_keep_within(g, 0.0f, g->wtmp[h - 1u]);
     }
-    return 1;
+    return SFIT_OK;
 }
 
 /* k-sigma cut around the best trimmed fit (subset g->wbest), with the MAD
@@ -343,12 +345,19 @@ static sfit_status_t prv_warm_fail(sfit_gate_t *g, sfit_status_t st)
 /* Robust start on the warm-up buffer (see the header): least trimmed
  * squares from SFIT_GATE_STARTS interleaved subsets with
  * SFIT_GATE_CSTEPS concentration steps each, then a k-sigma cut with the
- * MAD scale of the best fit. */
+ * MAD scale of the best fit. Every fit has at least SFIT_MIN_SAMPLES
+ * samples: fewer subsets when they would be smaller (an early refresh, or
+ * SFIT_MIN_SAMPLES above 8), and the trimmed set h never below it. When no
+ * start can be fitted, the status of the last failed fit (e.g. degenerate
+ * samples) is returned. */
 static sfit_status_t prv_warm_start(sfit_gate_t *g)
 {
     const uint32_t nw = g->nwarm;
-    const uint32_t h = (3u * nw) / 4u;
-    const uint32_t starts = (nw >= 4u * (SFIT_MIN_SAMPLES + 2u)) ? SFIT_GATE_STARTS : 1u;
+    const uint32_t h = ((3u * nw) / 4u < SFIT_MIN_SAMPLES) ? SFIT_MIN_SAMPLES : (3u * nw) / 4u;
+    const uint32_t most = nw / SFIT_MIN_SAMPLES; /* subsets of >= SFIT_MIN_SAMPLES samples */
+    const uint32_t starts = (nw < 4u * (SFIT_MIN_SAMPLES + 2u)) ? 1u
+                            : (most < SFIT_GATE_STARTS)          ? most
+                                                                 : SFIT_GATE_STARTS;
     const uint8_t *const keep = g->wkeep;
     const float *const res = g->wres;
     sfit_moments_t m;
@@ -356,17 +365,22 @@ static sfit_status_t prv_warm_start(sfit_gate_t *g)
     uint32_t i, s, nk = 0u, dropped = 0u;
     float best_score = -1.0f;
     int found = 0;
-    sfit_status_t st;
+    sfit_status_t st = SFIT_E_TOO_FEW, fail = SFIT_E_TOO_FEW;
 
     for (s = 0u; s < starts; s++) {
         float score = 0.0f;
-        if (prv_lts_start(g, s, starts, h, &score) && (!found || score < best_score)) {
+        st = prv_lts_start(g, s, starts, h, &score);
+        if (st != SFIT_OK) {
+            fail = st;
+        } else if (!found || score < best_score) {
             found = 1;
             best_score = score;
             memcpy(g->wbest, g->wkeep, nw);
+        } else {
+            /* a worse start */
         }
     }
-    st = found ? prv_ksigma_cut(g, &m, &fit, &nk) : SFIT_E_TOO_FEW;
+    st = found ? prv_ksigma_cut(g, &m, &fit, &nk) : fail;
     if (st != SFIT_OK) {
         return prv_warm_fail(g, st);
     }

@@ -302,7 +302,8 @@ static void prv_cross_sandwich(const sfit_mat3_t *q, const sfit_mat3_t *a, sfit_
  *   skew = E[(2 Sigma + tr Sigma I) b] = -2 v + 2 Ct G a + (2/3) tr(K) St,
  * v = E[b x (M b)], v_r = eps_rjk (M Ct)_kj, M = K [a]x, G = tr(K) I - K;
  * E[(b^T K b) b] is replaced by its isotropic part tr(K)/3 St.
- * 0 when the marker has fewer than 2 samples.
+ * 0 when the marker has fewer than 2 samples, -1 when its accumulator is
+ * corrupted (statistics not finite).
  */
 static int prv_marker_noise(const sfit_moments_t *acc, const prv_pose_noise_t *pn, float np,
                             sfit_multi_noise_t *out)
@@ -311,8 +312,9 @@ static int prv_marker_noise(const sfit_moments_t *acc, const prv_pose_noise_t *p
     sfit_mat3_t c, q, mk, x;
     float a[3], ga[3], f, trk;
     int r, k;
-    if (prv_acc_stats(acc, &m, &c, &s) != SFIT_OK) {
-        return 0;
+    const sfit_status_t st = prv_acc_stats(acc, &m, &c, &s);
+    if (st != SFIT_OK) {
+        return (st == SFIT_E_TOO_FEW) ? 0 : -1;
     }
     f = (float)(prv_acc_count(acc) - 1u) / (float)prv_acc_count(acc);
     for (r = 0; r < 3; r++) {
@@ -392,8 +394,13 @@ static sfit_status_t prv_marker_models(const sfit_joint_t *j, float marker_var,
 {
     uint32_t i, used = 0u;
     for (i = 0; i < j->cfg.n_child; i++) {
+        int k;
         memset(&noise[i], 0, sizeof noise[i]);
-        if (prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &noise[i])) {
+        k = prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &noise[i]);
+        if (k < 0) {
+            return SFIT_E_RANGE;
+        }
+        if (k > 0) {
             used++;
             if (!prv_scale_noise(marker_var, &noise[i])) {
                 return SFIT_E_RANGE;
@@ -432,7 +439,8 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
     memset(&r, 0, sizeof r);
     cfg = j->cfg.solve;
     if (j->cfg.noise_model == SFIT_JOINT_NOISE_MARKER) {
-        if (cfg.fit.noise != SFIT_NOISE_ISO) {
+        /* the options were checked by sfit_joint_init(): a corrupted state */
+        if (cfg.fit.noise != SFIT_NOISE_ISO || sfit_i_check_multi_cfg(&cfg) != SFIT_OK) {
             return SFIT_E_ARG;
         }
         prv_pose_noise_t pn;
@@ -470,7 +478,11 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
     }
     memset(&acc, 0, sizeof acc);
     for (i = 0; i < j->cfg.n_child; i++) {
-        if (prv_marker_noise(&j->child[i], &pn, (float)j->parent.count, &one)) {
+        const int k = prv_marker_noise(&j->child[i], &pn, (float)j->parent.count, &one);
+        if (k < 0) {
+            return SFIT_E_RANGE;
+        }
+        if (k > 0) {
             used++;
             for (a = 0; a < 9; a++) {
                 acc.m[a] += one.cov.m[a];
@@ -499,6 +511,9 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
 
     if (j == NULL || res == NULL || parent == NULL || center == NULL || !prv_state_ok(j)) {
         return SFIT_E_ARG;
+    }
+    if (!sfit_i_finite3(res->fit.center.v) || !sfit_i_finite3(res->fit.axis.v)) {
+        return SFIT_E_NONFINITE; /* as sfit_joint_center_cov() */
     }
     st = sfit_cluster_register(&j->parent, parent, n_parent, &ps, NULL);
     if (st != SFIT_OK) {
@@ -553,10 +568,12 @@ static sfit_status_t prv_cov_system(const sfit_joint_t *j, const prv_pose_noise_
         if (!cm[i].used) {
             continue;
         }
-        (void)prv_acc_stats(&j->child[i], &mean, &c, NULL);
+        if (prv_acc_stats(&j->child[i], &mean, &c, NULL) != SFIT_OK) {
+            return SFIT_E_RANGE; /* a corrupted accumulator: mean and C unwritten */
+        }
         w = sfit_i_multi_weight(&j->cfg.solve, n, used, sum_n1);
         if (marker) {
-            if (!prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one)) {
+            if (prv_marker_noise(&j->child[i], pn, (float)j->parent.count, &one) <= 0) {
                 return SFIT_E_TOO_FEW; /* not reached: the marker has samples */
             }
             if (!prv_scale_noise(fc->noise_var, &one)) {

@@ -108,7 +108,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         }
         r->rho = var / lo;
     }
-    (void)sfit_mat3_chol_solve(&l, &sys->ms.rhs, &r->w);
+    sfit_i_chol_solve(&l, sys->ms.rhs.v, r->w.v);
     for (i = 0; i < 3; i++) {
         if (!sfit_i_isfinite(r->w.v[i])) {
             return SFIT_I_SCREEN_TRIPPED;

@@ -51,6 +51,27 @@ sfit_status_t sfit_mat3_chol(const sfit_mat3_t *a, sfit_mat3_t *l)
     return SFIT_OK;
 }
 
+void sfit_i_chol_solve(const sfit_mat3_t *l, const float b[3], float x[3])
+{
+    const float *L = l->m;
+    float y0, y1, y2, x0, x1, x2;
+
+    {
+        float y[3];
+        sfit_i_chol_forward(l, b, y); /* L y = b */
+        y0 = y[0];
+        y1 = y[1];
+        y2 = y[2];
+    }
+    /* Backward: L^T x = y. */
+    x2 = y2 / L[8];
+    x1 = (y1 - L[7] * x2) / L[4];
+    x0 = (y0 - L[3] * x1 - L[6] * x2) / L[0];
+    x[0] = x0; x[1] = x1; x[2] = x2;
+}
+
+/* The same solve as sfit_i_chol_solve(), written out (not a call: the
+ * public function keeps its one-level stack), with the check. */
 sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, sfit_vec3_t *x)
 {
     const float *L;
@@ -71,6 +92,9 @@ sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, s
     x2 = y2 / L[8];
     x1 = (y1 - L[7] * x2) / L[4];
     x0 = (y0 - L[3] * x1 - L[6] * x2) / L[0];
+    if (!sfit_i_isfinite(x0) || !sfit_i_isfinite(x1) || !sfit_i_isfinite(x2)) {
+        return SFIT_E_RANGE; /* a zero or non-finite factor, a non-finite b, or overflow */
+    }
     x->v[0] = x0; x->v[1] = x1; x->v[2] = x2;
     return SFIT_OK;
 }

@@ -46,7 +46,7 @@ void sfit_i_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv)
     for (j = 0; j < 3; j++) {
         sfit_vec3_t e = {{0.0f, 0.0f, 0.0f}}, x = {{0.0f, 0.0f, 0.0f}};
         e.v[j] = 1.0f;
-        (void)sfit_mat3_chol_solve(l, &e, &x);
+        sfit_i_chol_solve(l, e.v, x.v);
         inv->m[j] = x.v[0];
         inv->m[3 + j] = x.v[1];
         inv->m[6 + j] = x.v[2];

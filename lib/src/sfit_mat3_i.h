@@ -31,6 +31,10 @@ void sfit_i_sym_pack(const sfit_mat3_t *a, float p[6]);
 /** @brief A^-1 (full, symmetric) from the factor l of sfit_mat3_chol(). */
 void sfit_i_chol_inverse(const sfit_mat3_t *l, sfit_mat3_t *inv);
 
+/** @brief x = (L L^T)^-1 b for a factor l of sfit_mat3_chol() (x may alias
+ * b; no check: a non-finite x is the caller's to test). */
+void sfit_i_chol_solve(const sfit_mat3_t *l, const float b[3], float x[3]);
+
 /** @brief y = L^-1 b (forward substitution with a Cholesky factor). */
 void sfit_i_chol_forward(const sfit_mat3_t *l, const float b[3], float y[3]);
 

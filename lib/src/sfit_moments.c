@@ -287,6 +287,10 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
         return SFIT_OK;
     }
     sfit_i_moments_total(src, &s); /* before touching dst: they may alias */
+    if (!sfit_i_finite3(src->origin) || !sfit_i_finite3(s.d) || !sfit_i_finite3(s.m2)
+        || !sfit_i_finite3(&s.m2[3]) || !sfit_i_finite3(s.m3)) {
+        return SFIT_E_RANGE; /* a corrupted src (garbage bytes): dst not poisoned */
+    }
     if (sfit_moments_count(dst) == 0u) {
         memcpy(dst->origin, src->origin, sizeof dst->origin);
     } else {

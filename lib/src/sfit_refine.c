@@ -85,7 +85,8 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
                                     const sfit_refine_cfg_t *cfg, float *tol, uint32_t *maxit)
 {
     if (!sfit_i_isfinite(cfg->tol)
-        || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))) {
+        || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))
+        || cfg->accept_unconverged > 1u) {
         return SFIT_E_ARG;
     }
     *tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
@@ -147,7 +148,7 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
     }
     for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
         sfit_mat3_t ad = am;
-        sfit_vec3_t gv, step;
+        sfit_vec3_t gv, step = {{0.0f, 0.0f, 0.0f}};
         prv_stats_t trial;
         float pn[3], sn;
         int small;
@@ -159,7 +160,7 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
         if (sfit_mat3_chol(&ad, &l) != SFIT_OK) {
             return (int)SFIT_E_DEGENERATE;
         }
-        (void)sfit_mat3_chol_solve(&l, &gv, &step);
+        sfit_i_chol_solve(&l, gv.v, step.v);
         sn = SFIT_SQRTF(step.v[0] * step.v[0] + step.v[1] * step.v[1] + step.v[2] * step.v[2]);
         if (!sfit_i_isfinite(sn)) {
             return (int)SFIT_E_RANGE;

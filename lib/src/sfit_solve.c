@@ -345,7 +345,7 @@ static sfit_status_t prv_sphere(sfit_i_system_t *sys, int have_p, sfit_mat3_t *v
             }
         }
     }
-    (void)sfit_mat3_chol_solve(cp, &sys->ms.rhs, &out->w); /* lamp (= out->w) read above */
+    sfit_i_chol_solve(cp, sys->ms.rhs.v, out->w.v); /* lamp (= out->w) read above */
     out->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }

@@ -64,10 +64,13 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
         return SFIT_E_ARG;
     }
     st = sfit_i_enough(prv_check_fit(center, radius, noise_var), m);
+    if (st == SFIT_OK) {
+        /* SFIT_E_RANGE for a corrupted accumulator (mean and C unwritten) */
+        st = sfit_moments_stats(m, &mean, &c, NULL);
+    }
     if (st != SFIT_OK) {
         return st;
     }
-    (void)sfit_moments_stats(m, &mean, &c, NULL);
     for (i = 0; i < 3; i++) {
         c.m[4 * i] -= noise_var;
         a.v[i] = mean.v[i] - center->v[i];

@@ -244,6 +244,31 @@ static void test_inherited(void **state)
     make_cap(1606, 500, 100.0, 90.0, 0.5);
     assert_int_equal(sfit_incr_start(&inc, g_fpts, 500, &sp), SFIT_OK);
     assert_true(tc_dist(&sp.center, k_center) <= 0.5);
+    /* a full noise covariance: the incremental estimator solves it itself
+     * (the batch check used to ask sfit_moments_fit() for it and so always
+     * returned SFIT_E_UNSUPPORTED); one too large for the data is refused */
+    {
+        sfit_incr_cfg_t ic = sfit_incr_cfg_default;
+        sfit_sphere_t si;
+        ic.noise = SFIT_NOISE_COV;
+        ic.noise_cov.m[0] = 0.25f;
+        ic.noise_cov.m[4] = 0.25f;
+        ic.noise_cov.m[8] = 0.25f;
+        ic.noise_cov.m[3] = 0.05f;
+        ic.noise_cov.m[1] = 0.05f;
+        assert_int_equal(sfit_incr_init(&inc, &ic), SFIT_OK);
+        assert_int_equal(sfit_incr_start(&inc, g_fpts, 500, &sp), SFIT_OK);
+        assert_true(tc_dist(&sp.center, k_center) <= 0.5);
+        assert_int_equal(sfit_incr_fit(&inc, &si), SFIT_OK);
+        assert_memory_equal(&si, &sp, sizeof si);
+        ic.noise_cov.m[0] = ic.noise_cov.m[4] = ic.noise_cov.m[8] = 1e6f;
+        ic.noise_cov.m[3] = ic.noise_cov.m[1] = 0.0f;
+        assert_int_equal(sfit_incr_init(&inc, &ic), SFIT_OK);
+        memset(&sp, SENTINEL, sizeof sp);
+        assert_int_equal(sfit_incr_start(&inc, g_fpts, 500, &sp), SFIT_E_NOT_POSDEF);
+        assert_memory_equal(&sp, &sentinel, sizeof sp);
+        assert_int_equal(sfit_incr_count(&inc), 0u);
+    }
 }
 
 /* Self-calibration without the full solver: its cap on sigma^2 comes from

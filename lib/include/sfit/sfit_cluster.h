@@ -106,6 +106,8 @@ sfit_status_t sfit_cluster_from_frame(sfit_cluster_t *cl, const sfit_vec3_t *pts
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL frames/cl, nframes 0, or count out of range
  * @retval SFIT_E_TOO_FEW     no frame has every marker finite and a valid template
+ * @retval SFIT_E_DEGENERATE  the averaged markers are collinear (a reference frame
+ *                            at the limit of SFIT_CLUSTER_COLLINEAR_RATIO)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @par Cost one sfit_cluster_register() per frame after the reference.
  */
@@ -122,7 +124,9 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  * @param[out] fit    NULL, or residual and markers used; written only on SFIT_OK.
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL cl/meas/pose, count differs from the template's,
- *                            or the template's count is not in 3..SFIT_CLUSTER_MAX_MARKERS
+ *                            or a corrupted template (count not in
+ *                            3..SFIT_CLUSTER_MAX_MARKERS, a position not finite or
+ *                            out of range)
  * @retval SFIT_E_NONFINITE   a coordinate is +-Inf (not an occlusion)
  * @retval SFIT_E_TOO_FEW     fewer than 3 markers seen
  * @retval SFIT_E_RANGE       |coordinate| >= 2^SFIT_COORD_MAX_EXP, or the result
@@ -131,7 +135,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  *                            second singular value of the cross-covariance is below
  *                            SFIT_CLUSTER_COLLINEAR_RATIO times the first
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 markers: 1010 FLOPs, 5115 M4F instructions (tools/flopcount "cluster_register").
+ * @par Cost 4 markers: 1010 FLOPs, 5134 M4F instructions (tools/flopcount "cluster_register").
  */
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit);

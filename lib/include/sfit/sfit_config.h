@@ -46,10 +46,14 @@
  * rounding flag; or one of those options). Below SFIT_COV_MIN_SAMPLES
  * samples such a build still fits (the flags are then decided by the count
  * alone: UNTRUSTED | COV_LIMIT). Modules built on sfit_moments_fit() (gate,
- * self-calibration, the incremental start) inherit the status;
+ * self-calibration, the incremental start) inherit the status (the
+ * incremental start checks a full noise covariance with its own solve);
  * self-calibration takes its noise cap from the screen's lower bound of
  * lambda_min(C) and returns ::SFIT_E_UNSUPPORTED where the noise estimate
- * reaches it (elsewhere its result is the default build's, exact = 0). The
+ * reaches it, and, as any fit, where the screen cannot prove one of its fits
+ * (e.g. a trust ratio above SFIT_COV_MAX_TRUST, which the default build
+ * fits and flags UNTRUSTED | COV_LIMIT: a 30-degree cap, r = 100, sigma = 3,
+ * N = 1000); elsewhere its result is the default build's (exact = 0). The
  * others (multi, joint) keep the full solver. Range 0..1.
  */
 #ifndef SFIT_FULL_SOLVER
@@ -259,13 +263,16 @@
 
 /**
  * @brief Iteration bound of the self-calibration (each iteration = one pass
- * over the samples + one solve). Range 1..100.
+ * over the samples + one solve). The convergence test compares two
+ * successive noise estimates, the first one against nothing (0): with 1
+ * or 2 passes every noisy fit ended in SFIT_E_NO_CONVERGENCE; caps of 30 to
+ * 120 degrees converge in 3. Range 3..100.
  */
 #ifndef SFIT_SELFCAL_MAX_ITERS
 #define SFIT_SELFCAL_MAX_ITERS 12
 #endif
-#if (SFIT_SELFCAL_MAX_ITERS < 1) || (SFIT_SELFCAL_MAX_ITERS > 100)
-#error "SFIT_SELFCAL_MAX_ITERS must be in 1..100"
+#if (SFIT_SELFCAL_MAX_ITERS < 3) || (SFIT_SELFCAL_MAX_ITERS > 100)
+#error "SFIT_SELFCAL_MAX_ITERS must be in 3..100"
 #endif
 
 /**

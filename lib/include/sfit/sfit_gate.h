@@ -95,9 +95,12 @@ sfit_status_t sfit_gate_reset(sfit_gate_t *g);
  * @param[out]    accepted  If not NULL: 1 if the sample was kept (or buffered), 0 if
  *                          rejected as an outlier. Written only on SFIT_OK.
  * @retval SFIT_OK           the sample was judged (kept or counted as outlier)
- * @retval SFIT_E_ARG        NULL g or x, or a corrupted gate (phase, buffer count,
- *                           width or a gating value out of range / not finite:
- *                           e.g. uninitialised RAM); g unchanged
+ * @retval SFIT_E_ARG        NULL g or x, or a corrupted gate whose phase or buffer
+ *                           count is out of range (e.g. uninitialised RAM); g
+ *                           unchanged. Other corrupted values (width, sigma^2, the
+ *                           fit) are not checked here: the verdict is then arbitrary
+ *                           (no non-finite value enters the state); sfit_gate_refresh(),
+ *                           sfit_gate_fit() and sfit_gate_stats() return SFIT_E_ARG.
  * @retval SFIT_E_NONFINITE  NaN / Inf coordinate: g unchanged (bit for bit)
  * @retval SFIT_E_RANGE      coordinate out of range or counter full: g unchanged
  */
@@ -105,12 +108,18 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
 
 /**
  * @brief Re-solve the running fit now (also ends a warm-up early when at least
- * SFIT_MIN_SAMPLES + 1 samples are buffered).
+ * SFIT_MIN_SAMPLES + 1 samples are buffered: the robust start on the buffer).
+ * When the robust start of a warm-up fails, the buffered samples go into the
+ * accumulator ungated and no fit gates until a later refresh succeeds.
  * @retval SFIT_OK  a fit now gates the samples
- * @retval SFIT_E_ARG  g NULL, or a corrupted gate (as sfit_gate_add())
+ * @retval SFIT_E_ARG  g NULL, or a corrupted gate (phase, buffer count, width,
+ *                  sigma^2 or the current fit out of range / not finite)
  * @retval SFIT_E_TOO_FEW  warm-up with fewer than SFIT_MIN_SAMPLES + 1 samples
+ *                  (buffer kept), or a robust start whose cut keeps no more than
+ *                  SFIT_MIN_SAMPLES of them (e.g. 5 samples)
  * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
- *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous fit
+ *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous
+ *                  fit (in a warm-up: no start could be fitted, e.g. collinear samples)
  * @retval SFIT_E_UNSUPPORTED  as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only); the
  *                  gate keeps its previous fit
  */

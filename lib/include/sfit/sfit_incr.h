@@ -61,14 +61,13 @@ extern const sfit_incr_cfg_t sfit_incr_cfg_default;
 /**
  * @brief Initialise (or clear) the state and choose the estimator.
  * @param[out] s    State.
- * @param[in]  cfg  Options; NULL = GDKE. Only the noise model is used
- *                  (noise, noise_var, noise_cov: SFIT_NOISE_ISO / _COV give
- *                  UGDK); mode must be SFIT_MODE_AUTO or
- *                  SFIT_MODE_SPHERE (the incremental estimator is a sphere
- *                  fit); planar_ratio is ignored.
+ * @param[in]  cfg  Options; NULL = GDKE. The noise model (noise, noise_var,
+ *                  noise_cov: SFIT_NOISE_ISO / _COV give UGDK); the estimator
+ *                  is always a sphere fit.
  * @retval SFIT_OK     success
- * @retval SFIT_E_ARG  s is NULL, or an invalid option (including SFIT_MODE_PLANAR);
- *                     s unchanged
+ * @retval SFIT_E_ARG  s is NULL, or an invalid noise model (kind, a negative or
+ *                     non-finite variance, a covariance that is not finite or not
+ *                     positive semi-definite); s unchanged
  */
 sfit_status_t sfit_incr_init(sfit_incr_t *s, const sfit_incr_cfg_t *cfg);
 
@@ -99,7 +98,9 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat is not positive definite (UGDK)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
  * @retval SFIT_E_UNSUPPORTED the batch check as sfit_moments_fit() (SFIT_FULL_SOLVER 0
- *                            only)
+ *                            only; a full covariance, SFIT_NOISE_COV, which that
+ *                            build's sfit_moments_fit() does not serve, is checked by
+ *                            this estimator's own solve instead)
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
                               sfit_sphere_t *out);
@@ -127,7 +128,9 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_DEGENERATE  the samples are coincident, collinear or planar
  *                            (an LDL^T pivot of sum y y^T <= SFIT_CHOL_PIVOT_EPS
- *                            times its largest diagonal entry)
+ *                            times its largest diagonal entry), or their largest
+ *                            per-axis spread is below SFIT_MIN_SPREAD (too small
+ *                            for float, as in sfit_moments_fit(): rescale the data)
  * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
  */
@@ -149,7 +152,8 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
  * @retval SFIT_E_RANGE       coordinate out of range or counter full (s unchanged),
  *                            or the estimate would not be finite
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples (sample kept)
- * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples (sample kept)
+ * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples, or a spread
+ *                            below SFIT_MIN_SPREAD (sample kept)
  * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat not positive definite (sample kept)
  */
 sfit_status_t sfit_incr_update(sfit_incr_t *s, const sfit_vec3_t *x, sfit_sphere_t *out);

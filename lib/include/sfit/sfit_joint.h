@@ -128,7 +128,7 @@ sfit_status_t sfit_joint_reset(sfit_joint_t *j);
  *                            or a counter is full
  * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 parent + 5 child markers: 1237.3 FLOPs, 6823.9 M4F instructions per
+ * @par Cost 4 parent + 5 child markers: 1237.3 FLOPs, 6842.9 M4F instructions per
  * frame, amortised (tools/flopcount "joint_frame"); 45 FLOPs per further child
  * marker ("joint_per_child").
  */
@@ -143,7 +143,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                    the centre (distance to the axis for a hinge; 0 for a marker
  *                    skipped for too few samples); written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL j/out, or garbage counters in the state
+ * @retval SFIT_E_ARG         NULL j/out, or garbage counters or options in the state
  * @retval SFIT_E_TOO_FEW     no child marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_DEGENERATE  as the multi-marker solve (coincident/collinear, or
  *                            singular sphere system)
@@ -152,8 +152,8 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
  *                            having 2 samples
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 5 child markers: 933 FLOPs, 6535 M4F instructions (tools/flopcount "joint_fit");
- * with SFIT_JOINT_NOISE_MARKER 3279 FLOPs, 27400 instructions ("joint_fit_marker").
+ * @par Cost 5 child markers: 933 FLOPs, 6531 M4F instructions (tools/flopcount "joint_fit");
+ * with SFIT_JOINT_NOISE_MARKER 3279 FLOPs, 27431 instructions ("joint_fit_marker").
  */
 sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, float *radii);
 
@@ -175,7 +175,8 @@ sfit_status_t sfit_joint_fit(const sfit_joint_t *j, sfit_joint_result_t *out, fl
  * @retval SFIT_E_ARG        NULL j/cov, garbage counters, or marker_var negative
  * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
  * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
- * @retval SFIT_E_RANGE    the result would not be finite
+ * @retval SFIT_E_RANGE    the result would not be finite, or a child accumulator
+ *                         is corrupted (statistics not finite)
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
 sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit_mat3_t *cov);
@@ -197,7 +198,8 @@ sfit_status_t sfit_joint_noise_cov(const sfit_joint_t *j, float marker_var, sfit
  * @retval SFIT_E_ARG        NULL j/noise, garbage counters, or marker_var negative
  * @retval SFIT_E_NONFINITE  marker_var is NaN or Inf
  * @retval SFIT_E_TOO_FEW    no child marker has 2 samples
- * @retval SFIT_E_RANGE      a model would not be finite
+ * @retval SFIT_E_RANGE      a model would not be finite, or a child accumulator is
+ *                           corrupted (statistics not finite)
  * @par Cost O(cfg.n_child), one 3x3 symmetric inverse (Cholesky).
  */
 sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
@@ -236,8 +238,9 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
  *                            or an unknown mode
  * @retval SFIT_E_TOO_FEW     nf is 0, or no child marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
- * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs, 8098.5 M4F instructions per
+ * @retval SFIT_E_RANGE       the result would not be finite, or a child
+ *                            accumulator is corrupted (statistics not finite)
+ * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs, 8123.5 M4F instructions per
  * frame (tools/flopcount "joint_center_cov_frame").
  */
 sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
@@ -257,8 +260,9 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
  *                       written only on SFIT_OK.
  * @retval SFIT_OK, SFIT_E_ARG, SFIT_E_TOO_FEW, SFIT_E_DEGENERATE, SFIT_E_NONFINITE,
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
- *         (SFIT_E_ARG also for a NULL res/center or garbage counters)
- * @par Cost 4 parent markers: 1043 FLOPs, 5453 M4F instructions (tools/flopcount
+ *         (SFIT_E_ARG also for a NULL res/center or garbage counters;
+ *         SFIT_E_NONFINITE also for a non-finite centre or axis in res)
+ * @par Cost 4 parent markers: 1043 FLOPs, 5495 M4F instructions (tools/flopcount
  * "joint_center_at").
  */
 sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,

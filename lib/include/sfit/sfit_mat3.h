@@ -30,9 +30,12 @@ sfit_status_t sfit_mat3_chol(const sfit_mat3_t *a, sfit_mat3_t *l);
  * @brief Solve L * L^T x = b with a factor from sfit_mat3_chol().
  * @param[in]  l  Cholesky factor (lower triangle read).
  * @param[in]  b  Right-hand side.
- * @param[out] x  Solution; may alias b.
+ * @param[out] x  Solution; may alias b. Written only on SFIT_OK.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  a NULL pointer
+ * @retval SFIT_E_RANGE  the solution is not finite (a factor with a zero or
+ *                     non-finite entry, not from sfit_mat3_chol(); a non-finite b;
+ *                     or overflow)
  */
 sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, sfit_vec3_t *x);
 

@@ -88,7 +88,9 @@ sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, 
  * The result equals adding src's samples to dst, up to float rounding.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  NULL pointer
- * @retval SFIT_E_RANGE the merged count would exceed UINT32_MAX; dst unchanged
+ * @retval SFIT_E_RANGE the merged count would exceed UINT32_MAX, or src is
+ *                      corrupted (its totals not finite, e.g. garbage bytes);
+ *                      dst unchanged
  * @note dst and src may be the same object (doubles every weight).
  */
 sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src);

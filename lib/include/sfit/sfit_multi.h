@@ -117,13 +117,14 @@ typedef struct sfit_multi_noise {
  * @retval SFIT_OK            success
  * @retval SFIT_E_ARG         NULL markers/noise/out, an invalid option, cfg->fit.noise
  *                            not SFIT_NOISE_NONE, a non-finite entry of a noise model or
- *                            a covariance with a negative diagonal or 2x2 minor
+ *                            a covariance that is not positive semi-definite (a negative
+ *                            principal minor, as sfit_fit_cfg_t::noise_cov)
  * @retval SFIT_E_TOO_FEW     as sfit_multi_fit()
  * @retval SFIT_E_DEGENERATE  as sfit_multi_fit()
  * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
  * @retval SFIT_E_NO_CONVERGENCE  as sfit_multi_fit()
  * @retval SFIT_E_RANGE       as sfit_multi_fit()
- * @par Cost 8 markers: 2107 FLOPs, 15833 M4F instructions (tools/flopcount
+ * @par Cost 8 markers: 2107 FLOPs, 15829 M4F instructions (tools/flopcount
  * "multi_solve_noise_total"; sfit_multi_fit() on them: 1607).
  */
 sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
@@ -157,7 +158,7 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
  * @retval SFIT_E_TOO_FEW     no marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  sum w_p C'_p is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 8 markers: 941 FLOPs, 5240 M4F instructions (tools/flopcount "multi_center_cov").
+ * @par Cost 8 markers: 941 FLOPs, 5228 M4F instructions (tools/flopcount "multi_center_cov").
  */
 sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
                                     const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,

@@ -55,10 +55,12 @@ typedef struct sfit_refine_result {
  * @param[in]  cfg     Options; NULL = defaults.
  * @param[out] out     Written only on SFIT_OK.
  * @retval SFIT_OK                converged
- * @retval SFIT_E_ARG             NULL pointer, non-finite c0, invalid cfg
+ * @retval SFIT_E_ARG             NULL pointer, invalid cfg (tol outside its range or
+ *                                not finite, accept_unconverged not 0 or 1)
  * @retval SFIT_E_TOO_FEW         n < 5 or n < SFIT_MIN_SAMPLES
- * @retval SFIT_E_NONFINITE       a sample holds NaN or Inf
- * @retval SFIT_E_RANGE           n > UINT32_MAX, or a value would not be finite
+ * @retval SFIT_E_NONFINITE       a sample or c0 holds NaN or Inf
+ * @retval SFIT_E_RANGE           n > UINT32_MAX, a sample out of range, or a value
+ *                                would not be finite
  * @retval SFIT_E_DEGENERATE      a sample at the centre, or the directions do
  *                                not span 3-D (A singular: planar / collinear data)
  * @retval SFIT_E_NO_CONVERGENCE  the step is still above tol after max_iters, or

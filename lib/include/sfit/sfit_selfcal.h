@@ -45,15 +45,17 @@ typedef struct sfit_selfcal_result {
  * @brief Self-calibrated UGDK sphere fit over a caller-owned array.
  * @param[in]  pts  n samples (read only).
  * @param[in]  n    Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
- * @param[in]  cfg  Options (NULL = defaults); only planar_ratio is used: the
- *                  solution is always the sphere and the noise model is the
- *                  estimated isotropic one. SFIT_MODE_PLANAR is rejected.
+ * @param[in]  cfg  Options (NULL = defaults): planar_ratio; the solution is
+ *                  always the sphere and the noise model is the estimated
+ *                  isotropic one.
  * @param[out] out  Written only on SFIT_OK.
  * @retval SFIT_OK                success
- * @retval SFIT_E_ARG             NULL pointer, invalid cfg, planar mode
+ * @retval SFIT_E_ARG             NULL pointer, invalid cfg (planar_ratio not finite
+ *                                or outside [0, 1))
  * @retval SFIT_E_TOO_FEW         n < 5 or n < SFIT_MIN_SAMPLES
  * @retval SFIT_E_NONFINITE       a sample holds NaN or Inf
- * @retval SFIT_E_RANGE           a sample out of range, or a result not finite
+ * @retval SFIT_E_RANGE           a sample out of range, n > UINT32_MAX, or a result
+ *                                not finite
  * @retval SFIT_E_DEGENERATE      coincident / collinear / planar samples, or a
  *                                sample at the fitted centre
  * @retval SFIT_E_NOT_POSDEF      C - sigma^2 I not positive definite (cannot happen
@@ -75,10 +77,11 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
  * @param[in]  radius  Fitted radius (> 0).
  * @param[out] noise_var  sigma^2 estimate; written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL pointer, non-finite centre, radius <= 0
- * @retval SFIT_E_TOO_FEW     n < 5
- * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
- * @retval SFIT_E_RANGE       the estimate would not be finite
+ * @retval SFIT_E_ARG         NULL pointer, radius <= 0
+ * @retval SFIT_E_TOO_FEW     n < 5 or n < SFIT_MIN_SAMPLES
+ * @retval SFIT_E_NONFINITE   a sample, the centre or the radius holds NaN or Inf
+ * @retval SFIT_E_RANGE       a sample out of range, n > UINT32_MAX, or the
+ *                            estimate would not be finite
  * @retval SFIT_E_DEGENERATE  a sample lies at the centre (its radial direction is undefined)
  */
 sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,

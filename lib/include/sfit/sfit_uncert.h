@@ -45,12 +45,13 @@ typedef struct sfit_uncert {
  * @param[in]  kind       Where sigma^2 comes from (sign s of the a a^T term).
  * @param[out] out        Written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL pointer, bad kind, negative / non-finite
- *                            noise_var or radius <= 0 / non-finite, non-finite centre
+ * @retval SFIT_E_ARG         NULL pointer, bad kind, negative noise_var or radius <= 0
+ * @retval SFIT_E_NONFINITE   non-finite centre, radius or noise_var
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  C - sigma^2 I is not positive definite (sphere
  *                            ill-posed: near-planar samples, or the noise too large)
- * @retval SFIT_E_RANGE       a result would not be finite
+ * @retval SFIT_E_RANGE       a result would not be finite, or a corrupted
+ *                            accumulator (statistics not finite: sfit_moments_stats())
  */
 sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
@@ -67,12 +68,13 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
  * @param[in]  noise_var  sigma^2 (>= 0).
  * @param[out] out        Written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL pointer, bad noise_var / radius / centre
+ * @retval SFIT_E_ARG         NULL pointer, noise_var < 0 or radius <= 0
  * @retval SFIT_E_TOO_FEW     n < SFIT_MIN_SAMPLES
- * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
+ * @retval SFIT_E_NONFINITE   a sample, the centre, radius or noise_var holds NaN or Inf
  * @retval SFIT_E_DEGENERATE  a sample at the centre, or the directions span
  *                            less than 3 dimensions (J^T J singular)
- * @retval SFIT_E_RANGE       a result would not be finite
+ * @retval SFIT_E_RANGE       n > UINT32_MAX, a sample out of range, or a result
+ *                            would not be finite
  */
 sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out);
@@ -99,15 +101,16 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
  * @param[in]  center  Centre of the geometric fit (sfit_refine_result_t::center).
  * @param[out] out     Written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL pointer, non-finite centre
+ * @retval SFIT_E_ARG         NULL pointer
  * @retval SFIT_E_TOO_FEW     n < 5 or n < SFIT_MIN_SAMPLES
- * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
+ * @retval SFIT_E_NONFINITE   a sample or the centre holds NaN or Inf
  * @retval SFIT_E_DEGENERATE  a sample at the centre, or the directions span
  *                            less than 3 dimensions
  * @retval SFIT_E_NOT_POSDEF  A is not positive definite: the centre is not a
  *                            minimum of the geometric cost, or the noise
  *                            swamps the curvature of the data
- * @retval SFIT_E_RANGE       n > UINT32_MAX, or a result would not be finite
+ * @retval SFIT_E_RANGE       n > UINT32_MAX, a sample out of range, or a result
+ *                            would not be finite
  */
 sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out);
