@@ -70,32 +70,19 @@ void sfit_i_chol_solve(const sfit_mat3_t *l, const float b[3], float x[3])
     x[0] = x0; x[1] = x1; x[2] = x2;
 }
 
-/* The same solve as sfit_i_chol_solve(), written out (not a call: the
- * public function keeps its one-level stack), with the check. */
+/* sfit_i_chol_solve() with the check: written only when x is finite. */
 sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, sfit_vec3_t *x)
 {
-    const float *L;
-    float y0, y1, y2, x0, x1, x2;
+    float t[3];
 
     if (l == NULL || b == NULL || x == NULL) {
         return SFIT_E_ARG;
     }
-    L = l->m;
-    {
-        float y[3];
-        sfit_i_chol_forward(l, b->v, y); /* L y = b */
-        y0 = y[0];
-        y1 = y[1];
-        y2 = y[2];
-    }
-    /* Backward: L^T x = y. */
-    x2 = y2 / L[8];
-    x1 = (y1 - L[7] * x2) / L[4];
-    x0 = (y0 - L[3] * x1 - L[6] * x2) / L[0];
-    if (!sfit_i_isfinite(x0) || !sfit_i_isfinite(x1) || !sfit_i_isfinite(x2)) {
+    sfit_i_chol_solve(l, b->v, t);
+    if (!sfit_i_isfinite(t[0]) || !sfit_i_isfinite(t[1]) || !sfit_i_isfinite(t[2])) {
         return SFIT_E_RANGE; /* a zero or non-finite factor, a non-finite b, or overflow */
     }
-    x->v[0] = x0; x->v[1] = x1; x->v[2] = x2;
+    x->v[0] = t[0]; x->v[1] = t[1]; x->v[2] = t[2];
     return SFIT_OK;
 }
 

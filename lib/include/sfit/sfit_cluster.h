@@ -135,7 +135,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  *                            second singular value of the cross-covariance is below
  *                            SFIT_CLUSTER_COLLINEAR_RATIO times the first
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 markers: 1010 FLOPs, 5134 M4F instructions (tools/flopcount "cluster_register").
+ * @par Cost 4 markers: 1010 FLOPs, 5141 M4F instructions (tools/flopcount "cluster_register").
  */
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit);
