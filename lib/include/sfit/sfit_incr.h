@@ -131,7 +131,8 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
  *                            times its largest diagonal entry), or their largest
  *                            per-axis spread is below SFIT_MIN_SPREAD (too small
  *                            for float, as in sfit_moments_fit(): rescale the data)
- * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite
+ * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite (GDKE: only
+ *                            for a state not written by this API, e.g. garbage bytes)
  * @retval SFIT_E_RANGE       the result would not be finite
  */
 sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out);
