@@ -249,14 +249,12 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     prv_cfg(s, &cfg);
     cfg.noise = SFIT_NOISE_NONE;
     st = sfit_moments_fit(&acc, &cfg, &batch);
-#if SFIT_FULL_SOLVER
-    if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE) {
-#else
-    /* Without the full solver sfit_moments_fit() serves no full covariance
-     * (SFIT_E_UNSUPPORTED, always): C' = C - Sigma is then checked by the
-     * LDL^T of sfit_incr_fit() below (SFIT_E_NOT_POSDEF). */
-    if (st == SFIT_OK && s->noise == SFIT_NOISE_ISO) {
-#endif
+    /* The check with the noise model. Without the full solver
+     * sfit_moments_fit() serves no full covariance (SFIT_E_UNSUPPORTED,
+     * always): C' = C - Sigma is then checked by the LDL^T of
+     * sfit_incr_fit() below (SFIT_E_NOT_POSDEF). */
+    if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE
+        && (SFIT_FULL_SOLVER || s->noise == SFIT_NOISE_ISO)) {
         prv_cfg(s, &cfg);
         st = sfit_moments_fit(&acc, &cfg, &batch);
     }

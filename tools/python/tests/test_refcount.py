@@ -32,6 +32,18 @@ def _leak_bytes(fn, calls=CALLS):
     return after - before
 
 
+def _raises(fn, exc, what="call"):
+    """A call of fn that must raise exc (and fails when it returns)."""
+    def call():
+        try:
+            fn()
+        except exc:
+            pass
+        else:
+            raise AssertionError("%s: no %s" % (what, exc.__name__))
+    return call
+
+
 @pytest.fixture(scope="module")
 def pts():
     rng = np.random.default_rng(7)
@@ -48,15 +60,6 @@ def _entry_points(pts):
     inc.start(good)
     centre = sfit.fit(good).center
 
-    def raises(fn, exc):
-        def call():
-            try:
-                fn()
-            except exc:
-                pass
-            else:
-                raise AssertionError("no exception")
-        return call
 
     extra = {}
     if hasattr(sfit, "Joint"):
@@ -71,7 +74,7 @@ def _entry_points(pts):
         extra["joint"] = lambda: (sfit.Joint(cl, 1).add(par, chi), jt.solve(), jt.center_at(res, par),
                                   cl.register(par[0]), sfit.Cluster.from_frames(par),
                                   jt.noise_cov(0.1))
-        extra["err_joint"] = raises(lambda: jt.add(par[:, :3], chi), sfit.ArgError)
+        extra["err_joint"] = _raises(lambda: jt.add(par[:, :3], chi), sfit.ArgError)
     return dict(extra, **{
         "fit": lambda: sfit.fit(pts),
         "fit_auto": lambda: sfit.fit(pts, noise_var="auto"),
@@ -87,13 +90,13 @@ def _entry_points(pts):
                             sfit.calibration_std(0.1, 10.0, 100), sfit.refine(pts, centre),
                             sfit.uncertainty(pts, centre, 10.0, 1e-3), sfit.uncertainty(pts, centre),
                             sfit.residual_noise_var(pts, centre, 10.0)),
-        "err_shape": raises(lambda: sfit.fit(np.ones((4, 2))), sfit.ArgError),
-        "err_dtype": raises(lambda: sfit.fit(np.ones((4, 3), dtype=complex)), sfit.ArgError),
-        "err_too_few": raises(lambda: sfit.fit(pts[:3]), sfit.TooFewError),
-        "err_degenerate": raises(lambda: sfit.fit(np.ones((9, 3))), sfit.DegenerateError),
-        "err_option": raises(lambda: sfit.fit(pts, mode="x"), sfit.ArgError),
-        "err_notposdef": raises(lambda: sfit.fit(pts, noise_var=1e6), sfit.NotPosDefError),
-        "err_multi": raises(lambda: sfit.fit_multi([pts, np.ones((3, 2))]), sfit.ArgError),
+        "err_shape": _raises(lambda: sfit.fit(np.ones((4, 2))), sfit.ArgError),
+        "err_dtype": _raises(lambda: sfit.fit(np.ones((4, 3), dtype=complex)), sfit.ArgError),
+        "err_too_few": _raises(lambda: sfit.fit(pts[:3]), sfit.TooFewError),
+        "err_degenerate": _raises(lambda: sfit.fit(np.ones((9, 3))), sfit.DegenerateError),
+        "err_option": _raises(lambda: sfit.fit(pts, mode="x"), sfit.ArgError),
+        "err_notposdef": _raises(lambda: sfit.fit(pts, noise_var=1e6), sfit.NotPosDefError),
+        "err_multi": _raises(lambda: sfit.fit_multi([pts, np.ones((3, 2))]), sfit.ArgError),
     })
 
 
@@ -237,15 +240,7 @@ def test_error_path_no_leak(pts, name):
     if name not in calls:
         pytest.skip("the C library has no sfit_joint.h")
     fn, exc, args = calls[name]
-
-    def call():
-        try:
-            fn()
-        except exc:
-            pass
-        else:
-            raise AssertionError("%s: no %s" % (name, exc.__name__))
-
+    call = _raises(fn, exc, name)
     call()
     gc.collect()
     before = [sys.getrefcount(o) for o in args]
