@@ -361,6 +361,15 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
             sqrt(pair_ss(full, out->ref, m, out->cand[c].lab, out->cand[0].lab, 0, NULL));
         out->cand[c].decidable = c == 0 || out->cand[c].pattern >= out->decide;
     }
+    /* no fit: farther from the best labelling than half the nearest
+     * decidable relabelling is from the labels as given, and than z s RMS */
+    out->misfit = 0.0;
+    for (c = 1; c < out->ncand; c++) {
+        if (out->cand[c].decidable && (out->misfit == 0.0 || out->cand[c].pattern < out->misfit)) {
+            out->misfit = out->cand[c].pattern;
+        }
+    }
+    out->misfit *= 0.5;
     /* 3. the decision, frame by frame */
     out->checked = 1;
     out->repaired = repair != 0;
@@ -372,7 +381,8 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         (void)frame_dist(xyz, fr[k], stride, off, m, d);
         b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, &cost, &np, &rival);
         out->frames_checked++;
-        if (np > 0 && cost > (double)np * CLI_SWAPS_Z * CLI_SWAPS_Z * out->scale * out->scale) {
+        if (np > 0 && cost > (double)np * CLI_SWAPS_Z * CLI_SWAPS_Z * out->scale * out->scale
+            && cost > out->misfit * out->misfit) {
             out->status[fr[k]] = CLI_SWAPS_NO_FIT;
             out->frames_no_fit++;
         } else if (rival) {

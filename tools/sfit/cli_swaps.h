@@ -32,10 +32,13 @@
  *     The labelling of least cost among the labels as given and the
  *     decidable relabellings wins; the frame is
  *     - as given, or swapped (repaired: the points take their true labels);
- *     - rejected when the winner's RMS deviation over the pairs exceeds
- *       z s (no labelling fits: a ghost marker, a label from another
- *       segment), or when another decidable relabelling is within 2 z s of
- *       the winner (which one is undecidable).
+ *     - rejected when no labelling fits: the winner's RMS deviation over
+ *       the pairs exceeds z s and its Euclidean deviation exceeds half the
+ *       least pattern change of a decidable relabelling (an error on the
+ *       scale of a label problem: a label from another segment, a ghost;
+ *       a marker jumping a few millimetres in one frame is left to the
+ *       estimator); or when another decidable relabelling is within
+ *       2 z s of the winner (which one is undecidable).
  *     Frames with fewer than 3 markers seen are not checked.
  *
  * Cost: O(F P C) for F frames, P <= 28 pairs and C <= 141 candidates
@@ -85,6 +88,7 @@ typedef struct cli_swaps {
     long frames_no_fit, frames_ambiguous;
     double scale;       /**< s: distance noise (units) */
     double decide;      /**< 2 z s */
+    double misfit;      /**< half the least pattern change of a decidable relabelling */
     double ref[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS]; /**< reference distances */
     int ncand;
     cli_swap_cand_t cand[CLI_SWAPS_MAX_CAND]; /**< [0] = as given */

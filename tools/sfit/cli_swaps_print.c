@@ -82,8 +82,8 @@ static void json_cluster(const cli_swaps_t *s, const char *const *names, int rep
         return;
     }
     printf(",\"frames_checked\":%ld,\"noise\":%.6g,\"decidable_above\":%.6g,"
-           "\"swapped_frames\":%ld,\"swaps\":[",
-           s->frames_checked, s->scale, s->decide, s->frames_swapped);
+           "\"no_fit_above\":%.6g,\"swapped_frames\":%ld,\"swaps\":[",
+           s->frames_checked, s->scale, s->decide, s->misfit, s->frames_swapped);
     for (c = 1, k = 0; c < s->ncand; c++) {
         if (s->cand[c].count > 0) {
             printf("%s{", k++ > 0 ? "," : "");
