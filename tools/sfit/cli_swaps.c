@@ -160,33 +160,37 @@ static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
     return best;
 }
 
-/* Per-pair median of the frames' distances, relabelled by lab[f] (NULL:
- * as given), over frames fr[0..n-1]; buf holds n values. Pairs never seen
- * get NaN. */
+/* Per-pair median of the frames' distances, relabelled by lab[k] (NULL:
+ * as given), over frames fr[0..n-1]; buf holds n * CLI_SWAPS_MAX_PAIRS
+ * values. Pairs never seen get NaN. */
 static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
                          size_t n, const int *lab, const cli_swap_cand_t *c, double *buf,
                          dist_t ref)
 {
-    int a, b;
+    size_t cnt[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
+    size_t k;
+    int a, b, u, v;
+    memset(cnt, 0, sizeof cnt);
+    for (k = 0; k < n; k++) {
+        dist_t d;
+        const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
+        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        for (u = 0; u < m; u++) {
+            for (v = u + 1; v < m; v++) {
+                if (!isnan(d[u][v])) { /* true labels (l[u], l[v]), in order */
+                    a = l[u] < l[v] ? l[u] : l[v];
+                    b = l[u] < l[v] ? l[v] : l[u];
+                    buf[(size_t)(a * m - a * (a + 1) / 2 + (b - a - 1)) * n + cnt[a][b]++] =
+                        d[u][v];
+                }
+            }
+        }
+    }
     for (a = 0; a < m; a++) {
         ref[a][a] = 0.0;
         for (b = a + 1; b < m; b++) {
-            size_t k, cnt = 0;
-            for (k = 0; k < n; k++) {
-                dist_t d;
-                const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-                int u, v;
-                (void)frame_dist(xyz, fr[k], stride, off, m, d);
-                /* the pair (u, v) of the frame whose true labels are (a, b) */
-                for (u = 0; u < m; u++) {
-                    for (v = 0; v < m; v++) {
-                        if (u != v && l[u] == a && l[v] == b && !isnan(d[u][v])) {
-                            buf[cnt++] = d[u][v];
-                        }
-                    }
-                }
-            }
-            ref[a][b] = ref[b][a] = median(buf, cnt);
+            ref[a][b] = ref[b][a] =
+                median(buf + (size_t)(a * m - a * (a + 1) / 2 + (b - a - 1)) * n, cnt[a][b]);
         }
     }
 }
@@ -228,6 +232,20 @@ static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, c
         s = CLI_SWAPS_SCALE_FLOOR * med_ref;
     }
     return s;
+}
+
+const char *cli_swaps_why(int why)
+{
+    switch (why) {
+    case CLI_SWAPS_WHY_CHECKED:
+        return "checked";
+    case CLI_SWAPS_WHY_FEW_MARKERS:
+        return "fewer than 3 markers";
+    case CLI_SWAPS_WHY_FEW_FRAMES:
+        return "too few frames with 3 markers seen";
+    default:
+        return "degenerate: the markers keep no distance apart";
+    }
 }
 
 void cli_swaps_free(cli_swaps_t *s)
@@ -289,7 +307,12 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         out->status[f] = CLI_SWAPS_UNCHECKED;
     }
     out->ncand = make_cands(m, out->cand);
-    if (m < 3 || first > last) {
+    out->why = CLI_SWAPS_WHY_FEW_MARKERS;
+    if (m < 3) {
+        return 0;
+    }
+    out->why = CLI_SWAPS_WHY_FEW_FRAMES;
+    if (first > last) {
         return 0;
     }
     /* the frames with >= 3 markers seen */
@@ -337,6 +360,13 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         }
     }
     s0 = pooled_scale(xyz, stride, off, m, fr, na, NULL, out->cand, anchor, buf);
+    if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
+        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        free(fr);
+        free(lab);
+        free(buf);
+        return 0;
+    }
     /* 2. provisional labels, reference and scale */
     for (k = 0; k < n; k++) {
         dist_t d;
@@ -348,6 +378,13 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     }
     pair_medians(xyz, stride, off, m, fr, n, lab, out->cand, buf, out->ref);
     out->scale = pooled_scale(xyz, stride, off, m, fr, n, lab, out->cand, out->ref, buf);
+    if (!(out->scale > 0.0) || !isfinite(out->scale)) {
+        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        free(fr);
+        free(lab);
+        free(buf);
+        return 0;
+    }
     out->decide = 2.0 * CLI_SWAPS_Z * out->scale;
     for (c = 0; c < out->ncand; c++) {
         dist_t full;
@@ -372,6 +409,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     out->misfit *= 0.5;
     /* 3. the decision, frame by frame */
     out->checked = 1;
+    out->why = CLI_SWAPS_WHY_CHECKED;
     out->repaired = repair != 0;
     for (k = 0; k < n; k++) {
         dist_t d;

@@ -68,6 +68,17 @@ enum {
     CLI_SWAPS_AMBIGUOUS = -3  /**< rejected: two relabellings fit alike */
 };
 
+/** Why a cluster was not checked (cli_swaps_t.why). */
+enum {
+    CLI_SWAPS_WHY_CHECKED = 0,
+    CLI_SWAPS_WHY_FEW_MARKERS = 1, /**< fewer than 3 markers */
+    CLI_SWAPS_WHY_FEW_FRAMES = 2,  /**< fewer than CLI_SWAPS_MIN_FRAMES frames with 3 seen */
+    CLI_SWAPS_WHY_DEGENERATE = 3   /**< no distance noise: the markers on one point */
+};
+
+/** The reason of cli_swaps_t.why, in words. */
+const char *cli_swaps_why(int why);
+
 /** One candidate labelling: the point given label u is marker lab[u]. */
 typedef struct cli_swap_cand {
     unsigned char lab[CLI_SWAPS_MAX_MARKERS];
@@ -80,7 +91,8 @@ typedef struct cli_swap_cand {
 /** What the detector found in one cluster. */
 typedef struct cli_swaps {
     int m;              /**< markers */
-    int checked;        /**< 0: not checked (fewer than 3 markers or frames) */
+    int checked;        /**< 0: not checked (why says why) */
+    int why;            /**< CLI_SWAPS_WHY_* */
     int repaired;       /**< 1: the frames were changed (repair on) */
     long first, last;   /**< range looked at */
     long frames_checked;

@@ -77,8 +77,7 @@ static void json_cluster(const cli_swaps_t *s, const char *const *names, int rep
     }
     printf("],\"checked\":%s", s->checked ? "true" : "false");
     if (!s->checked) {
-        printf(",\"why\":\"%s\"}", s->m < 3 ? "fewer than 3 markers"
-                                            : "too few frames with 3 markers seen");
+        printf(",\"why\":\"%s\"}", cli_swaps_why(s->why));
         return;
     }
     printf(",\"frames_checked\":%ld,\"noise\":%.6g,\"decidable_above\":%.6g,"
@@ -161,8 +160,7 @@ static void text_cluster(const cli_swaps_t *s, const char *const *names, const c
     int c;
     printf("%s%s: ", lead, what);
     if (!s->checked) {
-        printf("not checked (%s)\n", s->m < 3 ? "fewer than 3 markers"
-                                              : "too few frames with 3 markers seen");
+        printf("not checked (%s)\n", cli_swaps_why(s->why));
         return;
     }
     if (s->frames_swapped == 0 && s->frames_no_fit + s->frames_ambiguous == 0) {
