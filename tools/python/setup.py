@@ -23,6 +23,7 @@ LIB_SRC = os.path.join(ROOT, "lib", "src")
 LIB_INC = os.path.join(ROOT, "lib", "include")
 PORT = os.path.join(ROOT, "port")
 PORT_HOST = os.path.join(PORT, "host")
+TOOLS_SFIT = os.path.join(ROOT, "tools", "sfit")  # cli_swaps.c: the CLI's label-swap check
 
 if not os.path.isfile(os.path.join(LIB_INC, "sfit", "sfit.h")):
     raise SystemExit("sfit: lib/include not found at %s (build from a full sfit checkout)" % LIB_INC)
@@ -41,8 +42,9 @@ def _version():
 lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
-    sources=[os.path.join(HERE, "src", "sfitmodule.c")] + lib_sources,
-    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, numpy.get_include()],
+    sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "swaps.c"),
+             os.path.join(TOOLS_SFIT, "cli_swaps.c")] + lib_sources,
+    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, TOOLS_SFIT, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
