@@ -267,7 +267,7 @@ print(",".join(names))
     > "$tmp/c.json"
   # the elbow's forearm markers are a near-equilateral triangle (sides 42.9,
   # 43.2, 43.2 mm): none of its 5 relabellings can be decided (the most
-  # distinct moves the distances by 0.42 mm, distance noise 0.14 mm)
+  # distinct moves the distances by 0.42 mm, 2 z s = 1.6 mm)
   clean_check "$tmp/c.json" "tests/data/mocap/$d" "$([ $d = elbow_right ] && echo 5 || echo 0)"
 done
 

@@ -199,9 +199,29 @@ static void text_cluster(const cli_swaps_t *s, const char *const *names, const c
     }
 }
 
+/* checked, and nothing to say */
+static int quiet(const cli_swaps_t *s)
+{
+    int c;
+    if (!s->checked || s->frames_swapped > 0 || s->frames_no_fit + s->frames_ambiguous > 0) {
+        return 0;
+    }
+    for (c = 1; c < s->ncand; c++) {
+        if (!s->cand[c].decidable) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 void cli_swaps_joint_human(const cli_swaps_joint_t *s, const char *const *names, int np,
                            const char *units, const char *lead, const char *indent)
 {
+    if (quiet(&s->parent) && quiet(&s->child)) {
+        printf("%snone found (parent %ld, child %ld frames checked)\n", lead,
+               s->parent.frames_checked, s->child.frames_checked);
+        return;
+    }
     text_cluster(&s->parent, names, "parent", s->repair, units, lead, indent);
     text_cluster(&s->child, names + np, "child", s->repair, units, indent, indent);
 }
