@@ -29,7 +29,7 @@ static int frame_dist(const sfit_vec3_t *xyz, long f, int stride, int off, int m
             double s = 0.0;
             int i;
             if (!seen(&row[u]) || !seen(&row[v])) {
-                d[u][v] = d[v][u] = NAN;
+                d[u][v] = d[v][u] = (double)NAN;
                 continue;
             }
             for (i = 0; i < 3; i++) {
@@ -117,7 +117,7 @@ static int cmp_double(const void *a, const void *b)
 static double median(double *x, size_t n)
 {
     if (n == 0u) {
-        return NAN;
+        return (double)NAN;
     }
     qsort(x, n, sizeof *x, cmp_double);
     return (n % 2u) ? x[n / 2u] : 0.5 * (x[n / 2u - 1u] + x[n / 2u]);
