@@ -157,3 +157,20 @@ def test_not_checked_and_garbage():
     j = sfit.Joint(sfit.Cluster.from_frames(P), 2)
     j.add(P, C)
     assert j.solve().label_swaps is None
+
+
+def test_swaps_in_the_anchor_and_into_a_gap():
+    """Swaps among the first 50 frames (the anchor's median outvotes them),
+    and a point given the label of a missing marker."""
+    rng = np.random.default_rng(5)
+    ctpl = np.array([[60.0, -300, 50], [-40, -310, -60], [0, -250, 0], [-70, -380, 20],
+                     [30, -450, -10]])
+    P, C = simulate(rng, ctpl)
+    for f in (0, 5, 17, 40):
+        C[f, [1, 2]] = C[f, [2, 1]]
+    C[200, 4], C[200, 3] = C[200, 3], np.nan  # marker 3 labelled 4, label 3 missing
+    C[201, 3] = np.nan                         # only missing
+    rep = sfit.joint_center(P, C).label_swaps["child"]
+    got = sorted((s["labels"], s["true"], list(s["frames"])) for s in rep["swaps"])
+    assert got == [([1, 2], [2, 1], [0, 5, 17, 40]), ([3, 4], [4, 3], [200])]
+    assert rep["rejected"]["count"] == 0 and rep["status"][201] == 0
