@@ -446,6 +446,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         } else if (b != 0) {
             sfit_vec3_t tmp[CLI_SWAPS_MAX_MARKERS];
             int u;
+            memcpy(tmp, row, (size_t)m * sizeof *row); /* lab is a permutation: all rewritten */
             for (u = 0; u < m; u++) {
                 tmp[out->cand[b].lab[u]] = row[u];
             }
