@@ -296,6 +296,9 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     if (last < 0 || last >= nframes) {
         last = nframes - 1;
     }
+    if (first < 0) {
+        first = 0;
+    }
     out->first = first;
     out->last = last;
     out->nframes = nframes;
