@@ -174,3 +174,27 @@ def test_swaps_in_the_anchor_and_into_a_gap():
     got = sorted((s["labels"], s["true"], list(s["frames"])) for s in rep["swaps"])
     assert got == [([1, 2], [2, 1], [0, 5, 17, 40]), ([3, 4], [4, 3], [200])]
     assert rep["rejected"]["count"] == 0 and rep["status"][201] == 0
+
+
+@pytest.mark.parametrize("sigma", [0.1, 0.5, 1.0, 2.0])
+def test_noise_levels(sigma):
+    """The reported noise is the distance noise (sqrt(2) sigma for isotropic
+    coordinate noise sigma, within 10 %), and the swaps are found exactly at
+    every level where the cluster's exchanges stay decidable (this child's
+    smallest relabelling, 128 mm, is 2.2 times 2 z s at sigma = 2 mm; the
+    noise reads 0.98-1.02 sqrt(2) sigma)."""
+    rng = np.random.default_rng(int(sigma * 10))
+    ctpl = 2.0 * np.array([[60.0, -300, 50], [-40, -310, -60], [0, -250, 0], [-70, -380, 20],
+                           [30, -450, -10]])
+    P, C = simulate(rng, ctpl, frames=400, sigma=sigma)
+    frames = rng.choice(np.arange(60, 400), 30, replace=False)
+    want = {}
+    for f in frames:
+        i, j = sorted(rng.choice(5, 2, replace=False))
+        C[f, [i, j]] = C[f, [j, i]]
+        want[int(f)] = ([int(i), int(j)], [int(j), int(i)])
+    rep = sfit.joint_center(P, C).label_swaps["child"]
+    assert abs(rep["noise"] / (np.sqrt(2.0) * sigma) - 1.0) <= 0.1, rep["noise"]
+    assert rep["decidable_above"] == pytest.approx(20.0 * rep["noise"])
+    got = {int(f): (s["labels"], s["true"]) for s in rep["swaps"] for f in s["frames"]}
+    assert got == want and rep["rejected"]["count"] == 0 and rep["undecidable"] == []
