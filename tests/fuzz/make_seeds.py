@@ -502,6 +502,46 @@ def table_seeds():
     }
 
 
+def swaps_seeds():
+    """Label-swap programs (fuzz_swaps.c): markers-1, flags (1 repair, 2 a
+    first frame, 4 a last frame), the template (3 signed bytes per marker),
+    then per frame: opcode (low 3 bits: 0 plain, 1 exchange a b, 2 rotate
+    a b c, 3 hostile coordinate, 4 marker missing, 5 raw frame; high 4:
+    jitter), angle byte, shift byte, operands."""
+    import random
+    rnd = random.Random(28)
+    tpl5 = bytes([50, 0, 0, 206, 30, 0, 0, 200, 20, 10, 10, 60, 226, 236, 246])
+
+    def frames(n, swaps=(), rot=(), ghost=(), miss=()):
+        b = b""
+        for f in range(n):
+            jit = rnd.randrange(16) << 4
+            ang, sh = rnd.randrange(256), rnd.randrange(256)
+            if f in swaps:
+                b += bytes([jit | 1, ang, sh, 1, 3])
+            elif f in rot:
+                b += bytes([jit | 2, ang, sh, 0, 2, 4])
+            elif f in ghost:
+                b += bytes([jit | 3, ang, sh, 2, 1, 1, 0x40])   # special: huge
+            elif f in miss:
+                b += bytes([jit | 4, ang, sh, 4])
+            else:
+                b += bytes([jit, ang, sh])
+        return b
+    return {
+        "clean_repair": bytes([4, 1]) + tpl5 + frames(80),
+        "swaps_repair": bytes([4, 1]) + tpl5 + frames(120, swaps=range(60, 90), rot={95, 97},
+                                                      ghost={100}, miss={10, 11}),
+        "swaps_report": bytes([4, 0]) + tpl5 + frames(120, swaps=range(60, 90)),
+        "range": bytes([4, 7]) + tpl5 + frames(100, swaps=range(50, 70)) + bytes([20, 60]),
+        "three_markers": bytes([2, 1]) + tpl5[:9] + frames(60, swaps={30, 31}),
+        "two_markers": bytes([1, 1]) + tpl5[:6] + frames(30),
+        "symmetric": bytes([3, 1]) + bytes([50, 0, 0, 206, 0, 0, 0, 50, 0, 0, 206, 0])
+        + frames(40, swaps={20}),
+        "raw_frames": bytes([4, 1]) + tpl5 + bytes([5] + [rnd.randrange(256) for _ in range(300)]) * 3,
+    }
+
+
 def garbage_seeds():
     """Garbage-state programs (garbage_driver.h): [target] [fill] then bytes.
     Every target with each fill mode, from a fixed-seed generator."""
@@ -526,7 +566,7 @@ def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
                        ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds()),
-                       ("garbage", garbage_seeds())):
+                       ("garbage", garbage_seeds()), ("swaps", swaps_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

@@ -23,7 +23,7 @@ LIB_SRC = os.path.join(ROOT, "lib", "src")
 LIB_INC = os.path.join(ROOT, "lib", "include")
 PORT = os.path.join(ROOT, "port")
 PORT_HOST = os.path.join(PORT, "host")
-CLI_SRC = os.path.join(ROOT, "tools", "sfit")  # the C3D reader and writer of the CLI
+CLI_SRC = os.path.join(ROOT, "tools", "sfit")  # the CLI's C3D reader/writer and label-swap check
 
 if not os.path.isfile(os.path.join(LIB_INC, "sfit", "sfit.h")):
     raise SystemExit("sfit: lib/include not found at %s (build from a full sfit checkout)" % LIB_INC)
@@ -43,7 +43,8 @@ lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
     sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
-             os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c")] + lib_sources,
+             os.path.join(HERE, "src", "swaps.c"), os.path.join(CLI_SRC, "c3d.c"),
+             os.path.join(CLI_SRC, "c3d_write.c"), os.path.join(CLI_SRC, "cli_swaps.c")] + lib_sources,
     include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, CLI_SRC, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],

@@ -16,6 +16,7 @@ void cli_joint_opts_default(cli_joint_opts_t *o)
     o->mode = SFIT_MODE_AUTO;
     o->noise = 0;
     o->noise_var = 0.0f;
+    o->no_repair_swaps = 0;
 }
 
 const char *cli_joint_frames_opt(void *dst, const char *v)

@@ -26,6 +26,7 @@ typedef struct cli_joint_opts {
     int noise;          /**< 0 none (MGDK), 1 given (noise_var), 2 auto (estimated) */
     float noise_var;    /**< noise == 1: sigma^2 per coordinate of every measured marker
                              (unit^2), SFIT_JOINT_NOISE_MARKER */
+    int no_repair_swaps; /**< 1: label swaps reported only (cli_swaps.h) */
 } cli_joint_opts_t;
 
 /** Everything a joint run produces. */
@@ -79,7 +80,8 @@ const char *cli_joint_noise_opt(void *dst, const char *v);
     {.name = "--noise-var", .kind = CLI_OPT_FN, .dst = (J), .fn = cli_joint_noise_opt,     \
      .needs = 1},                                                                          \
     {.name = "--mode", .kind = CLI_OPT_MODE, .dst = &(J)->mode, .needs = 1,                \
-     .err = "--mode is auto, sphere or planar"}
+     .err = "--mode is auto, sphere or planar"},                                           \
+    {.name = "--no-repair-swaps", .kind = CLI_OPT_FLAG, .dst = &(J)->no_repair_swaps}
 
 /** Defaults: every frame, auto mode, no noise model. */
 void cli_joint_opts_default(cli_joint_opts_t *o);
@@ -92,6 +94,9 @@ void cli_joint_opts_default(cli_joint_opts_t *o);
     "  --noise-var auto the child markers' noise in the parent frame, estimated per\n"   \
     "                   marker (self-calibrated UGDK) and pooled\n"                       \
     "  --mode M         auto (default): ball joint, or hinge when the markers' arcs are\n" \
-    "                   near-planar; sphere / planar force one\n"
+    "                   near-planar; sphere / planar force one\n"                       \
+    "  --no-repair-swaps report label swaps within a cluster but leave the frames as\n"  \
+    "                   they are (default: exchange the labels back; reject frames\n"     \
+    "                   whose distances fit no labelling)\n"
 
 #endif /* SFIT_CLI_JOINT_H */

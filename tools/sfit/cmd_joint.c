@@ -5,12 +5,14 @@
  *
  *   sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]
  *              [--noise-var V|auto] [--mode auto|sphere|planar]
- *              [--trajectory OUT.csv] [--json]
+ *              [--no-repair-swaps] [--trajectory OUT.csv] [--json]
  *
  * FILE is a C3D file or a wide table (cli_frames.h). The parent cluster is
  * registered frame by frame on its template, every child marker is mapped
  * into the parent frame and accumulated, and the multi-marker solve gives
  * the centre (and the axis of a hinge) in the parent frame (cli_joint.h).
+ * Before that, label swaps within the parent and within the child markers
+ * are found from their distances and repaired (cli_swaps.h).
  * --trajectory writes frame,x,y,z: the centre in the lab frame at every
  * frame used (frame = 0-based index in the file).
  *
@@ -26,6 +28,7 @@
 #include "c3d_write.h"
 #include "cli.h"
 #include "cli_joint.h"
+#include "cli_swaps.h"
 
 typedef struct joint_opts {
     const char *file;
@@ -41,8 +44,8 @@ static void joint_usage(FILE *f)
 {
     fputs("usage: sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]\n"
           "                  [--noise-var V|auto] [--mode auto|sphere|planar]\n"
-          "                  [--trajectory OUT.csv] [--write OUT.c3d] [--trc OUT.trc]\n"
-          "                  [--name JC] [--json]\n"
+          "                  [--no-repair-swaps] [--trajectory OUT.csv] [--write OUT.c3d]\n"
+          "                  [--trc OUT.trc] [--name JC] [--json]\n"
           "  FILE  a C3D file, or a table with a header and one x,y,z column triple per\n"
           "        marker: NAME_X NAME_Y NAME_Z (also NAME.x, NAME:X, NAME-X, 'NAME X';\n"
           "        any case); other columns (time, frame) are ignored; blank cell = missing\n"
@@ -115,7 +118,7 @@ static const char *method_name(const sfit_multi_result_t *r)
 }
 
 static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
-                       long last, const sfit_vec3_t *lab_ref)
+                       long last, const sfit_vec3_t *lab_ref, const cli_swaps_joint_t *sw)
 {
     const sfit_multi_result_t *r = &jo->res.fit;
     int k;
@@ -165,11 +168,13 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
             printf("null}");
         }
     }
-    printf("]}\n");
+    printf("]");
+    cli_swaps_joint_json(sw, (const char *const *)o->names, o->np);
+    printf("}\n");
 }
 
 static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
-                        long last, const sfit_vec3_t *lab_ref)
+                        long last, const sfit_vec3_t *lab_ref, const cli_swaps_joint_t *sw)
 {
     const sfit_multi_result_t *r = &jo->res.fit;
     const char *u = fr->units[0] != '\0' ? fr->units : "units";
@@ -193,7 +198,10 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
     for (k = 0; k < o->nc; k++) {
         printf("%s%s", k > 0 ? " " : "", o->names[o->np + k]);
     }
-    printf("\nmethod       %s, %s\n",
+    printf("\n");
+    cli_swaps_joint_human(sw, (const char *const *)o->names, o->np, u, "label swaps  ",
+                          "             ");
+    printf("method       %s, %s\n",
            r->method == SFIT_METHOD_UGDK ? "unbiased MGDK" : "MGDK",
            r->mode == SFIT_MODE_PLANAR ? "hinge (planar solution: axis, centre on it)"
                                        : "ball joint (sphere solution)");
@@ -355,6 +363,7 @@ int cli_cmd_joint(int argc, char **argv)
     joint_opts_t o;
     cli_frames_t fr;
     cli_joint_out_t jo;
+    cli_swaps_joint_t sw;
     char why[CLI_FRAMES_ERR_MAX];
     sfit_vec3_t lab;
     long last;
@@ -378,6 +387,14 @@ int cli_cmd_joint(int argc, char **argv)
         cli_frames_free(&fr);
         return cli_input_failed(-2, o.file, msg, o.json);
     }
+    if (cli_swaps_joint_run(&fr, o.np, o.nc, o.j.first, last, !o.j.no_repair_swaps, &sw) != 0) {
+        cli_frames_free(&fr);
+        if (o.json) {
+            return cli_json_error("out_of_memory", "label swap check: out of memory");
+        }
+        fprintf(stderr, "sfit: label swap check: out of memory\n");
+        return CLI_FAIL;
+    }
     if (cli_joint_run(&fr, o.np, o.nc, &o.j, &jo) != SFIT_OK) {
         const sfit_status_t st = jo.st;
         if (o.json) {
@@ -398,14 +415,15 @@ int cli_cmd_joint(int argc, char **argv)
                     jo.used, jo.rejected);
         }
         cli_joint_free(&jo);
+        cli_swaps_joint_free(&sw);
         cli_frames_free(&fr);
         return CLI_FAIL;
     }
     rc = (jo.ref_frame >= 0 && cli_joint_lab(&fr, o.np, &jo, jo.ref_frame, &lab, NULL) == SFIT_OK);
     if (o.json) {
-        print_json(&o, &fr, &jo, last, rc ? &lab : NULL);
+        print_json(&o, &fr, &jo, last, rc ? &lab : NULL, &sw);
     } else {
-        print_human(&o, &fr, &jo, last, rc ? &lab : NULL);
+        print_human(&o, &fr, &jo, last, rc ? &lab : NULL, &sw);
     }
     rc = CLI_OK;
     if (o.trajectory != NULL && write_trajectory(&o, &fr, &jo, last) != 0) {
@@ -415,6 +433,7 @@ int cli_cmd_joint(int argc, char **argv)
         rc = CLI_IO;
     }
     cli_joint_free(&jo);
+    cli_swaps_joint_free(&sw);
     cli_frames_free(&fr);
     return rc;
 }

@@ -5,14 +5,15 @@
  * SVG picture of the skeleton at one frame.
  *
  *   sfit skeleton MODEL FILE [--frame K] [--frames F:L] [--noise-var V|auto]
- *                 [--mode M] [--svg OUT.svg] [--json]
+ *                 [--mode M] [--no-repair-swaps] [--svg OUT.svg] [--json]
  *
  * MODEL is a text file, one joint per line (blank lines and # comments
  * ignored):
  *   joint NAME PARENT_MARKERS CHILD_MARKERS [auto|sphere|planar]
  * with comma-separated marker lists. Two joints whose lists are the same
  * share that segment. The joints are computed as `sfit joint` computes
- * them (cli_joint.h), each over FILE.
+ * them (cli_joint.h), each over FILE, after the label swaps within each
+ * joint's parent and child markers are found and repaired (cli_swaps.h).
  *
  * The picture (--svg): two orthographic views of frame K side by side,
  * the lab's vertical axis (the one along which the markers spread most at
@@ -30,6 +31,7 @@
 
 #include "cli.h"
 #include "cli_joint.h"
+#include "cli_swaps.h"
 
 #define SK_MAX_JOINTS 32
 #define SK_LINE 4096
@@ -46,6 +48,8 @@ typedef struct sk_joint {
     sfit_status_t st;
     const char *stage;
     cli_joint_out_t out;
+    cli_swaps_joint_t swaps;
+    int swaps_ok;
     int lab_ok;
     sfit_vec3_t lab;              /* centre in the lab frame at frame K */
     sfit_vec3_t axis_lab;
@@ -69,7 +73,8 @@ typedef struct sk_opts {
 static void sk_usage(FILE *f)
 {
     fputs("usage: sfit skeleton MODEL FILE [--frame K] [--frames F:L] [--noise-var V|auto]\n"
-          "                     [--mode auto|sphere|planar] [--svg OUT.svg] [--json]\n"
+          "                     [--mode auto|sphere|planar] [--no-repair-swaps]\n"
+          "                     [--svg OUT.svg] [--json]\n"
           "  MODEL  text, one joint per line:  joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]\n"
           "         (comma-separated marker lists; # starts a comment)\n"
           "  FILE   C3D file or wide table, as for `sfit joint`\n" CLI_JOINT_USAGE
@@ -219,6 +224,9 @@ static void sk_free(sk_model_t *m)
         free(m->j[k].own_line);
         free(m->j[k].own_lists);
         cli_joint_free(&m->j[k].out);
+        if (m->j[k].swaps_ok) {
+            cli_swaps_joint_free(&m->j[k].swaps);
+        }
     }
 }
 
@@ -553,10 +561,14 @@ static void print_joint_json(const sk_joint_t *j)
     for (k = 0; k < j->nc; k++) {
         printf("%s%.9g", k > 0 ? "," : "", (double)j->out.radii[k]);
     }
-    printf("]}");
+    printf("]");
+    if (j->swaps_ok) {
+        cli_swaps_joint_json(&j->swaps, (const char *const *)j->names, j->np);
+    }
+    printf("}");
 }
 
-static void print_joint_human(const sk_joint_t *j, long frame)
+static void print_joint_human(const sk_joint_t *j, long frame, const char *units)
 {
     const sfit_multi_result_t *r = &j->out.res.fit;
     if (j->st != SFIT_OK) {
@@ -579,6 +591,10 @@ static void print_joint_human(const sk_joint_t *j, long frame)
                (double)j->lab.v[1], (double)j->lab.v[2], frame);
     } else {
         printf("  centre (lab) n/a at frame %ld (parent not registrable there)\n", frame);
+    }
+    if (j->swaps_ok) {
+        cli_swaps_joint_human(&j->swaps, (const char *const *)j->names, j->np, units,
+                              "  label swaps  ", "               ");
     }
 }
 
@@ -637,6 +653,8 @@ int cli_cmd_skeleton(int argc, char **argv)
         if (j->has_mode) {
             jo.mode = j->mode;
         }
+        j->swaps_ok = (cli_swaps_joint_run(&fr, j->np, j->nc, jo.first, jo.last,
+                                           !jo.no_repair_swaps, &j->swaps) == 0);
         j->st = cli_joint_run(&fr, j->np, j->nc, &jo, &j->out);
         j->stage = j->out.stage;
         for (i = 0; i < j->np + j->nc; i++) {
@@ -672,7 +690,8 @@ int cli_cmd_skeleton(int argc, char **argv)
     } else {
         printf("file         %s, model %s, %d joints\n", o.file, o.model, m->n);
         for (a = 0; a < m->n; a++) {
-            print_joint_human(&m->j[a], frame);
+            print_joint_human(&m->j[a], frame,
+                              keep.units[0] != '\0' ? keep.units : "units");
         }
     }
     rc = failed ? CLI_FAIL : CLI_OK;

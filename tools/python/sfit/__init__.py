@@ -491,13 +491,15 @@ class JointResult(_Record):
     residual_mean / residual_max (parent registration RMS). From
     :func:`joint_center` also: center_global (F, 3) and axis_global (F, 3)
     (NaN in frames whose parent cannot be registered), valid (F,) bool,
-    cluster (the parent template used).
+    cluster (the parent template used), label_swaps (the label swaps found
+    within the parent and within the child markers, see
+    :func:`joint_center`; None from :meth:`Joint.solve`).
     """
 
     __slots__ = ("center", "axis", "eigenvalues", "radii", "marker_n", "n", "markers",
                  "skipped", "trust_ratio", "leontief_ratio", "flags", "flags_mask", "method",
                  "mode", "frames", "rejected_frames", "residual_mean", "residual_max",
-                 "center_global", "axis_global", "valid", "cluster", "_raw")
+                 "center_global", "axis_global", "valid", "cluster", "label_swaps", "_raw")
     _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
 
 
@@ -691,8 +693,57 @@ if hasattr(_sfit, "Joint"):
                 raise _arg_error("Joint.center_at: result must be a JointResult of solve()")
             return self._center_at(raw, parent)
 
+    def _runs(frames):
+        """[(first, last), ...] of the sorted frame indices."""
+        runs = []
+        for f in frames.tolist():
+            if runs and runs[-1][1] == f - 1:
+                runs[-1][1] = f
+            else:
+                runs.append([f, f])
+        return [tuple(r) for r in runs]
+
+    def _label_swaps(frames, repair):
+        """The CLI's label-swap check (tools/sfit/cli_swaps.c) over one
+        cluster's (F, M, 3) frames: (the frames to use, the report). Input
+        that is not such an array (or has too many markers or frames) is
+        returned as it is with the report None: the joint's own checks then
+        reject it as before."""
+        try:
+            a = _np.asarray(frames)
+            ok = (a.dtype.kind in "fiu" and a.ndim == 3 and a.shape[-1] == 3
+                  and 1 <= a.shape[1] <= 8 and a.shape[0] < 2 ** 32)
+        except Exception:  # the hostile object's error: the joint reports it
+            return frames, None
+        if not ok:
+            return frames, None
+        with _np.errstate(all="ignore"):
+            buf = _np.array(a, dtype=_np.float32, order="C", copy=True)
+        raw = _sfit._label_swaps(buf, buf.shape[0], buf.shape[1], bool(repair))
+        status = _np.frombuffer(raw["status"], dtype=_np.int16).astype(_np.int64)
+        rep = {k: raw[k] for k in ("checked", "why", "frames_checked", "noise",
+                                   "decidable_above", "no_fit_above", "swapped_frames")}
+        swaps, undecidable = [], []
+        for c, (lab, moved, count, pattern, decidable) in enumerate(raw["candidates"]):
+            if c == 0:
+                continue
+            moved_labels = [u for u in range(len(lab)) if lab[u] != u]
+            true = [lab[u] for u in moved_labels]
+            if count > 0:
+                fr = _np.nonzero(status == c)[0]
+                swaps.append({"labels": moved_labels, "true": true, "count": int(count),
+                              "frames": fr, "runs": _runs(fr)})
+            if raw["checked"] and not decidable:
+                undecidable.append({"labels": moved_labels, "true": true,
+                                    "pattern_change": pattern})
+        no_fit, amb = _np.nonzero(status == -2)[0], _np.nonzero(status == -3)[0]
+        rep.update(swaps=swaps, undecidable=undecidable, status=status,
+                   rejected={"count": int(len(no_fit) + len(amb)), "no_fit": no_fit,
+                             "ambiguous": amb})
+        return (buf if repair else frames), rep
+
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
-                     weight="equal", marker_noise_var=None) -> JointResult:
+                     weight="equal", marker_noise_var=None, repair_swaps=True) -> JointResult:
         """Functional joint centre from trajectories.
 
         Args:
@@ -704,12 +755,30 @@ if hasattr(_sfit, "Joint"):
                 child marker in the parent frame).
             marker_noise_var: variance of each measured marker coordinate
                 instead; the library propagates it through the parent pose.
+            repair_swaps: label swaps within the parent markers and within the
+                child markers (3 to 8 of them) are found from their distances
+                as `sfit joint` finds them (docs/swaps.md): True (default)
+                exchanges the labels back and drops the frames of a cluster
+                whose distances fit no labelling (its markers taken as not
+                seen); False only reports them.
 
         Returns:
             JointResult (centre in the parent frame) with center_global and
             axis_global (F, 3) per frame (NaN where the parent is not
-            registrable) and valid (F,).
+            registrable), valid (F,) and label_swaps: {"repair": bool,
+            "parent": report, "child": report}, a report (None for input
+            that is not (F, M, 3)) holding checked, why, frames_checked,
+            noise (the distance noise), decidable_above, no_fit_above,
+            swapped_frames, swaps (each: labels and true, marker indices
+            within the cluster: the point labelled labels[i] is marker
+            true[i]; count, frames, runs), rejected (count, no_fit,
+            ambiguous: frame indices), undecidable (labels, true,
+            pattern_change) and status (F,) per frame (-1 not checked, 0 as
+            given, -2 no labelling fits, -3 ambiguous, > 0 a swap).
         """
+        parent, swaps_p = _label_swaps(parent, repair_swaps)
+        child, swaps_c = _label_swaps(child, repair_swaps)
+        label_swaps = {"repair": bool(repair_swaps), "parent": swaps_p, "child": swaps_c}
         if template is None:
             cl = Cluster.from_frames(parent)
         elif isinstance(template, _sfit.Cluster):
@@ -729,7 +798,7 @@ if hasattr(_sfit, "Joint"):
         res = j.solve()
         c, a, v = j.center_at(res, parent)
         d = {k2: getattr(res, k2) for k2 in JointResult.__slots__}
-        d.update(center_global=c, axis_global=a, valid=v, cluster=cl)
+        d.update(center_global=c, axis_global=a, valid=v, cluster=cl, label_swaps=label_swaps)
         return JointResult(d)
 
     __all__ += ["Cluster", "Joint", "Pose", "JointResult", "joint_center",

@@ -243,6 +243,7 @@ class JointResult:
     axis_global: Optional[npt.NDArray[np.float64]]
     valid: Optional[npt.NDArray[np.bool_]]
     cluster: Optional[Cluster]
+    label_swaps: Optional[dict[str, Any]]
     def to_dict(self) -> dict[str, Any]: ...
 
 class Joint:
@@ -265,4 +266,5 @@ class Joint:
 def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Cluster, ArrayLike] = None,
                  noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
                  mode: Mode = "auto", weight: Literal["equal", "samples"] = "equal",
-                 marker_noise_var: Optional[float] = None) -> JointResult: ...
+                 marker_noise_var: Optional[float] = None, repair_swaps: bool = True
+                 ) -> JointResult: ...

@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "sfit/sfit.h"
+#include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
 
 /* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
  * library has it. */
@@ -2344,6 +2345,8 @@ static PyMethodDef module_methods[] = {
     {"coverage_estimate_theta", (PyCFunction)(void (*)(void))py_coverage_estimate_theta,
      METH_VARARGS | METH_KEYWORDS, "Internal: see sfit.coverage_estimate_theta."},
     {"status_name", py_status_name, METH_O, "status_name(code) -> str (the library's name)."},
+    {"_label_swaps", sfit_py_label_swaps, METH_VARARGS,
+     "Internal: label swaps within one cluster (see sfit.joint_center)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {

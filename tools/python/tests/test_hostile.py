@@ -932,7 +932,9 @@ def _joint_cases(T, res):
            ("child (F, 0, 3)", lambda: sfit.joint_center(par, chi[:, :0]), sfit.ArgError),
            ("child None", lambda: sfit.joint_center(par, None), sfit.ArgError),
            ("child __array__ raises", lambda: sfit.joint_center(par, RaisingArray()), None),
-           ("frame count mismatch", lambda: sfit.joint_center(par, chi[:-1]), sfit.ArgError)]
+           ("frame count mismatch", lambda: sfit.joint_center(par, chi[:-1]), sfit.ArgError),
+           ("repair_swaps False", lambda: sfit.joint_center(par, chi, repair_swaps=False), "ok"),
+           ("repair_swaps None", lambda: sfit.joint_center(par, chi, repair_swaps=None), "ok")]
         + mode_cases(lambda m: sfit.joint_center(par, chi, mode=m))
         + number_cases(lambda v: sfit.joint_center(par, chi, noise_var=v)))
 

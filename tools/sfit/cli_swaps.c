@@ -1,0 +1,463 @@
+/* SPDX-License-Identifier: MIT */
+/** @file cli_swaps.c  Label swaps within a rigid cluster (cli_swaps.h). No I/O. */
+#include "cli_swaps.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Distances of one frame: d[u][v] (NaN = a marker not seen). Passed without
+ * const: C99 does not convert double (*)[8] to const double (*)[8]. */
+typedef double dist_t[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
+
+static int seen(const sfit_vec3_t *p)
+{
+    return isfinite(p->v[0]) && isfinite(p->v[1]) && isfinite(p->v[2]);
+}
+
+/* Distances of frame f; returns the markers seen. */
+static int frame_dist(const sfit_vec3_t *xyz, long f, int stride, int off, int m, dist_t d)
+{
+    const sfit_vec3_t *row = xyz + (size_t)f * (size_t)stride + (size_t)off;
+    int u, v, n = 0;
+    for (u = 0; u < m; u++) {
+        n += seen(&row[u]);
+    }
+    for (u = 0; u < m; u++) {
+        d[u][u] = 0.0;
+        for (v = u + 1; v < m; v++) {
+            double s = 0.0;
+            int i;
+            if (!seen(&row[u]) || !seen(&row[v])) {
+                d[u][v] = d[v][u] = (double)NAN;
+                continue;
+            }
+            for (i = 0; i < 3; i++) {
+                const double e = (double)row[u].v[i] - (double)row[v].v[i];
+                s += e * e;
+            }
+            d[u][v] = d[v][u] = sqrt(s);
+        }
+    }
+    return n;
+}
+
+/* The candidates: as given, every exchange of two labels, both rotations
+ * of every three labels (lab[u]: the marker the point labelled u is). */
+static int make_cands(int m, cli_swap_cand_t *c)
+{
+    int n = 0, i, j, k, u;
+    memset(c, 0, sizeof *c * CLI_SWAPS_MAX_CAND);
+    for (u = 0; u < m; u++) {
+        c[0].lab[u] = (unsigned char)u;
+    }
+    n = 1;
+    for (i = 0; i < m; i++) {
+        for (j = i + 1; j < m; j++) {
+            c[n] = c[0];
+            c[n].lab[i] = (unsigned char)j;
+            c[n].lab[j] = (unsigned char)i;
+            c[n++].moved = 2;
+        }
+    }
+    for (i = 0; i < m; i++) {
+        for (j = i + 1; j < m; j++) {
+            for (k = j + 1; k < m; k++) {
+                c[n] = c[0]; /* i is j, j is k, k is i */
+                c[n].lab[i] = (unsigned char)j;
+                c[n].lab[j] = (unsigned char)k;
+                c[n].lab[k] = (unsigned char)i;
+                c[n++].moved = 3;
+                c[n] = c[0]; /* i is k, k is j, j is i */
+                c[n].lab[i] = (unsigned char)k;
+                c[n].lab[k] = (unsigned char)j;
+                c[n].lab[j] = (unsigned char)i;
+                c[n++].moved = 3;
+            }
+        }
+    }
+    return n;
+}
+
+/* sum over the pairs seen in d (and with a reference) of (a - b)^2, and
+ * how many pairs; a = d[u][v] (use_d) or ref[la u][la v]; b = ref[lb u][lb v]. */
+static double pair_ss(dist_t d, dist_t ref, int m, const unsigned char *la,
+                      const unsigned char *lb, int use_d, int *npairs)
+{
+    double s = 0.0;
+    int u, v, n = 0;
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            double a, b;
+            if (isnan(d[u][v])) {
+                continue;
+            }
+            a = use_d ? d[u][v] : ref[la[u]][la[v]];
+            b = ref[lb[u]][lb[v]];
+            if (isnan(a) || isnan(b)) {
+                continue;
+            }
+            s += (a - b) * (a - b);
+            n++;
+        }
+    }
+    if (npairs != NULL) {
+        *npairs = n;
+    }
+    return s;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of n values (sorted in place); NaN when n == 0. */
+static double median(double *x, size_t n)
+{
+    if (n == 0u) {
+        return (double)NAN;
+    }
+    qsort(x, n, sizeof *x, cmp_double);
+    return (n % 2u) ? x[n / 2u] : 0.5 * (x[n / 2u - 1u] + x[n / 2u]);
+}
+
+/* Best labelling of frame d against ref: the least cost among the labels
+ * as given and the relabellings whose pattern (over the pairs seen) is at
+ * least `decide` from it. Returns the candidate index; *cost its cost,
+ * *np the pairs, *rival 1 if another decidable relabelling lies within
+ * `decide` of the winner. */
+static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
+                      int nc, double decide, double *cost, int *np, int *rival)
+{
+    unsigned char ok[CLI_SWAPS_MAX_CAND];
+    double best_cost = pair_ss(d, ref, m, NULL, c[0].lab, 1, np);
+    int best = 0, k;
+    const double dd = decide * decide;
+    ok[0] = 1u;
+    for (k = 1; k < nc; k++) {
+        double e;
+        ok[k] = (unsigned char)(pair_ss(d, ref, m, c[k].lab, c[0].lab, 0, NULL) >= dd);
+        if (!ok[k]) {
+            continue;
+        }
+        e = pair_ss(d, ref, m, NULL, c[k].lab, 1, NULL);
+        if (e < best_cost) {
+            best_cost = e;
+            best = k;
+        }
+    }
+    *rival = 0;
+    if (best != 0) {
+        for (k = 1; k < nc && !*rival; k++) {
+            if (k != best && ok[k] && pair_ss(d, ref, m, c[k].lab, c[best].lab, 0, NULL) < dd) {
+                *rival = 1;
+            }
+        }
+    }
+    *cost = best_cost;
+    return best;
+}
+
+/* Per-pair median of the frames' distances, relabelled by lab[k] (NULL:
+ * as given), over frames fr[0..n-1]; buf holds n * CLI_SWAPS_MAX_PAIRS
+ * values. Pairs never seen get NaN. */
+static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
+                         size_t n, const int *lab, const cli_swap_cand_t *c, double *buf,
+                         dist_t ref)
+{
+    size_t cnt[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
+    size_t k;
+    int a, b, u, v;
+    memset(cnt, 0, sizeof cnt);
+    for (k = 0; k < n; k++) {
+        dist_t d;
+        const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
+        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        for (u = 0; u < m; u++) {
+            for (v = u + 1; v < m; v++) {
+                if (!isnan(d[u][v])) { /* true labels (l[u], l[v]), in order */
+                    a = l[u] < l[v] ? l[u] : l[v];
+                    b = l[u] < l[v] ? l[v] : l[u];
+                    buf[(size_t)(a * m - a * (a + 1) / 2 + (b - a - 1)) * n + cnt[a][b]++] =
+                        d[u][v];
+                }
+            }
+        }
+    }
+    for (a = 0; a < m; a++) {
+        ref[a][a] = 0.0;
+        for (b = a + 1; b < m; b++) {
+            ref[a][b] = ref[b][a] =
+                median(buf + (size_t)(a * m - a * (a + 1) / 2 + (b - a - 1)) * n, cnt[a][b]);
+        }
+    }
+}
+
+/* Pooled robust scale: 1.4826 median |d - R| over the frames' pairs seen,
+ * relabelled by lab (NULL: as given); at least the floor. */
+static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
+                           size_t n, const int *lab, const cli_swap_cand_t *c, dist_t ref,
+                           double *buf)
+{
+    size_t k, cnt = 0;
+    double med_ref, s;
+    double rd[CLI_SWAPS_MAX_PAIRS];
+    size_t nr = 0;
+    int u, v;
+    for (k = 0; k < n; k++) {
+        dist_t d;
+        const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
+        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        for (u = 0; u < m; u++) {
+            for (v = u + 1; v < m; v++) {
+                const double r = ref[l[u]][l[v]];
+                if (!isnan(d[u][v]) && !isnan(r)) {
+                    buf[cnt++] = fabs(d[u][v] - r);
+                }
+            }
+        }
+    }
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            if (!isnan(ref[u][v])) {
+                rd[nr++] = ref[u][v];
+            }
+        }
+    }
+    med_ref = median(rd, nr);
+    s = 1.4826 * median(buf, cnt);
+    if (!(s >= CLI_SWAPS_SCALE_FLOOR * med_ref)) {
+        s = CLI_SWAPS_SCALE_FLOOR * med_ref;
+    }
+    return s;
+}
+
+const char *cli_swaps_why(int why)
+{
+    switch (why) {
+    case CLI_SWAPS_WHY_CHECKED:
+        return "checked";
+    case CLI_SWAPS_WHY_FEW_MARKERS:
+        return "fewer than 3 markers";
+    case CLI_SWAPS_WHY_FEW_FRAMES:
+        return "too few frames with 3 markers seen";
+    default:
+        return "degenerate: the markers keep no distance apart";
+    }
+}
+
+void cli_swaps_free(cli_swaps_t *s)
+{
+    free(s->status);
+    s->status = NULL;
+}
+
+long cli_swaps_runs(const cli_swaps_t *s, int st, long (*runs)[2], long max)
+{
+    long f, n = 0, start = -1;
+    if (s->status == NULL) {
+        return 0;
+    }
+    for (f = 0; f <= s->nframes; f++) {
+        const int here = (f < s->nframes) && s->status[f] == st;
+        if (here && start < 0) {
+            start = f;
+        } else if (!here && start >= 0) {
+            if (n < max) {
+                runs[n][0] = start;
+                runs[n][1] = f - 1;
+            }
+            n++;
+            start = -1;
+        }
+    }
+    return n;
+}
+
+int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long first,
+                  long last, int repair, cli_swaps_t *out)
+{
+    long *fr = NULL, f;
+    int *lab = NULL;
+    double *buf = NULL;
+    size_t n = 0, na, k;
+    dist_t anchor;
+    double s0;
+    int c;
+
+    memset(out, 0, sizeof *out);
+    out->m = m;
+    if (xyz == NULL || nframes < 0 || m < 1 || m > CLI_SWAPS_MAX_MARKERS || off < 0
+        || off + m > stride) {
+        return -1;
+    }
+    if (last < 0 || last >= nframes) {
+        last = nframes - 1;
+    }
+    if (first < 0) {
+        first = 0;
+    }
+    out->first = first;
+    out->last = last;
+    out->nframes = nframes;
+    out->status = malloc(((size_t)nframes + 1u) * sizeof *out->status);
+    if (out->status == NULL) {
+        return -1;
+    }
+    for (f = 0; f < nframes; f++) {
+        out->status[f] = CLI_SWAPS_UNCHECKED;
+    }
+    out->ncand = make_cands(m, out->cand);
+    out->why = CLI_SWAPS_WHY_FEW_MARKERS;
+    if (m < 3) {
+        return 0;
+    }
+    out->why = CLI_SWAPS_WHY_FEW_FRAMES;
+    if (first > last) {
+        return 0;
+    }
+    /* the frames with >= 3 markers seen */
+    fr = malloc(((size_t)(last - first) + 1u) * sizeof *fr);
+    lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
+    buf = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *buf);
+    if (fr == NULL || lab == NULL || buf == NULL) {
+        free(fr);
+        free(lab);
+        free(buf);
+        return -1;
+    }
+    for (f = first; f <= last; f++) {
+        dist_t d;
+        if (frame_dist(xyz, f, stride, off, m, d) >= 3) {
+            fr[n++] = f;
+        }
+    }
+    if ((long)n < CLI_SWAPS_MIN_FRAMES) {
+        free(fr);
+        free(lab);
+        free(buf);
+        return 0;
+    }
+    /* 1. the anchor: the start of the range, as given */
+    na = (n < (size_t)CLI_SWAPS_ANCHOR) ? n : (size_t)CLI_SWAPS_ANCHOR;
+    pair_medians(xyz, stride, off, m, fr, na, NULL, out->cand, buf, anchor);
+    {
+        dist_t all; /* pairs the anchor never sees: their median over all frames */
+        int u, v, gap = 0;
+        for (u = 0; u < m; u++) {
+            for (v = u + 1; v < m; v++) {
+                gap |= isnan(anchor[u][v]);
+            }
+        }
+        if (gap) {
+            pair_medians(xyz, stride, off, m, fr, n, NULL, out->cand, buf, all);
+            for (u = 0; u < m; u++) {
+                for (v = u + 1; v < m; v++) {
+                    if (isnan(anchor[u][v])) {
+                        anchor[u][v] = anchor[v][u] = all[u][v];
+                    }
+                }
+            }
+        }
+    }
+    s0 = pooled_scale(xyz, stride, off, m, fr, na, NULL, out->cand, anchor, buf);
+    if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
+        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        free(fr);
+        free(lab);
+        free(buf);
+        return 0;
+    }
+    /* 2. provisional labels, reference and scale */
+    for (k = 0; k < n; k++) {
+        dist_t d;
+        double cost;
+        int np, rival;
+        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * CLI_SWAPS_Z * s0, &cost,
+                            &np, &rival);
+    }
+    pair_medians(xyz, stride, off, m, fr, n, lab, out->cand, buf, out->ref);
+    out->scale = pooled_scale(xyz, stride, off, m, fr, n, lab, out->cand, out->ref, buf);
+    if (!(out->scale > 0.0) || !isfinite(out->scale)) {
+        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        free(fr);
+        free(lab);
+        free(buf);
+        return 0;
+    }
+    out->decide = 2.0 * CLI_SWAPS_Z * out->scale;
+    for (c = 0; c < out->ncand; c++) {
+        dist_t full;
+        int u, v;
+        for (u = 0; u < m; u++) {
+            for (v = 0; v < m; v++) {
+                full[u][v] = 0.0; /* every pair "seen" */
+            }
+        }
+        out->cand[c].pattern =
+            sqrt(pair_ss(full, out->ref, m, out->cand[c].lab, out->cand[0].lab, 0, NULL));
+        out->cand[c].decidable = c == 0 || out->cand[c].pattern >= out->decide;
+    }
+    /* no fit: farther from the best labelling than half the nearest
+     * decidable relabelling is from the labels as given, and than z s RMS */
+    out->misfit = 0.0;
+    for (c = 1; c < out->ncand; c++) {
+        if (out->cand[c].decidable && (out->misfit == 0.0 || out->cand[c].pattern < out->misfit)) {
+            out->misfit = out->cand[c].pattern;
+        }
+    }
+    out->misfit *= 0.5;
+    /* 3. the decision, frame by frame */
+    out->checked = 1;
+    out->why = CLI_SWAPS_WHY_CHECKED;
+    out->repaired = repair != 0;
+    for (k = 0; k < n; k++) {
+        dist_t d;
+        double cost;
+        int np, rival, b;
+        sfit_vec3_t *row = xyz + (size_t)fr[k] * (size_t)stride + (size_t)off;
+        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, &cost, &np, &rival);
+        out->frames_checked++;
+        if (np > 0 && cost > (double)np * CLI_SWAPS_Z * CLI_SWAPS_Z * out->scale * out->scale
+            && cost > out->misfit * out->misfit) {
+            out->status[fr[k]] = CLI_SWAPS_NO_FIT;
+            out->frames_no_fit++;
+        } else if (rival) {
+            out->status[fr[k]] = CLI_SWAPS_AMBIGUOUS;
+            out->frames_ambiguous++;
+        } else {
+            out->status[fr[k]] = (signed short)b;
+            out->cand[b].count++;
+            if (b != 0) {
+                out->frames_swapped++;
+            }
+        }
+        if (!repair) {
+            continue;
+        }
+        if (out->status[fr[k]] < 0) {
+            int u, i;
+            for (u = 0; u < m; u++) {
+                for (i = 0; i < 3; i++) {
+                    row[u].v[i] = NAN;
+                }
+            }
+        } else if (b != 0) {
+            sfit_vec3_t tmp[CLI_SWAPS_MAX_MARKERS];
+            int u;
+            memcpy(tmp, row, (size_t)m * sizeof *row); /* lab is a permutation: all rewritten */
+            for (u = 0; u < m; u++) {
+                tmp[out->cand[b].lab[u]] = row[u];
+            }
+            memcpy(row, tmp, (size_t)m * sizeof *row);
+        }
+    }
+    free(fr);
+    free(lab);
+    free(buf);
+    return 0;
+}
