@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sfit/sfit_noise.h"
+#include "sfit/sfit_coverage.h"
 #include "sfit_ref.h"
 
 #define NMAX 100000
@@ -49,7 +50,7 @@ static sfit_status_t calibrate_array(size_t n, const double c0[3], double r0,
     (void)sfit_moments_init(&m);
     assert_int_equal(sfit_moments_add_block(&m, g_fpts, n, NULL), SFIT_OK);
     tc_to_vec3(c0, &c);
-    return sfit_moments_calibrate(&m, &c, (float)r0, e);
+    return sfit_noise_calibrate(&m, &c, (float)r0, e);
 }
 
 /* ------------------------------------------------------------ calibration */
@@ -425,7 +426,7 @@ static void test_estimate_from_sampled_fit(void **state)
             cfg.mode = arc ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
             cfg.eigen = 1; /* the coverage estimate needs the eigenvalues */
             make_pts(&g, arc, n, 100.0, grid[k] * DEG, 1.0);
-            assert_int_equal(sfit_points_fit(g_fpts, n, &cfg, &r), SFIT_OK);
+            assert_int_equal(sfit_fit_points(g_fpts, n, &cfg, &r), SFIT_OK);
             assert_int_equal(sfit_coverage_estimate_theta(kd, &r.eigenvalues, &th_raw),
                              SFIT_OK);
             eig = r.eigenvalues;
@@ -495,7 +496,7 @@ static void test_real_hip_coverage(void **state)
         for (i = 0; i < n; i++) {
             tc_to_vec3(g_pts[i], &g_fpts[i]);
         }
-        assert_int_equal(sfit_points_fit(g_fpts, n, &fc, &r), SFIT_OK);
+        assert_int_equal(sfit_fit_points(g_fpts, n, &fc, &r), SFIT_OK);
         assert_int_equal(r.mode, SFIT_MODE_SPHERE);
         assert_int_equal(sfit_coverage_estimate_theta(SFIT_COVERAGE_CAP, &r.eigenvalues, &th),
                          SFIT_OK);
@@ -549,28 +550,28 @@ static void test_errors(void **state)
     memset(&e0, 0xA5, sizeof e0);
     e = e0;
     (void)sfit_moments_init(&m);
-    assert_int_equal(sfit_moments_calibrate(NULL, &c0, 1.0f, &e), SFIT_E_ARG);
-    assert_int_equal(sfit_moments_calibrate(&m, NULL, 1.0f, &e), SFIT_E_ARG);
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 1.0f, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 1.0f, &e), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_noise_calibrate(NULL, &c0, 1.0f, &e), SFIT_E_ARG);
+    assert_int_equal(sfit_noise_calibrate(&m, NULL, 1.0f, &e), SFIT_E_ARG);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 1.0f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 1.0f, &e), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, -1.0f, &e), SFIT_E_ARG);
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, nan, &e), SFIT_E_NONFINITE);
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, inf, &e), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, -1.0f, &e), SFIT_E_ARG);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, nan, &e), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, inf, &e), SFIT_E_NONFINITE);
     c0.v[1] = nan;
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 1.0f, &e), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 1.0f, &e), SFIT_E_NONFINITE);
     c0.v[1] = 0.0f;
     assert_memory_equal(&e, &e0, sizeof e);
     /* one sample exactly on the sphere: estimate 0, defined for N = 1 */
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 1.0f, &e), SFIT_OK);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 1.0f, &e), SFIT_OK);
     assert_int_equal(e.n, 1);
     assert_true(e.noise_trace == 0.0f && e.noise_var == 0.0f);
     /* r0 = 0 with a far sample: trace = |x - c0|^2 */
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 0.0f, &e), SFIT_OK);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 0.0f, &e), SFIT_OK);
     assert_near(e.noise_trace, 1.0, 1e-6, "fixed-point trace");
     /* overflow: |x - c0|^2 beyond float */
     c0.v[0] = -3.0e20f;
-    assert_int_equal(sfit_moments_calibrate(&m, &c0, 0.0f, &e), SFIT_E_RANGE);
+    assert_int_equal(sfit_noise_calibrate(&m, &c0, 0.0f, &e), SFIT_E_RANGE);
     c0.v[0] = 0.0f;
 
     assert_int_equal(sfit_noise_calib_std(1.0f, 1.0f, 0u, &out), SFIT_E_ARG);
