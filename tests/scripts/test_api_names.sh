@@ -10,19 +10,7 @@ src=$2
 name=test_api_names
 # shellcheck source=tests/scripts/common.sh
 . "$src/tests/scripts/common.sh"
-[ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
-check="$src/tests/scripts/api_names.py"
-/usr/bin/python3 "$check" "$src"
-
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-must_fail() { # WHAT: the check on $tmp/t must fail and say WHAT
-  local what=$1 out
-  if out=$(/usr/bin/python3 "$check" "$tmp/t" 2>&1); then
-    echo "FAIL: the check passed on a tree with $what" >&2; exit 1
-  fi
-  echo "ok: fails on $what: $(echo "$out" | head -1)"
-}
+rule_setup "$src/tests/scripts/api_names.py"
 fresh() { rm -rf "$tmp/t"; mkdir -p "$tmp/t/lib"; cp -r "$src/lib/include" "$src/lib/src" "$tmp/t/lib/"; }
 
 # 1. a function declared under another family's header

@@ -412,7 +412,7 @@ static void write_table_and_claims(const char *dir)
     char gb[32];
 
     /* results_table.md: N = 100, 1000, 10000; results_table_n1000.md: the
-     * README's compact version. */
+     * compact version (N = 1000 only). */
     for (pass = 0; pass < 2; ++pass) {
         FILE *f = open_out(dir, pass == 0 ? "results_table.md" : "results_table_n1000.md");
         fprintf(f, "| geometry | σ (mm) | ρ | N | GDKE axial bias (mm) | GDKE RMSE/√trCRLB | "
