@@ -497,22 +497,22 @@ static void test_pose_maps(void **state)
         }
         tc_to_vec3(x, &xg);
         tc_to_double3(&xg, x);
-        assert_int_equal(sfit_pose_to_segment(&pose, &xg, &xs), SFIT_OK);
+        assert_int_equal(sfit_cluster_to_segment(&pose, &xg, &xs), SFIT_OK);
         ref_pose_to_segment(r, t, x, xs_ref);
         assert_vec3_near(xs.v, xs_ref, 1e-4, "to_segment");
-        assert_int_equal(sfit_pose_to_global(&pose, &xs, &back), SFIT_OK);
+        assert_int_equal(sfit_cluster_to_global(&pose, &xs, &back), SFIT_OK);
         assert_vec3_near(back.v, xg.v, 1e-3, "round trip");
         /* aliasing */
         back = xg;
-        assert_int_equal(sfit_pose_to_segment(&pose, &back, &back), SFIT_OK);
+        assert_int_equal(sfit_cluster_to_segment(&pose, &back, &back), SFIT_OK);
         assert_memory_equal(&back, &xs, sizeof back);
     }
-    assert_int_equal(sfit_pose_to_global(NULL, &xs, &back), SFIT_E_ARG);
-    assert_int_equal(sfit_pose_to_global(&pose, NULL, &back), SFIT_E_ARG);
-    assert_int_equal(sfit_pose_to_global(&pose, &xs, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_pose_to_segment(NULL, &xs, &back), SFIT_E_ARG);
-    assert_int_equal(sfit_pose_to_segment(&pose, NULL, &back), SFIT_E_ARG);
-    assert_int_equal(sfit_pose_to_segment(&pose, &xs, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_global(NULL, &xs, &back), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_global(&pose, NULL, &back), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_global(&pose, &xs, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_segment(NULL, &xs, &back), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_segment(&pose, NULL, &back), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_to_segment(&pose, &xs, NULL), SFIT_E_ARG);
 }
 
 /* Template from one frame: origin at the centroid, lab axes; registering

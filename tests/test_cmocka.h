@@ -67,6 +67,26 @@ static inline void tc_to_double3(const sfit_vec3_t *v, double x[3])
     x[2] = (double)v->v[2];
 }
 
+/** n samples of a cap (arc = 0) or an arc (arc = 1) of tu_sample_cap() /
+ * tu_sample_arc(), rounded to float into f and read back into d, so that
+ * the library (f) and a double oracle (d) see the same data. */
+static inline void tc_sample_set(tu_rng_t *g, int arc, size_t n, const double c[3], double r,
+                                 const double axis[3], const double ref_dir[3], double theta,
+                                 double sigma, sfit_vec3_t *f, double (*d)[3])
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        double p[3];
+        if (arc) {
+            tu_sample_arc(g, c, r, axis, ref_dir, theta, sigma, p);
+        } else {
+            tu_sample_cap(g, c, r, axis, theta, sigma, p);
+        }
+        tc_to_vec3(p, &f[i]);
+        tc_to_double3(&f[i], d[i]);
+    }
+}
+
 /** Euclidean distance between a float vec3 and a double 3-vector. */
 static inline double tc_dist(const sfit_vec3_t *a, const double b[3])
 {

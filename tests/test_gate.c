@@ -61,14 +61,14 @@ static void gate_mc(double theta_deg, int n, int trials, int kind, uint64_t seed
             (void)sfit_moments_add(&dirty, &v);
             assert_int_equal(sfit_gate_add(&gt, &v, NULL), SFIT_OK);
         }
-        assert_int_equal(sfit_moments_fit(&clean, &fc, &a), SFIT_OK);
+        assert_int_equal(sfit_fit_moments(&clean, &fc, &a), SFIT_OK);
         assert_int_equal(sfit_gate_fit(&gt, &b), SFIT_OK);
         assert_int_equal(sfit_gate_stats(&gt, &gs), SFIT_OK);
         assert_int_equal(gs.accepted + gs.outliers, (uint32_t)n);
         flagged += gs.outliers;
         ec += tc_dist(&a.center, k_c);
         eg += tc_dist(&b.center, k_c);
-        eu += (sfit_moments_fit(&dirty, &fc, &d) == SFIT_OK) ? tc_dist(&d.center, k_c) : 1e3;
+        eu += (sfit_fit_moments(&dirty, &fc, &d) == SFIT_OK) ? tc_dist(&d.center, k_c) : 1e3;
     }
     print_message("gate: theta %.0f N %d T %d kind %d: mean centre error clean %.3f gated %.3f "
                   "(x%.2f) ungated %.1f; outliers flagged %lu of %lu injected\n",

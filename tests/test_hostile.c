@@ -355,7 +355,7 @@ static void test_f4_psd(void **state)
     cfg.noise = SFIT_NOISE_COV;
     memcpy(cfg.noise_cov.m, indef, sizeof indef);
     /* main: OK, method UGDK */
-    assert_int_equal(sfit_moments_fit(&m, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_fit_moments(&m, &cfg, &r), SFIT_E_ARG);
     icfg.noise = SFIT_NOISE_COV;
     icfg.noise_cov = cfg.noise_cov;
     assert_int_equal(sfit_incr_init(&inc, &icfg), SFIT_E_ARG);
@@ -371,17 +371,17 @@ static void test_f4_psd(void **state)
                 cfg.noise_cov.m[3 * i + j] = scale * 1e-3f * (v[i] * v[j]);
             }
         }
-        assert_int_equal(sfit_moments_fit(&m, &cfg, &r) == SFIT_E_ARG, 0);
+        assert_int_equal(sfit_fit_moments(&m, &cfg, &r) == SFIT_E_ARG, 0);
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
                 cfg.noise_cov.m[3 * i + j] = scale * 1e-3f * (v[i] * v[j] + u[i] * u[j]);
             }
         }
-        assert_int_equal(sfit_moments_fit(&m, &cfg, &r) == SFIT_E_ARG, 0);
+        assert_int_equal(sfit_fit_moments(&m, &cfg, &r) == SFIT_E_ARG, 0);
         for (i = 0; i < 9; i++) {
             cfg.noise_cov.m[i] = scale * indef[i];
         }
-        assert_int_equal(sfit_moments_fit(&m, &cfg, &r), SFIT_E_ARG);
+        assert_int_equal(sfit_fit_moments(&m, &cfg, &r), SFIT_E_ARG);
     }
     /* Slightly indefinite: eigenvalues (1, 1, -1e-4) x 1e-3. */
     {
@@ -393,7 +393,7 @@ static void test_f4_psd(void **state)
                     (float)(1e-3 * ((i == j ? 1.0 : 0.0) - (1.0 + 1e-4) * q * q));
             }
         }
-        assert_int_equal(sfit_moments_fit(&m, &cfg, &r), SFIT_E_ARG);
+        assert_int_equal(sfit_fit_moments(&m, &cfg, &r), SFIT_E_ARG);
     }
 }
 
@@ -411,7 +411,7 @@ static sfit_status_t tiny_fit(double r, sfit_result_t *out)
             p[i].v[k] = (float)(r * d[i][k]);
         }
     }
-    return sfit_points_fit(p, 7, NULL, out);
+    return sfit_fit_points(p, 7, NULL, out);
 }
 
 static void test_f5_scale_guard(void **state)
@@ -458,7 +458,7 @@ static void test_f6_noisy_hinge(void **state)
     }
     cfg.noise = SFIT_NOISE_ISO;
     cfg.noise_var = (float)(sigma * sigma);
-    assert_int_equal(sfit_moments_fit(&m, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_fit_moments(&m, &cfg, &r), SFIT_OK);
     /* main: mode sphere, centre 187 mm off */
     assert_int_equal(r.mode, SFIT_MODE_PLANAR);
     assert_true(r.flags & SFIT_FLAG_NEAR_PLANAR);
@@ -474,7 +474,7 @@ static void test_f6_noisy_hinge(void **state)
     memset(cfg.noise_cov.m, 0, sizeof cfg.noise_cov.m);
     cfg.noise_cov.m[0] = cfg.noise_cov.m[4] = (float)(sigma * sigma);
     cfg.noise_cov.m[8] = (float)(sigma * sigma * 1.01);
-    assert_int_equal(sfit_moments_fit(&m, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_fit_moments(&m, &cfg, &r), SFIT_OK);
     assert_int_equal(r.mode, SFIT_MODE_PLANAR);
     assert_true(tc_dist(&r.center, c) < 2.0);
 }
@@ -512,7 +512,7 @@ static void test_f7_small_caps(void **state)
             tc_to_double3(&v, g_cap[i]);
             assert_int_equal(sfit_moments_add(&m, &v), SFIT_OK);
         }
-        assert_int_equal(sfit_moments_fit(&m, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_fit_moments(&m, NULL, &r), SFIT_OK);
         assert_int_equal(r.mode, SFIT_MODE_SPHERE);
         assert_int_equal(ref_fit_sphere((const double(*)[3])g_cap, n, NULL, &ref), 0);
         if (n < 4000u) { /* cond(C) < 200 here: below the flag's threshold */

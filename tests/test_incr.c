@@ -275,7 +275,7 @@ static void run_float(size_t n, size_t from, double tol, int models, worst_t w[3
                     sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
                     sfit_result_t fr;
                     cfg.mode = SFIT_MODE_SPHERE;
-                    if (sfit_moments_fit(&mom, &cfg, &fr) == SFIT_OK
+                    if (sfit_fit_moments(&mom, &cfg, &fr) == SFIT_OK
                         && tc_dist(&fr.center, b.center) / R0 > w[0].batch_c) {
                         w[0].batch_c = tc_dist(&fr.center, b.center) / R0;
                     }
@@ -623,7 +623,7 @@ static void test_degenerate(void **state)
 }
 
 /* A spread too small for float (SFIT_MIN_SPREAD): the third moments' cubes
- * lose their digits. sfit_moments_fit() refuses such samples; the
+ * lose their digits. sfit_fit_moments() refuses such samples; the
  * incremental fit returned a centre 2.8e-3 r off (radius 1e-14 at the
  * origin, exact samples) with SFIT_OK. A small sphere above the limit
  * still fits (radius 1e-6: within 1e-4 r). */
@@ -655,11 +655,11 @@ static void test_tiny_spread(void **state)
         }
         e = sentinel;
         if (k == 0) {
-            assert_int_equal(sfit_moments_fit(&m, NULL, &r), SFIT_E_DEGENERATE);
+            assert_int_equal(sfit_fit_moments(&m, NULL, &r), SFIT_E_DEGENERATE);
             assert_int_equal(sfit_incr_fit(&s, &e), SFIT_E_DEGENERATE);
             assert_memory_equal(&e, &sentinel, sizeof e);
         } else {
-            assert_int_equal(sfit_moments_fit(&m, NULL, &r), SFIT_OK);
+            assert_int_equal(sfit_fit_moments(&m, NULL, &r), SFIT_OK);
             assert_int_equal(sfit_incr_fit(&s, &e), SFIT_OK);
             assert_true(tc_dist(&e.center, c0) < 1e-4 * rad);
         }

@@ -63,8 +63,8 @@ static int compare(size_t n, const sfit_fit_cfg_t *cfg)
     ce.eigen = 1;
     memset(&rs, 0, sizeof rs);
     memset(&re, 0, sizeof re);
-    ss = sfit_points_fit(g_fpts, n, &cs, &rs);
-    se = sfit_points_fit(g_fpts, n, &ce, &re);
+    ss = sfit_fit_points(g_fpts, n, &cs, &rs);
+    se = sfit_fit_points(g_fpts, n, &ce, &re);
     assert_int_equal(ss, se);
     if (ss != SFIT_OK) {
         g_full++;
@@ -131,7 +131,7 @@ static void test_default_is_screened(void **state)
     (void)state;
     tu_rng_seed(&g, 1601);
     make_cap(&g, 500, 100.0, 60.0 * TU_PI / 180.0, 0.5, 1.0);
-    assert_int_equal(sfit_points_fit(g_fpts, 500, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_fit_points(g_fpts, 500, NULL, &r), SFIT_OK);
     assert_int_equal(r.exact, 0);
     assert_true(r.eigenvalues.v[0] == 0.0f && r.axis.v[0] == 0.0f);
     {
@@ -141,7 +141,7 @@ static void test_default_is_screened(void **state)
     {
         sfit_fit_cfg_t c = sfit_fit_cfg_default;
         c.eigen = 2;
-        assert_int_equal(sfit_points_fit(g_fpts, 500, &c, &r), SFIT_E_ARG);
+        assert_int_equal(sfit_fit_points(g_fpts, 500, &c, &r), SFIT_E_ARG);
     }
 }
 
@@ -324,7 +324,7 @@ static void test_rounding_boundary(void **state)
         tu_rng_seed(&g, 1606u + (uint64_t)i);
         make_cap(&g, NMAX, 100.0, theta, 0.0, 1.0);
         (void)compare(NMAX, &cf);
-        if (sfit_points_fit(g_fpts, NMAX, &cf, &r) == SFIT_OK
+        if (sfit_fit_points(g_fpts, NMAX, &cf, &r) == SFIT_OK
             && (r.flags & (uint32_t)SFIT_FLAG_ROUNDING) != 0u) {
             flagged++;
         }

@@ -3,7 +3,7 @@
  * @file test_multi.c
  * @brief Tests of sfit_multi_fit(): MGDK / unbiased MGDK, weighting,
  * planar (hinge) case, real hip / elbow / knee markers, contract; and of
- * sfit_multi_center_cov() (one marker = sfit_moments_uncert(), double
+ * sfit_multi_center_cov() (one marker = sfit_uncert_moments(), double
  * reference ref_multi_center_cov with the second-order term).
  *
  * Oracles: ref_fit_multi / ref_fit_multi_weighted (sfit_ref.h, sphere) and
@@ -74,7 +74,7 @@ static void make_caps(tu_rng_t *g, size_t m, const double c[3], const double *ra
 }
 
 /* ---------------------------------------------------------------------- */
-/* 1. One marker: the same numbers as sfit_moments_fit().                    */
+/* 1. One marker: the same numbers as sfit_fit_moments().                    */
 
 static void check_one_marker(const sfit_fit_cfg_t *fc, int bit_exact_radius)
 {
@@ -86,7 +86,7 @@ static void check_one_marker(const sfit_fit_cfg_t *fc, int bit_exact_radius)
     int wgt;
 
     fe.eigen = 1; /* the multi-marker fit always reports the eigenvalues */
-    assert_int_equal(sfit_moments_fit(&g_acc[0], &fe, &sr), SFIT_OK);
+    assert_int_equal(sfit_fit_moments(&g_acc[0], &fe, &sr), SFIT_OK);
     for (wgt = 0; wgt < 2; wgt++) {
         mc.fit = *fc;
         mc.weight = wgt ? SFIT_MULTI_WEIGHT_SAMPLES : SFIT_MULTI_WEIGHT_EQUAL;
@@ -598,7 +598,7 @@ static void test_hinge_exact(void **state)
 }
 
 /* ---------------------------------------------------------------------- */
-/* 6b. Centre covariance: one marker = sfit_moments_uncert(); the double    */
+/* 6b. Centre covariance: one marker = sfit_uncert_moments(); the double    */
 /*     reference with the second-order term.                               */
 
 static double trace9(const double *a)
@@ -627,7 +627,7 @@ static double max_diff9(const sfit_mat3_t *f, const double *d)
     return b;
 }
 
-/* M = 1, w = 1: sfit_multi_center_cov() is sfit_moments_uncert() (noise
+/* M = 1, w = 1: sfit_multi_center_cov() is sfit_uncert_moments() (noise
  * known) for the same accumulator, centre, radius and sigma^2, with the
  * second-order term included (a 30-degree cap at sigma/r = 0.02, trust
  * ~0.17, where that term is half the first-order trace). Both invert the
@@ -662,7 +662,7 @@ static void test_center_cov_one_marker(void **state)
         assert_int_equal(sfit_multi_fit(g_acc, 1, &mc, &mr, &rad1), SFIT_OK);
         assert_int_equal(mr.mode, SFIT_MODE_SPHERE);
         assert_int_equal(sfit_multi_center_cov(g_acc, 1, &mc, &mr, var, &cov), SFIT_OK);
-        assert_int_equal(sfit_moments_uncert(&g_acc[0], &mr.center, rad1, var,
+        assert_int_equal(sfit_uncert_moments(&g_acc[0], &mr.center, rad1, var,
                                              SFIT_UNCERT_NOISE_KNOWN, &u),
                          SFIT_OK);
         big = 0.0;
@@ -673,7 +673,7 @@ static void test_center_cov_one_marker(void **state)
         }
         assert_true(diff <= 2e-4 * big);
     }
-    printf("  one marker: centre covariance vs sfit_moments_uncert: %.3g of the largest entry "
+    printf("  one marker: centre covariance vs sfit_uncert_moments: %.3g of the largest entry "
            "(trace %.5g mm^2)\n",
            diff / big, (double)(cov.m[0] + cov.m[4] + cov.m[8]));
     /* the comparison resolves the second-order term */

@@ -50,8 +50,8 @@ static void test_matches_oracle_far(void **state)
     (void)state;
     tu_rng_seed(&g, 5u);
     gen(&g, c, 100.0, 40.0 * TU_PI / 180.0, 1.0, 1000);
-    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &s), SFIT_OK);
-    assert_int_equal(sfit_points_refine(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 1000, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
     tc_to_double3(&s.fit.center, ci);
     assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
     assert_true(tc_dist(&r.center, cg) < 2e-3);
@@ -65,7 +65,7 @@ static void test_matches_oracle_far(void **state)
     assert_int_equal(r.n, 1000);
 }
 
-/* The combined recipe (sfit_points_fit_refined): each part equals the step
+/* The combined recipe (sfit_refine_fit): each part equals the step
  * that makes it, bit for bit, and the geometric centre agrees with the
  * double oracle as in test_matches_oracle_far; failures write nothing. */
 static void test_recipe(void **state)
@@ -81,10 +81,10 @@ static void test_recipe(void **state)
     (void)state;
     tu_rng_seed(&g, 5u);
     gen(&g, c, 100.0, 40.0 * TU_PI / 180.0, 1.0, 1000);
-    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &f), SFIT_OK);
-    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &s), SFIT_OK);
-    assert_int_equal(sfit_points_refine(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 1000, &r.center, &u), SFIT_OK);
+    assert_int_equal(sfit_refine_fit(g_pf, 1000, NULL, &f), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 1000, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 1000, &r.center, &u), SFIT_OK);
     assert_memory_equal(&f.start, &s, sizeof s);
     assert_memory_equal(&f.geometric, &r, sizeof r);
     /* the recipe's covariance is the sandwich plus b b^T, b = geometric -
@@ -113,11 +113,11 @@ static void test_recipe(void **state)
     /* contract */
     memset(&sentinel, 0x6B, sizeof sentinel);
     f = sentinel;
-    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_points_fit_refined(NULL, 1000, NULL, &f), SFIT_E_ARG);
-    assert_int_equal(sfit_points_fit_refined(g_pf, 4, NULL, &f), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_refine_fit(g_pf, 1000, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_fit(NULL, 1000, NULL, &f), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_fit(g_pf, 4, NULL, &f), SFIT_E_TOO_FEW);
     g_pf[17].v[1] = NAN;
-    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &f), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_refine_fit(g_pf, 1000, NULL, &f), SFIT_E_NONFINITE);
     assert_memory_equal(&f, &sentinel, sizeof f);
 }
 
@@ -130,7 +130,7 @@ static void test_exact_data(void **state)
     (void)state;
     tu_rng_seed(&g, 6u);
     gen(&g, c, 80.0, 70.0 * TU_PI / 180.0, 0.0, 300);
-    assert_int_equal(sfit_points_refine(g_pf, 300, &start, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 300, &start, NULL, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, c) < 5e-3);
     assert_near(r.radius, 80.0, 5e-3, "radius");
     assert_true(r.rms < 1e-3f);
@@ -153,8 +153,8 @@ static double efficiency(double theta_deg, double rho, int n, int trials, uint64
         sfit_refine_result_t r;
         double cr[4][4], e;
         gen(&g, c, r0, theta, sqrt(s2), n);
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &s), SFIT_OK);
-        assert_int_equal(sfit_points_refine(g_pf, (size_t)n, &s.fit.center, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &s), SFIT_OK);
+        assert_int_equal(sfit_refine_points(g_pf, (size_t)n, &s.fit.center, NULL, &r), SFIT_OK);
         e = tc_dist(&r.center, c);
         mse += e * e;
         ref_crlb_sphere(REF_C3(g_xt), (size_t)n, c, r0, s2, cr);
@@ -226,8 +226,8 @@ static void check_hip(const char *marker, const double geo[3], double geo_r, dou
     for (k = 0; k < 3; k++) {
         se[k] = sqrt(cr[k][k]);
     }
-    assert_int_equal(sfit_points_selfcal(p, n, NULL, &s), SFIT_OK);
-    assert_int_equal(sfit_points_refine(p, n, &s.fit.center, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(p, n, NULL, &s), SFIT_OK);
+    assert_int_equal(sfit_refine_points(p, n, &s.fit.center, NULL, &r), SFIT_OK);
     print_message("%s: SE (%.3f %.3f %.3f); selfcal (%.3f %.3f %.3f) sigma %.3f trust %.3f; "
                   "refined (%.3f %.3f %.3f) r %.3f rms %.3f it %u\n",
                   marker, se[0], se[1], se[2], (double)s.fit.center.v[0],
@@ -268,37 +268,37 @@ static void test_bounds_and_contract(void **state)
     r = sentinel;
     /* one iteration from 50 mm off cannot converge: no output */
     cfg.max_iters = 1u;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
     assert_memory_equal(&r, &sentinel, sizeof r);
     /* the same with accept_unconverged: the last accepted centre, converged 0 */
     cfg.accept_unconverged = 1u;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
     assert_true(r.converged == 0u && r.iterations == 1u);
     assert_true(tc_dist(&r.center, c) < 50.0 && isfinite(r.radius) && isfinite(r.noise_var));
     cfg.accept_unconverged = 0u;
     r = sentinel;
     cfg.max_iters = 0u;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
     assert_true(tc_dist(&r.center, c) < 0.5);
     assert_true(r.iterations > 1u && r.iterations <= SFIT_REFINE_MAX_ITERS);
     r = sentinel;
     cfg.tol = 0.5f;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
     /* accept_unconverged is 0 or 1 (as sfit_fit_cfg_t::eigen): 2 was taken for 1 */
     cfg.tol = 0.0f;
     cfg.accept_unconverged = 2u;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
     cfg.accept_unconverged = 0u;
-    assert_int_equal(sfit_points_refine(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_points_refine(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_points_refine(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_refine(g_pf, 4, &far_start, NULL, &r), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_refine_points(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_points(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_refine_points(g_pf, 4, &far_start, NULL, &r), SFIT_E_TOO_FEW);
     g_pf[3].v[2] = INFINITY;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, NULL, &r), SFIT_E_NONFINITE);
     g_pf[3].v[2] = 0.0f;
     /* a sample exactly at the start centre */
     g_pf[5] = far_start;
-    assert_int_equal(sfit_points_refine(g_pf, 200, &far_start, NULL, &r), SFIT_E_DEGENERATE);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, NULL, &r), SFIT_E_DEGENERATE);
     assert_memory_equal(&r, &sentinel, sizeof r);
     /* planar data: the centre is free along the normal */
     {
@@ -310,7 +310,7 @@ static void test_bounds_and_contract(void **state)
             ring[i].v[1] = 10.0f * (float)sin(0.15 * i);
             ring[i].v[2] = 0.0f;
         }
-        assert_int_equal(sfit_points_refine(ring, 40, &s0, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_refine_points(ring, 40, &s0, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
 }
@@ -331,7 +331,7 @@ static void test_coincident_is_degenerate(void **state)
     memset(&sentinel, 0x3C, sizeof sentinel);
     r = sentinel;
     for (i = 5; i <= 12; i++) {
-        assert_int_equal(sfit_points_refine(p, i, &c0, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_refine_points(p, i, &c0, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
 }

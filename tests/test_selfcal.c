@@ -53,7 +53,7 @@ static void test_exact_data(void **state)
     (void)state;
     tu_rng_seed(&g, 1u);
     gen(&g, 40.0 * TU_PI / 180.0, 0.0, 200);
-    assert_int_equal(sfit_points_selfcal(g_pf, 200, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 200, NULL, &r), SFIT_OK);
     /* float rounding of |x| ~ 1500 is ~1e-4: sigma^2 at the 1e-7 level */
     assert_true(r.noise_var < 1e-5f);
     assert_true(tc_dist(&r.fit.center, k_c) < 2e-2);
@@ -77,7 +77,7 @@ static void test_matches_oracle(void **state)
     (void)state;
     tu_rng_seed(&g, 2u);
     gen(&g, 35.0 * TU_PI / 180.0, 1.5, n);
-    assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &r), SFIT_OK);
     for (i = 0; i < n; i++) {
         tc_to_double3(&g_pf[i], g_xn[i]); /* the float data, exactly */
     }
@@ -118,7 +118,7 @@ static void check_noise_unbiased(double theta_deg, double rho, int trials, uint6
     for (t = 0; t < trials; t++) {
         sfit_selfcal_result_t r;
         gen(&g, theta, sqrt(s2), n);
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &r), SFIT_OK);
         sum += (double)r.noise_var;
     }
     print_message("noise: theta %.0f rho %.2f N %d: mean sigma_hat^2 / sigma^2 = %.4f\n",
@@ -164,7 +164,7 @@ static double efficiency(double theta_deg, double rho, int n, int trials, uint64
         sfit_selfcal_result_t r;
         double cr[4][4], e;
         gen(&g, theta, sqrt(s2), n);
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &r), SFIT_OK);
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &r), SFIT_OK);
         e = tc_dist(&r.fit.center, k_c);
         mse += e * e;
         ref_crlb_sphere(REF_C3(g_xt), (size_t)n, k_c, K_R, s2, cr);
@@ -240,7 +240,7 @@ static void test_cap_safeguard(void **state)
     (void)state;
     tu_rng_seed(&g, 3u);
     gen(&g, 8.0 * TU_PI / 180.0, 3.0, 300);
-    assert_int_equal(sfit_points_selfcal(g_pf, 300, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 300, NULL, &r), SFIT_OK);
     assert_true((r.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     /* the fit itself says so, with the reason */
     assert_true((r.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
@@ -272,18 +272,18 @@ static void test_cap30_flagged(void **state)
         tu_sample_cap(&g, c30, K_R, k_axis, 30.0 * TU_PI / 180.0, 5.0, x);
         tc_to_vec3(x, &g_pf[i]);
     }
-    assert_int_equal(sfit_points_selfcal(g_pf, 1000, NULL, &r), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 1000, NULL, &r), SFIT_OK);
     assert_true((r.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     assert_true((r.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
     assert_true((r.fit.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     /* the refined recipe starts from it and carries the same verdict */
-    assert_int_equal(sfit_points_fit_refined(g_pf, 1000, NULL, &rf), SFIT_OK);
+    assert_int_equal(sfit_refine_fit(g_pf, 1000, NULL, &rf), SFIT_OK);
     assert_true((rf.start.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
     /* the true sigma^2: Leontief ratio >= 1, untrusted */
     fc.mode = SFIT_MODE_SPHERE;
     fc.noise = SFIT_NOISE_ISO;
     fc.noise_var = 25.0f;
-    assert_int_equal(sfit_points_fit(g_pf, 1000, &fc, &k), SFIT_OK);
+    assert_int_equal(sfit_fit_points(g_pf, 1000, &fc, &k), SFIT_OK);
     assert_true((k.flags & SFIT_FLAG_UNTRUSTED) != 0u);
 }
 
@@ -299,15 +299,15 @@ static void test_contract(void **state)
     gen(&g, 60.0 * TU_PI / 180.0, 0.5, 50);
     memset(&sentinel, 0xA5, sizeof sentinel);
     r = sentinel;
-    assert_int_equal(sfit_points_selfcal(NULL, 50, NULL, &r), SFIT_E_ARG);
-    assert_int_equal(sfit_points_selfcal(g_pf, 50, NULL, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_points_selfcal(g_pf, 4, NULL, &r), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_selfcal_points(NULL, 50, NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_points(g_pf, 50, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_points(g_pf, 4, NULL, &r), SFIT_E_TOO_FEW);
     cfg.planar_ratio = 1.5f;
-    assert_int_equal(sfit_points_selfcal(g_pf, 50, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_points(g_pf, 50, &cfg, &r), SFIT_E_ARG);
     cfg.planar_ratio = NAN;
-    assert_int_equal(sfit_points_selfcal(g_pf, 50, &cfg, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_points(g_pf, 50, &cfg, &r), SFIT_E_ARG);
     g_pf[7].v[1] = NAN;
-    assert_int_equal(sfit_points_selfcal(g_pf, 50, NULL, &r), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_selfcal_points(g_pf, 50, NULL, &r), SFIT_E_NONFINITE);
     g_pf[7].v[1] = 0.0f;
     g_pf[8] = g_pf[9] = g_pf[10] = g_pf[0]; /* still fine: not degenerate */
     assert_memory_equal(&r, &sentinel, sizeof r);
@@ -320,18 +320,18 @@ static void test_contract(void **state)
             line[i].v[1] = 2.0f * (float)i;
             line[i].v[2] = 1.0f;
         }
-        assert_int_equal(sfit_points_selfcal(line, 20, NULL, &r), SFIT_E_DEGENERATE);
+        assert_int_equal(sfit_selfcal_points(line, 20, NULL, &r), SFIT_E_DEGENERATE);
     }
     assert_memory_equal(&r, &sentinel, sizeof r);
-    assert_int_equal(sfit_points_noise_var(g_pf, 4, &c, 1.0f, &v), SFIT_E_TOO_FEW);
-    assert_int_equal(sfit_points_noise_var(g_pf, 50, &c, 0.0f, &v), SFIT_E_ARG);
-    assert_int_equal(sfit_points_noise_var(g_pf, 50, NULL, 1.0f, &v), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_noise_var(g_pf, 4, &c, 1.0f, &v), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, &c, 0.0f, &v), SFIT_E_ARG);
+    assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, NULL, 1.0f, &v), SFIT_E_ARG);
     /* a non-finite centre or radius: SFIT_E_NONFINITE, as the header lists */
     {
         sfit_vec3_t cn = c;
         cn.v[2] = NAN;
-        assert_int_equal(sfit_points_noise_var(g_pf, 50, &cn, 1.0f, &v), SFIT_E_NONFINITE);
-        assert_int_equal(sfit_points_noise_var(g_pf, 50, &c, INFINITY, &v), SFIT_E_NONFINITE);
+        assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, &cn, 1.0f, &v), SFIT_E_NONFINITE);
+        assert_int_equal(sfit_selfcal_noise_var(g_pf, 50, &c, INFINITY, &v), SFIT_E_NONFINITE);
     }
     assert_true(v == -7.0f);
 }

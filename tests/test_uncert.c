@@ -60,7 +60,7 @@ static void test_points_vs_oracle(void **state)
     tu_rng_seed(&g, 41u);
     gen(&g, 40.0 * TU_PI / 180.0, 1.0, 500);
     tc_to_double3(&cf, cd);
-    assert_int_equal(sfit_points_uncert(g_pf, 500, &cf, 100.0f, 2.0f, &u), SFIT_OK);
+    assert_int_equal(sfit_uncert_points(g_pf, 500, &cf, 100.0f, 2.0f, &u), SFIT_OK);
     ref_crlb_sphere(REF_C3(g_xn), 500, cd, 100.0, 2.0, cr);
     /* float sums of unit vectors, centred: ~1e-6 relative, amplified by the
      * cap's condition number (~40): 1e-3 relative */
@@ -92,7 +92,7 @@ static void test_moments_first_order(void **state)
     tc_to_vec3(k_c, &cf);
     (void)sfit_moments_init(&m);
     assert_int_equal(sfit_moments_add_block(&m, g_pf, 400, NULL), SFIT_OK);
-    assert_int_equal(sfit_moments_uncert(&m, &cf, 100.0f, s2, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &cf, 100.0f, s2, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_OK);
     ref_crlb_sphere(REF_C3(g_xn), 400, k_c, K_R, (double)s2, cr);
     for (i = 0; i < 3; i++) {
@@ -163,16 +163,16 @@ static void coverage(double theta_deg, double rho, int n, int trials, uint64_t s
         gen(&g, theta, sqrt(s2), n);
         (void)sfit_moments_init(&m);
         assert_int_equal(sfit_moments_add_block(&m, g_pf, (size_t)n, NULL), SFIT_OK);
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
-        assert_int_equal(sfit_moments_uncert(&m, &sc.fit.center, sc.fit.radius, sc.noise_var,
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
+        assert_int_equal(sfit_uncert_moments(&m, &sc.fit.center, sc.fit.radius, sc.noise_var,
                                              SFIT_UNCERT_NOISE_ESTIMATED, &u),
                          SFIT_OK);
         mc_add(&asc, &sc.fit.center, &u);
-        assert_int_equal(sfit_points_refine(g_pf, (size_t)n, &sc.fit.center, NULL, &rf), SFIT_OK);
-        assert_int_equal(sfit_points_uncert_geometric(g_pf, (size_t)n, &rf.center, &u), SFIT_OK);
+        assert_int_equal(sfit_refine_points(g_pf, (size_t)n, &sc.fit.center, NULL, &rf), SFIT_OK);
+        assert_int_equal(sfit_uncert_geometric(g_pf, (size_t)n, &rf.center, &u), SFIT_OK);
         mc_add(&arf, &rf.center, &u);
-        assert_int_equal(sfit_moments_fit(&m, &kcfg, &kn), SFIT_OK);
-        assert_int_equal(sfit_moments_uncert(&m, &kn.center, kn.radius, (float)s2,
+        assert_int_equal(sfit_fit_moments(&m, &kcfg, &kn), SFIT_OK);
+        assert_int_equal(sfit_uncert_moments(&m, &kn.center, kn.radius, (float)s2,
                                              SFIT_UNCERT_NOISE_KNOWN, &u),
                          SFIT_OK);
         mc_add(&akn, &kn.center, &u);
@@ -226,9 +226,9 @@ static void test_geometric_vs_oracle(void **state)
     (void)state;
     tu_rng_seed(&g, 44u);
     gen(&g, 70.0 * TU_PI / 180.0, 5.0, 600);
-    assert_int_equal(sfit_points_selfcal(g_pf, 600, NULL, &sc), SFIT_OK);
-    assert_int_equal(sfit_points_refine(g_pf, 600, &sc.fit.center, NULL, &rf), SFIT_OK);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 600, &rf.center, &u), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 600, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_refine_points(g_pf, 600, &sc.fit.center, NULL, &rf), SFIT_OK);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 600, &rf.center, &u), SFIT_OK);
     tc_to_double3(&rf.center, cd);
     assert_int_equal(ref_sandwich_geometric(REF_C3(g_xn), 600, cd, cr), 0);
     for (i = 0; i < 3; i++) {
@@ -249,7 +249,7 @@ static void test_geometric_vs_oracle(void **state)
      * A = Mu + H2 < Mu. A sign error in H2 would fail this. */
     {
         sfit_uncert_t f;
-        assert_int_equal(sfit_points_uncert(g_pf, 600, &rf.center, rf.radius, u.noise_var, &f),
+        assert_int_equal(sfit_uncert_points(g_pf, 600, &rf.center, rf.radius, u.noise_var, &f),
                          SFIT_OK);
         assert_true(trace6(u.center_cov) > trace6(f.center_cov));
     }
@@ -267,11 +267,11 @@ static void test_geometric_edges(void **state)
     tu_rng_seed(&g, 45u);
     gen(&g, TU_PI, 0.0, 200);
     tc_to_vec3(k_c, &cf);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 200, &cf, &u), SFIT_OK);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 200, &cf, &u), SFIT_OK);
     assert_true(trace6(u.center_cov) < 1e-8 && u.radius_var >= 0.0f && u.radius_var < 1e-8f);
     /* 90 % of the way to the surface: the nearby samples make the Hessian
      * indefinite */
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 200, &centre_on_data, &u), SFIT_E_NOT_POSDEF);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 200, &centre_on_data, &u), SFIT_E_NOT_POSDEF);
 }
 
 static void test_contract(void **state)
@@ -286,25 +286,25 @@ static void test_contract(void **state)
     (void)sfit_moments_init(&m);
     memset(&sentinel, 0x3C, sizeof sentinel);
     u = sentinel;
-    assert_int_equal(sfit_moments_uncert(&m, &c, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_TOO_FEW);
     (void)sfit_moments_add_block(&m, g_pf, 100, NULL);
-    assert_int_equal(sfit_moments_uncert(NULL, &c, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(NULL, &c, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_moments_uncert(&m, &c, -1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, -1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_moments_uncert(&m, &c, 1.0f, -1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, -1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_moments_uncert(&m, &cbad, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &cbad, 1.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_moments_uncert(&m, &c, NAN, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, NAN, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_moments_uncert(&m, &c, 1.0f, INFINITY, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, INFINITY, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_moments_uncert(&m, &c, 1.0f, 1.0f, (sfit_uncert_noise_t)7, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, 1.0f, 1.0f, (sfit_uncert_noise_t)7, &u),
                      SFIT_E_ARG);
     /* sigma^2 above lambda_min(C): C - sigma^2 I not PD */
-    assert_int_equal(sfit_moments_uncert(&m, &c, 100.0f, 1e6f, SFIT_UNCERT_NOISE_KNOWN, &u),
+    assert_int_equal(sfit_uncert_moments(&m, &c, 100.0f, 1e6f, SFIT_UNCERT_NOISE_KNOWN, &u),
                      SFIT_E_NOT_POSDEF);
     /* a corrupted accumulator (enough samples, a non-finite origin): its
      * statistics are not finite, SFIT_E_RANGE as sfit_moments_stats() says
@@ -312,29 +312,29 @@ static void test_contract(void **state)
     {
         sfit_moments_t bad = m;
         bad.origin[0] = INFINITY;
-        assert_int_equal(sfit_moments_uncert(&bad, &c, 100.0f, 0.25f, SFIT_UNCERT_NOISE_KNOWN,
+        assert_int_equal(sfit_uncert_moments(&bad, &c, 100.0f, 0.25f, SFIT_UNCERT_NOISE_KNOWN,
                                              &u),
                          SFIT_E_RANGE);
         bad = m;
         bad.tot.m2[0] = NAN;
-        assert_int_equal(sfit_moments_uncert(&bad, &c, 100.0f, 0.25f,
+        assert_int_equal(sfit_uncert_moments(&bad, &c, 100.0f, 0.25f,
                                              SFIT_UNCERT_NOISE_ESTIMATED, &u),
                          SFIT_E_RANGE);
     }
-    assert_int_equal(sfit_points_uncert(g_pf, 3, &c, 1.0f, 1.0f, &u), SFIT_E_TOO_FEW);
-    assert_int_equal(sfit_points_uncert(g_pf, 100, &c, 0.0f, 1.0f, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_points(g_pf, 3, &c, 1.0f, 1.0f, &u), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_uncert_points(g_pf, 100, &c, 0.0f, 1.0f, &u), SFIT_E_ARG);
     g_pf[9] = c;
-    assert_int_equal(sfit_points_uncert(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_DEGENERATE);
+    assert_int_equal(sfit_uncert_points(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_DEGENERATE);
     g_pf[9].v[0] = NAN;
-    assert_int_equal(sfit_points_uncert(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_geometric(NULL, 100, &c, &u), SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 100, NULL, &u), SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 100, &c, NULL), SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 100, &cbad, &u), SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 4, &c, &u), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_uncert_points(g_pf, 100, &c, 1.0f, 1.0f, &u), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_geometric(NULL, 100, &c, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, NULL, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &cbad, &u), SFIT_E_NONFINITE);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 4, &c, &u), SFIT_E_TOO_FEW);
     g_pf[9] = c;
-    assert_int_equal(sfit_points_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_DEGENERATE);
+    assert_int_equal(sfit_uncert_geometric(g_pf, 100, &c, &u), SFIT_E_DEGENERATE);
     assert_memory_equal(&u, &sentinel, sizeof u);
 }
 
@@ -351,9 +351,9 @@ static void selfcal_vs_oracle(double theta_deg, double sigma, int n, uint64_t se
     int i, j;
     tu_rng_seed(&g, seed);
     gen(&g, theta_deg * TU_PI / 180.0, sigma, n);
-    assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center, sc.fit.radius,
-                                                sc.noise_var, &u),
+    assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center, sc.fit.radius,
+                                         sc.noise_var, &u),
                      SFIT_OK);
     tc_to_double3(&sc.fit.center, cd);
     assert_int_equal(ref_sandwich_selfcal(REF_C3(g_xn), (size_t)n, cd, (double)sc.fit.radius,
@@ -394,13 +394,13 @@ static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_
         sfit_selfcal_result_t sc;
         sfit_uncert_t u;
         gen(&g, theta_deg * TU_PI / 180.0, sr * K_R, n);
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
         if (sc.fit.flags & SFIT_FLAG_UNTRUSTED) {
             flagged++;
             continue;
         }
-        assert_int_equal(sfit_points_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center,
-                                                    sc.fit.radius, sc.noise_var, &u),
+        assert_int_equal(sfit_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center,
+                                             sc.fit.radius, sc.noise_var, &u),
                          SFIT_OK);
         mc_add(&a, &sc.fit.center, &u);
     }
@@ -434,36 +434,36 @@ static void test_selfcal_contract(void **state)
     (void)state;
     tu_rng_seed(&g, 75u);
     gen(&g, 60.0 * TU_PI / 180.0, 2.0, 100);
-    assert_int_equal(sfit_points_selfcal(g_pf, 100, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_pf, 100, NULL, &sc), SFIT_OK);
     memset(&sentinel, 0x3C, sizeof sentinel);
     u = sentinel;
-    assert_int_equal(sfit_points_uncert_selfcal(NULL, 100, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(NULL, 100, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, NULL, 100.0f, 4.0f, &u), SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, NULL),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, NULL, 100.0f, 4.0f, &u), SFIT_E_ARG);
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, NULL),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 0.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 0.0f, 4.0f, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, -1.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, -1.0f, &u),
                      SFIT_E_ARG);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &cbad, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &cbad, 100.0f, 4.0f, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, NAN, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, NAN, &u),
                      SFIT_E_NONFINITE);
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 13, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 13, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_TOO_FEW);
     /* sigma^2 above lambda_min(C): C - sigma^2 I not positive definite */
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, sc.fit.radius,
-                                                sc.fit.eigenvalues.v[0] * 1.5f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, sc.fit.radius,
+                                         sc.fit.eigenvalues.v[0] * 1.5f, &u),
                      SFIT_E_NOT_POSDEF);
     g_pf[9].v[1] = 1e30f;
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_RANGE);
     g_pf[9] = sc.fit.center;
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_DEGENERATE);
     g_pf[9].v[0] = NAN;
-    assert_int_equal(sfit_points_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
+    assert_int_equal(sfit_uncert_selfcal(g_pf, 100, &sc.fit.center, 100.0f, 4.0f, &u),
                      SFIT_E_NONFINITE);
     assert_memory_equal(&u, &sentinel, sizeof u);
 }
@@ -506,21 +506,21 @@ static void coverage_subset(double theta_deg, double sr, int n, int trials, uint
         gen(&g, theta_deg * TU_PI / 180.0, sr * K_R, n);
         (void)sfit_moments_init(&m);
         assert_int_equal(sfit_moments_add_block(&m, g_pf, (size_t)n, NULL), SFIT_OK);
-        assert_int_equal(sfit_moments_fit(&m, &kc, &k), SFIT_OK);
+        assert_int_equal(sfit_fit_moments(&m, &kc, &k), SFIT_OK);
         if (!(k.flags & SFIT_FLAG_UNTRUSTED)) {
-            assert_int_equal(sfit_moments_uncert(&m, &k.center, k.radius, kc.noise_var,
+            assert_int_equal(sfit_uncert_moments(&m, &k.center, k.radius, kc.noise_var,
                                                  SFIT_UNCERT_NOISE_KNOWN, &u),
                              SFIT_OK);
             cover_add(&in[0], &tot[0], &k.center, u.center_cov);
         }
-        assert_int_equal(sfit_points_selfcal(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
+        assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
         if (!(sc.fit.flags & SFIT_FLAG_UNTRUSTED)) {
-            assert_int_equal(sfit_points_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center,
-                                                        sc.fit.radius, sc.noise_var, &u),
+            assert_int_equal(sfit_uncert_selfcal(g_pf, (size_t)n, &sc.fit.center,
+                                                 sc.fit.radius, sc.noise_var, &u),
                              SFIT_OK);
             cover_add(&in[1], &tot[1], &sc.fit.center, u.center_cov);
         }
-        assert_int_equal(sfit_points_fit_refined(g_pf, (size_t)n, NULL, &rf), SFIT_OK);
+        assert_int_equal(sfit_refine_fit(g_pf, (size_t)n, NULL, &rf), SFIT_OK);
         if (!(rf.start.fit.flags & SFIT_FLAG_UNTRUSTED)) {
             cover_add(&in[2], &tot[2], &rf.geometric.center, rf.uncert.center_cov);
         }

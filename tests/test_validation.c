@@ -141,7 +141,7 @@ static void run(uint64_t seed, double theta, double sigma, size_t n, int T, int 
         sfit_result_t ru;
         double c[3], tr, cg[3], rg;
         draw(&g, n, theta, sigma);
-        assert_int_equal(sfit_points_fit(g_f, n, &cu, &ru), SFIT_OK);
+        assert_int_equal(sfit_fit_points(g_f, n, &cu, &ru), SFIT_OK);
         tc_to_double3(&ru.center, c);
         tr = crlb_trace(n, sigma);
         mc_add(mu, c, tr, (double)ru.trust_ratio);
@@ -250,8 +250,8 @@ static void test_gdke_cap_bias(void **state)
             double c[3], e[3], nn[3], e1[3], e2[3], ax;
             int k;
             draw(&g, n, theta, sg);
-            assert_int_equal(sfit_points_fit(g_f, n, &cg, &rg), SFIT_OK);
-            assert_int_equal(sfit_points_fit(g_f, n, &cu, &ru), SFIT_OK);
+            assert_int_equal(sfit_fit_points(g_f, n, &cg, &rg), SFIT_OK);
+            assert_int_equal(sfit_fit_points(g_f, n, &cu, &ru), SFIT_OK);
             tc_to_double3(&rg.center, c);
             for (k = 0; k < 3; k++) {
                 e[k] = c[k] - k_c0[k];

@@ -340,7 +340,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
             if (sfit_i_has_nan3(fr[i].v)) {
                 continue;
             }
-            if (sfit_pose_to_segment(&pose, &fr[i], &xs) != SFIT_OK) {
+            if (sfit_cluster_to_segment(&pose, &fr[i], &xs) != SFIT_OK) {
                 continue; /* not reached: a registered pose, a finite sample */
             }
             cnt[i] += 1.0f;
@@ -537,14 +537,14 @@ SFIT_INLINE sfit_status_t prv_map(const sfit_pose_t *pose, const sfit_vec3_t *x,
     return prv_map_out(pose, x, y, out);
 }
 
-sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
-                                  sfit_vec3_t *xg)
+sfit_status_t sfit_cluster_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
+                                     sfit_vec3_t *xg)
 {
     return prv_map(pose, xs, 0, xg);
 }
 
-sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
-                                   sfit_vec3_t *xs)
+sfit_status_t sfit_cluster_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
+                                      sfit_vec3_t *xs)
 {
     return prv_map(pose, xg, 1, xs);
 }

@@ -35,6 +35,9 @@ const sfit_fit_cfg_t sfit_fit_cfg_default = {
 sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
                                 const sfit_fit_cfg_t *cfg, sfit_result_t *out)
 {
+    /* Each caller passes NULL for the one argument it lacks, never both
+     * (sfit_fit_moments checks m): cppcheck cannot pair the two calls. */
+    /* cppcheck-suppress nullPointer */
     const float *const origin = (pt != NULL) ? pt->origin : m->origin;
     const sfit_cmom_t *const tot = (pt != NULL) ? &pt->t : &m->tot;
     const sfit_cmom_t *const blk = (pt != NULL) ? NULL : &m->blk;
@@ -121,11 +124,23 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     return SFIT_OK;
 }
 
-sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out)
 {
     if (m == NULL || out == NULL) {
         return SFIT_E_ARG;
     }
     return sfit_i_fit_totals(m, NULL, cfg, out);
+}
+
+/* The accumulator and the solve never share a frame (sfit_i_points_total
+ * keeps the one, sfit_i_fit_totals the other), which bounds the stack. */
+sfit_status_t sfit_fit_points(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+                              sfit_result_t *out)
+{
+    sfit_i_total_t t;
+    sfit_status_t st;
+
+    st = (out == NULL || (pts == NULL && n > 0u)) ? SFIT_E_ARG : sfit_i_points_total(pts, n, &t);
+    return (st == SFIT_OK) ? sfit_i_fit_totals(NULL, &t, cfg, out) : st;
 }

@@ -236,7 +236,7 @@ static sfit_status_t prv_fit_keep(const sfit_gate_t *g, const uint8_t *keep, sfi
     uint32_t i;
     sfit_status_t st;
     prv_buffer_moments(g, keep, m);
-    st = sfit_moments_fit(m, &g->cfg.fit, fit);
+    st = sfit_fit_moments(m, &g->cfg.fit, fit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -421,7 +421,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
         }
         return prv_warm_start(g);
     }
-    st = sfit_moments_fit(&g->acc, &g->cfg.fit, &fit);
+    st = sfit_fit_moments(&g->acc, &g->cfg.fit, &fit);
     if (st != SFIT_OK) {
         g->since = 0u;
         g->wrej = 0u;
@@ -512,9 +512,9 @@ sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)
     if (g->phase == 0u) {
         sfit_moments_t m;
         prv_buffer_moments(g, NULL, &m);
-        return sfit_moments_fit(&m, &g->cfg.fit, out);
+        return sfit_fit_moments(&m, &g->cfg.fit, out);
     }
-    return sfit_moments_fit(&g->acc, &g->cfg.fit, out);
+    return sfit_fit_moments(&g->acc, &g->cfg.fit, out);
 }
 
 sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)

@@ -248,15 +248,15 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
      * degenerate whatever the noise model; then the state's own model. */
     prv_cfg(s, &cfg);
     cfg.noise = SFIT_NOISE_NONE;
-    st = sfit_moments_fit(&acc, &cfg, &batch);
+    st = sfit_fit_moments(&acc, &cfg, &batch);
     /* The check with the noise model. Without the full solver
-     * sfit_moments_fit() serves no full covariance (SFIT_E_UNSUPPORTED,
+     * sfit_fit_moments() serves no full covariance (SFIT_E_UNSUPPORTED,
      * always): C' = C - Sigma is then checked by the LDL^T of
      * sfit_incr_fit() below (SFIT_E_NOT_POSDEF). */
     if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE
         && (SFIT_FULL_SOLVER || s->noise == SFIT_NOISE_ISO)) {
         prv_cfg(s, &cfg);
-        st = sfit_moments_fit(&acc, &cfg, &batch);
+        st = sfit_fit_moments(&acc, &cfg, &batch);
     }
     if (st != SFIT_OK) {
         return st;
@@ -329,7 +329,7 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     q = s->q + s->q_lo;                                            /* [1]    : 10 */
 
     /* Geometry: coincident when the largest per-axis spread is rounding
-     * noise of the coordinates (as sfit_moments_fit, SFIT_COINCIDENT_ULPS)
+     * noise of the coordinates (as sfit_fit_moments, SFIT_COINCIDENT_ULPS)
      * or below SFIT_MIN_SPREAD;
      * coincident, collinear or planar also when an LDL^T pivot is
      * <= SFIT_CHOL_PIVOT_EPS * the largest diagonal entry (below). */
@@ -341,7 +341,7 @@ sfit_status_t sfit_incr_fit(const sfit_incr_t *s, sfit_sphere_t *out)
     if (SFIT_FABSF(s->p[2]) > amax) { amax = SFIT_FABSF(s->p[2]); }
     sc = (SFIT_COINCIDENT_ULPS * FLT_EPSILON) * amax;               /* [1]    : 11 */
     if (sc < SFIT_MIN_SPREAD) {
-        /* a spread too small for float (as sfit_moments_fit): the third
+        /* a spread too small for float (as sfit_fit_moments): the third
          * moments' cubes lose their digits and the centre is silently off */
         sc = SFIT_MIN_SPREAD;
     }

@@ -190,7 +190,7 @@ sfit_status_t sfit_joint_add(sfit_joint_t *j, const sfit_vec3_t *parent, size_t 
         if (seen[i] == 0u) {
             continue;
         }
-        if (sfit_pose_to_segment(&ps, &child[i], &xs[i]) != SFIT_OK
+        if (sfit_cluster_to_segment(&ps, &child[i], &xs[i]) != SFIT_OK
             || sfit_i_check_sample(xs[i].v) != SFIT_OK) {
             return SFIT_E_RANGE;
         }
@@ -519,7 +519,7 @@ sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_resul
     if (st != SFIT_OK) {
         return st;
     }
-    if (sfit_pose_to_global(&ps, &res->fit.center, &c) != SFIT_OK) {
+    if (sfit_cluster_to_global(&ps, &res->fit.center, &c) != SFIT_OK) {
         return SFIT_E_RANGE;
     }
     sfit_i_mat3_vec(&ps.r, res->fit.axis.v, a.v);
@@ -609,7 +609,7 @@ static void prv_cov_frame(const sfit_joint_t *j, const prv_cov_marker_t *cm, con
         if (!cm[i].used || sfit_i_has_nan3(child[i].v)) {
             continue;
         }
-        (void)sfit_pose_to_segment(ps, &child[i], &y);
+        (void)sfit_cluster_to_segment(ps, &child[i], &y);
         for (k = 0; k < 3; k++) {
             b[k] = y.v[k] - cm[i].m[k];
             a[k] = y.v[k] - c[k];

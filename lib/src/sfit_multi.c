@@ -20,7 +20,7 @@
  * The system is handed to sfit_i_solve() as c = sum w_p C_p and
  * sigma = (sum w_p) Sigma_hat, exactly the single-marker problem when
  * M = 1 (w_1 = 1, m_1 - o = 0): the centre origin_1 + (d_1 + w) and the
- * radius are then computed by the same float operations as sfit_moments_fit()
+ * radius are then computed by the same float operations as sfit_fit_moments()
  * in sphere mode.
  *
  * Planar: the pseudo-inverse gives the solution with no component along
@@ -436,7 +436,7 @@ sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
     }
     /* A = sum w_p C'_p, M / sigma^2 = sum w_p^2 [(r_p^2 + 7.5 sigma^2) / (N_p - 1) C'_p
      *   + sigma^2 N_p / (N_p - 1)^2 (r_p^2 I + a_p a_p^T)], a_p = m_p - c: the
-     * second-order term of sfit_moments_uncert() (known sigma^2) per marker */
+     * second-order term of sfit_uncert_moments() (known sigma^2) per marker */
     memset(&a, 0, sizeof a);
     memset(&m, 0, sizeof m);
     for (p = 0u; prv_next(&set, &p, &pm); p++) {

@@ -192,7 +192,7 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
     return (int)SFIT_E_NO_CONVERGENCE;
 }
 
-sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out)
 {
     prv_stats_t cur;
@@ -228,4 +228,53 @@ sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_ve
         return prv_finish(c0, p, &cur, n, maxit, 0u, out);
     }
     return SFIT_E_NO_CONVERGENCE;
+}
+
+/* The combined recipe: self-calibrated start, geometric refinement,
+ * sandwich covariance plus the bias estimate. */
+const sfit_refined_cfg_t sfit_refined_cfg_default = {
+    .selfcal = {.planar_ratio = 0.0f},
+    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u}};
+
+sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
+                              const sfit_refined_cfg_t *cfg, sfit_refined_t *out)
+{
+    sfit_refined_t r;
+    sfit_status_t st;
+
+    cfg = (cfg != NULL) ? cfg : &sfit_refined_cfg_default;
+    st = (out == NULL) ? SFIT_E_ARG : sfit_selfcal_points(pts, n, &cfg->selfcal, &r.start);
+    if (st == SFIT_OK) {
+        st = sfit_refine_points(pts, n, &r.start.fit.center, &cfg->refine, &r.geometric);
+    }
+    if (st == SFIT_OK) {
+        st = sfit_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
+    }
+    if (st == SFIT_OK) {
+        /* The geometric fit has a second-order bias (~ sigma^2 / r along the
+         * cap axis) that does not shrink with N; the self-calibrated centre
+         * has none to that order, so b = geometric - start estimates it.
+         * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
+        sfit_mat3_t cov;
+        float b[3];
+        int i, j;
+        for (i = 0; i < 3; i++) {
+            b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
+        }
+        sfit_i_sym_unpack(r.uncert.center_cov, &cov);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                cov.m[3 * i + j] += b[i] * b[j];
+            }
+        }
+        sfit_i_sym_pack(&cov, r.uncert.center_cov);
+        if (!sfit_i_isfinite(r.uncert.center_cov[0] + r.uncert.center_cov[1]
+                             + r.uncert.center_cov[2])) {
+            st = SFIT_E_RANGE;
+        }
+    }
+    if (st == SFIT_OK) {
+        *out = r;
+    }
+    return st;
 }

@@ -42,7 +42,7 @@ static sfit_status_t prv_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_
     return SFIT_OK;
 }
 
-sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var)
 {
     sfit_status_t st;
@@ -56,7 +56,7 @@ sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit
     return (st == SFIT_OK) ? prv_noise_var(pts, n, center, radius, noise_var) : st;
 }
 
-sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
+sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out)
 {
     sfit_moments_t acc;
@@ -83,7 +83,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
         return st;
     }
     (void)sfit_i_moments_of(pts, n, &acc); /* validated above */
-    st = sfit_moments_fit(&acc, &fc, &fit); /* GDKE start */
+    st = sfit_fit_moments(&acc, &fc, &fit); /* GDKE start */
     if (st != SFIT_OK) {
         return st;
     }
@@ -129,7 +129,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
         var = v;
         fc.noise = SFIT_NOISE_ISO;
         fc.noise_var = var;
-        st = sfit_moments_fit(&acc, &fc, &fit);
+        st = sfit_fit_moments(&acc, &fc, &fit);
         if (st != SFIT_OK) {
             return st;
         }

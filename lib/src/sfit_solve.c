@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file sfit_solve.c
- * @brief The sphere / circle system shared by sfit_moments_fit() and
+ * @brief The sphere / circle system shared by sfit_fit_moments() and
  * sfit_multi_fit(): eigenvalues, geometry checks, Cholesky or planar
  * pseudo-inverse, trust ratio. Derivation: docs/api.md#solver.
  */

@@ -119,7 +119,7 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
  * trust ratio included. sys->ms.c is used as working storage (destroyed).
- * Statuses as sfit_moments_fit(); out is scratch
+ * Statuses as sfit_fit_moments(); out is scratch
  * (partly written) on failure.
  */
 sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
@@ -127,7 +127,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
 
 /**
  * @brief The fit of the samples of an accumulator m (pt NULL) or of a total
- * pt (m not read): the body of sfit_moments_fit() and sfit_points_fit(),
+ * pt (m not read): the body of sfit_fit_moments() and sfit_fit_points(),
  * with their statuses after the argument checks (cfg NULL: the defaults).
  */
 sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,

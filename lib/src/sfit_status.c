@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /** @file sfit_status.c  Status names. */
-#include "sfit/sfit_types.h"
+#include "sfit/sfit_status.h"
 
 const char *sfit_status_str(sfit_status_t s)
 {

@@ -47,7 +47,7 @@ static sfit_status_t prv_check_fit(const sfit_vec3_t *center, float radius, floa
     return (noise_var < 0.0f) ? SFIT_E_ARG : SFIT_OK;
 }
 
-sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
                                   sfit_uncert_t *out)
 {
@@ -149,7 +149,7 @@ static sfit_status_t prv_start(sfit_status_t st, const sfit_vec3_t *pts, size_t 
     return st;
 }
 
-sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out)
 {
     sfit_i_sum_t s;
@@ -181,7 +181,7 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
     return prv_finish(&k, noise_var * (1.0f / nf + sfit_i_dot3(ub, q)), crc, noise_var, out);
 }
 
-sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out)
 {
     sfit_i_sum_t s;
@@ -230,9 +230,9 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
     return prv_finish(&cov, s2 * (1.0f / nf + sfit_i_dot3(ub, wq)), crc, s2, out);
 }
 
-sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
-                                         const sfit_vec3_t *center, float radius,
-                                         float noise_var, sfit_uncert_t *out)
+sfit_status_t sfit_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
+                                  const sfit_vec3_t *center, float radius,
+                                  float noise_var, sfit_uncert_t *out)
 {
     sfit_moments_t acc;
     sfit_i_sum_t s;
@@ -312,7 +312,7 @@ sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
          * freedom, whose inverse has mean nu/(nu - 4) (docs/api.md#uncert) */
         cov.m[i] *= nf / (nf - 13.0f);
     }
-    /* radius: first order, as sfit_moments_uncert (K = M~^-1) */
+    /* radius: first order, as sfit_uncert_moments (K = M~^-1) */
     sfit_i_mat3_vec(&k, q.a, kp);
     for (i = 0; i < 3; i++) {
         crc[i] = -v * radius * kp[i];

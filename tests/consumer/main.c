@@ -51,7 +51,7 @@ int main(void)
             }
         }
     }
-    if (sfit_moments_fit(&acc, &cfg, &fit) != SFIT_OK) {
+    if (sfit_fit_moments(&acc, &cfg, &fit) != SFIT_OK) {
         return 4;
     }
     for (k = 0; k < 3; k++) {

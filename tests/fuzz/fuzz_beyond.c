@@ -45,14 +45,14 @@
 /*
  * Findings of this harness, all fixed in lib/ and checked strictly
  * (FZ_STRICT defaults to 1; 0 restores the old tolerance for bisecting):
- *  1. sfit_points_selfcal() returns SFIT_E_ARG on valid input when its GDKE
+ *  1. sfit_selfcal_points() returns SFIT_E_ARG on valid input when its GDKE
  *     start reports a negative smallest eigenvalue of C (rounding on
  *     near-degenerate samples): the cap SFIT_SELFCAL_MAX_TRUST * lambda_min
- *     is then a negative noise variance, which sfit_moments_fit() rejects.
+ *     is then a negative noise variance, which sfit_fit_moments() rejects.
  *     Tolerated exactly in that case (the harness repeats the GDKE start).
- *  2. sfit_points_noise_var() returns SFIT_E_DEGENERATE for a sample at
+ *  2. sfit_selfcal_noise_var() returns SFIT_E_DEGENERATE for a sample at
  *     the centre: now documented in its header.
- *  3. sfit_points_refine() returns SFIT_OK ("converged" at c0) on coincident
+ *  3. sfit_refine_points() returns SFIT_OK ("converged" at c0) on coincident
  *     samples (n >= 10): it factors A + lambda diag(A), which the diagonal
  *     damping makes regular when A is singular, and never tests A itself.
  */
@@ -93,7 +93,7 @@ enum {
     OP_GATE_REFRESH,   /* - */
     OP_GATE_SOLVE,     /* - */
     OP_GATE_RESET,     /* - */
-    OP_BATCH,          /* window: sfit_points_fit, sets the context */
+    OP_BATCH,          /* window: sfit_fit_points, sets the context */
     OP_NULLS,          /* every entry point with NULL pointers */
     OP_COUNT
 };
@@ -411,7 +411,7 @@ static void fz_check_result(const sfit_result_t *r, uint64_t n, const sfit_fit_c
 
 /* ------------------------------------------------------ selfcal / refine */
 
-/* Known finding 1: the GDKE start of sfit_points_selfcal() (sphere, no noise,
+/* Known finding 1: the GDKE start of sfit_selfcal_points() (sphere, no noise,
  * the caller's planar ratio) succeeds with lambda_min(C) < 0. */
 static int fz_selfcal_negative_cap(const sfit_vec3_t *w, size_t n, const sfit_fit_cfg_t *pc)
 {
@@ -422,7 +422,7 @@ static int fz_selfcal_negative_cap(const sfit_vec3_t *w, size_t n, const sfit_fi
     fc.noise = SFIT_NOISE_NONE;
     fc.noise_var = 0.0f;
     (void)sfit_moments_init(&m);
-    return sfit_moments_add_block(&m, w, n, NULL) == SFIT_OK && sfit_moments_fit(&m, &fc, &r) == SFIT_OK
+    return sfit_moments_add_block(&m, w, n, NULL) == SFIT_OK && sfit_fit_moments(&m, &fc, &r) == SFIT_OK
            && r.eigenvalues.v[0] < 0.0f;
 }
 
@@ -457,37 +457,37 @@ static void fz_selfcal(fz_state_t *s, fz_in_t *in)
         }
         s->heavy++;
     }
-    st = sfit_points_selfcal(w, n, (pc != NULL) ? &sc : NULL, &r);
-    FZ_CHECK_OUT(st, r, "sfit_points_selfcal");
-    fz_check_window(s, &win, "sfit_points_selfcal wrote its samples");
+    st = sfit_selfcal_points(w, n, (pc != NULL) ? &sc : NULL, &r);
+    FZ_CHECK_OUT(st, r, "sfit_selfcal_points");
+    fz_check_window(s, &win, "sfit_selfcal_points wrote its samples");
     if (!valid) {
-        FZ_CHECK(st == SFIT_E_ARG, "sfit_points_selfcal: invalid option accepted");
+        FZ_CHECK(st == SFIT_E_ARG, "sfit_selfcal_points: invalid option accepted");
     } else if (n < FZ_MIN5) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_selfcal: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_selfcal_points: too few samples not reported");
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_selfcal: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_selfcal_points: wrong status for a bad sample");
     } else {
         if (st == SFIT_E_ARG && !FZ_STRICT && fz_selfcal_negative_cap(w, n, pc)) {
             st = SFIT_E_DEGENERATE; /* known finding 1 */
         }
         if (st == SFIT_E_ARG) {
-            (void)fprintf(stderr, "sfit_points_selfcal: E_ARG on valid arguments (n %u)\n", (unsigned)n);
+            (void)fprintf(stderr, "sfit_selfcal_points: E_ARG on valid arguments (n %u)\n", (unsigned)n);
         }
         FZ_CHECK(st != SFIT_E_ARG && st != SFIT_E_TOO_FEW && st != SFIT_E_NONFINITE,
-                 "sfit_points_selfcal: argument / sample status on valid input");
+                 "sfit_selfcal_points: argument / sample status on valid input");
     }
     if (fz_coincident(w, n)) {
-        FZ_CHECK(st != SFIT_OK, "sfit_points_selfcal: a fit through coincident samples");
+        FZ_CHECK(st != SFIT_OK, "sfit_selfcal_points: a fit through coincident samples");
     }
     if (st == SFIT_OK) {
         sfit_fit_cfg_t used = sfit_fit_cfg_default;
         used.mode = SFIT_MODE_SPHERE;
         used.noise = SFIT_NOISE_ISO;
-        fz_check_result(&r.fit, n, &used, "sfit_points_selfcal: bad fit");
-        FZ_CHECK(fz_finite(r.noise_var) && r.noise_var >= 0.0f, "sfit_points_selfcal: noise_var");
+        fz_check_result(&r.fit, n, &used, "sfit_selfcal_points: bad fit");
+        FZ_CHECK(fz_finite(r.noise_var) && r.noise_var >= 0.0f, "sfit_selfcal_points: noise_var");
         FZ_CHECK(r.iterations >= 1u && r.iterations <= (uint32_t)SFIT_SELFCAL_MAX_ITERS,
-                 "sfit_points_selfcal: iterations");
-        FZ_CHECK((r.flags & ~(uint32_t)SFIT_SELFCAL_FLAG_CAPPED) == 0u, "sfit_points_selfcal: flags");
+                 "sfit_selfcal_points: iterations");
+        FZ_CHECK((r.flags & ~(uint32_t)SFIT_SELFCAL_FLAG_CAPPED) == 0u, "sfit_selfcal_points: flags");
         fz_set_ctx(s, &r.fit.center, r.fit.radius, r.noise_var);
     }
 }
@@ -506,24 +506,24 @@ static void fz_selfcal_var(fz_state_t *s, fz_in_t *in)
     n = win.n;
     fz_fit_operands(s, in, &c, &rad, &v);
     memset(&out, FZ_SENTINEL, sizeof out);
-    st = sfit_points_noise_var(w, n, &c, rad, &out);
-    FZ_CHECK_OUT(st, out, "sfit_points_noise_var");
-    fz_check_window(s, &win, "sfit_points_noise_var wrote its samples");
+    st = sfit_selfcal_noise_var(w, n, &c, rad, &out);
+    FZ_CHECK_OUT(st, out, "sfit_selfcal_noise_var");
+    fz_check_window(s, &win, "sfit_selfcal_noise_var wrote its samples");
     bad = fz_bad_kinds(w, n);
     if (fz_fit_args_status(&c, rad, 0.0f) != SFIT_OK) {
         FZ_CHECK(st == fz_fit_args_status(&c, rad, 0.0f),
-                 "sfit_points_noise_var: bad centre / radius: wrong status");
+                 "sfit_selfcal_noise_var: bad centre / radius: wrong status");
     } else if (n < 5u) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_noise_var: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_selfcal_noise_var: too few samples not reported");
     } else if (st == SFIT_E_DEGENERATE) {
         /* a sample at the centre (before any bad sample): documented */
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_noise_var: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_selfcal_noise_var: wrong status for a bad sample");
     } else {
-        FZ_CHECK(st == SFIT_OK || st == SFIT_E_RANGE, "sfit_points_noise_var: status");
+        FZ_CHECK(st == SFIT_OK || st == SFIT_E_RANGE, "sfit_selfcal_noise_var: status");
     }
     if (st == SFIT_OK) {
-        FZ_CHECK(fz_finite(out) && out >= 0.0f, "sfit_points_noise_var: estimate");
+        FZ_CHECK(fz_finite(out) && out >= 0.0f, "sfit_selfcal_noise_var: estimate");
     }
 }
 
@@ -580,32 +580,32 @@ static void fz_refine(fz_state_t *s, fz_in_t *in)
         }
         s->heavy++;
     }
-    st = sfit_points_refine(w, n, &c0, pc, &r);
-    FZ_CHECK_OUT(st, r, "sfit_points_refine");
-    fz_check_window(s, &win, "sfit_points_refine wrote its samples");
+    st = sfit_refine_points(w, n, &c0, pc, &r);
+    FZ_CHECK_OUT(st, r, "sfit_refine_points");
+    fz_check_window(s, &win, "sfit_refine_points wrote its samples");
     if (!args_ok) {
         FZ_CHECK(st == (tol_ok ? SFIT_E_NONFINITE : SFIT_E_ARG),
-                 "sfit_points_refine: invalid c0 / tol: wrong status");
+                 "sfit_refine_points: invalid c0 / tol: wrong status");
     } else if (n < FZ_MIN5) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_refine: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_refine_points: too few samples not reported");
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_refine: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_refine_points: wrong status for a bad sample");
     } else {
         FZ_CHECK(st == SFIT_OK || st == SFIT_E_RANGE || st == SFIT_E_DEGENERATE
                      || st == SFIT_E_NO_CONVERGENCE,
-                 "sfit_points_refine: status");
+                 "sfit_refine_points: status");
     }
     if (fz_coincident(w, n) && st == SFIT_OK) {
-        FZ_CHECK(!FZ_STRICT, "sfit_points_refine: converged on coincident samples (known finding 3)");
+        FZ_CHECK(!FZ_STRICT, "sfit_refine_points: converged on coincident samples (known finding 3)");
         st = SFIT_E_DEGENERATE; /* tolerated: no context from it */
     }
     if (st == SFIT_OK) {
         FZ_CHECK(fz_all_finite(r.center.v, 3) && fz_finite(r.radius) && fz_finite(r.rms)
                      && fz_finite(r.noise_var),
-                 "sfit_points_refine: non-finite result");
-        FZ_CHECK(r.radius > 0.0f && r.rms >= 0.0f && r.noise_var >= 0.0f, "sfit_points_refine: signs");
-        FZ_CHECK((size_t)r.n == n && r.converged == 1u, "sfit_points_refine: n / converged");
-        FZ_CHECK(r.iterations >= 1u && r.iterations <= maxit, "sfit_points_refine: iterations");
+                 "sfit_refine_points: non-finite result");
+        FZ_CHECK(r.radius > 0.0f && r.rms >= 0.0f && r.noise_var >= 0.0f, "sfit_refine_points: signs");
+        FZ_CHECK((size_t)r.n == n && r.converged == 1u, "sfit_refine_points: n / converged");
+        FZ_CHECK(r.iterations >= 1u && r.iterations <= maxit, "sfit_refine_points: iterations");
         fz_set_ctx(s, &r.center, r.radius, r.noise_var);
     }
 }
@@ -652,23 +652,23 @@ static void fz_uncert_mom(fz_state_t *s, fz_in_t *in)
         memcpy(&before, m, sizeof before);
     }
     memset(&u, FZ_SENTINEL, sizeof u);
-    st = sfit_moments_uncert(m, &c, rad, v, kind, &u);
-    FZ_CHECK_OUT(st, u, "sfit_moments_uncert");
+    st = sfit_uncert_moments(m, &c, rad, v, kind, &u);
+    FZ_CHECK_OUT(st, u, "sfit_uncert_moments");
     if (m != NULL) {
-        FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_moments_uncert modified its input");
+        FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_uncert_moments modified its input");
     }
     cnt = (m != NULL) ? sfit_moments_count(m) : 0u;
     if (m == NULL || (int)kind > 1) {
-        FZ_CHECK(st == SFIT_E_ARG, "sfit_moments_uncert: invalid argument accepted");
+        FZ_CHECK(st == SFIT_E_ARG, "sfit_uncert_moments: invalid argument accepted");
     } else if (fz_fit_args_status(&c, rad, v) != SFIT_OK) {
-        FZ_CHECK(st == fz_fit_args_status(&c, rad, v), "sfit_moments_uncert: bad fit: wrong status");
+        FZ_CHECK(st == fz_fit_args_status(&c, rad, v), "sfit_uncert_moments: bad fit: wrong status");
     } else if (cnt < SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_moments_uncert: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_uncert_moments: too few samples not reported");
     } else {
         FZ_CHECK(st == SFIT_OK || st == SFIT_E_NOT_POSDEF || st == SFIT_E_RANGE,
-                 "sfit_moments_uncert: status");
+                 "sfit_uncert_moments: status");
     }
-    fz_check_uncert(st, &u, v, "sfit_moments_uncert: non-finite or wrong result");
+    fz_check_uncert(st, &u, v, "sfit_uncert_moments: non-finite or wrong result");
 }
 
 static void fz_uncert_pts(fz_state_t *s, fz_in_t *in)
@@ -686,71 +686,71 @@ static void fz_uncert_pts(fz_state_t *s, fz_in_t *in)
     n = win.n;
     fz_fit_operands(s, in, &c, &rad, &v);
     memset(&u, FZ_SENTINEL, sizeof u);
-    st = sfit_points_uncert(w, n, &c, rad, v, &u);
-    FZ_CHECK_OUT(st, u, "sfit_points_uncert");
-    fz_check_window(s, &win, "sfit_points_uncert wrote its samples");
+    st = sfit_uncert_points(w, n, &c, rad, v, &u);
+    FZ_CHECK_OUT(st, u, "sfit_uncert_points");
+    fz_check_window(s, &win, "sfit_uncert_points wrote its samples");
     bad = fz_bad_kinds(w, n);
     if (fz_fit_args_status(&c, rad, v) != SFIT_OK) {
-        FZ_CHECK(st == fz_fit_args_status(&c, rad, v), "sfit_points_uncert: bad fit: wrong status");
+        FZ_CHECK(st == fz_fit_args_status(&c, rad, v), "sfit_uncert_points: bad fit: wrong status");
     } else if (n < (size_t)SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_uncert: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_uncert_points: too few samples not reported");
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_uncert: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_uncert_points: wrong status for a bad sample");
     } else {
         FZ_CHECK(st == SFIT_OK || st == SFIT_E_DEGENERATE || st == SFIT_E_RANGE,
-                 "sfit_points_uncert: status");
+                 "sfit_uncert_points: status");
     }
     if (fz_coincident(w, n)) {
-        FZ_CHECK(st != SFIT_OK, "sfit_points_uncert: J^T J of coincident samples accepted");
+        FZ_CHECK(st != SFIT_OK, "sfit_uncert_points: J^T J of coincident samples accepted");
     }
-    fz_check_uncert(st, &u, v, "sfit_points_uncert: non-finite or wrong result");
+    fz_check_uncert(st, &u, v, "sfit_uncert_points: non-finite or wrong result");
 
     /* The sandwich of the geometric fit on the same window and centre (no
      * extra input bytes: the corpus keeps its meaning). */
     memset(&u, FZ_SENTINEL, sizeof u);
-    st = sfit_points_uncert_geometric(w, n, &c, &u);
-    FZ_CHECK_OUT(st, u, "sfit_points_uncert_geometric");
-    fz_check_window(s, &win, "sfit_points_uncert_geometric wrote its samples");
+    st = sfit_uncert_geometric(w, n, &c, &u);
+    FZ_CHECK_OUT(st, u, "sfit_uncert_geometric");
+    fz_check_window(s, &win, "sfit_uncert_geometric wrote its samples");
     if (!fz_all_finite(c.v, 3)) {
-        FZ_CHECK(st == SFIT_E_NONFINITE, "sfit_points_uncert_geometric: invalid centre accepted");
+        FZ_CHECK(st == SFIT_E_NONFINITE, "sfit_uncert_geometric: invalid centre accepted");
     } else if (n < 5u || n < (size_t)SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_uncert_geometric: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_uncert_geometric: too few samples not reported");
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_uncert_geometric: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_uncert_geometric: wrong status for a bad sample");
     } else {
         FZ_CHECK(st == SFIT_OK || st == SFIT_E_DEGENERATE || st == SFIT_E_NOT_POSDEF
                      || st == SFIT_E_RANGE,
-                 "sfit_points_uncert_geometric: status");
+                 "sfit_uncert_geometric: status");
     }
     if (fz_coincident(w, n)) {
-        FZ_CHECK(st != SFIT_OK, "sfit_points_uncert_geometric: coincident samples accepted");
+        FZ_CHECK(st != SFIT_OK, "sfit_uncert_geometric: coincident samples accepted");
     }
     if (st == SFIT_OK) {
         FZ_CHECK(fz_uncert_finite(&u) && u.noise_var >= 0.0f,
-                 "sfit_points_uncert_geometric: non-finite result");
+                 "sfit_uncert_geometric: non-finite result");
     }
 
     /* The self-calibration's sandwich on the same window, centre, radius
      * and noise level (no extra input bytes). */
     memset(&u, FZ_SENTINEL, sizeof u);
-    st = sfit_points_uncert_selfcal(w, n, &c, rad, v, &u);
-    FZ_CHECK_OUT(st, u, "sfit_points_uncert_selfcal");
-    fz_check_window(s, &win, "sfit_points_uncert_selfcal wrote its samples");
+    st = sfit_uncert_selfcal(w, n, &c, rad, v, &u);
+    FZ_CHECK_OUT(st, u, "sfit_uncert_selfcal");
+    fz_check_window(s, &win, "sfit_uncert_selfcal wrote its samples");
     if (fz_fit_args_status(&c, rad, v) != SFIT_OK) {
         FZ_CHECK(st == fz_fit_args_status(&c, rad, v),
-                 "sfit_points_uncert_selfcal: bad fit: wrong status");
+                 "sfit_uncert_selfcal: bad fit: wrong status");
     } else if (n < 14u || n < (size_t)SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_points_uncert_selfcal: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_uncert_selfcal: too few samples not reported");
     } else if (bad != 0u) {
-        fz_check_bad_status(st, bad, "sfit_points_uncert_selfcal: wrong status for a bad sample");
+        fz_check_bad_status(st, bad, "sfit_uncert_selfcal: wrong status for a bad sample");
     } else {
         FZ_CHECK(st == SFIT_OK || st == SFIT_E_DEGENERATE || st == SFIT_E_NOT_POSDEF
                      || st == SFIT_E_RANGE,
-                 "sfit_points_uncert_selfcal: status");
+                 "sfit_uncert_selfcal: status");
     }
     if (st == SFIT_OK) {
         FZ_CHECK(fz_uncert_finite(&u) && u.noise_var == v,
-                 "sfit_points_uncert_selfcal: non-finite result");
+                 "sfit_uncert_selfcal: non-finite result");
     }
 }
 
@@ -908,27 +908,27 @@ static void fz_nulls(fz_state_t *s)
     memset(&v, FZ_SENTINEL, sizeof v);
     memset(&acc, FZ_SENTINEL, sizeof acc);
     memcpy(&before, &s->gate, sizeof before);
-    FZ_CHECK(sfit_points_selfcal(NULL, n, NULL, &sr) == SFIT_E_ARG, "selfcal_fit(NULL pts)");
-    FZ_CHECK(sfit_points_selfcal(NULL, 0u, NULL, &sr) == SFIT_E_ARG, "selfcal_fit(NULL pts, 0)");
-    FZ_CHECK(sfit_points_selfcal(p, n, NULL, NULL) == SFIT_E_ARG, "selfcal_fit(NULL out)");
-    FZ_CHECK(sfit_points_noise_var(NULL, n, c, 1.0f, &v) == SFIT_E_ARG, "noise_var(NULL pts)");
-    FZ_CHECK(sfit_points_noise_var(p, n, NULL, 1.0f, &v) == SFIT_E_ARG, "noise_var(NULL centre)");
-    FZ_CHECK(sfit_points_noise_var(p, n, c, 1.0f, NULL) == SFIT_E_ARG, "noise_var(NULL out)");
-    FZ_CHECK(sfit_points_refine(NULL, n, c, NULL, &rr) == SFIT_E_ARG, "refine(NULL pts)");
-    FZ_CHECK(sfit_points_refine(p, n, NULL, NULL, &rr) == SFIT_E_ARG, "refine(NULL c0)");
-    FZ_CHECK(sfit_points_refine(p, n, c, NULL, NULL) == SFIT_E_ARG, "refine(NULL out)");
-    FZ_CHECK(sfit_moments_uncert(NULL, c, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_E_ARG,
+    FZ_CHECK(sfit_selfcal_points(NULL, n, NULL, &sr) == SFIT_E_ARG, "selfcal_fit(NULL pts)");
+    FZ_CHECK(sfit_selfcal_points(NULL, 0u, NULL, &sr) == SFIT_E_ARG, "selfcal_fit(NULL pts, 0)");
+    FZ_CHECK(sfit_selfcal_points(p, n, NULL, NULL) == SFIT_E_ARG, "selfcal_fit(NULL out)");
+    FZ_CHECK(sfit_selfcal_noise_var(NULL, n, c, 1.0f, &v) == SFIT_E_ARG, "noise_var(NULL pts)");
+    FZ_CHECK(sfit_selfcal_noise_var(p, n, NULL, 1.0f, &v) == SFIT_E_ARG, "noise_var(NULL centre)");
+    FZ_CHECK(sfit_selfcal_noise_var(p, n, c, 1.0f, NULL) == SFIT_E_ARG, "noise_var(NULL out)");
+    FZ_CHECK(sfit_refine_points(NULL, n, c, NULL, &rr) == SFIT_E_ARG, "refine(NULL pts)");
+    FZ_CHECK(sfit_refine_points(p, n, NULL, NULL, &rr) == SFIT_E_ARG, "refine(NULL c0)");
+    FZ_CHECK(sfit_refine_points(p, n, c, NULL, NULL) == SFIT_E_ARG, "refine(NULL out)");
+    FZ_CHECK(sfit_uncert_moments(NULL, c, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_E_ARG,
              "uncert_moments(NULL m)");
-    FZ_CHECK(sfit_moments_uncert(&m, NULL, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_E_ARG,
+    FZ_CHECK(sfit_uncert_moments(&m, NULL, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_E_ARG,
              "uncert_moments(NULL centre)");
-    FZ_CHECK(sfit_moments_uncert(&m, c, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, NULL) == SFIT_E_ARG,
+    FZ_CHECK(sfit_uncert_moments(&m, c, 1.0f, 0.0f, SFIT_UNCERT_NOISE_KNOWN, NULL) == SFIT_E_ARG,
              "uncert_moments(NULL out)");
-    FZ_CHECK(sfit_points_uncert(NULL, n, c, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL pts)");
-    FZ_CHECK(sfit_points_uncert(p, n, NULL, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL centre)");
-    FZ_CHECK(sfit_points_uncert(p, n, c, 1.0f, 0.0f, NULL) == SFIT_E_ARG, "uncert_points(NULL out)");
-    FZ_CHECK(sfit_points_uncert_geometric(NULL, n, c, &u) == SFIT_E_ARG, "uncert_geometric(NULL pts)");
-    FZ_CHECK(sfit_points_uncert_geometric(p, n, NULL, &u) == SFIT_E_ARG, "uncert_geometric(NULL centre)");
-    FZ_CHECK(sfit_points_uncert_geometric(p, n, c, NULL) == SFIT_E_ARG, "uncert_geometric(NULL out)");
+    FZ_CHECK(sfit_uncert_points(NULL, n, c, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL pts)");
+    FZ_CHECK(sfit_uncert_points(p, n, NULL, 1.0f, 0.0f, &u) == SFIT_E_ARG, "uncert_points(NULL centre)");
+    FZ_CHECK(sfit_uncert_points(p, n, c, 1.0f, 0.0f, NULL) == SFIT_E_ARG, "uncert_points(NULL out)");
+    FZ_CHECK(sfit_uncert_geometric(NULL, n, c, &u) == SFIT_E_ARG, "uncert_geometric(NULL pts)");
+    FZ_CHECK(sfit_uncert_geometric(p, n, NULL, &u) == SFIT_E_ARG, "uncert_geometric(NULL centre)");
+    FZ_CHECK(sfit_uncert_geometric(p, n, c, NULL) == SFIT_E_ARG, "uncert_geometric(NULL out)");
     FZ_CHECK(sfit_gate_init(NULL, NULL) == SFIT_E_ARG, "gate_init(NULL)");
     FZ_CHECK(sfit_gate_init(NULL, &sfit_gate_cfg_default) == SFIT_E_ARG, "gate_init(NULL, cfg)");
     FZ_CHECK(sfit_gate_reset(NULL) == SFIT_E_ARG, "gate_reset(NULL)");
@@ -1041,10 +1041,10 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         sfit_result_t r;
         sfit_status_t st;
         memset(&r, FZ_SENTINEL, sizeof r);
-        st = sfit_points_fit(w, n, NULL, &r);
-        FZ_CHECK_OUT(st, r, "sfit_points_fit");
+        st = sfit_fit_points(w, n, NULL, &r);
+        FZ_CHECK_OUT(st, r, "sfit_fit_points");
         if (st == SFIT_OK) {
-            fz_check_result(&r, n, &sfit_fit_cfg_default, "sfit_points_fit: bad fit");
+            fz_check_result(&r, n, &sfit_fit_cfg_default, "sfit_fit_points: bad fit");
             fz_set_ctx(s, &r.center, r.radius, s->ctx_var);
         }
         break;

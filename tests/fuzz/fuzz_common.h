@@ -22,23 +22,6 @@
 #include "sfit/sfit.h"
 #include "sfit_solve.h" /* sfit_i_check_noise: the PSD rule */
 
-/* The modules written after the core: covered when their header exists. */
-#if defined(__has_include)
-#if __has_include("sfit/sfit_noise.h")
-#include "sfit/sfit_noise.h"
-#define FZ_HAVE_NOISE 1
-#endif
-#if __has_include("sfit/sfit_incr.h")
-#include "sfit/sfit_incr.h"
-#define FZ_HAVE_INCR 1
-#endif
-#endif
-#ifndef FZ_HAVE_NOISE
-#define FZ_HAVE_NOISE 0
-#endif
-#ifndef FZ_HAVE_INCR
-#define FZ_HAVE_INCR 0
-#endif
 
 /** Byte pattern of an output the library must not write on failure. */
 #define FZ_SENTINEL 0xA5

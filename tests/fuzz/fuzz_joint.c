@@ -383,8 +383,8 @@ static void fz_op_nulls(void)
     FZ_CHECK(sfit_cluster_register(NULL, x, 4, &pose, NULL) == SFIT_E_ARG, "register NULL");
     FZ_CHECK(sfit_cluster_register(&fz_s.cl, NULL, 4, &pose, NULL) == SFIT_E_ARG, "register NULL x");
     FZ_CHECK(sfit_cluster_register(&fz_s.cl, x, 4, NULL, NULL) == SFIT_E_ARG, "register NULL pose");
-    FZ_CHECK(sfit_pose_to_global(NULL, x, &c) == SFIT_E_ARG, "to_global NULL");
-    FZ_CHECK(sfit_pose_to_segment(&pose, x, NULL) == SFIT_E_ARG, "to_segment NULL");
+    FZ_CHECK(sfit_cluster_to_global(NULL, x, &c) == SFIT_E_ARG, "to_global NULL");
+    FZ_CHECK(sfit_cluster_to_segment(&pose, x, NULL) == SFIT_E_ARG, "to_segment NULL");
     FZ_CHECK(sfit_joint_init(NULL, &fz_s.cl, NULL) == SFIT_E_ARG, "joint_init NULL");
     FZ_CHECK(sfit_joint_init(&fz_s.j, NULL, NULL) == SFIT_E_ARG, "joint_init NULL parent");
     FZ_CHECK(sfit_joint_reset(NULL) == SFIT_E_ARG, "reset NULL");

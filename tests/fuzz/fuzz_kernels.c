@@ -169,7 +169,6 @@ static void fz_eig(fz_in_t *in)
     }
 }
 
-#if FZ_HAVE_NOISE
 static void fz_coverage(fz_in_t *in)
 {
     const uint8_t b = fz_u8(in);
@@ -245,7 +244,6 @@ static void fz_calib_std(fz_in_t *in)
     }
     FZ_CHECK(sfit_noise_calib_std(var, r0, n, NULL) != SFIT_OK, "calib_std(NULL) succeeded");
 }
-#endif
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -265,18 +263,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         case 1:
             fz_eig(&in);
             break;
-#if FZ_HAVE_NOISE
         case 2:
             fz_coverage(&in);
             break;
         case 3:
             fz_calib_std(&in);
             break;
-#else
-        case 2:
-        case 3:
-            break; /* TODO(sfit_noise.h): not present when this was built */
-#endif
         default: {
             const char *name = sfit_status_str((sfit_status_t)(int8_t)fz_u8(&in));
             FZ_CHECK(name != NULL && name[0] != '\0', "status_str");

@@ -30,10 +30,8 @@ typedef struct fz_state {
     size_t ring_n;   /* valid entries (<= FZ_RING) */
     size_t ring_pos; /* next write position */
     sfit_vec3_t last;
-#if FZ_HAVE_INCR
     sfit_incr_t inc;
     uint64_t inc_count;
-#endif
 } fz_state_t;
 
 enum fz_op {
@@ -45,7 +43,7 @@ enum fz_op {
     OP_MERGE,          /* dst, src (may be the same) */
     OP_RESET,          /* acc */
     OP_SOLVE,          /* acc, config */
-    OP_BATCH,          /* length, config: sfit_points_fit over the ring buffer */
+    OP_BATCH,          /* length, config: sfit_fit_points over the ring buffer */
     OP_MULTI,          /* count, config, weight */
     OP_STATS,          /* acc */
     OP_INCR_INIT,      /* config */
@@ -136,14 +134,14 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
     sfit_status_t st;
     memcpy(&before, m, sizeof before);
     memset(&r, FZ_SENTINEL, sizeof r);
-    st = sfit_moments_fit(m, cfg_or_null, &r);
-    FZ_CHECK_OUT(st, r, "sfit_moments_fit");
-    FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_moments_fit modified its input");
-    fz_check_cfg_status(st, cfg, "sfit_moments_fit");
+    st = sfit_fit_moments(m, cfg_or_null, &r);
+    FZ_CHECK_OUT(st, r, "sfit_fit_moments");
+    FZ_CHECK(memcmp(&before, m, sizeof before) == 0, "sfit_fit_moments modified its input");
+    fz_check_cfg_status(st, cfg, "sfit_fit_moments");
     if (st == SFIT_OK) {
         fz_check_result(&r, count, cfg);
     } else if (fz_cfg_valid(cfg) && count < SFIT_MIN_SAMPLES) {
-        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_moments_fit: too few samples not reported");
+        FZ_CHECK(st == SFIT_E_TOO_FEW, "sfit_fit_moments: too few samples not reported");
     } else {
         /* any other defined status */
     }
@@ -155,7 +153,7 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
         sfit_result_t re;
         sfit_status_t se;
         ce.eigen = 1;
-        se = sfit_moments_fit(m, &ce, &re);
+        se = sfit_fit_moments(m, &ce, &re);
         FZ_CHECK(se == st, "screened and full solve: different status");
         if (st == SFIT_OK && se == SFIT_OK) {
             FZ_CHECK(re.exact == 1, "full solve: exact not set");
@@ -201,14 +199,12 @@ static void fz_add(fz_state_t *s, int a, const sfit_vec3_t *x)
     fz_remember(s, x);
 }
 
-#if FZ_HAVE_INCR
 static void fz_check_est(const sfit_sphere_t *e, uint64_t count)
 {
     FZ_CHECK(fz_all_finite(e->center.v, 3) && fz_finite(e->radius), "incr: non-finite estimate");
     FZ_CHECK(e->radius > 0.0f, "incr: radius not positive");
     FZ_CHECK((uint64_t)e->n == count, "incr: n differs from the samples added");
 }
-#endif
 
 static void fz_nulls(fz_state_t *s)
 {
@@ -229,15 +225,14 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_moments_merge(&s->acc[0], NULL) == SFIT_E_ARG, "merge(dst, NULL)");
     FZ_CHECK(sfit_moments_count(NULL) == 0u, "count(NULL)");
     FZ_CHECK(sfit_moments_stats(NULL, &v, &c, &v) == SFIT_E_ARG, "stats(NULL)");
-    FZ_CHECK(sfit_moments_fit(NULL, NULL, &r) == SFIT_E_ARG, "solve(NULL m)");
-    FZ_CHECK(sfit_moments_fit(&s->acc[0], NULL, NULL) == SFIT_E_ARG, "solve(NULL out)");
-    FZ_CHECK(sfit_points_fit(NULL, 5u, NULL, &r) == SFIT_E_ARG, "batch(NULL pts)");
-    FZ_CHECK(sfit_points_fit(s->ring, 1u, NULL, NULL) == SFIT_E_ARG, "batch(NULL out)");
+    FZ_CHECK(sfit_fit_moments(NULL, NULL, &r) == SFIT_E_ARG, "solve(NULL m)");
+    FZ_CHECK(sfit_fit_moments(&s->acc[0], NULL, NULL) == SFIT_E_ARG, "solve(NULL out)");
+    FZ_CHECK(sfit_fit_points(NULL, 5u, NULL, &r) == SFIT_E_ARG, "batch(NULL pts)");
+    FZ_CHECK(sfit_fit_points(s->ring, 1u, NULL, NULL) == SFIT_E_ARG, "batch(NULL out)");
     FZ_CHECK(sfit_multi_fit(NULL, 1u, NULL, &mr, NULL) == SFIT_E_ARG, "multi(NULL markers)");
     FZ_CHECK(sfit_multi_fit(s->acc, 1u, NULL, NULL, NULL) == SFIT_E_ARG, "multi(NULL out)");
     FZ_CHECK(fz_untouched(&r, sizeof r) && fz_untouched(&mr, sizeof mr), "NULL call wrote output");
     FZ_CHECK(bad == 0u, "add_block(NULL) wrote bad");
-#if FZ_HAVE_INCR
     FZ_CHECK(sfit_incr_init(NULL, NULL) == SFIT_E_ARG, "incr_init(NULL)");
     FZ_CHECK(sfit_incr_reset(NULL) == SFIT_E_ARG, "incr_reset(NULL)");
     FZ_CHECK(sfit_incr_add(NULL, &s->last) == SFIT_E_ARG, "incr_add(NULL)");
@@ -246,15 +241,12 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_incr_update(&s->inc, &s->last, NULL) == SFIT_E_ARG, "incr_update(out NULL)");
     FZ_CHECK(sfit_incr_start(&s->inc, NULL, 4u, NULL) == SFIT_E_ARG, "incr_start(NULL pts)");
     FZ_CHECK(sfit_incr_count(NULL) == 0u, "incr_count(NULL)");
-#endif
-#if FZ_HAVE_NOISE
     {
         sfit_noise_est_t ne;
-        FZ_CHECK(sfit_moments_calibrate(NULL, &v, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL)");
-        FZ_CHECK(sfit_moments_calibrate(&s->acc[0], NULL, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL c0)");
-        FZ_CHECK(sfit_moments_calibrate(&s->acc[0], &v, 1.0f, NULL) == SFIT_E_ARG, "calibrate(NULL out)");
+        FZ_CHECK(sfit_noise_calibrate(NULL, &v, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL)");
+        FZ_CHECK(sfit_noise_calibrate(&s->acc[0], NULL, 1.0f, &ne) == SFIT_E_ARG, "calibrate(NULL c0)");
+        FZ_CHECK(sfit_noise_calibrate(&s->acc[0], &v, 1.0f, NULL) == SFIT_E_ARG, "calibrate(NULL out)");
     }
-#endif
 }
 
 /* Copy `len` samples ending at the newest from the ring buffer. */
@@ -377,15 +369,15 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         n = fz_ring_block(s, (size_t)(fz_u8(in) % (FZ_RING + 1u)), blk);
         fz_cfg(in, &cfg);
         memset(&r, FZ_SENTINEL, sizeof r);
-        st = sfit_points_fit(blk, n, &cfg, &r);
-        FZ_CHECK_OUT(st, r, "sfit_points_fit");
+        st = sfit_fit_points(blk, n, &cfg, &r);
+        FZ_CHECK_OUT(st, r, "sfit_fit_points");
         if (st == SFIT_OK) {
             fz_check_result(&r, n, &cfg);
         }
         if (fz_block_ok(blk, n, &fb, &why)) {
-            fz_check_cfg_status(st, &cfg, "sfit_points_fit");
+            fz_check_cfg_status(st, &cfg, "sfit_fit_points");
         } else {
-            FZ_CHECK(st != SFIT_OK, "sfit_points_fit accepted a bad sample");
+            FZ_CHECK(st != SFIT_OK, "sfit_fit_points accepted a bad sample");
         }
         break;
     }
@@ -454,7 +446,6 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         }
         break;
     }
-#if FZ_HAVE_INCR
     case OP_INCR_INIT: {
         sfit_incr_t before;
         sfit_incr_cfg_t ic;
@@ -536,14 +527,6 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         }
         break;
     }
-#else
-    case OP_INCR_INIT:
-    case OP_INCR_ADD:
-    case OP_INCR_START:
-    case OP_INCR_SOLVE:
-        break; /* TODO(sfit_incr.h): not present when this was built */
-#endif
-#if FZ_HAVE_NOISE
     case OP_CALIBRATE: {
         sfit_moments_t before;
         sfit_noise_est_t e;
@@ -553,8 +536,8 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         r0 = ((fz_u8(in) & 1u) != 0u) ? fz_float(in) : 100.0f;
         memcpy(&before, &s->acc[a], sizeof before);
         memset(&e, FZ_SENTINEL, sizeof e);
-        st = sfit_moments_calibrate(&s->acc[a], &c0, r0, &e);
-        FZ_CHECK_OUT(st, e, "sfit_moments_calibrate");
+        st = sfit_noise_calibrate(&s->acc[a], &c0, r0, &e);
+        FZ_CHECK_OUT(st, e, "sfit_noise_calibrate");
         FZ_CHECK(memcmp(&before, &s->acc[a], sizeof before) == 0, "calibrate modified the accumulator");
         if (st == SFIT_OK) {
             FZ_CHECK(fz_finite(e.noise_trace) && fz_finite(e.noise_var) && fz_finite(e.noise_var_std),
@@ -572,10 +555,6 @@ static void fz_step(fz_state_t *s, fz_in_t *in)
         }
         break;
     }
-#else
-    case OP_CALIBRATE:
-        break; /* TODO(sfit_noise.h): not present when this was built */
-#endif
     case OP_NULLS:
         fz_nulls(s);
         break;
@@ -600,9 +579,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (k = 0; k < FZ_NACC; k++) {
         FZ_CHECK(sfit_moments_init(&s.acc[k]) == SFIT_OK, "init");
     }
-#if FZ_HAVE_INCR
     FZ_CHECK(sfit_incr_init(&s.inc, NULL) == SFIT_OK, "incr_init(NULL cfg)");
-#endif
     while (fz_more(&in) && ops < FZ_MAX_OPS) {
         fz_step(&s, &in);
         ops++;

@@ -129,7 +129,7 @@ static inline void fz_g_read_moments(fz_in_t *in, const sfit_moments_t *m, uint8
         sfit_result_t r;
         fz_cfg_decode(in, &cfg, 0);
         memset(&r, FZ_SENTINEL, sizeof r);
-        fz_g_check_result(sfit_moments_fit(m, (op % 6u == 1u) ? NULL : &cfg, &r), &r);
+        fz_g_check_result(sfit_fit_moments(m, (op % 6u == 1u) ? NULL : &cfg, &r), &r);
         break;
     }
     case 3: {
@@ -138,7 +138,7 @@ static inline void fz_g_read_moments(fz_in_t *in, const sfit_moments_t *m, uint8
         sfit_status_t st;
         fz_g_sample(in, &c0);
         memset(&e, FZ_SENTINEL, sizeof e);
-        st = sfit_moments_calibrate(m, &c0, 100.0f, &e);
+        st = sfit_noise_calibrate(m, &c0, 100.0f, &e);
         FZ_CHECK_OUT(st, e, "garbage: calibrate");
         if (st == SFIT_OK) {
             FZ_CHECK(fz_finite(e.noise_var) && fz_finite(e.noise_trace)
@@ -153,7 +153,7 @@ static inline void fz_g_read_moments(fz_in_t *in, const sfit_moments_t *m, uint8
         sfit_status_t st;
         fz_g_sample(in, &c0);
         memset(&u, FZ_SENTINEL, sizeof u);
-        st = sfit_moments_uncert(m, &c0, 100.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u);
+        st = sfit_uncert_moments(m, &c0, 100.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u);
         FZ_CHECK_OUT(st, u, "garbage: uncert");
         if (st == SFIT_OK) {
             FZ_CHECK(fz_all_finite(u.center_cov, 6) && fz_finite(u.radius_var),
@@ -390,8 +390,8 @@ static inline void fz_g_cluster(fz_in_t *in, uint8_t fill)
         } else {
             fz_g_sample(in, &x[0]);
             memset(&o, FZ_SENTINEL, sizeof o);
-            st = ((op & 2u) != 0u) ? sfit_pose_to_global(&pose, &x[0], &o)
-                                   : sfit_pose_to_segment(&pose, &x[0], &o);
+            st = ((op & 2u) != 0u) ? sfit_cluster_to_global(&pose, &x[0], &o)
+                                   : sfit_cluster_to_segment(&pose, &x[0], &o);
             FZ_CHECK_OUT(st, o, "garbage: pose map");
             if (st == SFIT_OK) {
                 FZ_CHECK(fz_all_finite(o.v, 3), "garbage: pose map OK with a non-finite output");

@@ -70,9 +70,9 @@ static void test_selfcal_incr(void **state)
         tu_sample_cap(&g, k_c, K_R, k_axis, 1.0, 0.5, p);
         tc_to_vec3(p, &v[i]);
     }
-    assert_int_equal(sfit_points_selfcal(v, 300, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(v, 300, NULL, &sc), SFIT_OK);
     assert_true(tc_dist(&sc.fit.center, k_c) < 2.0);
-    assert_int_equal(sfit_points_selfcal(v, 9, NULL, &sc), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_selfcal_points(v, 9, NULL, &sc), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_incr_init(&inc, NULL), SFIT_OK);
     assert_int_equal(sfit_incr_start(&inc, v, 9, &sp), SFIT_E_TOO_FEW);
     assert_int_equal(sfit_incr_start(&inc, v, 300, &sp), SFIT_OK);

@@ -70,10 +70,10 @@ static sfit_status_t fit_both(size_t n, const sfit_fit_cfg_t *cfg, sfit_result_t
     sfit_status_t sp, sm;
     memset(r, SENTINEL, sizeof *r);
     memset(&rm, SENTINEL, sizeof rm);
-    sp = sfit_points_fit(g_fpts, n, cfg, r);
+    sp = sfit_fit_points(g_fpts, n, cfg, r);
     assert_int_equal(sfit_moments_init(&m), SFIT_OK);
     assert_int_equal(sfit_moments_add_block(&m, g_fpts, n, NULL), SFIT_OK);
-    sm = sfit_moments_fit(&m, cfg, &rm);
+    sm = sfit_fit_moments(&m, cfg, &rm);
     assert_int_equal(sp, sm);
     assert_memory_equal(r, &rm, sizeof rm);
     return sp;
@@ -209,7 +209,7 @@ static void test_options(void **state)
     assert_untouched(&r);
 }
 
-/* The modules built on sfit_moments_fit() inherit the status (their
+/* The modules built on sfit_fit_moments() inherit the status (their
  * headers' @retval lists): self-calibration, the gate (fit and refresh)
  * and the incremental start, each with its output untouched; on a cap the
  * screen passes, they fit. */
@@ -226,7 +226,7 @@ static void test_inherited(void **state)
     memset(&sentinel, SENTINEL, sizeof sentinel);
     make_circle(200, 80.0);
     memset(&sc, SENTINEL, sizeof sc);
-    assert_int_equal(sfit_points_selfcal(g_fpts, 200, NULL, &sc), SFIT_E_UNSUPPORTED);
+    assert_int_equal(sfit_selfcal_points(g_fpts, 200, NULL, &sc), SFIT_E_UNSUPPORTED);
     assert_untouched(&sc.fit);
     assert_int_equal(sfit_gate_init(&g, NULL), SFIT_OK);
     for (i = 0; i < 200; i++) {
@@ -245,7 +245,7 @@ static void test_inherited(void **state)
     assert_int_equal(sfit_incr_start(&inc, g_fpts, 500, &sp), SFIT_OK);
     assert_true(tc_dist(&sp.center, k_center) <= 0.5);
     /* a full noise covariance: the incremental estimator solves it itself
-     * (the batch check used to ask sfit_moments_fit() for it and so always
+     * (the batch check used to ask sfit_fit_moments() for it and so always
      * returned SFIT_E_UNSUPPORTED); one too large for the data is refused */
     {
         sfit_incr_cfg_t ic = sfit_incr_cfg_default;
@@ -285,7 +285,7 @@ static void test_selfcal(void **state)
     double cov[6];
     (void)state;
     make_cap(1607, 800, 100.0, 35.0, 1.5);
-    assert_int_equal(sfit_points_selfcal(g_fpts, 800, NULL, &sc), SFIT_OK);
+    assert_int_equal(sfit_selfcal_points(g_fpts, 800, NULL, &sc), SFIT_OK);
     assert_int_equal(sc.flags, 0);
     assert_int_equal(sc.fit.exact, 0);
     assert_int_equal(sc.fit.method, SFIT_METHOD_UGDK);
@@ -299,7 +299,7 @@ static void test_selfcal(void **state)
 
     make_cap(1608, 1000, 100.0, 30.0, 5.0);
     memset(&sc, SENTINEL, sizeof sc);
-    assert_int_equal(sfit_points_selfcal(g_fpts, 1000, NULL, &sc), SFIT_E_UNSUPPORTED);
+    assert_int_equal(sfit_selfcal_points(g_fpts, 1000, NULL, &sc), SFIT_E_UNSUPPORTED);
     assert_untouched(&sc.fit);
 }
 

@@ -12,6 +12,25 @@ missing() {
   exit 77
 }
 
+# rule_setup CHECK: the preamble of the scripts that check a rule of the
+# tree (test_api_names.sh, test_modules.sh): CHECK (a python script) must
+# pass on $src; then a temporary $tmp (removed on exit) and must_fail WHAT,
+# which requires CHECK to fail on the broken copy $tmp/t (WHAT: the breach).
+rule_setup() {
+  [ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
+  rule_check=$1
+  /usr/bin/python3 "$rule_check" "$src"
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+  must_fail() {
+    local out
+    if out=$(/usr/bin/python3 "$rule_check" "$tmp/t" 2>&1); then
+      echo "FAIL: the check passed on a tree with $1" >&2; exit 1
+    fi
+    echo "ok: fails on $1: $(echo "$out" | head -1)"
+  }
+}
+
 # cli_setup NAME BUILD_DIR SOURCE_DIR: the preamble of the CLI scripts
 # (bash): sets $name, $sfit, $data and a temporary directory $tmp removed on
 # exit, requires /usr/bin/python3, and defines fail MSG, py CODE ARGS

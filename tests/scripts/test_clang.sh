@@ -67,6 +67,6 @@ if [ -f "$src/tests/test_status.c" ]; then
     exit 1
   fi
   grep -q "no_convergence: produced with SFIT_JACOBI_MAX_SWEEPS=1" "$nc/run.log" || { cat "$nc/run.log" >&2; echo "$name: FAIL: the no-convergence test did not run" >&2; exit 1; }
-  echo "$name: test_status with SFIT_JACOBI_MAX_SWEEPS=1: SFIT_E_NO_CONVERGENCE produced by sfit_mat3_eig_sym, sfit_moments_fit, sfit_multi_fit, sfit_incr_start"
+  echo "$name: test_status with SFIT_JACOBI_MAX_SWEEPS=1: SFIT_E_NO_CONVERGENCE produced by sfit_mat3_eig_sym, sfit_fit_moments, sfit_multi_fit, sfit_incr_start"
 fi
 echo "$name: ok: ${ntests:-all} tests pass built by $cc -O2 -Werror with ASan+UBSan"

@@ -43,7 +43,7 @@ cp "$work/app/main.c" "$work/app2/"
 cat > "$work/app2/CMakeLists.txt" <<'CMK'
 cmake_minimum_required(VERSION 3.16)
 project(sfit_consumer_pkg C)
-find_package(sfit 0.2 REQUIRED CONFIG)
+find_package(sfit 0.3 REQUIRED CONFIG)
 add_executable(app main.c)
 target_link_libraries(app PRIVATE sfit::sfit)
 CMK

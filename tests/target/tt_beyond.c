@@ -56,7 +56,7 @@ void tt_beyond(void)
     tt_cap(31u, r0, 60.0 * TU_PI / 180.0, sigma, TT_N, tt_f, tt_d);
 
     tt_case("beyond.selfcal_vs_ref");
-    if (!TT_EQ_INT(sfit_points_selfcal(tt_f, TT_N, NULL, &sc), SFIT_OK)) {
+    if (!TT_EQ_INT(sfit_selfcal_points(tt_f, TT_N, NULL, &sc), SFIT_OK)) {
         return; /* the rest starts from this fit */
     }
     {
@@ -82,7 +82,7 @@ void tt_beyond(void)
     }
 
     tt_case("beyond.refine_vs_ref");
-    if (!TT_EQ_INT(sfit_points_refine(tt_f, TT_N, &sc.fit.center, NULL, &rf), SFIT_OK)) {
+    if (!TT_EQ_INT(sfit_refine_points(tt_f, TT_N, &sc.fit.center, NULL, &rf), SFIT_OK)) {
         return;
     }
     {
@@ -98,7 +98,7 @@ void tt_beyond(void)
     for (j = 0; j < 3; j++) {
         cg[j] = (double)rf.center.v[j];
     }
-    if (TT_EQ_INT(sfit_points_uncert_geometric(tt_f, TT_N, &rf.center, &u), SFIT_OK)
+    if (TT_EQ_INT(sfit_uncert_geometric(tt_f, TT_N, &rf.center, &u), SFIT_OK)
         && TT_EQ_INT(ref_sandwich_geometric(REF_C3(tt_d), TT_N, cg, cr), 0)) {
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
@@ -116,8 +116,8 @@ void tt_beyond(void)
         for (j = 0; j < 3; j++) {
             cd[j] = (double)sc.fit.center.v[j];
         }
-        if (TT_EQ_INT(sfit_points_uncert_selfcal(tt_f, TT_N, &sc.fit.center, sc.fit.radius,
-                                                 sc.noise_var, &us),
+        if (TT_EQ_INT(sfit_uncert_selfcal(tt_f, TT_N, &sc.fit.center, sc.fit.radius,
+                                          sc.noise_var, &us),
                       SFIT_OK)
             && TT_EQ_INT(ref_sandwich_selfcal(REF_C3(tt_d), TT_N, cd, (double)sc.fit.radius,
                                               (double)sc.noise_var, cs),
@@ -128,16 +128,16 @@ void tt_beyond(void)
                 }
             }
         }
-        TT_EQ_INT(sfit_points_uncert_selfcal(tt_f, 13, &sc.fit.center, sc.fit.radius,
-                                             sc.noise_var, &us),
+        TT_EQ_INT(sfit_uncert_selfcal(tt_f, 13, &sc.fit.center, sc.fit.radius,
+                                      sc.noise_var, &us),
                   SFIT_E_TOO_FEW);
     }
 
     tt_case("beyond.errors");
-    TT_EQ_INT(sfit_points_selfcal(NULL, TT_N, NULL, &sc), SFIT_E_ARG);
-    TT_EQ_INT(sfit_points_refine(tt_f, 4, &sc.fit.center, NULL, &rf), SFIT_E_TOO_FEW);
-    TT_EQ_INT(sfit_points_uncert_geometric(tt_f, 4, &rf.center, &u), SFIT_E_TOO_FEW);
+    TT_EQ_INT(sfit_selfcal_points(NULL, TT_N, NULL, &sc), SFIT_E_ARG);
+    TT_EQ_INT(sfit_refine_points(tt_f, 4, &sc.fit.center, NULL, &rf), SFIT_E_TOO_FEW);
+    TT_EQ_INT(sfit_uncert_geometric(tt_f, 4, &rf.center, &u), SFIT_E_TOO_FEW);
     tt_f[7].v[1] = NAN;
-    TT_EQ_INT(sfit_points_uncert_geometric(tt_f, TT_N, &rf.center, &u), SFIT_E_NONFINITE);
-    TT_EQ_INT(sfit_points_selfcal(tt_f, TT_N, NULL, &sc), SFIT_E_NONFINITE);
+    TT_EQ_INT(sfit_uncert_geometric(tt_f, TT_N, &rf.center, &u), SFIT_E_NONFINITE);
+    TT_EQ_INT(sfit_selfcal_points(tt_f, TT_N, NULL, &sc), SFIT_E_NONFINITE);
 }

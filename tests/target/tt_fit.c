@@ -41,7 +41,7 @@ void tt_fit(void)
     /* noise-free whole sphere: the only error is the float rounding of
      * the samples (<= ulp/2 per coordinate) and of the computation */
     tt_cap(11u, r, TU_PI, 0.0, TT_N, tt_f, tt_d);
-    if (TT_EQ_INT(sfit_points_fit(tt_f, TT_N, NULL, &res), SFIT_OK)) {
+    if (TT_EQ_INT(sfit_fit_points(tt_f, TT_N, NULL, &res), SFIT_OK)) {
         double tol = tt_tol_centre(TT_N, r, tt_kappa(REF_C3(tt_d), TT_N));
         for (k = 0; k < 3; k++) {
             TT_NEAR(res.center.v[k], tt_c[k], tol);
@@ -58,7 +58,7 @@ void tt_fit(void)
     (void)sfit_moments_add_block(&m, tt_f, TT_N, NULL);
     cfg = sfit_fit_cfg_default;
     cfg.eigen = 1; /* eigenvalues checked below */
-    if (TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res), SFIT_OK)
+    if (TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res), SFIT_OK)
         && TT_EQ_INT(ref_fit_sphere(REF_C3(tt_d), TT_N, NULL, &rf), 0)) {
         tt_cmp(&res, &rf, tt_tol_centre(TT_N, r, tt_kappa(REF_C3(tt_d), TT_N)));
         for (k = 0; k < 3; k++) {
@@ -67,7 +67,7 @@ void tt_fit(void)
     }
 
     tt_case("fit.batch_equals_solve");
-    if (TT_EQ_INT(sfit_points_fit(tt_f, TT_N, &cfg, &res2), SFIT_OK)) {
+    if (TT_EQ_INT(sfit_fit_points(tt_f, TT_N, &cfg, &res2), SFIT_OK)) {
         TT_TRUE(memcmp(&res, &res2, sizeof res) == 0);
     }
 
@@ -80,8 +80,8 @@ void tt_fit(void)
         cs.noise_var = (k == 0) ? 0.0f : 0.25f;
         cfg = cs;
         cfg.eigen = 1;
-        if (TT_EQ_INT(sfit_moments_fit(&m, &cs, &res), SFIT_OK)
-            && TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res2), SFIT_OK)) {
+        if (TT_EQ_INT(sfit_fit_moments(&m, &cs, &res), SFIT_OK)
+            && TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res2), SFIT_OK)) {
             TT_EQ_INT(res.exact, 0);
             TT_EQ_INT(res2.exact, 1);
             TT_TRUE(memcmp(res.center.v, res2.center.v, sizeof res.center.v) == 0);
@@ -95,7 +95,7 @@ void tt_fit(void)
     cfg = sfit_fit_cfg_default;
     cfg.noise = SFIT_NOISE_ISO;
     cfg.noise_var = 0.25f;
-    if (TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res), SFIT_OK)
+    if (TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res), SFIT_OK)
         && TT_EQ_INT(ref_fit_sphere(REF_C3(tt_d), TT_N, cov, &rf), 0)) {
         tt_cmp(&res, &rf, tt_tol_centre(TT_N, r, tt_kappa(REF_C3(tt_d), TT_N)));
         TT_EQ_INT(res.method, SFIT_METHOD_UGDK);
@@ -118,7 +118,7 @@ void tt_fit(void)
         kap = wr[2] / wr[1]; /* in-plane condition */
         cfg = sfit_fit_cfg_default;
         cfg.mode = SFIT_MODE_PLANAR;
-        if (TT_EQ_INT(sfit_points_fit(tt_f, TT_N, &cfg, &res), SFIT_OK)
+        if (TT_EQ_INT(sfit_fit_points(tt_f, TT_N, &cfg, &res), SFIT_OK)
             && TT_EQ_INT(ref_fit_circle(REF_C3(tt_d), TT_N, NULL, &rf), 0)) {
             tt_cmp(&res, &rf, tt_tol_centre(TT_N, r, kap));
             TT_EQ_INT(res.mode, SFIT_MODE_PLANAR);
@@ -127,24 +127,24 @@ void tt_fit(void)
     }
 
     tt_case("fit.degenerate");
-    TT_EQ_INT(sfit_points_fit(tt_f, 3, NULL, &res), SFIT_E_TOO_FEW);
+    TT_EQ_INT(sfit_fit_points(tt_f, 3, NULL, &res), SFIT_E_TOO_FEW);
     for (i = 0; i < 20; i++) {
         tt_f[i] = tt_f[0]; /* coincident */
     }
-    TT_EQ_INT(sfit_points_fit(tt_f, 20, NULL, &res), SFIT_E_DEGENERATE);
+    TT_EQ_INT(sfit_fit_points(tt_f, 20, NULL, &res), SFIT_E_DEGENERATE);
     for (i = 0; i < 20; i++) { /* collinear */
         tt_f[i].v[0] = 1500.0f + (float)i;
         tt_f[i].v[1] = -2000.0f + 2.0f * (float)i;
         tt_f[i].v[2] = 1000.0f;
     }
-    TT_EQ_INT(sfit_points_fit(tt_f, 20, NULL, &res), SFIT_E_DEGENERATE);
+    TT_EQ_INT(sfit_fit_points(tt_f, 20, NULL, &res), SFIT_E_DEGENERATE);
     memset(&res2, 0x5A, sizeof res2);
     res = res2;
-    TT_EQ_INT(sfit_points_fit(NULL, 20, NULL, &res), SFIT_E_ARG);
-    TT_EQ_INT(sfit_moments_fit(&m, NULL, NULL), SFIT_E_ARG);
+    TT_EQ_INT(sfit_fit_points(NULL, 20, NULL, &res), SFIT_E_ARG);
+    TT_EQ_INT(sfit_fit_moments(&m, NULL, NULL), SFIT_E_ARG);
     TT_TRUE(memcmp(&res, &res2, sizeof res) == 0); /* untouched on failure */
     cfg = sfit_fit_cfg_default;
     cfg.noise = SFIT_NOISE_ISO;
     cfg.noise_var = -1.0f;
-    TT_EQ_INT(sfit_moments_fit(&m, &cfg, &res), SFIT_E_ARG);
+    TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res), SFIT_E_ARG);
 }

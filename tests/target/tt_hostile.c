@@ -116,13 +116,13 @@ static void tt_stats_psd_spread(void)
     TT_EQ_INT(sfit_moments_add_block(&m, p, 7u, NULL), SFIT_OK);
     cfg.noise = SFIT_NOISE_COV;
     memcpy(cfg.noise_cov.m, ind, sizeof ind);
-    TT_EQ_INT(sfit_moments_fit(&m, &cfg, &r), SFIT_E_ARG);
+    TT_EQ_INT(sfit_fit_moments(&m, &cfg, &r), SFIT_E_ARG);
     for (i = 0; i < 3; i++) {
         for (j = 0; j < 3; j++) {
             cfg.noise_cov.m[3 * i + j] = 1e-3f * v[i] * v[j];
         }
     }
-    TT_EQ_INT(sfit_moments_fit(&m, &cfg, &r), SFIT_OK);
+    TT_EQ_INT(sfit_fit_moments(&m, &cfg, &r), SFIT_OK);
 
     tt_case("spread: 1e-14 DEGENERATE, 1e-6 exact");
     for (i = 0; i < 7; i++) {
@@ -130,13 +130,13 @@ static void tt_stats_psd_spread(void)
             p[i].v[j] = 1e-14f * dirs[i][j];
         }
     }
-    TT_EQ_INT(sfit_points_fit(p, 7u, NULL, &r), SFIT_E_DEGENERATE);
+    TT_EQ_INT(sfit_fit_points(p, 7u, NULL, &r), SFIT_E_DEGENERATE);
     for (i = 0; i < 7; i++) {
         for (j = 0; j < 3; j++) {
             p[i].v[j] = 1e-6f * dirs[i][j];
         }
     }
-    TT_EQ_INT(sfit_points_fit(p, 7u, NULL, &r), SFIT_OK);
+    TT_EQ_INT(sfit_fit_points(p, 7u, NULL, &r), SFIT_OK);
     TT_NEAR(r.radius, 1e-6f, 1e-11f);
     TT_NEAR(r.center.v[0], 0.0f, 1e-11f);
     TT_NEAR(r.center.v[2], 0.0f, 1e-11f);

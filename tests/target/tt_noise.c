@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sfit/sfit_noise.h"
+#include "sfit/sfit_coverage.h"
 #include "tt_data.h"
 
 void tt_noise(void);
@@ -38,7 +39,7 @@ void tt_noise(void)
     }
     tr = ref_noise_trace(REF_C3(tt_d), TT_N, tt_c, r0);
     bnd = (r0 + 5.0 * sigma) * (r0 + 5.0 * sigma);
-    if (TT_EQ_INT(sfit_moments_calibrate(&m, &c0, (float)r0, &est), SFIT_OK)) {
+    if (TT_EQ_INT(sfit_noise_calibrate(&m, &c0, (float)r0, &est), SFIT_OK)) {
         TT_NEAR(est.noise_trace, tr, 4.0 * tt_sum_rel(TT_N) * bnd + 4.0 * tt_ulp(bnd));
         TT_NEAR(est.noise_var, tr / 3.0, 4.0 * tt_sum_rel(TT_N) * bnd + 4.0 * tt_ulp(bnd));
         TT_EQ_INT(est.n, TT_N);
@@ -51,8 +52,8 @@ void tt_noise(void)
     }
 
     tt_case("noise.errors");
-    TT_EQ_INT(sfit_moments_calibrate(NULL, &c0, 1.0f, &est), SFIT_E_ARG);
-    TT_EQ_INT(sfit_moments_calibrate(&m, &c0, -1.0f, &est), SFIT_E_ARG);
+    TT_EQ_INT(sfit_noise_calibrate(NULL, &c0, 1.0f, &est), SFIT_E_ARG);
+    TT_EQ_INT(sfit_noise_calibrate(&m, &c0, -1.0f, &est), SFIT_E_ARG);
     c0.v[0] = NAN;
-    TT_EQ_INT(sfit_moments_calibrate(&m, &c0, 1.0f, &est), SFIT_E_NONFINITE);
+    TT_EQ_INT(sfit_noise_calibrate(&m, &c0, 1.0f, &est), SFIT_E_NONFINITE);
 }

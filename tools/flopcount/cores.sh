@@ -11,7 +11,7 @@
 # emulated by libgcc), executed instructions (the library and every
 # C-library / soft-float routine it calls), code size and worst-case stack.
 # Prints the Markdown block; --update-docs rewrites it between
-# <!-- cores:begin --> and <!-- cores:end --> in docs/cost.md and README.md.
+# <!-- cores:begin --> and <!-- cores:end --> in docs/cost.md.
 # --mhz: the clock assumed for the soft-float 100 Hz figure (default 32).
 # Exit status: 0; 1 when a build or a driver run fails; 77 when a tool is
 # missing and CI is not "true".
@@ -86,13 +86,13 @@ END {
             f1(ins["m33", n]), f1(ins["m3", n]), (ins["m4f", n] > 0 ? ins["m3", n] / ins["m4f", n] : 0)
     }
     print ""
-    print "| core (QEMU board) | code -Os / -O2 (B) | stack `sfit_moments_add` | stack `sfit_moments_fit` | stack `sfit_points_fit` |"
+    print "| core (QEMU board) | code -Os / -O2 (B) | stack `sfit_moments_add` | stack `sfit_fit_moments` | stack `sfit_fit_points` |"
     print "|---|---:|---:|---:|---:|"
     split("m4f m33 m3", cs, " ")
     split("Cortex-M4F, FPv4-SP (mps2-an386)|Cortex-M33, FPv5-SP (mps2-an505)|Cortex-M3, no FPU (mps2-an385)", cn, "|")
     for (c = 1; c <= 3; c++)
         printf "| %s | %s / %s | %s B | %s B | %s B |\n", cn[c], czos[cs[c]], czo2[cs[c]], st[cs[c], "sfit_moments_add"], \
-            st[cs[c], "sfit_moments_fit"], st[cs[c], "sfit_points_fit"]
+            st[cs[c], "sfit_fit_moments"], st[cs[c], "sfit_fit_points"]
     print ""
     print "(stack: worst case at -O2, frame plus deepest callee chain, soft-float routines included.)"
     print ""
@@ -100,7 +100,7 @@ END {
     load = (100 * a + s) / (mhz * 1e6) * 100
     printf "**A 100 Hz marker stream on a core without an FPU.** On the Cortex-M3 one\n"
     printf "sample (`sfit_moments_add`) executes %.0f instructions on average (%s for a\n", a, f1(a1)
-    printf "call that does not close a block) and one GDKE solve (`sfit_moments_fit`)\n"
+    printf "call that does not close a block) and one GDKE solve (`sfit_fit_moments`)\n"
     printf "%s (UGDK: %s). At an assumed %s MHz (an STM32L1-class part) and one\n", f1(s), f1(u), mhz
     printf "instruction per cycle, 100 samples a second plus one solve a second take\n"
     printf "%.0f + %.0f = %.0f us of every second, %.2f %% of the CPU; the solve alone\n", \
@@ -113,6 +113,6 @@ END {
 cat "$tmp/block.md"
 
 if [ "$update" -eq 1 ]; then
-    "$here/update_block.sh" cores "$tmp/block.md" "$src/docs/cost.md" "$src/README.md" || exit 2
+    "$here/update_block.sh" cores "$tmp/block.md" "$src/docs/cost.md" || exit 2
 fi
 exit 0

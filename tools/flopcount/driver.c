@@ -36,32 +36,11 @@
 #include "sfit/sfit_mat3.h"
 #include "sfit/sfit_moments.h"
 
-#if defined(__has_include)
-#if __has_include("sfit/sfit_multi.h")
-#include "sfit/sfit_multi.h"
-#define FC_HAVE_MULTI 1
-#endif
-#if __has_include("sfit/sfit_noise.h")
-#include "sfit/sfit_noise.h"
-#define FC_HAVE_NOISE 1
-#endif
-#if __has_include("sfit/sfit_incr.h")
-#include "sfit/sfit_incr.h"
-#define FC_HAVE_INCR 1
-#endif
-#endif
 #include "sfit/sfit_cluster.h"
+#include "sfit/sfit_incr.h"
 #include "sfit/sfit_joint.h"
-#define FC_HAVE_JOINT 1
-#ifndef FC_HAVE_MULTI
-#define FC_HAVE_MULTI 0
-#endif
-#ifndef FC_HAVE_NOISE
-#define FC_HAVE_NOISE 0
-#endif
-#ifndef FC_HAVE_INCR
-#define FC_HAVE_INCR 0
-#endif
+#include "sfit/sfit_multi.h"
+#include "sfit/sfit_noise.h"
 
 #define FC_NPTS 512u               /* samples of the main data set */
 #define FC_NHALF (FC_NPTS / 2u)    /* the smaller batch */
@@ -117,15 +96,10 @@ static sfit_fit_cfg_t fc_cfg_ugdk_eig;
 static sfit_status_t fc_st;
 static sfit_selfcal_result_t fc_sc;      /* self-calibrated fit of fc_pts */
 static sfit_uncert_t fc_unc;
-#if FC_HAVE_MULTI
 static sfit_moments_t fc_mk[FC_NMARK];
 static sfit_multi_result_t fc_mres;
 static float fc_radii[FC_NMARK];
-#endif
-#if FC_HAVE_NOISE
 static sfit_noise_est_t fc_nest;
-#endif
-#if FC_HAVE_JOINT
 /* Joint probe: a 4-marker parent cluster (pelvis-like, +-75 mm) and 5
  * child markers turning about a centre, 2.7 m from the origin; FC_NJF
  * frames (a whole number of moments blocks, so the amortised figure
@@ -143,11 +117,8 @@ static sfit_vec3_t fc_jchi[FC_NJF][FC_NJC];
 static sfit_joint_cfg_t fc_jcfg5;
 static sfit_joint_cfg_t fc_jcfg1;
 static sfit_joint_cfg_t fc_jcfgm;
-#endif
-#if FC_HAVE_INCR
 static sfit_incr_t fc_inc;
 static sfit_sphere_t fc_iest;
-#endif
 
 /* ---- markers: the counting window is between these two calls ---------- */
 __attribute__((noinline)) void fc_begin(void)
@@ -251,7 +222,6 @@ static void fc_setup(void)
     fc_cfg_gdke_eig.eigen = 1;
     fc_cfg_ugdk_eig = fc_cfg_ugdk;
     fc_cfg_ugdk_eig.eigen = 1;
-#if FC_HAVE_MULTI
     {
         unsigned p;
         for (p = 0; p < FC_NMARK; p++) {
@@ -260,10 +230,8 @@ static void fc_setup(void)
             fc_moments_of(&fc_mk[p], tmp, FC_NPERMARK);
         }
     }
-#endif
 }
 
-#if FC_HAVE_JOINT
 /* Rotation about a unit axis u by an angle with cosine c and sine s. */
 static void fc_rot_axis(const float u[3], float c, float s, float r[9])
 {
@@ -339,7 +307,6 @@ static void fc_setup_joint(void)
     fc_jcfgm.solve.fit.noise = SFIT_NOISE_ISO;
     fc_jcfgm.solve.fit.noise_var = fc_sigma * fc_sigma;
 }
-#endif
 
 /* ---- operations ----------------------------------------------------------- */
 static void fc_keep(sfit_status_t st)
@@ -379,57 +346,57 @@ static void fc_add_one(void)
 
 static void fc_batch_n(void)
 {
-    fc_keep(sfit_points_fit(fc_pts, FC_NPTS, NULL, &fc_res));
+    fc_keep(sfit_fit_points(fc_pts, FC_NPTS, NULL, &fc_res));
 }
 
 static void fc_batch_half(void)
 {
-    fc_keep(sfit_points_fit(fc_pts, FC_NHALF, NULL, &fc_res));
+    fc_keep(sfit_fit_points(fc_pts, FC_NHALF, NULL, &fc_res));
 }
 
 static void fc_prep_selfcal(void)
 {
-    fc_keep(sfit_points_selfcal(fc_pts, FC_NPTS, NULL, &fc_sc));
+    fc_keep(sfit_selfcal_points(fc_pts, FC_NPTS, NULL, &fc_sc));
 }
 
 static void fc_uncert_selfcal_n(void)
 {
-    fc_keep(sfit_points_uncert_selfcal(fc_pts, FC_NPTS, &fc_sc.fit.center, fc_sc.fit.radius,
-                                       fc_sc.noise_var, &fc_unc));
+    fc_keep(sfit_uncert_selfcal(fc_pts, FC_NPTS, &fc_sc.fit.center, fc_sc.fit.radius,
+                                fc_sc.noise_var, &fc_unc));
 }
 
 static void fc_uncert_selfcal_half(void)
 {
-    fc_keep(sfit_points_uncert_selfcal(fc_pts, FC_NHALF, &fc_sc.fit.center, fc_sc.fit.radius,
-                                       fc_sc.noise_var, &fc_unc));
+    fc_keep(sfit_uncert_selfcal(fc_pts, FC_NHALF, &fc_sc.fit.center, fc_sc.fit.radius,
+                                fc_sc.noise_var, &fc_unc));
 }
 
 /* The default solve must take the screened path on the cap. */
 static void fc_solve_gdke(void)
 {
-    fc_keep(sfit_moments_fit(&fc_mom_cap, NULL, &fc_res));
+    fc_keep(sfit_fit_moments(&fc_mom_cap, NULL, &fc_res));
     fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
 }
 
 static void fc_solve_ugdk(void)
 {
-    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
+    fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
     fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
 }
 
 static void fc_solve_gdke_eigen(void)
 {
-    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_gdke_eig, &fc_res));
+    fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_gdke_eig, &fc_res));
 }
 
 static void fc_solve_ugdk_eigen(void)
 {
-    fc_keep(sfit_moments_fit(&fc_mom_cap, &fc_cfg_ugdk_eig, &fc_res));
+    fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_ugdk_eig, &fc_res));
 }
 
 static void fc_solve_planar(void)
 {
-    fc_keep(sfit_moments_fit(&fc_mom_arc, &fc_cfg_planar, &fc_res));
+    fc_keep(sfit_fit_moments(&fc_mom_arc, &fc_cfg_planar, &fc_res));
 }
 
 static void fc_chol(void)
@@ -463,7 +430,6 @@ static void fc_stats(void)
     fc_keep(sfit_moments_stats(&fc_mom_cap, &fc_x, &fc_l, &fc_w));
 }
 
-#if FC_HAVE_MULTI
 static void fc_multi_all(void)
 {
     fc_keep(sfit_multi_fit(fc_mk, FC_NMARK, NULL, &fc_mres, fc_radii));
@@ -490,20 +456,16 @@ static void fc_multi_half(void)
 {
     fc_keep(sfit_multi_fit(fc_mk, FC_NMARK / 2u, NULL, &fc_mres, fc_radii));
 }
-#endif
 
-#if FC_HAVE_NOISE
 static void fc_noise_calib(void)
 {
     sfit_vec3_t c0;
     c0.v[0] = fc_centre[0];
     c0.v[1] = fc_centre[1];
     c0.v[2] = fc_centre[2];
-    fc_keep(sfit_moments_calibrate(&fc_mom_cap, &c0, fc_radius, &fc_nest));
+    fc_keep(sfit_noise_calibrate(&fc_mom_cap, &c0, fc_radius, &fc_nest));
 }
-#endif
 
-#if FC_HAVE_INCR
 /* State after a batch start on FC_NHALF samples: the next call is an
  * ordinary one (no fold; folds come at n = 1, 2, 4, ... and then every
  * SFIT_INCR_BLOCK samples: moments_add-like amortisation, see docs/cost.md). */
@@ -551,9 +513,7 @@ static void fc_incr_updates(void) /* FC_NHALF more samples, an estimate after ea
         fc_keep(sfit_incr_update(&fc_inc, &fc_pts[i], &fc_iest));
     }
 }
-#endif
 
-#if FC_HAVE_JOINT
 static void fc_register(void)
 {
     fc_keep(sfit_cluster_register(&fc_cl, fc_jpar[0], FC_NJP, &fc_pose, &fc_cfit));
@@ -561,7 +521,7 @@ static void fc_register(void)
 
 static void fc_to_segment(void)
 {
-    fc_keep(sfit_pose_to_segment(&fc_pose, &fc_jchi[0][0], &fc_x));
+    fc_keep(sfit_cluster_to_segment(&fc_pose, &fc_jchi[0][0], &fc_x));
 }
 
 static void fc_prep_joint5(void)
@@ -623,7 +583,6 @@ static void fc_prep_joint_solved(void)
     fc_prep_joint5_full();
     fc_joint_solve();
 }
-#endif
 
 /* ---- the table ------------------------------------------------------------ */
 static const fc_op_t fc_ops[] = {
@@ -632,46 +591,38 @@ static const fc_op_t fc_ops[] = {
     {"moments_add_call", "sfit_moments_add", fc_prep_mid_block, fc_add_one, NULL, NULL, 1u},
     {"moments_add_flush", "sfit_moments_add", fc_prep_block_end, fc_add_one, NULL, NULL, 1u},
     {"moments_stats", "sfit_moments_stats", NULL, fc_stats, NULL, NULL, 1u},
-    {"batch_per_point", "sfit_points_fit", NULL, fc_batch_n, NULL, fc_batch_half, FC_NPTS - FC_NHALF},
-    {"batch_total", "sfit_points_fit", NULL, fc_batch_n, NULL, NULL, 1u},
-    {"solve_gdke", "sfit_moments_fit", NULL, fc_solve_gdke, NULL, NULL, 1u},
-    {"solve_ugdk", "sfit_moments_fit", NULL, fc_solve_ugdk, NULL, NULL, 1u},
-    {"solve_gdke_eigen", "sfit_moments_fit", NULL, fc_solve_gdke_eigen, NULL, NULL, 1u},
-    {"solve_ugdk_eigen", "sfit_moments_fit", NULL, fc_solve_ugdk_eigen, NULL, NULL, 1u},
+    {"batch_per_point", "sfit_fit_points", NULL, fc_batch_n, NULL, fc_batch_half, FC_NPTS - FC_NHALF},
+    {"batch_total", "sfit_fit_points", NULL, fc_batch_n, NULL, NULL, 1u},
+    {"solve_gdke", "sfit_fit_moments", NULL, fc_solve_gdke, NULL, NULL, 1u},
+    {"solve_ugdk", "sfit_fit_moments", NULL, fc_solve_ugdk, NULL, NULL, 1u},
+    {"solve_gdke_eigen", "sfit_fit_moments", NULL, fc_solve_gdke_eigen, NULL, NULL, 1u},
+    {"solve_ugdk_eigen", "sfit_fit_moments", NULL, fc_solve_ugdk_eigen, NULL, NULL, 1u},
     {"chol_factor", "sfit_mat3_chol", NULL, fc_chol, NULL, NULL, 1u},
     {"chol_solve", "sfit_mat3_chol", NULL, fc_chol_and_subst, NULL, NULL, 1u},
     {"jacobi_eig", "sfit_mat3_eig_sym", NULL, fc_eig, NULL, NULL, 1u},
     {"jacobi_rotation", "sfit_mat3_eig_sym", NULL, fc_eig_rot, NULL, NULL, 1u},
-    {"planar_solve", "sfit_moments_fit", NULL, fc_solve_planar, NULL, NULL, 1u},
-    {"uncert_selfcal_per_point", "sfit_points_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n,
+    {"planar_solve", "sfit_fit_moments", NULL, fc_solve_planar, NULL, NULL, 1u},
+    {"uncert_selfcal_per_point", "sfit_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n,
      fc_prep_selfcal, fc_uncert_selfcal_half, FC_NPTS - FC_NHALF},
-    {"uncert_selfcal", "sfit_points_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n, NULL, NULL, 1u},
-#if FC_HAVE_MULTI
+    {"uncert_selfcal", "sfit_uncert_selfcal", fc_prep_selfcal, fc_uncert_selfcal_n, NULL, NULL, 1u},
     {"multi_solve_per_marker", "sfit_multi_fit", NULL, fc_multi_all, NULL, fc_multi_half, FC_NMARK / 2u},
     {"multi_solve_total", "sfit_multi_fit", NULL, fc_multi_all, NULL, NULL, 1u},
     {"multi_solve_noise_total", "sfit_multi_fit_noise", NULL, fc_multi_noise, NULL, NULL, 1u},
     {"multi_center_cov", "sfit_multi_center_cov", fc_multi_all, fc_multi_cov, NULL, NULL, 1u},
-#endif
-#if FC_HAVE_NOISE
-    {"noise_calibration", "sfit_moments_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
-#endif
-#if FC_HAVE_JOINT
+    {"noise_calibration", "sfit_noise_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
     {"cluster_register", "sfit_cluster_register", NULL, fc_register, NULL, NULL, 1u},
-    {"pose_to_segment", "sfit_pose_to_segment", fc_register, fc_to_segment, NULL, NULL, 1u},
+    {"pose_to_segment", "sfit_cluster_to_segment", fc_register, fc_to_segment, NULL, NULL, 1u},
     {"joint_frame", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, NULL, NULL, FC_NJF},
     {"joint_per_child", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, fc_prep_joint1, fc_joint_frames, FC_NJF * (FC_NJC - 1u)},
     {"joint_fit", "sfit_joint_fit", fc_prep_joint5_full, fc_joint_solve, NULL, NULL, 1u},
     {"joint_center_at", "sfit_joint_center_at", fc_prep_joint_solved, fc_joint_center_at, NULL, NULL, 1u},
     {"joint_fit_marker", "sfit_joint_fit", fc_prep_joint5_marker, fc_joint_solve, NULL, NULL, 1u},
     {"joint_center_cov_frame", "sfit_joint_center_cov", fc_prep_joint_marker_solved, fc_joint_center_cov, NULL, NULL, FC_NJF},
-#endif
-#if FC_HAVE_INCR
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},
     {"incremental_add", "sfit_incr_add", fc_prep_incr_gdke, fc_incr_add, NULL, NULL, 1u},
     {"incremental_solve", "sfit_incr_fit", fc_prep_incr_gdke, fc_incr_solve, NULL, NULL, 1u},
     {"incremental_update_ugdk", "sfit_incr_update", fc_prep_incr_ugdk, fc_incr_update, NULL, NULL, 1u},
     {"incremental_update_amortised", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_updates, NULL, NULL, FC_NPTS - FC_NHALF},
-#endif
 };
 
 static void fc_measure(fc_fn_t prep, fc_fn_t run)
@@ -690,15 +641,10 @@ int main(void)
     int fails = 0;
 
     fc_setup();
-#if FC_HAVE_JOINT
     fc_setup_joint();
-#endif
     printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);
-    printf("fcinfo have_multi %d\nfcinfo have_noise %d\nfcinfo have_incr %d\n", FC_HAVE_MULTI,
-           FC_HAVE_NOISE, FC_HAVE_INCR);
-    printf("fcinfo have_joint %d\n", FC_HAVE_JOINT);
     for (i = 0; i < sizeof fc_ops / sizeof fc_ops[0]; i++) {
         const fc_op_t *op = &fc_ops[i];
         printf("fcop %s %u %d %s\n", op->name, op->div, op->base != NULL ? 2 : 1, op->fn);

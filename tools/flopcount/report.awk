@@ -109,8 +109,7 @@ END {
     } else if (mode == "json") {
         printf "{\n  \"tool\": \"sfit flopcount\",\n"
         printf "  \"target\": \"Cortex-M4F (QEMU mps2-an386), arm-none-eabi-gcc -O2 -std=c99\",\n"
-        printf "  \"config\": {\"sum_block\": %s, \"samples\": %s, \"multi\": %s, \"noise\": %s, \"incremental\": %s},\n", \
-            info["sum_block"], info["npts"], info["have_multi"], info["have_noise"], info["have_incr"]
+        printf "  \"config\": {\"sum_block\": %s, \"samples\": %s},\n", info["sum_block"], info["npts"]
         printf "  \"operations\": [\n"
         for (o = 1; o <= nop; o++) {
             n = opname[o]

@@ -20,22 +20,11 @@ FC_SIZE(sfit_result_t);
 FC_SIZE(sfit_vec3_t);
 FC_SIZE(sfit_mat3_t);
 
-#if defined(__has_include)
-#if __has_include("sfit/sfit_multi.h")
-#include "sfit/sfit_multi.h"
 FC_SIZE(sfit_multi_cfg_t);
 FC_SIZE(sfit_multi_result_t);
-#endif
-#if __has_include("sfit/sfit_noise.h")
-#include "sfit/sfit_noise.h"
 FC_SIZE(sfit_noise_est_t);
-#endif
-#if __has_include("sfit/sfit_incr.h")
-#include "sfit/sfit_incr.h"
 FC_SIZE(sfit_incr_t);
 FC_SIZE(sfit_sphere_t);
-#endif
-#endif
 FC_SIZE(sfit_gate_t);
 FC_SIZE(sfit_gate_cfg_t);
 FC_SIZE(sfit_selfcal_result_t);

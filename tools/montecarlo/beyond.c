@@ -131,20 +131,20 @@ int main(int argc, char **argv)
                 const char *what = "moments";
                 if (st == SFIT_OK) {
                     what = "selfcal";
-                    st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
+                    st = sfit_selfcal_points(g_pf, (size_t)sc->n, NULL, &s);
                 }
                 if (st == SFIT_OK) {
                     what = "uncert_moments";
-                    st = sfit_moments_uncert(&m, &s.fit.center, s.fit.radius, s.noise_var,
+                    st = sfit_uncert_moments(&m, &s.fit.center, s.fit.radius, s.noise_var,
                                              SFIT_UNCERT_NOISE_ESTIMATED, &us);
                 }
                 if (st == SFIT_OK) {
                     what = "refine";
-                    st = sfit_points_refine(g_pf, (size_t)sc->n, &s.fit.center, NULL, &r);
+                    st = sfit_refine_points(g_pf, (size_t)sc->n, &s.fit.center, NULL, &r);
                 }
                 if (st == SFIT_OK) {
                     what = "uncert_geometric";
-                    st = sfit_points_uncert_geometric(g_pf, (size_t)sc->n, &r.center, &ur);
+                    st = sfit_uncert_geometric(g_pf, (size_t)sc->n, &r.center, &ur);
                 }
                 if (st != SFIT_OK) {
                     fprintf(stderr, "beyond: %.0f deg N %d trial %d: %s: %s\n", sc->theta_deg,

@@ -5,9 +5,9 @@
  * fraction of trials whose true centre lies inside the reported 95 %
  * ellipsoid (e^T Cov^-1 e <= 7.815, chi-square with 3 degrees of freedom),
  * for every estimator that reports a covariance:
- *   ugdk     sfit_points_fit with the true sigma^2 + sfit_moments_uncert (known)
- *   selfcal  sfit_points_selfcal + sfit_points_uncert_selfcal (sandwich)
- *   refined  sfit_points_fit_refined (geometric fit + its sandwich)
+ *   ugdk     sfit_fit_points with the true sigma^2 + sfit_uncert_moments (known)
+ *   selfcal  sfit_selfcal_points + sfit_uncert_selfcal (sandwich)
+ *   refined  sfit_refine_fit (geometric fit + its sandwich)
  * over caps of 20-180 degrees, sigma/r 0.005-0.4 and N 10-1e4
  * (docs/coverage.md). Results with SFIT_FLAG_UNTRUSTED are counted as
  * flagged and left out of the coverage; failed calls are counted apart.
@@ -114,27 +114,27 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         /* dump mode: the exact trust ratio (a screened result reports an
          * upper bound of it, enough for the library's own cut only) */
         fc.eigen = (g_dump != NULL) ? 1 : 0;
-        st = sfit_points_fit(g_pf, (size_t)sc->n, &fc, &r);
+        st = sfit_fit_points(g_pf, (size_t)sc->n, &fc, &r);
         if (st == SFIT_OK) {
             sfit_moments_t m;
             (void)sfit_moments_init(&m);
             (void)sfit_moments_add_block(&m, g_pf, (size_t)sc->n, NULL);
-            st = sfit_moments_uncert(&m, &r.center, r.radius, fc.noise_var,
+            st = sfit_uncert_moments(&m, &r.center, r.radius, fc.noise_var,
                                      SFIT_UNCERT_NOISE_KNOWN, &u);
         }
         cov_tally_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov, k_c);
         dump_trial(EST_UGDK, st, r.flags, r.trust_ratio, &r.center, u.center_cov, fc.noise_var);
         memset(&u, 0, sizeof u);
-        st = sfit_points_selfcal(g_pf, (size_t)sc->n, NULL, &s);
+        st = sfit_selfcal_points(g_pf, (size_t)sc->n, NULL, &s);
         if (st == SFIT_OK && (s.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
-            st = sfit_points_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
-                                            s.noise_var, &u);
+            st = sfit_uncert_selfcal(g_pf, (size_t)sc->n, &s.fit.center, s.fit.radius,
+                                     s.noise_var, &u);
         }
         cov_tally_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
                       u.center_cov, k_c);
         dump_trial(EST_SELFCAL, st, s.fit.flags, s.fit.trust_ratio, &s.fit.center, u.center_cov,
                    s.noise_var);
-        st = sfit_points_fit_refined(g_pf, (size_t)sc->n, NULL, &rf);
+        st = sfit_refine_fit(g_pf, (size_t)sc->n, NULL, &rf);
         cov_tally_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
                       &rf.geometric.center, rf.uncert.center_cov, k_c);
         dump_trial(EST_REFINED, st, rf.start.fit.flags, rf.start.fit.trust_ratio,

@@ -138,14 +138,14 @@ static void fit_trial(size_t n, double sigma, int with_geo, trial_t *t)
     cu.noise_var = (float)(sigma * sigma);
     cg.eigen = 1; /* the table reports the exact trust ratio */
     cu.eigen = 1;
-    if (sfit_points_fit(g_f, n, &cg, &rg) == SFIT_OK) {
+    if (sfit_fit_points(g_f, n, &cg, &rg) == SFIT_OK) {
         t->ok[EST_GDKE] = 1;
         for (k = 0; k < 3; ++k) {
             t->c[EST_GDKE][k] = (double)rg.center.v[k];
         }
         t->r[EST_GDKE] = (double)rg.radius;
     }
-    if (sfit_points_fit(g_f, n, &cu, &ru) == SFIT_OK) {
+    if (sfit_fit_points(g_f, n, &cu, &ru) == SFIT_OK) {
         t->ok[EST_UGDK] = 1;
         for (k = 0; k < 3; ++k) {
             t->c[EST_UGDK][k] = (double)ru.center.v[k];
@@ -412,7 +412,7 @@ static void write_table_and_claims(const char *dir)
     char gb[32];
 
     /* results_table.md: N = 100, 1000, 10000; results_table_n1000.md: the
-     * README's compact version. */
+     * compact version (N = 1000 only). */
     for (pass = 0; pass < 2; ++pass) {
         FILE *f = open_out(dir, pass == 0 ? "results_table.md" : "results_table_n1000.md");
         fprintf(f, "| geometry | σ (mm) | ρ | N | GDKE axial bias (mm) | GDKE RMSE/√trCRLB | "

@@ -100,7 +100,7 @@ int main(int argc, char **argv)
                 cfg.noise_var = (float)(sr * SC_R * sr * SC_R);
                 cov[0] = cov[1] = cov[2] = (double)cfg.noise_var; /* packed XX, YY, ZZ */
             }
-            st = sfit_moments_fit(&m, &cfg, &r);
+            st = sfit_fit_moments(&m, &cfg, &r);
             if (st == SFIT_OK && r.mode == SFIT_MODE_SPHERE
                 && ref_fit_sphere((const double(*)[3])g_x, n, (e == 1) ? cov : NULL, &ref) == 0) {
                 const int fl = (r.flags & (uint32_t)SFIT_FLAG_ROUNDING) != 0u;

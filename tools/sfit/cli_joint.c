@@ -108,7 +108,7 @@ static sfit_status_t feed(const cli_frames_t *fr, int np, int nc, long first, lo
                 out->child_n[k]++;
                 if (keep != NULL) {
                     sfit_vec3_t xs;
-                    (void)sfit_pose_to_segment(&pose, row + np + k, &xs);
+                    (void)sfit_cluster_to_segment(&pose, row + np + k, &xs);
                     keep[(size_t)k * (size_t)(last - first + 1) + nkeep[k]++] = xs;
                 }
             }
@@ -125,7 +125,7 @@ static sfit_status_t estimate_noise(const sfit_vec3_t *keep, const size_t *nkeep
     int k;
     for (k = 0; k < nc; k++) {
         sfit_selfcal_result_t sc;
-        if (sfit_points_selfcal(keep + (size_t)k * stride, nkeep[k], NULL, &sc) == SFIT_OK
+        if (sfit_selfcal_points(keep + (size_t)k * stride, nkeep[k], NULL, &sc) == SFIT_OK
             && (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) == 0u) {
             sum += (double)sc.noise_var * (double)nkeep[k];
             w += (double)nkeep[k];

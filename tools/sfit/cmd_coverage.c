@@ -11,7 +11,8 @@
 #include <string.h>
 
 #include "cli.h"
-#include "sfit/sfit_noise.h"
+
+#include "sfit/sfit_coverage.h"
 
 #define COV_RAD2DEG 57.29577951f
 
@@ -106,7 +107,7 @@ static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o,
         cfg.noise = SFIT_NOISE_ISO;
         cfg.noise_var = o->noise_var;
     }
-    st = sfit_moments_fit(acc, &cfg, &c->fit);
+    st = sfit_fit_moments(acc, &cfg, &c->fit);
     c->fit_ugdk = o->have_noise;
     if (st == SFIT_E_NOT_POSDEF && o->have_noise) {
         /* The noise exceeds the spread: no trust at all. Fall back to GDKE
@@ -114,7 +115,7 @@ static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o,
          * from the eigenvalues minus the noise (usually "not measurable"). */
         cfg.noise = SFIT_NOISE_NONE;
         cfg.noise_var = 0.0f;
-        st = sfit_moments_fit(acc, &cfg, &c->fit);
+        st = sfit_fit_moments(acc, &cfg, &c->fit);
         c->fit_ugdk = 0;
     }
     if (st != SFIT_OK) {

@@ -408,7 +408,7 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
             continue;
         }
         printf("%10.4f ", (double)radii[k]);
-        st = sfit_moments_fit(&acc[k], &o->cfg, &one);
+        st = sfit_fit_moments(&acc[k], &o->cfg, &one);
         if (st != SFIT_OK) {
             printf("%34s %9s  %s\n", sfit_status_str(st), "", o->files[k]);
         } else {
@@ -544,7 +544,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         sfit_refined_t rf;
         sfit_refined_cfg_t rc = sfit_refined_cfg_default;
         rc.selfcal.planar_ratio = o->cfg.planar_ratio;
-        st = sfit_points_fit_refined(k->pts, k->n, &rc, &rf);
+        st = sfit_refine_fit(k->pts, k->n, &rc, &rf);
         if (st != SFIT_OK) {
             return st;
         }
@@ -564,7 +564,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         sfit_selfcal_result_t sc;
         sfit_selfcal_cfg_t scc = sfit_selfcal_cfg_default;
         scc.planar_ratio = o->cfg.planar_ratio;
-        st = sfit_points_selfcal(k->pts, k->n, &scc, &sc);
+        st = sfit_selfcal_points(k->pts, k->n, &scc, &sc);
         if (st == SFIT_OK) {
             *r = sc.fit;
             x->has_noise = 1;
@@ -573,12 +573,12 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
             x->iterations = sc.iterations;
             x->capped = (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
             /* the self-calibration's own sandwich covariance */
-            x->has_uncert = (sfit_points_uncert_selfcal(k->pts, k->n, &r->center, r->radius,
-                                                        x->noise_var, &x->u) == SFIT_OK);
+            x->has_uncert = (sfit_uncert_selfcal(k->pts, k->n, &r->center, r->radius,
+                                                 x->noise_var, &x->u) == SFIT_OK);
             return SFIT_OK;
         }
     } else {
-        st = sfit_moments_fit(acc, &o->cfg, r);
+        st = sfit_fit_moments(acc, &o->cfg, r);
     }
     if (st != SFIT_OK) {
         return st;
@@ -588,7 +588,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->noise_var = o->cfg.noise_var;
     }
     if (x->has_noise && r->mode == SFIT_MODE_SPHERE && acc != NULL) {
-        x->has_uncert = (sfit_moments_uncert(acc, &r->center, r->radius, x->noise_var,
+        x->has_uncert = (sfit_uncert_moments(acc, &r->center, r->radius, x->noise_var,
                                              SFIT_UNCERT_NOISE_KNOWN,
                                              &x->u) == SFIT_OK);
     }

@@ -94,7 +94,7 @@ int cli_cmd_noise(int argc, char **argv)
             return rrc;
         }
     }
-    st = sfit_moments_calibrate(&acc, &o.center, o.radius, &e);
+    st = sfit_noise_calibrate(&acc, &o.center, o.radius, &e);
     if (st != SFIT_OK) {
         return cli_report_failure(st, "noise calibration",
                                   (st == SFIT_E_TOO_FEW) ? "no valid sample" : NULL, o.json, &in);

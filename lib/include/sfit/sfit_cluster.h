@@ -135,7 +135,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  *                            second singular value of the cross-covariance is below
  *                            SFIT_CLUSTER_COLLINEAR_RATIO times the first
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 markers: 1010 FLOPs, 5141 M4F instructions (tools/flopcount "cluster_register").
+ * @par Cost 4 markers: 1010 FLOPs (tools/flopcount "cluster_register").
  */
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit);
@@ -151,8 +151,8 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
  * @retval SFIT_E_RANGE  the result overflows (finite inputs)
  * @par Cost 9 mul, 9 add.
  */
-sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
-                                  sfit_vec3_t *xg);
+sfit_status_t sfit_cluster_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs,
+                                     sfit_vec3_t *xg);
 
 /**
  * @brief Map a point from the global frame to the segment frame: r^T (x - t).
@@ -165,8 +165,8 @@ sfit_status_t sfit_pose_to_global(const sfit_pose_t *pose, const sfit_vec3_t *xs
  * @retval SFIT_E_RANGE  the result overflows (finite inputs)
  * @par Cost 18 FLOPs (3 sub, 9 mul, 6 add; tools/flopcount "pose_to_segment").
  */
-sfit_status_t sfit_pose_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
-                                   sfit_vec3_t *xs);
+sfit_status_t sfit_cluster_to_segment(const sfit_pose_t *pose, const sfit_vec3_t *xg,
+                                      sfit_vec3_t *xs);
 
 #ifdef __cplusplus
 }

@@ -23,7 +23,7 @@
  * @brief Upper bound on cyclic Jacobi sweeps (each sweep = 3 rotations).
  * A symmetric 3x3 matrix converges to float precision in 4-6 sweeps; the
  * bound makes the loop's worst case a compile-time constant. Below 8 the
- * screened solve of sfit_moments_fit() is off (every fit runs the full
+ * screened solve of sfit_fit_moments() is off (every fit runs the full
  * solver, which may then stop with SFIT_E_NO_CONVERGENCE). Range 1..64.
  */
 #ifndef SFIT_JACOBI_MAX_SWEEPS
@@ -34,7 +34,7 @@
 #endif
 
 /**
- * @brief 1 (default): sfit_moments_fit() and sfit_points_fit() fall back to
+ * @brief 1 (default): sfit_fit_moments() and sfit_fit_points() fall back to
  * the full solver (the Jacobi eigen-decomposition) whenever the screened
  * solve cannot prove its answer, and serve cfg.eigen = 1, ::SFIT_MODE_PLANAR
  * and ::SFIT_NOISE_COV. 0: a firmware build without that fallback (an
@@ -45,7 +45,7 @@
  * ill-conditioned samples, a trust bound above SFIT_COV_MAX_TRUST, the
  * rounding flag; or one of those options). Below SFIT_COV_MIN_SAMPLES
  * samples such a build still fits (the flags are then decided by the count
- * alone: UNTRUSTED | COV_LIMIT). Modules built on sfit_moments_fit() (gate,
+ * alone: UNTRUSTED | COV_LIMIT). Modules built on sfit_fit_moments() (gate,
  * self-calibration, the incremental start) inherit the status (the
  * incremental start checks a full noise covariance with its own solve);
  * self-calibration takes its noise cap from the screen's lower bound of
@@ -244,7 +244,7 @@
 #error "SFIT_INCR_BLOCK must be in 2..65536"
 #endif
 
-/* ---- Coverage aids (sfit_noise.h) ---- */
+/* ---- Coverage aids (sfit_coverage.h) ---- */
 
 /**
  * @brief Iteration bound of the coverage inverses (bisection on theta in

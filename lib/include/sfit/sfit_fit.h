@@ -126,7 +126,7 @@ typedef struct sfit_result {
  *             FLT_EPSILON cond(C') sqrt(N/SFIT_SUM_BLOCK + 1) > 1e-4 (small caps,
  *             many samples).
  */
-sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 /**
@@ -139,14 +139,14 @@ sfit_status_t sfit_moments_fit(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
  * @retval SFIT_E_ARG         NULL out, NULL pts with n > 0, or an invalid option
  * @retval SFIT_E_NONFINITE   a sample holds NaN or Inf
  * @retval SFIT_E_RANGE       a coordinate out of range, or the result not finite
- * @retval SFIT_E_UNSUPPORTED as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only)
+ * @retval SFIT_E_UNSUPPORTED as sfit_fit_moments() (SFIT_FULL_SOLVER 0 only)
  * @retval SFIT_E_TOO_FEW     n < SFIT_MIN_SAMPLES
  * @retval SFIT_E_DEGENERATE  coincident, collinear or (sphere) planar samples
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost  n moments_add plus one sfit_moments_fit() (tools/flopcount: batch_total).
+ * @par Cost  n moments_add plus one sfit_fit_moments() (tools/flopcount: batch_total).
  */
-sfit_status_t sfit_points_fit(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
+sfit_status_t sfit_fit_points(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);
 
 #ifdef __cplusplus

@@ -118,15 +118,15 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
  *                  (buffer kept), or a robust start whose cut keeps no more than
  *                  SFIT_MIN_SAMPLES of them (e.g. 5 samples)
  * @retval SFIT_E_DEGENERATE, SFIT_E_NOT_POSDEF, SFIT_E_NO_CONVERGENCE, SFIT_E_RANGE
- *                  the fit failed (as sfit_moments_fit()); the gate keeps its previous
+ *                  the fit failed (as sfit_fit_moments()); the gate keeps its previous
  *                  fit (in a warm-up: no start could be fitted, e.g. collinear samples)
- * @retval SFIT_E_UNSUPPORTED  as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only); the
+ * @retval SFIT_E_UNSUPPORTED  as sfit_fit_moments() (SFIT_FULL_SOLVER 0 only); the
  *                  gate keeps its previous fit
  */
 sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
 
 /**
- * @brief Fit the accepted samples (as sfit_moments_fit() on the accumulator; the
+ * @brief Fit the accepted samples (as sfit_fit_moments() on the accumulator; the
  * warm-up buffer, if still filling, is fitted as it is).
  * @param[in]  g    Gate.
  * @param[out] out  Written only on SFIT_OK.
@@ -137,12 +137,12 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g);
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat not positive definite
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @retval SFIT_E_UNSUPPORTED as sfit_moments_fit() (SFIT_FULL_SOLVER 0 only)
+ * @retval SFIT_E_UNSUPPORTED as sfit_fit_moments() (SFIT_FULL_SOLVER 0 only)
  */
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out);
 
 /**
- * @brief The accumulator of the accepted samples (for sfit_moments_uncert()
+ * @brief The accumulator of the accepted samples (for sfit_uncert_moments()
  * and friends); NULL while the warm-up buffer is still filling, for NULL g,
  * or for a corrupted gate.
  */

@@ -81,7 +81,7 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
 /**
  * @brief (Re)start from a batch of samples: the "batch fit of the
  * first few samples". Replaces any samples the state held by pts[0..n-1]
- * and checks the batch fit with sfit_moments_fit() (sphere mode, the state's
+ * and checks the batch fit with sfit_fit_moments() (sphere mode, the state's
  * noise model), which also rejects coincident, collinear and planar sets.
  * On any failure the state is left bit for bit unchanged.
  * @param[in,out] s    Initialised state.
@@ -97,9 +97,9 @@ sfit_status_t sfit_incr_reset(sfit_incr_t *s);
  * @retval SFIT_E_DEGENERATE  coincident, collinear or planar samples
  * @retval SFIT_E_NOT_POSDEF  C - Sigma_hat is not positive definite (UGDK)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver of the batch check hit its bound
- * @retval SFIT_E_UNSUPPORTED the batch check as sfit_moments_fit() (SFIT_FULL_SOLVER 0
+ * @retval SFIT_E_UNSUPPORTED the batch check as sfit_fit_moments() (SFIT_FULL_SOLVER 0
  *                            only; a full covariance, SFIT_NOISE_COV, which that
- *                            build's sfit_moments_fit() does not serve, is checked by
+ *                            build's sfit_fit_moments() does not serve, is checked by
  *                            this estimator's own solve instead)
  */
 sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
@@ -130,7 +130,7 @@ sfit_status_t sfit_incr_add(sfit_incr_t *s, const sfit_vec3_t *x);
  *                            (an LDL^T pivot of sum y y^T <= SFIT_CHOL_PIVOT_EPS
  *                            times its largest diagonal entry), or their largest
  *                            per-axis spread is below SFIT_MIN_SPREAD (too small
- *                            for float, as in sfit_moments_fit(): rescale the data)
+ *                            for float, as in sfit_fit_moments(): rescale the data)
  * @retval SFIT_E_NOT_POSDEF  UGDK: C - Sigma_hat is not positive definite (GDKE: only
  *                            for a state not written by this API, e.g. garbage bytes)
  * @retval SFIT_E_RANGE       the result would not be finite

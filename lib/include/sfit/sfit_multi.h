@@ -124,8 +124,8 @@ typedef struct sfit_multi_noise {
  * @retval SFIT_E_NOT_POSDEF  as sfit_multi_fit()
  * @retval SFIT_E_NO_CONVERGENCE  as sfit_multi_fit()
  * @retval SFIT_E_RANGE       as sfit_multi_fit()
- * @par Cost 8 markers: 2107 FLOPs, 15829 M4F instructions (tools/flopcount
- * "multi_solve_noise_total"; sfit_multi_fit() on them: 1607).
+ * @par Cost 8 markers: 2107 FLOPs (tools/flopcount "multi_solve_noise_total";
+ * sfit_multi_fit() on them: 1607).
  */
 sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
                                    const sfit_multi_cfg_t *cfg, const sfit_multi_noise_t *noise,
@@ -141,7 +141,7 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
  * + s2 N_p / (N_p - 1)^2 (r_p^2 I + a_p a_p^T)], a_p = m_p - c, r_p^2 the
  * marker's squared distance from the centre ((N_p - 1)/N_p tr C'_p +
  * |m_p - c|^2): the first-order term plus, per marker, the second-order
- * term of sfit_moments_uncert() (SFIT_UNCERT_NOISE_KNOWN), which it equals
+ * term of sfit_uncert_moments() (SFIT_UNCERT_NOISE_KNOWN), which it equals
  * for one marker.
  * Planar result: the pseudo-inverse normal to the axis (the covariance of
  * the centre's part normal to the axis). Derivation: docs/multi.md#centre-covariance.
@@ -158,7 +158,7 @@ sfit_status_t sfit_multi_fit_noise(const sfit_moments_t *markers, size_t count,
  * @retval SFIT_E_TOO_FEW     no marker has SFIT_MIN_SAMPLES samples
  * @retval SFIT_E_NOT_POSDEF  sum w_p C'_p is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost 8 markers: 941 FLOPs, 5228 M4F instructions (tools/flopcount "multi_center_cov").
+ * @par Cost 8 markers: 941 FLOPs (tools/flopcount "multi_center_cov").
  */
 sfit_status_t sfit_multi_center_cov(const sfit_moments_t *markers, size_t count,
                                     const sfit_multi_cfg_t *cfg, const sfit_multi_result_t *res,

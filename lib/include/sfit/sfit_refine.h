@@ -66,10 +66,10 @@ typedef struct sfit_refine_result {
  * @retval SFIT_E_NO_CONVERGENCE  the step is still above tol after max_iters, or
  *                                no damping made the cost decrease
  */
-sfit_status_t sfit_points_refine(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
+sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0,
                               const sfit_refine_cfg_t *cfg, sfit_refine_result_t *out);
 
-/** @brief Options of sfit_points_fit_refined(). */
+/** @brief Options of sfit_refine_fit(). */
 typedef struct sfit_refined_cfg {
     sfit_selfcal_cfg_t selfcal; /**< Options of the self-calibrated start. */
     sfit_refine_cfg_t refine;   /**< Options of the refinement. */
@@ -91,8 +91,8 @@ typedef struct sfit_refined {
 
 /**
  * @brief The combined recipe over a caller's array: noise estimate and
- * start (sfit_points_selfcal()), geometric refinement (sfit_points_refine())
- * and its covariance (sfit_points_uncert_geometric()).
+ * start (sfit_selfcal_points()), geometric refinement (sfit_refine_points())
+ * and its covariance (sfit_uncert_geometric()).
  * @param[in]  pts  n samples (read only).
  * @param[in]  n    Sample count (>= 5 and >= SFIT_MIN_SAMPLES).
  * @param[in]  cfg  Options; NULL = ::sfit_refined_cfg_default.
@@ -101,8 +101,8 @@ typedef struct sfit_refined {
  * @retval other    the status of the first step that failed (see those functions)
  * @par Cost  the sum of the three steps.
  */
-sfit_status_t sfit_points_fit_refined(const sfit_vec3_t *pts, size_t n,
-                                      const sfit_refined_cfg_t *cfg, sfit_refined_t *out);
+sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
+                              const sfit_refined_cfg_t *cfg, sfit_refined_t *out);
 
 #ifdef __cplusplus
 }

@@ -35,7 +35,7 @@ typedef struct sfit_selfcal_result {
     sfit_result_t fit;   /**< The UGDK fit with the final noise_var (method UGDK); when
                               capped its flags carry SFIT_FLAG_UNTRUSTED and
                               SFIT_SELFCAL_FLAG_CAPPED. Its covariance:
-                              sfit_points_uncert_selfcal(). */
+                              sfit_uncert_selfcal(). */
     float noise_var;     /**< Estimated isotropic noise variance sigma^2 (unit^2). */
     uint32_t iterations; /**< Residual passes done (1..SFIT_SELFCAL_MAX_ITERS). */
     uint32_t flags;      /**< ::SFIT_SELFCAL_FLAG_CAPPED or 0 (::sfit_flag). */
@@ -62,10 +62,10 @@ typedef struct sfit_selfcal_result {
  *                                with the cap unless rounding; reported, not hidden)
  * @retval SFIT_E_NO_CONVERGENCE  sigma^2 still moving after SFIT_SELFCAL_MAX_ITERS
  *                                (or the eigen-solver hit its bound)
- * @retval SFIT_E_UNSUPPORTED     a GDKE/UGDK step as sfit_moments_fit()
+ * @retval SFIT_E_UNSUPPORTED     a GDKE/UGDK step as sfit_fit_moments()
  *                                (SFIT_FULL_SOLVER 0 only)
  */
-sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
+sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_selfcal_cfg_t *cfg,
                                sfit_selfcal_result_t *out);
 
 /**
@@ -84,7 +84,7 @@ sfit_status_t sfit_points_selfcal(const sfit_vec3_t *pts, size_t n, const sfit_s
  *                            estimate would not be finite
  * @retval SFIT_E_DEGENERATE  a sample lies at the centre (its radial direction is undefined)
  */
-sfit_status_t sfit_points_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_selfcal_noise_var(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                      float radius, float *noise_var);
 
 #ifdef __cplusplus

@@ -53,7 +53,7 @@ typedef struct sfit_uncert {
  * @retval SFIT_E_RANGE       a result would not be finite, or a corrupted
  *                            accumulator (statistics not finite: sfit_moments_stats())
  */
-sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_moments(const sfit_moments_t *m, const sfit_vec3_t *center,
                                   float radius, float noise_var, sfit_uncert_noise_t kind,
                                   sfit_uncert_t *out);
 
@@ -76,7 +76,7 @@ sfit_status_t sfit_moments_uncert(const sfit_moments_t *m, const sfit_vec3_t *ce
  * @retval SFIT_E_RANGE       n > UINT32_MAX, a sample out of range, or a result
  *                            would not be finite
  */
-sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_points(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                  float radius, float noise_var, sfit_uncert_t *out);
 
 /**
@@ -112,17 +112,17 @@ sfit_status_t sfit_points_uncert(const sfit_vec3_t *pts, size_t n, const sfit_ve
  * @retval SFIT_E_RANGE       n > UINT32_MAX, a sample out of range, or a result
  *                            would not be finite
  */
-sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
+sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *center,
                                     sfit_uncert_t *out);
 
 /**
- * @brief Covariance of the self-calibrated UGDK fit (sfit_points_selfcal())
+ * @brief Covariance of the self-calibrated UGDK fit (sfit_selfcal_points())
  * from the samples: the sandwich G^-1 B G^-T of its estimating equations
  * (centre, radius and the noise variance estimated together), so the
  * coupling of the estimated sigma^2 with the centre and the second-order
  * terms are measured, not modelled. Derivation: docs/api.md#uncert.
  * Centre covariance only; radius_var and center_radius_cov are the first-
- * order values of sfit_moments_uncert().
+ * order values of sfit_uncert_moments().
  * @param[in]  pts        n samples (caller-owned, read only), the ones fitted.
  * @param[in]  n          Sample count (>= 14 and >= SFIT_MIN_SAMPLES).
  * @param[in]  center     The self-calibrated centre (sfit_selfcal_result_t::fit).
@@ -142,9 +142,9 @@ sfit_status_t sfit_points_uncert_geometric(const sfit_vec3_t *pts, size_t n, con
  * @par Cost  three passes over the samples (moments, distances, sandwich terms)
  *            plus a fixed 3x3 tail (tools/flopcount: uncert_selfcal).
  */
-sfit_status_t sfit_points_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
-                                         const sfit_vec3_t *center, float radius,
-                                         float noise_var, sfit_uncert_t *out);
+sfit_status_t sfit_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
+                                  const sfit_vec3_t *center, float radius,
+                                  float noise_var, sfit_uncert_t *out);
 
 #ifdef __cplusplus
 }

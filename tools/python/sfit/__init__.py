@@ -256,7 +256,7 @@ def fit(points, noise_var=None, noise_cov=None, mode="auto", refine=False, *,
             entries XX, YY, ZZ, XY, XZ, YZ (UGDK). Not with noise_var.
         mode: "auto" (sphere, or circle when the samples are near-planar),
             "sphere" or "planar".
-        refine: the library's combined recipe (sfit_points_fit_refined):
+        refine: the library's combined recipe (sfit_refine_fit):
             self-calibrated UGDK start, geometric (orthogonal-distance) fit,
             and the sandwich covariance of the refined centre (sphere only).
             The noise is estimated, so no numeric noise_var / noise_cov

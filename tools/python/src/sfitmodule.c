@@ -765,7 +765,7 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                 && sfit_gate_moments(g) != NULL) {
                 has_noise = 1;
                 nvar = cfg.noise_var;
-                has_u = (sfit_moments_uncert(sfit_gate_moments(g), &r.center, r.radius, nvar,
+                has_u = (sfit_uncert_moments(sfit_gate_moments(g), &r.center, r.radius, nvar,
                                              SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
             }
         }
@@ -790,7 +790,7 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
             sfit_selfcal_result_t sc;
             sfit_selfcal_cfg_t scc = sfit_selfcal_cfg_default;
             scc.planar_ratio = cfg.planar_ratio;
-            st = sfit_points_selfcal(v, nv, &scc, &sc);
+            st = sfit_selfcal_points(v, nv, &scc, &sc);
             if (st == SFIT_OK) {
                 r = sc.fit;
                 has_noise = 1;
@@ -800,20 +800,20 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
                 capped = (sc.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
             }
         } else {
-            st = sfit_moments_fit(&acc, &cfg, &r);
+            st = sfit_fit_moments(&acc, &cfg, &r);
             if (st == SFIT_OK && cfg.noise == SFIT_NOISE_ISO) {
                 has_noise = 1;
                 nvar = cfg.noise_var;
             }
         }
         if (st == SFIT_OK && refine) {
-            /* the library's recipe (sfit_points_fit_refined): self-calibrated
+            /* the library's recipe (sfit_refine_fit): self-calibrated
              * start, geometric fit, its sandwich covariance; the sphere is
              * the geometric one, eigenvalues and trust those of the start */
             sfit_refined_t rf;
             sfit_refined_cfg_t rc = sfit_refined_cfg_default;
             rc.selfcal.planar_ratio = cfg.planar_ratio;
-            st = sfit_points_fit_refined(v, nv, &rc, &rf);
+            st = sfit_refine_fit(v, nv, &rc, &rf);
             if (st == SFIT_OK) {
                 r = rf.start.fit;
                 r.center = rf.geometric.center;
@@ -830,9 +830,9 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
             }
         } else if (st == SFIT_OK && has_noise && r.mode == SFIT_MODE_SPHERE) {
             /* self-calibrated: its own sandwich (as sfit fit --noise-var auto) */
-            has_u = noise_est ? (sfit_points_uncert_selfcal(v, nv, &r.center, r.radius, nvar,
-                                                            &u) == SFIT_OK)
-                              : (sfit_moments_uncert(&acc, &r.center, r.radius, nvar,
+            has_u = noise_est ? (sfit_uncert_selfcal(v, nv, &r.center, r.radius, nvar,
+                                                     &u) == SFIT_OK)
+                              : (sfit_uncert_moments(&acc, &r.center, r.radius, nvar,
                                                      SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
         }
         Py_END_ALLOW_THREADS
@@ -1110,13 +1110,13 @@ static PyObject *Moments_fit(MomentsObject *self, PyObject *args, PyObject *kw)
     if (cfg_get(noise_var, noise_cov, mode, planar_ratio, &cfg) < 0) {
         return NULL;
     }
-    st = sfit_moments_fit(&self->m, &cfg, &r);
+    st = sfit_fit_moments(&self->m, &cfg, &r);
     if (st != SFIT_OK) {
         return raise_status(st, "Moments.fit", (long)sfit_moments_count(&self->m),
                             self->rejected);
     }
     if (cfg.noise == SFIT_NOISE_ISO && r.mode == SFIT_MODE_SPHERE) {
-        has_u = (sfit_moments_uncert(&self->m, &r.center, r.radius, cfg.noise_var,
+        has_u = (sfit_uncert_moments(&self->m, &r.center, r.radius, cfg.noise_var,
                                      SFIT_UNCERT_NOISE_KNOWN, &u) == SFIT_OK);
     }
     d = PyDict_New();
@@ -1163,7 +1163,7 @@ static PyObject *Moments_calibrate_noise(MomentsObject *self, PyObject *args, Py
     if (vec3_get(center, &c0, "center") < 0) {
         return NULL;
     }
-    st = sfit_moments_calibrate(&self->m, &c0, (float)radius, &e);
+    st = sfit_noise_calibrate(&self->m, &c0, (float)radius, &e);
     if (st != SFIT_OK) {
         return raise_status(st, "calibrate_noise", (long)sfit_moments_count(&self->m),
                             self->rejected);
@@ -1194,7 +1194,7 @@ static PyObject *Moments_uncertainty(MomentsObject *self, PyObject *args, PyObje
     if (vec3_get(center, &c, "center") < 0 || nonneg_get(nvo, &nvar, "noise_var") < 0) {
         return NULL;
     }
-    st = sfit_moments_uncert(&self->m, &c, (float)radius, nvar,
+    st = sfit_uncert_moments(&self->m, &c, (float)radius, nvar,
                              estimated ? SFIT_UNCERT_NOISE_ESTIMATED : SFIT_UNCERT_NOISE_KNOWN, &u);
     if (st != SFIT_OK) {
         return raise_status(st, "Moments.uncertainty", -1, -1);
@@ -1532,7 +1532,7 @@ static PyObject *py_refine(PyObject *self, PyObject *args, PyObject *kw)
         return NULL;
     }
     Py_BEGIN_ALLOW_THREADS
-    st = sfit_points_refine(w.v, w.n, &c0, &cfg, &r);
+    st = sfit_refine_points(w.v, w.n, &c0, &cfg, &r);
     Py_END_ALLOW_THREADS
     valid_release(&w);
     if (st != SFIT_OK) {
@@ -1561,7 +1561,7 @@ static PyObject *py_residual_noise_var(PyObject *self, PyObject *args, PyObject 
         return NULL;
     }
     Py_BEGIN_ALLOW_THREADS
-    st = sfit_points_noise_var(w.v, w.n, &c, (float)radius, &nv);
+    st = sfit_selfcal_noise_var(w.v, w.n, &c, (float)radius, &nv);
     Py_END_ALLOW_THREADS
     valid_release(&w);
     if (st != SFIT_OK) {
@@ -1594,9 +1594,9 @@ static PyObject *py_uncertainty(PyObject *self, PyObject *args, PyObject *kw)
     }
     Py_BEGIN_ALLOW_THREADS
     if (geometric) {
-        st = sfit_points_uncert_geometric(w.v, w.n, &c, &u);
+        st = sfit_uncert_geometric(w.v, w.n, &c, &u);
     } else {
-        st = sfit_points_uncert(w.v, w.n, &c, (float)radius, nvar, &u);
+        st = sfit_uncert_points(w.v, w.n, &c, (float)radius, nvar, &u);
     }
     Py_END_ALLOW_THREADS
     valid_release(&w);

@@ -240,7 +240,7 @@ def uncert_geometric(x, c):
 
 
 def uncert_selfcal(x, c, r, v):
-    """Sandwich of the self-calibrated UGDK (sfit_points_uncert_selfcal):
+    """Sandwich of the self-calibrated UGDK (sfit_uncert_selfcal):
     the 5 x 5 stacked estimating equations in (c, rho = r^2, v), analytic
     Jacobian, B = sum psi psi^T, n/(n-13) [A^-1 B A^-T]_cc."""
     x = np.asarray(x, dtype=np.float64)

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""The README's Python example and one-liner run, so they cannot go stale."""
+"""The README's Python example and one-liner, and docs/python.md's joint
+example, run, so they cannot go stale."""
 import contextlib
 import io
 import os
@@ -11,12 +12,12 @@ import sfit
 from conftest import SOURCE_DIR
 
 
-def _block(marker, lang):
-    with open(os.path.join(SOURCE_DIR, "README.md"), encoding="utf-8") as f:
+def _block(marker, lang, doc="README.md"):
+    with open(os.path.join(SOURCE_DIR, doc), encoding="utf-8") as f:
         text = f.read()
     m = re.search(r"<!-- %s:begin -->\n```%s\n(.*?)```\n<!-- %s:end -->" % (marker, lang, marker),
                   text, re.S)
-    assert m, "README block %s not found" % marker
+    assert m, "%s block %s not found" % (doc, marker)
     return m.group(1)
 
 
@@ -51,10 +52,10 @@ def test_readme_joint_example_runs():
     if not hasattr(sfit, "Joint"):
         import pytest
         pytest.skip("the C library has no sfit_joint.h yet")
-    code = _block("python-joint-example", "python")
+    code = _block("python-joint-example", "python", os.path.join("docs", "python.md"))
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        exec(compile(code, "README.md", "exec"), {})
+        exec(compile(code, "docs/python.md", "exec"), {})
     lines = out.getvalue().splitlines()
     centre = [float(v) for v in lines[0].split("]")[0].strip("[ ").split()]
     assert max(abs(a - b) for a, b in zip(centre, (-70, -90, 80))) < 1.0
