@@ -41,7 +41,7 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     const float *const d = sys.ms.d;
     float r2, lmin;
     uint32_t n;
-    int i, exact;
+    int i, exact, flag;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
@@ -101,11 +101,11 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
         /* The rounding flag: on the full solver's eigenvalues, or on the
          * screen's bounds (sfit_i_solve_lean leaves them in sol.eigenvalues). */
         lmin = exact ? prv_lmin(&sol, cfg) : sol.eigenvalues.v[0];
-        if (!sfit_i_rounding_test(n, sol.eigenvalues.v[2], lmin, r2, sol.w.v)) {
-            break;
-        }
-        if (exact) {
+        flag = sfit_i_rounding_test(n, sol.eigenvalues.v[2], lmin, r2, sol.w.v);
+        if (flag && exact) {
             sol.flags |= (uint8_t)SFIT_FLAG_ROUNDING;
+        }
+        if (!flag || exact) {
             break;
         }
         /* The bounds cannot prove the flag clear: the full solver after all

@@ -43,6 +43,7 @@
 int sfit_i_rounding_test(uint32_t n, float lmax, float lmin, float r, const float c[3])
 {
     const uint32_t b = SFIT_SUM_BLOCK;
+    const uint32_t merges = n / b; /* block merges (integer count) */
     uint32_t g = n; /* the first block's term: N, or ceil(B^3 / N^2) past it */
     uint32_t u, umax = 0u;
     float k, cinf;
@@ -66,7 +67,7 @@ int sfit_i_rounding_test(uint32_t n, float lmax, float lmin, float r, const floa
         g = (uint32_t)(((uint64_t)g * b + n - 1u) / n);
 #endif
     }
-    k = SFIT_SQRTF(SFIT_ROUNDING_K2 * (float)(n / b + 1u) + SFIT_ROUNDING_KB2 * (float)g);
+    k = SFIT_SQRTF(SFIT_ROUNDING_K2 * (float)(merges + 1u) + SFIT_ROUNDING_KB2 * (float)g);
     /* eps (lmax/lmin k + cinf/r) <= tol  <=>  lmax k r <= lmin (tol/eps r - cinf) */
     return !(lmax * k * r <= lmin * ((SFIT_ROUNDING_TOL / FLT_EPSILON) * r - cinf));
 }
