@@ -8,6 +8,7 @@
 #include "test_cmocka.h"
 
 #include <float.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "sfit_ref.h"
@@ -256,6 +257,96 @@ static void test_counter_limit(void **state)
     }
 }
 
+/* Issue 32: sfit_moments_merge refuses a source that would make the
+ * destination unusable (stats / fit SFIT_E_RANGE for good), the
+ * destination unchanged bit for bit. The issue's reproducer (a valid
+ * source with origin[0] = 1e20f), then random finite garbage in each of
+ * the 29 words of a valid source (fixed seed; float words: random finite
+ * bit patterns, or the valid value scaled by up to +-2^64; counts: random
+ * 32-bit values). Either the merge is refused (SFIT_E_RANGE, dst
+ * unchanged) or dst stays usable: stats SFIT_OK and no fit SFIT_E_RANGE,
+ * also after more valid samples. */
+static void check_usable(const sfit_moments_t *m)
+{
+    sfit_vec3_t mean, sv;
+    sfit_mat3_t c;
+    sfit_result_t r;
+    sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
+    int i;
+    assert_int_equal(sfit_moments_stats(m, &mean, &c, &sv), SFIT_OK);
+    for (i = 0; i < 9; i++) {
+        assert_true(isfinite(c.m[i]));
+    }
+    assert_true(sfit_moments_fit(m, NULL, &r) != SFIT_E_RANGE);
+    cfg.mode = SFIT_MODE_SPHERE;
+    cfg.eigen = 1;
+    assert_true(sfit_moments_fit(m, &cfg, &r) != SFIT_E_RANGE);
+}
+
+static void test_merge_refuses_garbage(void **state)
+{
+    sfit_moments_t dst, src, before, bad;
+    tu_rng_t g;
+    int w, t, refused = 0, accepted = 0;
+    (void)state;
+    make_cap(32, 400, 1.0, 0.5);
+    (void)sfit_moments_init(&dst);
+    (void)sfit_moments_add_block(&dst, g_fpts, 100, NULL);
+    (void)sfit_moments_init(&src);
+    (void)sfit_moments_add_block(&src, &g_fpts[100], 150, NULL); /* tot and an open block */
+    /* The reproducer. */
+    bad = src;
+    bad.origin[0] = 1e20f;
+    before = dst;
+    assert_int_equal(sfit_moments_merge(&dst, &bad), SFIT_E_RANGE);
+    assert_memory_equal(&dst, &before, sizeof dst);
+    check_usable(&dst);
+    /* Random finite garbage in each word of the source. */
+    tu_rng_seed(&g, 3202u);
+    for (w = 0; w < (int)(sizeof src / sizeof(uint32_t)); w++) {
+        const size_t off = (size_t)w * sizeof(uint32_t);
+        const int is_count = (off == offsetof(sfit_moments_t, tot.n)
+                              || off == offsetof(sfit_moments_t, blk.n));
+        for (t = 0; t < 300; t++) {
+            uint32_t u;
+            sfit_moments_t d2;
+            sfit_status_t st;
+            bad = src;
+            if (is_count) {
+                u = (uint32_t)(tu_rng_uniform(&g) * 4294967296.0);
+                if (t % 3 == 0) {
+                    u &= 0xFFFu; /* small counts too */
+                }
+            } else if (t % 2 == 0) {
+                do {
+                    u = (uint32_t)(tu_rng_uniform(&g) * 4294967296.0);
+                } while (((u >> 23) & 0xFFu) == 0xFFu); /* finite */
+            } else {
+                float v;
+                memcpy(&v, (const unsigned char *)&src + off, sizeof v);
+                v = (float)((double)v * ldexp(2.0 * tu_rng_uniform(&g) - 1.0,
+                                              (int)(64.0 * tu_rng_uniform(&g))));
+                memcpy(&u, &v, sizeof u);
+            }
+            memcpy((unsigned char *)&bad + off, &u, sizeof u);
+            d2 = dst;
+            st = sfit_moments_merge(&d2, &bad);
+            if (st != SFIT_OK) {
+                assert_int_equal(st, SFIT_E_RANGE);
+                assert_memory_equal(&d2, &dst, sizeof d2);
+                refused++;
+                continue;
+            }
+            accepted++;
+            check_usable(&d2);
+            assert_int_equal(sfit_moments_add_block(&d2, &g_fpts[250], 150, NULL), SFIT_OK);
+            check_usable(&d2);
+        }
+    }
+    print_message("garbage merges: %d refused, %d accepted (usable)\n", refused, accepted);
+    assert_true(refused > 1000 && accepted > 1000);
+}
+
 static void test_contract(void **state)
 {
     sfit_moments_t m;
@@ -299,6 +390,7 @@ int main(void)
         cmocka_unit_test(test_merge_self),
         cmocka_unit_test(test_rejected_sample_leaves_state),
         cmocka_unit_test(test_counter_limit),
+        cmocka_unit_test(test_merge_refuses_garbage),
         cmocka_unit_test(test_contract),
     };
     return cmocka_run_group_tests_name("moments", tests, NULL, NULL);

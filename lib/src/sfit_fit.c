@@ -10,13 +10,12 @@
 #include <float.h>
 #include <string.h>
 
-/* The rounding flag of the full solver (sfit_i_rounding_test): cond(C')
- * bounded from C's eigenvalues, the smallest used one minus an upper bound
- * of the noise (sigma^2, or tr Sigma); one not positive flags. */
-static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
+/* lambda_min(C') for the rounding flag of the full solver: C's smallest used
+ * eigenvalue minus an upper bound of the noise (sigma^2, or tr Sigma). */
+static float prv_lmin(const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 {
     const float *lam = sol->eigenvalues.v;
-    float noise = 0.0f, lmin;
+    float noise = 0.0f;
     if (cfg->noise == SFIT_NOISE_ISO) {
         noise = cfg->noise_var;
     } else if (cfg->noise == SFIT_NOISE_COV) {
@@ -24,8 +23,7 @@ static int prv_rounding_flag(uint32_t n, const sfit_i_solution_t *sol, const sfi
     } else {
         /* GDKE: C' = C */
     }
-    lmin = ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
-    return sfit_i_rounding_test(n, lam[2], lmin);
+    return ((sol->mode == SFIT_MODE_PLANAR) ? lam[1] : lam[0]) - noise;
 }
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
@@ -44,9 +42,9 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     sfit_i_system_t sys;
     sfit_i_solution_t sol;
     const float *const d = sys.ms.d;
-    float r2;
+    float r2, lmin;
     uint32_t n;
-    int i, exact;
+    int i, exact, flag;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
@@ -68,43 +66,60 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     sys.scale = sfit_i_coincident_scale(origin, d);
 
     /* The screened solve first (sphere, no or isotropic noise); the full
-     * solver when it trips, when asked for, or for planar / full-covariance. */
+     * solver when it trips, when asked for, or for planar / full-covariance,
+     * or when the screen's bounds cannot prove the rounding flag clear
+     * (second pass). */
     st = SFIT_I_SCREEN_TRIPPED;
     if (cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
         st = sfit_i_solve_lean(&sys, n,
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
     }
-    exact = (st != SFIT_OK);
+    for (;;) {
+        exact = (st != SFIT_OK);
 #if SFIT_FULL_SOLVER
-    if (exact) {
-        st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
-    }
+        if (exact) {
+            st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
+        }
 #else
-    if (exact) {
-        return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
-    }
+        if (exact) {
+            return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
+        }
 #endif
-    if (st != SFIT_OK) {
-        return st;
+        if (st != SFIT_OK) {
+            return st;
+        }
+        /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
+        r2 = ((float)(n - 1u) / (float)n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
+        if (!(r2 > 0.0f)) {
+            return SFIT_E_NOT_POSDEF;
+        }
+        r2 = SFIT_SQRTF(r2);
+        for (i = 0; i < 3; i++) {
+            sol.w.v[i] = origin[i] + (d[i] + sol.w.v[i]); /* the centre */
+        }
+        if (!sfit_i_sphere_finite(&sol.w, r2)) {
+            return SFIT_E_RANGE;
+        }
+        /* The rounding flag: on the full solver's eigenvalues, or on the
+         * screen's bounds (sfit_i_solve_lean leaves them in sol.eigenvalues). */
+        lmin = exact ? prv_lmin(&sol, cfg) : sol.eigenvalues.v[0];
+        flag = sfit_i_rounding_test(n, sol.eigenvalues.v[2], lmin, r2, sol.w.v);
+        if (flag && exact) {
+            sol.flags |= (uint8_t)SFIT_FLAG_ROUNDING;
+        }
+        if (!flag || exact) {
+            break;
+        }
+        /* The bounds cannot prove the flag clear: the full solver after all
+         * (sys is intact: the screen only reads it). */
+        st = SFIT_I_SCREEN_TRIPPED;
     }
-    /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
-    r2 = ((float)(n - 1u) / (float)n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
-    if (!(r2 > 0.0f)) {
-        return SFIT_E_NOT_POSDEF;
-    }
-    r2 = SFIT_SQRTF(r2);
-    for (i = 0; i < 3; i++) {
-        sol.w.v[i] = origin[i] + (d[i] + sol.w.v[i]); /* the centre */
-    }
-    if (!sfit_i_sphere_finite(&sol.w, r2)) {
-        return SFIT_E_RANGE;
+    if (!exact) {
+        memset(&sol.eigenvalues, 0, sizeof sol.eigenvalues); /* the screen's bounds */
     }
     if (n < SFIT_FEW_SAMPLES) {
         sol.flags |= (uint8_t)SFIT_FLAG_FEW_SAMPLES;
-    }
-    if (exact && prv_rounding_flag(n, &sol, cfg)) {
-        sol.flags |= (uint8_t)SFIT_FLAG_ROUNDING;
     }
     /* Every check passed: the result is written. */
     memset(out, 0, sizeof *out);

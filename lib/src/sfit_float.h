@@ -174,6 +174,18 @@ SFIT_INLINE float sfit_i_curvature_var(float s2, float r)
     return 2.0f * s2 / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
 }
 
+/** Constant K of the widening below (docs/coverage.md, rule 7). */
+#define SFIT_I_COV_WIDEN_K 2.0f
+
+/**
+ * @brief Factor by which a centre covariance resting on an estimated noise
+ * level (self-calibrated sandwich, refined recipe) is widened (issue 28,
+ * docs/coverage.md rule 7): 1 + K (sigma_hat / r)^2 s / s(100), s =
+ * sqrt(2 / (N - 4)), i.e. 1 + K (v / r^2) sqrt(96 / (N - 4)) (N - 4 taken
+ * at least 10). v = sigma_hat^2 >= 0, r > 0 the radius, n = N.
+ */
+float sfit_i_cov_widen(float v, float r, size_t n); /* sfit_uncert.c */
+
 /** @brief Most quantities one two-level sum carries. */
 #define SFIT_I_SUM_MAX 13
 

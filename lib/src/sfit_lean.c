@@ -16,8 +16,9 @@
  * of the Jacobi eigenvalues, a few tens of eps tr(C)) the screen passes only
  * when the full solver would find: not coincident, not collinear, not
  * near-planar (neither on C nor on C': lambda_min(C') <= lambda_min(C) and
- * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted, without the rounding
- * flag (sfit_i_rounding_test on the bounds) and inside the coverage limit; it then
+ * tr(C') <= tr(C)), not below SFIT_MIN_SPREAD and trusted, and inside the
+ * coverage limit (the caller proves the rounding flag clear on the same
+ * bounds, sfit_i_rounding_test, once the centre is known); it then
  * returns the same centre and radius (the same Cholesky solve) and the same
  * status and flags. Every doubt
  * returns SFIT_I_SCREEN_TRIPPED and the caller runs the full solver.
@@ -39,11 +40,36 @@
  * (unless there is no full solver: SFIT_FULL_SOLVER 0). */
 #define PRV_SWEEPS_OK (!SFIT_FULL_SOLVER || SFIT_JACOBI_MAX_SWEEPS >= 8)
 
-int sfit_i_rounding_test(uint32_t n, float lmax, float lmin)
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin, float r, const float c[3])
 {
-    const uint32_t merges = n / SFIT_SUM_BLOCK; /* block merges (integer count) */
-    return !(SFIT_ROUNDING_K * FLT_EPSILON * lmax * SFIT_SQRTF((float)merges + 1.0f)
-             <= SFIT_ROUNDING_TOL * lmin);
+    const uint32_t b = SFIT_SUM_BLOCK;
+    const uint32_t merges = n / b; /* block merges (integer count) */
+    uint32_t g = n; /* the first block's term: N, or ceil(B^3 / N^2) past it */
+    uint32_t u, umax = 0u;
+    float k, cinf;
+    int i;
+    /* max |c_i| by the bits (no FP operation: non-negative floats are
+     * ordered as their bit patterns). */
+    for (i = 0; i < 3; i++) {
+        memcpy(&u, &c[i], sizeof u);
+        u &= 0x7FFFFFFFu;
+        umax = (u > umax) ? u : umax;
+    }
+    memcpy(&cinf, &umax, sizeof cinf);
+    if (n > b) {
+        /* ceil(B^2 / N) <= B, then ceil(that B / N): integer steps (no
+         * FLOPs), B^2 in 32 bits up to B = 46340, in 64 above. */
+#if SFIT_SUM_BLOCK <= 46340
+        g = (b * b + n - 1u) / n;
+        g = (g * b + n - 1u) / n;
+#else
+        g = (uint32_t)(((uint64_t)b * b + n - 1u) / n);
+        g = (uint32_t)(((uint64_t)g * b + n - 1u) / n);
+#endif
+    }
+    k = SFIT_SQRTF(SFIT_ROUNDING_K2 * (float)(merges + 1u) + SFIT_ROUNDING_KB2 * (float)g);
+    /* eps (lmax/lmin k + cinf/r) <= tol  <=>  lmax k r <= lmin (tol/eps r - cinf) */
+    return !(lmax * k * r <= lmin * ((SFIT_ROUNDING_TOL / FLT_EPSILON) * r - cinf));
 }
 
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
@@ -117,14 +143,15 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     if (!sfit_i_isfinite(r->trace)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
-    /* The bounds must also prove that the rounding flag stays clear and
-     * that the fit is inside the coverage limit (the bound of rho is an
-     * upper bound, the full solver decides above it; so a screened result
-     * is never UNTRUSTED). */
-    if (sfit_i_rounding_test(n, (1.0f + PRV_REL) * tr, lo)
-        || r->rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)) {
+    /* The bounds must also prove that the fit is inside the coverage limit
+     * (the bound of rho is an upper bound, the full solver decides above
+     * it; so a screened result is never UNTRUSTED). The rounding flag:
+     * the caller, on these bounds, once the centre is known. */
+    if (r->rho > SFIT_COV_MAX_TRUST / (1.0f - SFIT_COV_MAX_TRUST)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
+    r->eigenvalues.v[0] = lo;
+    r->eigenvalues.v[2] = (1.0f + PRV_REL) * tr;
     r->mode = SFIT_MODE_SPHERE;
     return SFIT_OK;
 }

@@ -271,6 +271,36 @@ sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, 
     return SFIT_OK;
 }
 
+/* 2^SFIT_COORD_MAX_EXP: the coordinate range of a sample (and so of an
+ * origin and a mean) is (-PRV_RANGE, PRV_RANGE). */
+#define PRV_RANGE ((float)(1UL << SFIT_COORD_MAX_EXP))
+/* Relative slack of the checks below for the rounding of the sums. */
+#define PRV_SLACK 1.00390625f /* 1 + 2^-8 */
+
+/* 1 when the total s of an accumulator with origin `origin` is one the API
+ * can build (issue 32: a merged source that is not would make dst unusable
+ * for good, stats and fit E_RANGE): origin and mean origin + d inside the
+ * coordinate range; the sums of squares 0 <= M2_ii <= n (2 range)^2 and
+ * |M2_ij| <= (M2_ii + M2_jj)/2 (Cauchy-Schwarz); |M3_i| <= 4 range tr M2
+ * (sum |y|^2 |y_i| <= max |y| tr M2, and |y| < 2 sqrt(3) range). Every
+ * comparison fails on NaN. Given a dst built by the API, the merged totals
+ * then stay finite (below 2^126 in float). */
+static int prv_total_ok(const float origin[3], const sfit_cmom_t *s)
+{
+    const float *const m2 = s->m2;
+    const float lim = (float)s->n * (4.0f * PRV_RANGE * PRV_RANGE);
+    const float pair[3] = {m2[0] + m2[1], m2[0] + m2[2], m2[1] + m2[2]}; /* XY, XZ, YZ */
+    const float tr = pair[0] + m2[2];
+    int i, ok = 1;
+    for (i = 0; i < 3; i++) {
+        ok = ok && SFIT_FABSF(origin[i]) < PRV_RANGE
+             && SFIT_FABSF(origin[i] + s->d[i]) < PRV_RANGE && m2[i] >= 0.0f && m2[i] <= lim
+             && SFIT_FABSF(m2[3 + i]) <= (0.5f * PRV_SLACK) * pair[i]
+             && SFIT_FABSF(s->m3[i]) <= (4.0f * PRV_SLACK * PRV_RANGE) * tr;
+    }
+    return ok;
+}
+
 sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
 {
     sfit_cmom_t s;
@@ -287,8 +317,7 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
         return SFIT_OK;
     }
     sfit_i_moments_total(src, &s); /* before touching dst: they may alias */
-    if (!sfit_i_finite3(src->origin) || !sfit_i_finite3(s.d) || !sfit_i_finite3(s.m2)
-        || !sfit_i_finite3(&s.m2[3]) || !sfit_i_finite3(s.m3)) {
+    if (!prv_total_ok(src->origin, &s)) {
         return SFIT_E_RANGE; /* a corrupted src (garbage bytes): dst not poisoned */
     }
     if (sfit_moments_count(dst) == 0u) {

@@ -256,15 +256,17 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
          * has none to that order, so b = geometric - start estimates it.
          * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
         sfit_mat3_t cov;
-        float b[3];
+        float b[3], f;
         int i, j;
         for (i = 0; i < 3; i++) {
             b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
         }
+        f = sfit_i_cov_widen(r.start.noise_var, r.start.fit.radius, n);
         sfit_i_sym_unpack(r.uncert.center_cov, &cov);
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
-                cov.m[3 * i + j] += b[i] * b[j];
+                /* times the widening of docs/coverage.md rule 7 */
+                cov.m[3 * i + j] = (cov.m[3 * i + j] + b[i] * b[j]) * f;
             }
         }
         sfit_i_sym_pack(&cov, r.uncert.center_cov);

@@ -41,23 +41,35 @@ typedef struct sfit_i_solution {
                                   8 bytes smaller on Cortex-M */
 } sfit_i_solution_t;
 
-/** Constant of the rounding model below (measured: tools/montecarlo/smallcap.c). */
-#define SFIT_ROUNDING_K 0.5f
+/** Square of the merge constant of the rounding model below (0.5^2;
+ * measured: tools/montecarlo/smallcap.c). */
+#define SFIT_ROUNDING_K2 0.25f
+/** Constant of the first block's term of the rounding model below
+ * (measured: tools/montecarlo/smallcap.c small, docs/api.md#fit). */
+#define SFIT_ROUNDING_KB2 4.0f
 /** Relative accuracy an unflagged result promises (the README's 1e-4 r). */
 #define SFIT_ROUNDING_TOL 1e-4f
 
 /**
- * @brief 1 when the float sums may not carry the result to SFIT_ROUNDING_TOL r.
- * Each block merge of the accumulator (one per SFIT_SUM_BLOCK samples)
- * rounds the totals relative to eps; the errors add as a random walk, and
- * the solve amplifies them by the conditioning of C': the centre's error
- * is at most about K eps cond(C') sqrt(N / SFIT_SUM_BLOCK + 1) r. lmax >=
- * lambda_max(C) and lmin <= lambda_min(C') (the full solver: C's largest
- * and C''s smallest used eigenvalue minus an upper bound of the noise; the
- * screened solve: its bounds); lmin not positive flags (sfit_lean.c: one
- * copy for both paths).
+ * @brief 1 when the float arithmetic may not carry the centre to
+ * SFIT_ROUNDING_TOL r (SFIT_FLAG_ROUNDING). Model of the centre's error
+ * (docs/api.md#fit, issue 32):
+ *   |c - c_double| / r <= eps (cond(C') K(N) + |c|_inf / r),
+ *   K(N)^2 = SFIT_ROUNDING_K2 (N/SFIT_SUM_BLOCK + 1) + SFIT_ROUNDING_KB2 g(N).
+ * The first term: each block merge rounds the totals relative to eps and
+ * these errors add as a random walk. The second: the open first block's
+ * sums (about its first sample) round each partial sum, a random walk of
+ * sqrt(k) over its k terms, g = N while N <= SFIT_SUM_BLOCK (B), then
+ * diluted by the block's weight B/N in the totals, g = B^3 / N^2 (rounded
+ * up). Both are amplified by cond(C') = lmax / lmin; the two add in
+ * quadrature. The last term is the float rounding of the centre's own
+ * coordinates (half an ulp each, plus the mean's). lmax >= lambda_max(C)
+ * and lmin <= lambda_min(C') (the full solver: C's largest and C''s
+ * smallest used eigenvalue minus an upper bound of the noise; the screened
+ * solve: its bounds); r the radius, c the centre (cinf = max |c_i|). lmin
+ * not positive flags (sfit_lean.c: one copy for both paths).
  */
-int sfit_i_rounding_test(uint32_t n, float lmax, float lmin);
+int sfit_i_rounding_test(uint32_t n, float lmax, float lmin, float r, const float c[3]);
 
 /** @brief The solution's summary in a result: eigenvalues, axis, Leontief
  * ratio rho and trust ratio rho / (1 + rho). */
@@ -140,11 +152,13 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
  * @brief The screened sphere solve of C' = C - var I (sfit_lean.c) of n
  * samples: SFIT_OK with w, trace and an upper bound of the Leontief ratio
  * (rho) when a cheap bound on lambda_min(C') proves that sfit_i_solve()
- * would return the same sphere, status and flags, and that neither the
- * rounding flag (sfit_i_rounding_test) nor the coverage limit
- * (sfit_i_cov_limit) would be raised; else SFIT_I_SCREEN_TRIPPED (out is
- * scratch). Eigenvalues and axis are left zero. ratio: the planar
- * threshold in use.
+ * would return the same sphere, status and flags, and that the coverage
+ * limit (sfit_i_cov_limit) would not be raised; else SFIT_I_SCREEN_TRIPPED
+ * (out is scratch). The rounding flag needs the centre: the caller tests
+ * it (sfit_i_rounding_test) on the bounds the screen leaves in
+ * out->eigenvalues (v[0] <= lambda_min(C'), v[2] >= lambda_max(C); v[1]
+ * zero) and runs the full solver when they cannot prove it clear. Axis
+ * left zero. ratio: the planar threshold in use.
  */
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out);

@@ -230,6 +230,12 @@ sfit_status_t sfit_uncert_geometric(const sfit_vec3_t *pts, size_t n, const sfit
     return prv_finish(&cov, s2 * (1.0f / nf + sfit_i_dot3(ub, wq)), crc, s2, out);
 }
 
+float sfit_i_cov_widen(float v, float r, size_t n)
+{
+    const float dof = (n > 14u) ? (float)(n - 4u) : 10.0f;
+    return 1.0f + SFIT_I_COV_WIDEN_K * (v / (r * r)) * SFIT_SQRTF(96.0f / dof);
+}
+
 sfit_status_t sfit_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
                                   const sfit_vec3_t *center, float radius,
                                   float noise_var, sfit_uncert_t *out)
@@ -306,11 +312,13 @@ sfit_status_t sfit_uncert_selfcal(const sfit_vec3_t *pts, size_t n,
         }
     }
     sfit_i_mat3_mul(&t, &g, &cov);
+    alpha = (nf / (nf - 13.0f)) * sfit_i_cov_widen(v, radius, n);
     for (i = 0; i < 9; i++) {
         /* N/(N - 5): 5 parameters fitted (c, r, sigma^2); (N - 5)/(N - 13):
          * B is as variable as a Wishart matrix of (N - 5)/2 degrees of
-         * freedom, whose inverse has mean nu/(nu - 4) (docs/api.md#uncert) */
-        cov.m[i] *= nf / (nf - 13.0f);
+         * freedom, whose inverse has mean nu/(nu - 4) (docs/api.md#uncert);
+         * then the widening by (sigma_hat / r)^2 of docs/coverage.md rule 7 */
+        cov.m[i] *= alpha;
     }
     /* radius: first order, as sfit_uncert_moments (K = M~^-1) */
     sfit_i_mat3_vec(&k, q.a, kp);

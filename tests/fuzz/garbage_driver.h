@@ -203,9 +203,21 @@ static inline void fz_g_moments(fz_in_t *in, uint8_t fill)
             }
             FZ_CHECK(fz_status_defined(sfit_moments_add_block(&m, x, 4u, &bad)), "garbage: block");
             break;
-        case 2:
-            FZ_CHECK(fz_status_defined(sfit_moments_merge(&v, &m)), "garbage: merge into valid");
+        case 2: {
+            /* Issue 32: a garbage source is refused with the valid dst
+             * unchanged, or the merged dst stays usable (stats never
+             * SFIT_E_RANGE for an accumulator the API built). */
+            const sfit_moments_t v0 = v;
+            const sfit_status_t st = sfit_moments_merge(&v, &m);
+            FZ_CHECK(fz_status_defined(st), "garbage: merge into valid");
+            if (st != SFIT_OK) {
+                FZ_CHECK(memcmp(&v, &v0, sizeof v) == 0, "garbage: refused merge changed dst");
+            } else if (sfit_moments_count(&v) >= 2u) {
+                FZ_CHECK(sfit_moments_stats(&v, NULL, NULL, NULL) != SFIT_E_RANGE,
+                         "garbage: merge made a valid dst unusable");
+            }
             break;
+        }
         case 3:
             FZ_CHECK(fz_status_defined(sfit_moments_merge(&m, &v)), "garbage: merge valid in");
             break;

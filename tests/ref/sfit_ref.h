@@ -124,7 +124,9 @@ int ref_sandwich_geometric(const double (*x)[3], size_t n, const double c[3],
  *    psi_v   = (d - dbar)^2 - (n-4)/n (v - v^2/rho)   (residual noise with
  *                                                the curvature correction)
  *  A = sum d psi / d theta by central differences, B = sum psi psi^T,
- *  cov = n/(n-13) [A^-1 B A^-T]_cc (small-sample factor of sfit_uncert.h).
+ *  cov = n/(n-13) [A^-1 B A^-T]_cc (small-sample factor of sfit_uncert.h),
+ *  times the widening 1 + 2 (v/r^2) sqrt(96/(n-4)) (docs/coverage.md rule 7;
+ *  n - 4 taken at least 10).
  *  Returns -1 on n < 14, a singular A or a sample at c. */
 int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], double r,
                          double v, double cov[3][3]);

@@ -265,4 +265,18 @@ t, f = json.loads(sys.argv[1]), json.loads(sys.argv[2])
 assert t["n"] == 1400 and f["method"] == "ugdk", (t, f)
 assert math.dist(t["center"], f["center"]) <= 1e-3 * f["radius"], (t, f)
 ' "$out" "$fitout" || fail "track --noise-var: $out / $fitout"
+# Issue 32: the reproducer of the rounding flag at small N (tests/data/repro,
+# 69 samples of an 8.3-degree cap): the float centre is 1.5e-4 r from the
+# double fit of the same samples (test_hostile test_i32_repro), so the
+# result carries "rounding" beside "near_planar"; the human output says it.
+out=$("$sfit" fit --mode sphere --noise-var 110.708748 --json "$data/repro/small_cap_rounding.csv")
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["method"] == "ugdk" and o["n"] == 69, o
+assert "near_planar" in o["flags"] and "rounding" in o["flags"], o["flags"]
+' "$out" || fail "small-cap rounding reproducer: $out"
+"$sfit" fit --mode sphere --noise-var 110.708748 "$data/repro/small_cap_rounding.csv" >"$tmp/repro.txt" \
+    || fail "small-cap reproducer, text output"
+grep -q "rounding" "$tmp/repro.txt" || fail "text output lacks the rounding flag: $(cat "$tmp/repro.txt")"
 echo "cli: all checks passed"

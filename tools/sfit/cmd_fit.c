@@ -329,8 +329,8 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
         printf("warning      samples are near-planar: the sphere is ill-conditioned\n");
     }
     if (r->flags & SFIT_FLAG_ROUNDING) {
-        printf("warning      float rounding: many samples on a small cap; the centre may be "
-               "more than 1e-4 r from a double-precision fit\n");
+        printf("warning      float rounding: a small cap (or a far centre) for float; the centre "
+               "may be more than 1e-4 r from a double-precision fit\n");
     }
 }
 

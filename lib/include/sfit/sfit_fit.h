@@ -116,15 +116,17 @@ typedef struct sfit_result {
  * @retval SFIT_E_UNSUPPORTED built with SFIT_FULL_SOLVER 0 only: the screened
  *                            solve cannot prove this fit (or cfg asks for
  *                            eigen, planar mode or a full covariance)
- * @par Cost  111 FLOPs (GDKE), 113 (UGDK, sigma^2 I) when the screen passes
- *            (cfg.eigen = 0); 334 / 347 with the full solver (tools/flopcount:
+ * @par Cost  114 FLOPs (GDKE), 116 (UGDK, sigma^2 I) when the screen passes
+ *            (cfg.eigen = 0); 337 / 350 with the full solver (tools/flopcount:
  *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
- *             double-precision fit of the same samples for |c|/r <= 1e3, a
- *             spread >= SFIT_MIN_SPREAD and coordinates below 2^27
- *             (README "Where the promise holds"). SFIT_FLAG_ROUNDING: 0.5
- *             FLT_EPSILON cond(C') sqrt(N/SFIT_SUM_BLOCK + 1) > 1e-4 (small caps,
- *             many samples).
+ *             double-precision fit of the same samples, for a spread >=
+ *             SFIT_MIN_SPREAD and coordinates below 2^27 (docs/api.md#fit).
+ *             SFIT_FLAG_ROUNDING: FLT_EPSILON (cond(C') K(N) + max|c_i| / r)
+ *             > 1e-4, K(N)^2 = 0.25 (N/SFIT_SUM_BLOCK + 1) + 4 g(N), g = N up
+ *             to SFIT_SUM_BLOCK, SFIT_SUM_BLOCK^3 / N^2 above: small caps at
+ *             any N (cond(C') above ~50 at N = 64, ~200 at N = 4), many
+ *             samples on larger caps, or |c|/r above ~840 (issue 32).
  */
 sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cfg,
                              sfit_result_t *out);

@@ -47,10 +47,12 @@ enum sfit_flag {
                                             (reported unclamped). */
     SFIT_NOISE_FLAG_IMPRECISE = 0x20u, /**< Noise calibration: below twice its own
                                             predicted standard deviation. */
-    SFIT_FLAG_ROUNDING = 0x40u,        /**< Fits: N times the conditioning of C' is beyond
-                                            what float sums carry; the centre may be more
-                                            than 1e-4 r from a double-precision fit of the
-                                            same samples (small caps, N ~ 1e5 and more). */
+    SFIT_FLAG_ROUNDING = 0x40u,        /**< Fits: the conditioning of C' (with N) or the
+                                            centre's distance |c|/r is beyond what float
+                                            carries; the centre may be more than 1e-4 r from
+                                            a double-precision fit of the same samples
+                                            (small caps at any N, N ~ 1e5 and more on
+                                            larger ones, |c|/r ~ 1e3; sfit_fit.h "Range"). */
     SFIT_FLAG_COV_LIMIT = 0x80u,       /**< Fits (with SFIT_FLAG_UNTRUSTED): outside the
                                             range where the reported covariance was
                                             validated: trust_ratio > SFIT_COV_MAX_TRUST, or

@@ -242,7 +242,8 @@ def uncert_geometric(x, c):
 def uncert_selfcal(x, c, r, v):
     """Sandwich of the self-calibrated UGDK (sfit_uncert_selfcal):
     the 5 x 5 stacked estimating equations in (c, rho = r^2, v), analytic
-    Jacobian, B = sum psi psi^T, n/(n-13) [A^-1 B A^-T]_cc."""
+    Jacobian, B = sum psi psi^T, n/(n-13) [A^-1 B A^-T]_cc, times
+    1 + 2 (v / r^2) sqrt(96 / (n - 4)) (docs/coverage.md rule 7)."""
     x = np.asarray(x, dtype=np.float64)
     c = np.asarray(c, dtype=np.float64)
     n = len(x)
@@ -266,7 +267,9 @@ def uncert_selfcal(x, c, r, v):
     a[4, 3] = -(n - 4) * v * v / rho ** 2
     a[4, 4] = -(n - 4) * (1 - 2 * v / rho)
     ai = np.linalg.inv(a)
-    return (ai @ (psi.T @ psi) @ ai.T)[:3, :3] * n / (n - 13)
+    # times the widening of docs/coverage.md rule 7
+    widen = 1 + 2 * (v / (r * r)) * np.sqrt(96 / max(n - 4, 10))
+    return (ai @ (psi.T @ psi) @ ai.T)[:3, :3] * n / (n - 13) * widen
 
 
 def sphere_samples(rng, n, centre, r, sigma, half_angle=np.pi, axis=(0.0, 0.0, 1.0)):
