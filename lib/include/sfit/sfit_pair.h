@@ -104,10 +104,16 @@ typedef struct sfit_pair_cfg {
                                      this (0 = default 0.25). */
     float max_misfit;           /**< Untrusted (MISFIT) when the residual ratio is above
                                      this (0 = default 2.0). */
-    float axis_tol;             /**< Hinge: untrusted (AXIS_FREE) when the out-of-axis
-                                     rotation, atan sqrt(lambda_1 / lambda_2), or the 95 %
-                                     cone of the axis exceeds this angle (rad; 0 = default
-                                     5 degrees). */
+    float axis_tol;             /**< Hinge: untrusted (AXIS_FREE) when the axis may be
+                                     further off than this angle (rad; 0 = default 10
+                                     degrees): its 95 % noise cone, the out-of-axis
+                                     rotation seen, atan sqrt(lambda_1 / lambda_2), or the
+                                     tilt an unseen out-of-axis rotation of size wobble
+                                     could cause, atan(wobble / flexion spread). */
+    float wobble;               /**< Hinge: out-of-axis rotation (rms, rad) the joint may
+                                     have in step with its flexion (then the data are a
+                                     rotation about a tilted axis and cannot show it;
+                                     0 = default 3 degrees, a knee's ab/adduction). */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
