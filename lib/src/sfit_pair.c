@@ -787,19 +787,20 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         if (res.trust_ratio > mt) {
             flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
         }
-        {
-            /* tan^2(at) (series, 1e-3 relative up to 30 degrees) against the
-             * out-of-axis rotation seen and the one that cannot be seen. */
-            const float a2 = at * at;
-            const float tan2 = a2 * (1.0f + a2 * (2.0f / 3.0f + a2 * (17.0f / 45.0f
-                                                                + a2 * (62.0f / 315.0f))));
-            const float flex2 = lam.v[1] / y.n; /* flexion spread^2 (rad^2) */
-            if (ratio12 > tan2 || wb * wb > tan2 * flex2) {
-                flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
-            }
-        }
     }
     res.method = corrected ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
+    /* Is the axis fixed? (A hinge's result; for a ball, about axis_p.) */
+    {
+        /* tan^2(at) (series, 1e-3 relative up to 30 degrees) against the
+         * out-of-axis rotation seen and the one that cannot be seen. */
+        const float a2 = at * at;
+        const float tan2 = a2 * (1.0f + a2 * (2.0f / 3.0f + a2 * (17.0f / 45.0f
+                                                            + a2 * (62.0f / 315.0f))));
+        const float flex2 = lam.v[1] / y.n; /* flexion spread^2 (rad^2) */
+        if (ratio12 > tan2 || wb * wb > tan2 * flex2) {
+            flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+        }
+    }
     /* The misfit: SCoRE's cost at the solution against its expectation. */
     cost = prv_quad(&y.s, cpp) - 2.0f * sfit_i_dot3(cpp, y.r) + y.hh;
     if (!(cost > 0.0f)) {
@@ -884,13 +885,14 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     }
     prv_symmetrise(&res.center_cov);
     prv_symmetrise(&res.axis_cov);
-    if (mode == SFIT_PAIR_MODE_HINGE) {
+    {
         sfit_vec3_t wa;
-        if (sfit_mat3_eig_sym(&res.axis_cov, &wa, NULL) == SFIT_OK
-            && PRV_CHI2_2_95 * wa.v[2] > at * at) {
+        if (sfit_mat3_eig_sym(&res.axis_cov, &wa, NULL) != SFIT_OK
+            || PRV_CHI2_2_95 * wa.v[2] > at * at) {
             flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
         }
-    } else {
+    }
+    if (mode != SFIT_PAIR_MODE_HINGE) {
         memset(&res.axis_cov, 0, sizeof res.axis_cov);
     }
     res.misfit = (expect > 0.0f) ? cost / expect : 0.0f;
@@ -948,7 +950,8 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         reason = SFIT_PAIR_REASON_NO_NOISE;
     } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION) != 0u) {
         reason = SFIT_PAIR_REASON_SMALL_MOTION;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u) {
+    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u
+               && mode == SFIT_PAIR_MODE_HINGE) {
         reason = SFIT_PAIR_REASON_AXIS_FREE;
     } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
         reason = SFIT_PAIR_REASON_AMBIGUOUS;
