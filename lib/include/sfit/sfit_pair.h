@@ -266,8 +266,8 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method: 3825 FLOPs, 24725 M4F instructions (tools/flopcount
- * "pair_solve"); plain SCoRE 3721 FLOPs, 24390 instructions ("pair_solve_score");
+ * @par Cost ball, default method: 3828 FLOPs, 24736 M4F instructions (tools/flopcount
+ * "pair_solve"); plain SCoRE 3724 FLOPs, 24401 instructions ("pair_solve_score");
  * stack 1704 B (-O2). Independent of the number of frames.
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
