@@ -30,7 +30,6 @@
 #ifndef SFIT_PAIR_H
 #define SFIT_PAIR_H
 
-#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -205,6 +204,7 @@ sfit_status_t sfit_pair_init(sfit_pair_t *s, const sfit_cluster_t *parent,
  * @brief Forget every frame; keep the templates' summaries and the options.
  * @retval SFIT_OK     success
  * @retval SFIT_E_ARG  s is NULL or its counters are not valid
+ * @par Cost no FLOPs (clears 145 words).
  */
 sfit_status_t sfit_pair_reset(sfit_pair_t *s);
 
