@@ -52,7 +52,7 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 #define PRV_MIN_SPREAD 1e-12f
 
 /* Sum layout. */
-#define PRV_SB 0
+/* sum B starts the layout (index 0): it is indexed directly. */
 #define PRV_SH 9
 #define PRV_T 12
 #define PRV_SBH 57
@@ -311,7 +311,7 @@ sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
         float b[9], h[3];
         for (k = 0; k < 9; k++) {
             b[k] = a[k] - s->a_ref[k];
-            v[PRV_SB + k] = b[k];
+            v[k] = b[k];
         }
         for (k = 0; k < 3; k++) {
             h[k] = g[k] - s->g_ref[k];
@@ -519,7 +519,7 @@ static int prv_build(const sfit_pair_t *s, prv_sys_t *y, float *dof_p, float *do
     for (i = 0; i < 9; i++) {
         for (j = i; j < 9; j++) {
             const int t = prv_tidx(i, j);
-            y->tc[t] = q[PRV_T + t] - q[PRV_SB + i] * q[PRV_SB + j] / y->n;
+            y->tc[t] = q[PRV_T + t] - q[i] * q[j] / y->n;
         }
     }
     {
@@ -527,12 +527,12 @@ static int prv_build(const sfit_pair_t *s, prv_sys_t *y, float *dof_p, float *do
         prv_contract_right(y->tc, &eye, &y->s);
     }
     for (k = 0; k < 9; k++) {
-        y->abar.m[k] = s->a_ref[k] + q[PRV_SB + k] / y->n;
+        y->abar.m[k] = s->a_ref[k] + q[k] / y->n;
     }
     for (i = 0; i < 3; i++) {
         r0[i] = q[PRV_SBH + i];
         for (j = 0; j < 3; j++) {
-            r0[i] -= q[PRV_SB + 3 * i + j] * q[PRV_SH + j] / y->n;
+            r0[i] -= q[3 * i + j] * q[PRV_SH + j] / y->n;
         }
     }
     /* Centroid coordinates: g' = g + cen_c - A^T cen_p, so
@@ -643,6 +643,8 @@ static void prv_noise(const sfit_pair_t *s, prv_ctx_t *c, float ssr_p, float dof
             y->var_p = y->var_c;
         } else if (y->var_c < 0.0f) {
             y->var_c = y->var_p;
+        } else {
+            /* both clusters measured */
         }
     }
     for (k = 0; k < 9; k++) {

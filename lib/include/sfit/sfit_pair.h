@@ -266,9 +266,9 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method: 3828 FLOPs, 24736 M4F instructions (tools/flopcount
- * "pair_solve"); plain SCoRE 3724 FLOPs, 24401 instructions ("pair_solve_score");
- * stack 1704 B (-O2). Independent of the number of frames.
+ * @par Cost ball, default method: 3820 FLOPs, 25070 M4F instructions (tools/flopcount
+ * "pair_solve"); plain SCoRE 3716 FLOPs, 24741 instructions ("pair_solve_score");
+ * stack 1928 B (-O2). Independent of the number of frames.
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 
