@@ -594,7 +594,7 @@ static void test_i32_small_n_caps(void **state)
                     cfg.noise_var = (float)(sr * r0 * sr * r0);
                     cov[0] = cov[1] = cov[2] = (double)cfg.noise_var; /* packed XX, YY, ZZ */
                 }
-                if (sfit_points_fit(g_scf, n, &cfg, &r) != SFIT_OK) {
+                if (sfit_fit_points(g_scf, n, &cfg, &r) != SFIT_OK) {
                     continue;
                 }
                 ok++;
@@ -655,8 +655,8 @@ static void test_i32_repro(void **state)
     cfg.noise = SFIT_NOISE_ISO;
     cfg.noise_var = 110.708748f;
     cov[0] = cov[1] = cov[2] = (double)cfg.noise_var;
-    assert_int_equal(sfit_points_fit(fp, n, &cfg, &r), SFIT_OK);
-    assert_int_equal(sfit_moments_fit(&m, &cfg, &rs), SFIT_OK);
+    assert_int_equal(sfit_fit_points(fp, n, &cfg, &r), SFIT_OK);
+    assert_int_equal(sfit_fit_moments(&m, &cfg, &rs), SFIT_OK);
     assert_int_equal(ref_fit_sphere((const double(*)[3])pts, n, cov, &ref), 0);
     err = tc_dist(&r.center, ref.center) / ref.radius;
     print_message("repro: float %.3f %.3f %.3f, double %.3f %.3f %.3f: %.2e r, flags 0x%x\n",

@@ -277,10 +277,10 @@ static void check_usable(const sfit_moments_t *m)
     for (i = 0; i < 9; i++) {
         assert_true(isfinite(c.m[i]));
     }
-    assert_true(sfit_moments_fit(m, NULL, &r) != SFIT_E_RANGE);
+    assert_true(sfit_fit_moments(m, NULL, &r) != SFIT_E_RANGE);
     cfg.mode = SFIT_MODE_SPHERE;
     cfg.eigen = 1;
-    assert_true(sfit_moments_fit(m, &cfg, &r) != SFIT_E_RANGE);
+    assert_true(sfit_fit_moments(m, &cfg, &r) != SFIT_E_RANGE);
 }
 
 static void test_merge_refuses_garbage(void **state)

@@ -117,7 +117,7 @@ static int run_small(long trials, unsigned long seed, double far)
                     cfg.noise_var = (float)(sr * r0 * sr * r0);
                     cov[0] = cov[1] = cov[2] = (double)cfg.noise_var;
                 }
-                if (sfit_points_fit(g_f, n, &cfg, &r) != SFIT_OK) {
+                if (sfit_fit_points(g_f, n, &cfg, &r) != SFIT_OK) {
                     continue;
                 }
                 ok++;
@@ -141,7 +141,7 @@ static int run_small(long trials, unsigned long seed, double far)
                 worst = (err > worst) ? err : worst;
                 /* the model's own cond(C'): the full solver's eigenvalues */
                 cfg.eigen = 1;
-                if (sfit_points_fit(g_f, n, &cfg, &rx) == SFIT_OK) {
+                if (sfit_fit_points(g_f, n, &cfg, &rx) == SFIT_OK) {
                     lmin = (double)((rx.mode == SFIT_MODE_PLANAR) ? rx.eigenvalues.v[1]
                                                                   : rx.eigenvalues.v[0])
                            - (double)cfg.noise_var;

@@ -32,6 +32,7 @@
 
 #include "sfit/sfit.h"
 #include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
+#include "pair_py.h" /* the pair of segments: pair_py.c */
 
 /* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
  * library has it. */
@@ -2347,6 +2348,7 @@ static PyMethodDef module_methods[] = {
     {"status_name", py_status_name, METH_O, "status_name(code) -> str (the library's name)."},
     {"_label_swaps", sfit_py_label_swaps, METH_VARARGS,
      "Internal: label swaps within one cluster (see sfit.joint_center)."},
+    {"_pair_solve", sfit_py_pair_solve, METH_VARARGS, "Internal: see sfit.joint_center (pair_py.c)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {
@@ -2359,6 +2361,9 @@ PyMODINIT_FUNC PyInit__sfit(void)
     PyObject *m;
     int i;
     import_array();
+    if (sfit_py_pair_import() < 0) {
+        return NULL;
+    }
     if (PyType_Ready(&MomentsType) < 0 || PyType_Ready(&IncrType) < 0) {
         return NULL;
     }

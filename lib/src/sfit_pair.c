@@ -1,0 +1,1063 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file sfit_pair.c
+ * @brief A pair of segments (SCoRE / SARA) as a stream, with the
+ * errors-in-variables bias removed and a covariance on every result.
+ *
+ * Implementation notes (derivation: docs/pair.md)
+ * ------------------------------------------------
+ * Per frame: A = R_p^T R_c, g = R_c^T (t_c - t_p), d = R_p^T (t_c - t_p).
+ * The sums are shifted by the first frame (B = A - A_ref, h = g - g_ref,
+ * e = d - d_ref) and kept in two levels (inner blocks of SFIT_SUM_BLOCK
+ * frames), so the centred second moments never come from a difference of
+ * large raw sums. Layout of the sums (SFIT_PAIR_NSUM = 68):
+ *   0..8    sum B (row-major)        9..11  sum h
+ *   12..56  sum vec(B) vec(B)^T, packed upper triangle of the 9x9 (45)
+ *   57..59  sum B h                  60     sum |h|^2
+ *   61..63  sum e                    64, 65 parent sum |res|^2, sum (3 used - 6)
+ *   66, 67  child sum |res|^2, sum (3 used - 6)
+ * The 9x9 moment T gives the Schur complement S = sum B B^T (centred) and
+ * the contractions sum B X B^T and sum B^T Y B of the covariance.
+ *
+ * sfit_pair_add() validates every input before it writes: a rejected frame
+ * leaves every byte as it was.
+ */
+#include "sfit/sfit_pair.h"
+
+#include <string.h>
+
+#include "sfit/sfit_mat3.h"
+#include "sfit_float.h"
+#include "sfit_mat3_i.h"
+
+const sfit_pair_cfg_t sfit_pair_cfg_default = {
+    .method = SFIT_PAIR_METHOD_DEFAULT, .mode = SFIT_PAIR_MODE_AUTO,
+    .noise = SFIT_PAIR_NOISE_RESIDUAL, .marker_var = 0.0f, .hinge_ratio = 0.0f,
+    .max_trust = 0.0f, .max_misfit = 0.0f, .axis_tol = 0.0f, .wobble = 0.0f, .min_frames = 0u};
+
+/* Defaults of the thresholds left at 0 in the options. */
+#define PRV_HINGE_RATIO 0.02f
+#define PRV_MAX_TRUST 0.25f
+#define PRV_MAX_MISFIT 2.0f
+#define PRV_AXIS_TOL 0.1745329f /* 10 degrees */
+#define PRV_WOBBLE 0.0436332f /* 2.5 degrees rms: a 2-5 degree out-of-axis rotation in step with the flexion */
+#define PRV_MIN_FRAMES 30u
+/* Ball: lambda_1 of the corrected S must be this many of its noise
+ * standard deviations above zero for the centre to be fixed by the data. */
+#define PRV_Z_BALL 5.0f
+/* chi^2(2 dof) 95 % quantile: the 95 % cone of a unit axis. */
+#define PRV_CHI2_2_95 5.991465f
+/* No relative rotation: the largest eigenvalue of S / frames below this
+ * (rad^2) is no motion at all. */
+#define PRV_MIN_SPREAD 1e-12f
+
+/* Sum layout. */
+/* sum B starts the layout (index 0): it is indexed directly. */
+#define PRV_SH 9
+#define PRV_T 12
+#define PRV_SBH 57
+#define PRV_SHH 60
+#define PRV_SE 61
+#define PRV_RP 64
+#define PRV_RC 66
+
+/* Index of (a, b) in the packed upper triangle of a 9x9 symmetric matrix. */
+static int prv_tidx(int a, int b)
+{
+    if (a > b) {
+        const int t = a;
+        a = b;
+        b = t;
+    }
+    return 9 * a - (a * (a - 1)) / 2 + (b - a);
+}
+
+static int prv_cfg_ok(const sfit_pair_cfg_t *c)
+{
+    if ((uint32_t)c->method > (uint32_t)SFIT_PAIR_METHOD_SCORE
+        || (uint32_t)c->mode > (uint32_t)SFIT_PAIR_MODE_HINGE
+        || (uint32_t)c->noise > (uint32_t)SFIT_PAIR_NOISE_GIVEN) {
+        return 0;
+    }
+    if (!sfit_i_isfinite(c->marker_var) || !(c->marker_var >= 0.0f)
+        || !sfit_i_isfinite(c->hinge_ratio) || !(c->hinge_ratio >= 0.0f)
+        || !sfit_i_isfinite(c->max_trust) || !(c->max_trust >= 0.0f)
+        || !sfit_i_isfinite(c->max_misfit) || !(c->max_misfit >= 0.0f)
+        || !sfit_i_isfinite(c->axis_tol) || !(c->axis_tol >= 0.0f)
+        || !(c->axis_tol < 1.5f) || !sfit_i_isfinite(c->wobble) || !(c->wobble >= 0.0f)) {
+        return 0;
+    }
+    return 1;
+}
+
+static int prv_state_ok(const sfit_pair_t *s)
+{
+    int k;
+    if (s->n_p < 3u || s->n_p > (uint32_t)SFIT_CLUSTER_MAX_MARKERS || s->n_c < 3u
+        || s->n_c > (uint32_t)SFIT_CLUSTER_MAX_MARKERS) {
+        return 0;
+    }
+    if (s->inblk >= (uint32_t)SFIT_SUM_BLOCK || s->inblk > s->frames || !prv_cfg_ok(&s->cfg)) {
+        return 0;
+    }
+    for (k = 0; k < 6; k++) {
+        if (!sfit_i_isfinite(s->k_p[k]) || !sfit_i_isfinite(s->k_c[k])) {
+            return 0;
+        }
+    }
+    return sfit_i_finite3(s->cen_p.v) && sfit_i_finite3(s->cen_c.v);
+}
+
+/* Centroid and tr(J^-1) I - J^-1 of a template, J = sum (|q|^2 I - q q^T)
+ * about the centroid. */
+static sfit_status_t prv_template(const sfit_cluster_t *cl, sfit_vec3_t *cen, float kp[6])
+{
+    sfit_mat3_t jm, l, inv;
+    float tr;
+    uint32_t i;
+    int a, b;
+
+    if (cl->count < 3u || cl->count > (uint32_t)SFIT_CLUSTER_MAX_MARKERS) {
+        return SFIT_E_ARG;
+    }
+    for (i = 0; i < cl->count; i++) {
+        if (sfit_i_check_sample(cl->pos[i].v) != SFIT_OK) {
+            return SFIT_E_ARG;
+        }
+    }
+    for (a = 0; a < 3; a++) {
+        float m = 0.0f;
+        for (i = 0; i < cl->count; i++) {
+            m += cl->pos[i].v[a] - cl->pos[0].v[a];
+        }
+        cen->v[a] = cl->pos[0].v[a] + m / (float)cl->count;
+    }
+    memset(&jm, 0, sizeof jm);
+    for (i = 0; i < cl->count; i++) {
+        float q[3], q2;
+        for (a = 0; a < 3; a++) {
+            q[a] = cl->pos[i].v[a] - cen->v[a];
+        }
+        q2 = sfit_i_dot3(q, q);
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                jm.m[3 * a + b] += ((a == b) ? q2 : 0.0f) - q[a] * q[b];
+            }
+        }
+    }
+    if (sfit_mat3_chol(&jm, &l) != SFIT_OK) {
+        return SFIT_E_DEGENERATE;
+    }
+    sfit_i_chol_inverse(&l, &inv);
+    tr = inv.m[0] + inv.m[4] + inv.m[8];
+    sfit_i_sym_pack(&inv, kp);
+    for (a = 0; a < 6; a++) {
+        kp[a] = ((a < 3) ? tr : 0.0f) - kp[a];
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_pair_init(sfit_pair_t *s, const sfit_cluster_t *parent,
+                             const sfit_cluster_t *child, const sfit_pair_cfg_t *cfg)
+{
+    sfit_vec3_t cp, cc;
+    float kp[6], kc[6];
+    sfit_pair_cfg_t cf;
+    sfit_status_t st;
+
+    if (s == NULL || parent == NULL || child == NULL) {
+        return SFIT_E_ARG;
+    }
+    cf = (cfg != NULL) ? *cfg : sfit_pair_cfg_default;
+    if (!prv_cfg_ok(&cf)) {
+        return SFIT_E_ARG;
+    }
+    st = prv_template(parent, &cp, kp);
+    if (st == SFIT_OK) {
+        st = prv_template(child, &cc, kc);
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    {
+        const uint32_t np = parent->count, nc = child->count;
+        memset(s, 0, sizeof *s);
+        s->cfg = cf;
+        s->cen_p = cp;
+        s->cen_c = cc;
+        memcpy(s->k_p, kp, sizeof kp);
+        memcpy(s->k_c, kc, sizeof kc);
+        s->n_p = np;
+        s->n_c = nc;
+    }
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_pair_reset(sfit_pair_t *s)
+{
+    if (s == NULL || !prv_state_ok(s)) {
+        return SFIT_E_ARG;
+    }
+    memset(s->a_ref, 0, sizeof s->a_ref);
+    memset(s->g_ref, 0, sizeof s->g_ref);
+    memset(s->d_ref, 0, sizeof s->d_ref);
+    memset(s->tot, 0, sizeof s->tot);
+    memset(s->blk, 0, sizeof s->blk);
+    s->frames = 0u;
+    s->inblk = 0u;
+    return SFIT_OK;
+}
+
+/* A pose: finite, rotation entries within 1 + 1e-3, translation in range. */
+static sfit_status_t prv_check_pose(const sfit_pose_t *p)
+{
+    int k;
+    for (k = 0; k < 9; k++) {
+        if (!sfit_i_isfinite(p->r.m[k])) {
+            return SFIT_E_NONFINITE;
+        }
+    }
+    {
+        const sfit_status_t st = sfit_i_check_sample(p->t.v);
+        if (st != SFIT_OK) {
+            return st;
+        }
+    }
+    for (k = 0; k < 9; k++) {
+        if (SFIT_FABSF(p->r.m[k]) > 1.001f) {
+            return SFIT_E_RANGE;
+        }
+    }
+    return SFIT_OK;
+}
+
+/* A registration residual: NULL (none), or rms >= 0 finite with used in
+ * 3..count. ssr and dof are set (0 when NULL). */
+static sfit_status_t prv_check_fit(const sfit_cluster_fit_t *f, uint32_t count, float *ssr,
+                                   float *dof)
+{
+    *ssr = 0.0f;
+    *dof = 0.0f;
+    if (f == NULL) {
+        return SFIT_OK;
+    }
+    if (f->used < 3u || f->used > count) {
+        return SFIT_E_ARG;
+    }
+    if (!sfit_i_isfinite(f->rms)) {
+        return SFIT_E_NONFINITE;
+    }
+    if (!(f->rms >= 0.0f)) {
+        return SFIT_E_ARG;
+    }
+    *ssr = f->rms * f->rms * (float)f->used;
+    if (!sfit_i_isfinite(*ssr)) {
+        return SFIT_E_RANGE;
+    }
+    *dof = 3.0f * (float)f->used - 6.0f;
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
+                            const sfit_cluster_fit_t *fit_p, const sfit_pose_t *pose_c,
+                            const sfit_cluster_fit_t *fit_c)
+{
+    float a[9], g[3], d[3], dt[3], v[SFIT_PAIR_NSUM];
+    float ssr_p, dof_p, ssr_c, dof_c;
+    sfit_status_t st;
+    int i, j, k;
+
+    if (s == NULL || pose_p == NULL || pose_c == NULL || !prv_state_ok(s)) {
+        return SFIT_E_ARG;
+    }
+    st = prv_check_pose(pose_p);
+    if (st == SFIT_OK) {
+        st = prv_check_pose(pose_c);
+    }
+    if (st == SFIT_OK) {
+        st = prv_check_fit(fit_p, s->n_p, &ssr_p, &dof_p);
+    }
+    if (st == SFIT_OK) {
+        st = prv_check_fit(fit_c, s->n_c, &ssr_c, &dof_c);
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (s->frames == UINT32_MAX) {
+        return SFIT_E_RANGE;
+    }
+    /* A = R_p^T R_c, g = R_c^T dt, d = R_p^T dt, dt = t_c - t_p. */
+    for (i = 0; i < 3; i++) {
+        dt[i] = pose_c->t.v[i] - pose_p->t.v[i];
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            a[3 * i + j] = pose_p->r.m[i] * pose_c->r.m[j] + pose_p->r.m[3 + i] * pose_c->r.m[3 + j]
+                           + pose_p->r.m[6 + i] * pose_c->r.m[6 + j];
+        }
+        g[i] = pose_c->r.m[i] * dt[0] + pose_c->r.m[3 + i] * dt[1] + pose_c->r.m[6 + i] * dt[2];
+        d[i] = pose_p->r.m[i] * dt[0] + pose_p->r.m[3 + i] * dt[1] + pose_p->r.m[6 + i] * dt[2];
+    }
+    if (!sfit_i_finite3(dt) || !sfit_i_finite3(g) || !sfit_i_finite3(d)) {
+        return SFIT_E_RANGE;
+    }
+    if (s->frames == 0u) {
+        /* The first frame is the shift: its B, h, e are zero. */
+        memcpy(s->a_ref, a, sizeof a);
+        memcpy(s->g_ref, g, sizeof g);
+        memcpy(s->d_ref, d, sizeof d);
+    }
+    {
+        float b[9], h[3];
+        for (k = 0; k < 9; k++) {
+            b[k] = a[k] - s->a_ref[k];
+            v[k] = b[k];
+        }
+        for (k = 0; k < 3; k++) {
+            h[k] = g[k] - s->g_ref[k];
+        }
+        for (k = 0; k < 3; k++) {
+            v[PRV_SH + k] = h[k];
+            v[PRV_SE + k] = d[k] - s->d_ref[k];
+            v[PRV_SBH + k] = b[3 * k] * h[0] + b[3 * k + 1] * h[1] + b[3 * k + 2] * h[2];
+        }
+        k = PRV_T;
+        for (i = 0; i < 9; i++) {
+            for (j = i; j < 9; j++) {
+                v[k++] = b[i] * b[j];
+            }
+        }
+        v[PRV_SHH] = sfit_i_dot3(h, h);
+    }
+    v[PRV_RP] = ssr_p;
+    v[PRV_RP + 1] = dof_p;
+    v[PRV_RC] = ssr_c;
+    v[PRV_RC + 1] = dof_c;
+    /* Commit. */
+    for (k = 0; k < SFIT_PAIR_NSUM; k++) {
+        s->blk[k] += v[k];
+    }
+    if (++s->inblk == (uint32_t)SFIT_SUM_BLOCK) {
+        for (k = 0; k < SFIT_PAIR_NSUM; k++) {
+            s->tot[k] += s->blk[k];
+            s->blk[k] = 0.0f;
+        }
+        s->inblk = 0u;
+    }
+    s->frames++;
+    return SFIT_OK;
+}
+
+sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent,
+                                    const sfit_vec3_t *pm, size_t n_pm,
+                                    const sfit_cluster_t *child, const sfit_vec3_t *cm,
+                                    size_t n_cm)
+{
+    sfit_pose_t pp, pc;
+    sfit_cluster_fit_t fp, fc;
+    sfit_status_t st;
+
+    if (s == NULL || parent == NULL || child == NULL || pm == NULL || cm == NULL
+        || !prv_state_ok(s) || parent->count != s->n_p || child->count != s->n_c) {
+        return SFIT_E_ARG;
+    }
+    st = sfit_cluster_register(parent, pm, n_pm, &pp, &fp);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    st = sfit_cluster_register(child, cm, n_cm, &pc, &fc);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    return sfit_pair_add(s, &pp, &fp, &pc, &fc);
+}
+
+/* ---------------------------------------------------------------- solve */
+
+/* out = [x]x m [x]x^T for a symmetric m. */
+static void prv_cross_quad(const float x[3], const sfit_mat3_t *m, sfit_mat3_t *out)
+{
+    sfit_mat3_t xm;
+    const float cx[9] = {0.0f, -x[2], x[1], x[2], 0.0f, -x[0], -x[1], x[0], 0.0f};
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            xm.m[3 * i + j] = cx[3 * i] * m->m[j] + cx[3 * i + 1] * m->m[3 + j]
+                              + cx[3 * i + 2] * m->m[6 + j];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            out->m[3 * i + j] = xm.m[3 * i] * cx[3 * j] + xm.m[3 * i + 1] * cx[3 * j + 1]
+                                + xm.m[3 * i + 2] * cx[3 * j + 2];
+        }
+    }
+}
+
+/* p = a b^T-style products: out = a m a^T (a full, m full). */
+static void prv_sandwich(const sfit_mat3_t *a, const sfit_mat3_t *m, sfit_mat3_t *out)
+{
+    sfit_mat3_t am;
+    int i, j;
+    sfit_i_mat3_mul(a, m, &am);
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            out->m[3 * i + j] = am.m[3 * i] * a->m[3 * j] + am.m[3 * i + 1] * a->m[3 * j + 1]
+                                + am.m[3 * i + 2] * a->m[3 * j + 2];
+        }
+    }
+}
+
+/* The centred moments and the pose-noise model the solve works with. */
+typedef struct prv_sys {
+    float tc[45];       /* centred 9x9 moment of B */
+    sfit_mat3_t s;      /* S = sum (A - Abar)(A - Abar)^T */
+    sfit_mat3_t abar;   /* mean A */
+    float r[3];         /* sum (A - Abar)(g' - gbar'), centroid coordinates */
+    float gbar[3];      /* mean g', centroid coordinates */
+    float mid[3];       /* mid-point of the clusters, parent frame, centroid coordinates */
+    float hh;           /* sum |g' - gbar'|^2 */
+    float n;            /* frames */
+    float var_p, var_c; /* marker variances */
+    sfit_mat3_t jp, jc; /* J^-1 of each template (rotation noise per unit variance) */
+    sfit_mat3_t kp, kc; /* var (tr J^-1 I - J^-1) */
+} prv_sys_t;
+
+/* sum B X B^T (i, k) = sum_jl X_jl T(3i+j, 3k+l). */
+static void prv_contract_right(const float tc[45], const sfit_mat3_t *x, sfit_mat3_t *out)
+{
+    int i, k, j, l;
+    for (i = 0; i < 3; i++) {
+        for (k = 0; k < 3; k++) {
+            float sum = 0.0f;
+            for (j = 0; j < 3; j++) {
+                for (l = 0; l < 3; l++) {
+                    sum += x->m[3 * j + l] * tc[prv_tidx(3 * i + j, 3 * k + l)];
+                }
+            }
+            out->m[3 * i + k] = sum;
+        }
+    }
+}
+
+/* sum B^T Y B (j, l) = sum_ik Y_ik T(3i+j, 3k+l). */
+static void prv_contract_left(const float tc[45], const sfit_mat3_t *y, sfit_mat3_t *out)
+{
+    int i, k, j, l;
+    for (j = 0; j < 3; j++) {
+        for (l = 0; l < 3; l++) {
+            float sum = 0.0f;
+            for (i = 0; i < 3; i++) {
+                for (k = 0; k < 3; k++) {
+                    sum += y->m[3 * i + k] * tc[prv_tidx(3 * i + j, 3 * k + l)];
+                }
+            }
+            out->m[3 * j + l] = sum;
+        }
+    }
+}
+
+/* G(P, C) = S P S / N + Abar (sum B^T P B) Abar^T + sum B C B^T: the
+ * covariance of the Schur right-hand side for per-frame equation noise
+ * A^T P A + C (child frame), P fixed in the parent frame, C in the child's. */
+static void prv_gmat(const prv_sys_t *y, const sfit_mat3_t *p, const sfit_mat3_t *c,
+                     sfit_mat3_t *out)
+{
+    sfit_mat3_t t1, t2, t3;
+    int k;
+    prv_sandwich(&y->s, p, &t1);
+    prv_contract_left(y->tc, p, &t3);
+    prv_sandwich(&y->abar, &t3, &t2);
+    prv_contract_right(y->tc, c, &t3);
+    for (k = 0; k < 9; k++) {
+        out->m[k] = t1.m[k] / y->n + t2.m[k] + t3.m[k];
+    }
+}
+
+/* Equation noise of a point x (parent frame) / y (child frame), about the
+ * centroids: P = var_p ([x] J_p^-1 [x]^T + I / M_p), C likewise. */
+static void prv_point_noise(const prv_sys_t *y, const sfit_pair_t *s, const float xp[3],
+                            const float xc[3], sfit_mat3_t *p, sfit_mat3_t *c)
+{
+    int k;
+    prv_cross_quad(xp, &y->jp, p);
+    prv_cross_quad(xc, &y->jc, c);
+    for (k = 0; k < 9; k++) {
+        p->m[k] *= y->var_p;
+        c->m[k] *= y->var_c;
+    }
+    for (k = 0; k < 3; k++) {
+        p->m[4 * k] += y->var_p / (float)s->n_p;
+        c->m[4 * k] += y->var_c / (float)s->n_c;
+    }
+}
+
+/* Build the centred system from the sums. 0 when a sum is not finite. */
+static int prv_build(const sfit_pair_t *s, prv_sys_t *y, float *dof_p, float *dof_c,
+                     float *ssr_p, float *ssr_c)
+{
+    float q[SFIT_PAIR_NSUM], r0[3], sp[3];
+    const float *cp = s->cen_p.v, *cc = s->cen_c.v;
+    int i, j, k;
+    float tr;
+
+    for (k = 0; k < SFIT_PAIR_NSUM; k++) {
+        q[k] = s->tot[k] + s->blk[k];
+        if (!sfit_i_isfinite(q[k])) {
+            return 0;
+        }
+    }
+    for (k = 0; k < 9; k++) {
+        if (!sfit_i_isfinite(s->a_ref[k])) {
+            return 0;
+        }
+    }
+    if (!sfit_i_finite3(s->g_ref) || !sfit_i_finite3(s->d_ref)) {
+        return 0;
+    }
+    y->n = (float)s->frames;
+    for (i = 0; i < 9; i++) {
+        for (j = i; j < 9; j++) {
+            const int t = prv_tidx(i, j);
+            y->tc[t] = q[PRV_T + t] - q[i] * q[j] / y->n;
+        }
+    }
+    {
+        const sfit_mat3_t eye = {{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f}};
+        prv_contract_right(y->tc, &eye, &y->s);
+    }
+    for (k = 0; k < 9; k++) {
+        y->abar.m[k] = s->a_ref[k] + q[k] / y->n;
+    }
+    for (i = 0; i < 3; i++) {
+        r0[i] = q[PRV_SBH + i];
+        for (j = 0; j < 3; j++) {
+            r0[i] -= q[3 * i + j] * q[PRV_SH + j] / y->n;
+        }
+    }
+    /* Centroid coordinates: g' = g + cen_c - A^T cen_p, so
+     * r' = r - S cen_p and sum |h' - mean|^2 = hh - 2 cen_p.r + cen_p.S cen_p. */
+    sfit_i_mat3_vec(&y->s, cp, sp);
+    y->hh = q[PRV_SHH] - sfit_i_dot3(&q[PRV_SH], &q[PRV_SH]) / y->n - 2.0f * sfit_i_dot3(cp, r0)
+            + sfit_i_dot3(cp, sp);
+    for (i = 0; i < 3; i++) {
+        y->r[i] = r0[i] - sp[i];
+        y->gbar[i] = s->g_ref[i] + q[PRV_SH + i] / y->n + cc[i]
+                     - (y->abar.m[i] * cp[0] + y->abar.m[3 + i] * cp[1] + y->abar.m[6 + i] * cp[2]);
+        /* child centroid in the parent frame: mean d + Abar cen_c */
+        y->mid[i] = 0.5f * (s->d_ref[i] + q[PRV_SE + i] / y->n + sfit_i_dot3(&y->abar.m[3 * i], cc)
+                            - cp[i]);
+    }
+    *ssr_p = q[PRV_RP];
+    *dof_p = q[PRV_RP + 1];
+    *ssr_c = q[PRV_RC];
+    *dof_c = q[PRV_RC + 1];
+    /* J^-1 = (tr k / 2) I - k. */
+    sfit_i_sym_unpack(s->k_p, &y->kp);
+    sfit_i_sym_unpack(s->k_c, &y->kc);
+    tr = 0.5f * (s->k_p[0] + s->k_p[1] + s->k_p[2]);
+    for (k = 0; k < 9; k++) {
+        y->jp.m[k] = ((k % 4 == 0) ? tr : 0.0f) - y->kp.m[k];
+    }
+    tr = 0.5f * (s->k_c[0] + s->k_c[1] + s->k_c[2]);
+    for (k = 0; k < 9; k++) {
+        y->jc.m[k] = ((k % 4 == 0) ? tr : 0.0f) - y->kc.m[k];
+    }
+    return 1;
+}
+
+static float prv_quad(const sfit_mat3_t *m, const float v[3])
+{
+    float t[3];
+    sfit_i_mat3_vec(m, v, t);
+    return sfit_i_dot3(v, t);
+}
+
+/* Column k of an eigenvector matrix. */
+static void prv_col(const sfit_mat3_t *v, int k, float out[3])
+{
+    out[0] = v->m[k];
+    out[1] = v->m[3 + k];
+    out[2] = v->m[6 + k];
+}
+
+/* out = m^+ restricted to eigen-columns 1 and 2: sum_k v_k v_k^T / w_k. */
+static void prv_pinv2(const sfit_mat3_t *v, const sfit_vec3_t *w, sfit_mat3_t *out)
+{
+    int i, j, k;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            float sum = 0.0f;
+            for (k = 1; k < 3; k++) {
+                sum += v->m[3 * i + k] * v->m[3 * j + k] / w->v[k];
+            }
+            out->m[3 * i + j] = sum;
+        }
+    }
+}
+
+/* a := symmetric part of a. */
+static void prv_symmetrise(sfit_mat3_t *a)
+{
+    float p[6];
+    sfit_i_sym_pack(a, p);
+    sfit_i_sym_unpack(p, a);
+}
+
+/* Working state of one solve (the phases below share it). */
+typedef struct prv_ctx {
+    prv_sys_t y;
+    sfit_pair_result_t res;
+    sfit_mat3_t nm, sc, w_c, qinv, vec, scinv;
+    sfit_vec3_t lam;
+    float rhs[3], cpp[3], ccc[3], n1[3], n2[3], axc[3], b[3];
+    float ratio12, z, hratio, cost, expect, proj;
+    uint32_t flags;
+    sfit_pair_mode_t mode;
+    int corrected;
+} prv_ctx_t;
+
+/* Status of an eigen-decomposition as the solve reports it. */
+static sfit_status_t prv_eig_status(sfit_status_t st)
+{
+    return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+}
+
+/* Marker variance of each cluster; K_p, K_c scaled by it. */
+static void prv_noise(const sfit_pair_t *s, prv_ctx_t *c, float ssr_p, float dof_p, float ssr_c,
+                      float dof_c)
+{
+    prv_sys_t *y = &c->y;
+    int k;
+    if (s->cfg.noise == SFIT_PAIR_NOISE_GIVEN) {
+        y->var_p = s->cfg.marker_var;
+        y->var_c = s->cfg.marker_var;
+    } else {
+        y->var_p = (dof_p > 0.0f) ? ssr_p / dof_p : -1.0f;
+        y->var_c = (dof_c > 0.0f) ? ssr_c / dof_c : -1.0f;
+        if (y->var_p < 0.0f && y->var_c < 0.0f) {
+            y->var_p = 0.0f;
+            y->var_c = 0.0f;
+            c->flags |= (uint32_t)SFIT_PAIR_FLAG_NO_NOISE;
+        } else if (y->var_p < 0.0f) {
+            y->var_p = y->var_c;
+        } else if (y->var_c < 0.0f) {
+            y->var_c = y->var_p;
+        } else {
+            /* both clusters measured */
+        }
+    }
+    for (k = 0; k < 9; k++) {
+        y->kp.m[k] *= y->var_p;
+        y->kc.m[k] *= y->var_c;
+    }
+}
+
+/* The noise inflation N (K_p + Abar K_c Abar^T) and the system to solve:
+ * corrected, S - N K_p - N Abar Q^-1 K_c Abar^T, Q = I - K_c, right-hand
+ * side r' - N Abar Q^-1 K_c gbar'; plain, S and r'. */
+static sfit_status_t prv_system(prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    sfit_mat3_t tmp, q, l;
+    int k, i;
+    prv_sandwich(&y->abar, &y->kc, &tmp);
+    for (k = 0; k < 9; k++) {
+        c->nm.m[k] = y->n * (y->kp.m[k] + tmp.m[k]);
+        q.m[k] = ((k % 4 == 0) ? 1.0f : 0.0f) - y->kc.m[k];
+    }
+    prv_symmetrise(&c->nm);
+    if (sfit_mat3_chol(&q, &l) != SFIT_OK) {
+        return SFIT_E_RANGE; /* var_c J_c^-1 beyond 1 rad^2: not a rotation noise */
+    }
+    sfit_i_chol_inverse(&l, &c->qinv);
+    sfit_i_mat3_mul(&c->qinv, &y->kc, &c->w_c);
+    prv_symmetrise(&c->w_c);
+    prv_sandwich(&y->abar, &c->w_c, &tmp);
+    c->sc = y->s;
+    for (i = 0; i < 3; i++) {
+        c->rhs[i] = y->r[i];
+    }
+    if (c->corrected) {
+        float wg[3];
+        for (k = 0; k < 9; k++) {
+            c->sc.m[k] -= y->n * (y->kp.m[k] + tmp.m[k]);
+        }
+        prv_symmetrise(&c->sc);
+        sfit_i_mat3_vec(&c->w_c, y->gbar, wg);
+        for (i = 0; i < 3; i++) {
+            c->rhs[i] -= y->n * sfit_i_dot3(&y->abar.m[3 * i], wg);
+        }
+    }
+    return SFIT_OK;
+}
+
+/* Eigen-decomposition of the system, the decision statistics (from the
+ * corrected eigenvalues) and the mode. */
+static sfit_status_t prv_decide(const sfit_pair_t *s, prv_ctx_t *c, float hr)
+{
+    prv_sys_t *y = &c->y;
+    sfit_vec3_t ws;
+    sfit_status_t st = sfit_mat3_eig_sym(&y->s, &ws, NULL);
+    if (st != SFIT_OK) {
+        return prv_eig_status(st);
+    }
+    if (!(ws.v[2] > PRV_MIN_SPREAD * y->n)) {
+        return SFIT_E_DEGENERATE; /* the relative rotation never changed */
+    }
+    st = sfit_mat3_eig_sym(&c->sc, &c->lam, &c->vec);
+    if (st != SFIT_OK) {
+        return prv_eig_status(st);
+    }
+    prv_col(&c->vec, 0, c->n1);
+    prv_col(&c->vec, 1, c->n2);
+    {
+        const float nz1 = prv_quad(&c->nm, c->n1);
+        const float l1c = c->corrected ? c->lam.v[0] : c->lam.v[0] - nz1;
+        const float l2c = c->corrected ? c->lam.v[1] : c->lam.v[1] - prv_quad(&c->nm, c->n2);
+        c->ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
+        c->hratio = 1.0f;
+        if (nz1 > 0.0f) {
+            c->z = SFIT_SQRTF(y->n) * l1c / nz1;
+            /* the hinge model's residual rotation against the noise's */
+            c->hratio = 1.0f + l1c / nz1;
+        } else {
+            c->z = (l1c > 0.0f) ? 1e30f : 0.0f;
+        }
+    }
+    if (s->cfg.mode == SFIT_PAIR_MODE_AUTO) {
+        c->mode = (c->ratio12 < hr) ? SFIT_PAIR_MODE_HINGE : SFIT_PAIR_MODE_BALL;
+        if ((c->ratio12 >= hr / 3.0f && c->ratio12 < 3.0f * hr)
+            || (c->mode == SFIT_PAIR_MODE_BALL && c->z < PRV_Z_BALL)) {
+            c->flags |= (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS;
+        }
+    } else {
+        c->mode = s->cfg.mode;
+    }
+    return SFIT_OK;
+}
+
+/* Back to the plain system (the correction took it below zero). */
+static void prv_plain(prv_ctx_t *c)
+{
+    int i;
+    c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    c->corrected = 0;
+    c->sc = c->y.s;
+    for (i = 0; i < 3; i++) {
+        c->rhs[i] = c->y.r[i];
+    }
+}
+
+/* Ball: Cholesky solve of the system (plain SCoRE when the corrected one is
+ * not positive definite). */
+static sfit_status_t prv_solve_ball(prv_ctx_t *c, float mt)
+{
+    sfit_mat3_t l;
+    const float den = prv_quad(&c->y.s, c->n1);
+    c->res.trust_ratio = (den > 0.0f) ? prv_quad(&c->nm, c->n1) / den : 1.0f;
+    if (sfit_mat3_chol(&c->sc, &l) != SFIT_OK) {
+        if (!c->corrected) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_plain(c);
+        if (sfit_mat3_chol(&c->sc, &l) != SFIT_OK) {
+            return SFIT_E_DEGENERATE;
+        }
+    }
+    sfit_i_chol_solve(&l, c->rhs, c->cpp);
+    sfit_i_chol_inverse(&l, &c->scinv);
+    if (c->res.trust_ratio > mt) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    }
+    return SFIT_OK;
+}
+
+/* Hinge: the pseudo-inverse over eigenvalues 2 and 3 (plain SARA's
+ * subspace when the corrected second eigenvalue is not positive). */
+static sfit_status_t prv_solve_hinge(prv_ctx_t *c, float mt)
+{
+    const float den = prv_quad(&c->y.s, c->n2);
+    c->res.trust_ratio = (den > 0.0f) ? prv_quad(&c->nm, c->n2) / den : 1.0f;
+    if (!(c->lam.v[1] > 0.0f)) {
+        sfit_status_t st;
+        if (!c->corrected) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_plain(c);
+        st = sfit_mat3_eig_sym(&c->sc, &c->lam, &c->vec);
+        if (st != SFIT_OK) {
+            return prv_eig_status(st);
+        }
+        if (!(c->lam.v[1] > 0.0f)) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_col(&c->vec, 0, c->n1);
+    }
+    prv_pinv2(&c->vec, &c->lam, &c->scinv);
+    sfit_i_mat3_vec(&c->scinv, c->rhs, c->cpp);
+    if (c->res.trust_ratio > mt) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    }
+    return SFIT_OK;
+}
+
+/* Is the axis fixed? tan^2(at) (series, 1e-3 relative up to 30 degrees)
+ * against the out-of-axis rotation seen and the one that cannot be seen
+ * (wobble in step with a flexion of spread sqrt(lambda_2)). */
+static void prv_axis_seen(prv_ctx_t *c, float at, float wb)
+{
+    const float a2 = at * at;
+    const float tan2 =
+        a2 * (1.0f + a2 * (2.0f / 3.0f + a2 * (17.0f / 45.0f + a2 * (62.0f / 315.0f))));
+    const float flex2 = c->lam.v[1] / c->y.n; /* flexion spread^2 (rad^2) */
+    if (c->ratio12 > tan2 || wb * wb > tan2 * flex2) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+    }
+}
+
+/* The SCoRE cost at the solution; the hinge point nearest the mid-point of
+ * the clusters; the child point and axis. */
+static void prv_points(prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    float cperp[3], len;
+    int i, k;
+    c->cost = prv_quad(&y->s, c->cpp) - 2.0f * sfit_i_dot3(c->cpp, y->r) + y->hh;
+    if (!(c->cost > 0.0f)) {
+        c->cost = 0.0f;
+    }
+    memcpy(cperp, c->cpp, sizeof cperp);
+    for (i = 0; i < 3; i++) {
+        c->b[i] = y->mid[i] - cperp[i];
+    }
+    c->proj = sfit_i_dot3(c->n1, c->b);
+    if (c->mode == SFIT_PAIR_MODE_HINGE) {
+        for (i = 0; i < 3; i++) {
+            c->cpp[i] = cperp[i] + c->proj * c->n1[i];
+        }
+    }
+    /* Child point: (I - K_c/2) Q^-1 (Abar^T c - gbar'), plain: Abar^T c - gbar'. */
+    for (i = 0; i < 3; i++) {
+        float t = 0.0f;
+        for (k = 0; k < 3; k++) {
+            t += y->abar.m[3 * k + i] * c->cpp[k];
+        }
+        c->ccc[i] = t - y->gbar[i];
+        c->axc[i] = y->abar.m[i] * c->n1[0] + y->abar.m[3 + i] * c->n1[1]
+                    + y->abar.m[6 + i] * c->n1[2];
+    }
+    if (c->corrected) {
+        float t[3];
+        sfit_i_mat3_vec(&c->qinv, c->ccc, t);
+        for (i = 0; i < 3; i++) {
+            c->ccc[i] = t[i] - 0.5f * sfit_i_dot3(&y->kc.m[3 * i], t);
+        }
+    }
+    if (!sfit_i_unit3(c->axc, &len)) {
+        c->axc[0] = 1.0f;
+        c->axc[1] = 0.0f;
+        c->axc[2] = 0.0f;
+    }
+}
+
+/* Covariances of the centre and the axis (docs/pair.md#covariance), the
+ * expected cost; then the corrected centre's (I - K_p/2). */
+static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    sfit_mat3_t pmat, cmat, g, pn, cn, pinv;
+    int i, k;
+    prv_point_noise(y, s, c->cpp, c->ccc, &pmat, &cmat);
+    c->expect = (y->n - 2.0f)
+                * (pmat.m[0] + pmat.m[4] + pmat.m[8] + cmat.m[0] + cmat.m[4] + cmat.m[8]);
+    prv_gmat(y, &pmat, &cmat, &g);
+    prv_sandwich(&c->scinv, &g, &c->res.center_cov);
+    /* Axis: d n = -S^+ (d S) n, (d S) n = sum B xi, xi the noise of B^T n:
+     * the same sandwich with P = var_p [n]J_p^-1[n]^T. */
+    prv_cross_quad(c->n1, &y->jp, &pn);
+    prv_cross_quad(c->axc, &y->jc, &cn);
+    for (k = 0; k < 9; k++) {
+        pn.m[k] *= y->var_p;
+        cn.m[k] *= y->var_c;
+    }
+    prv_pinv2(&c->vec, &c->lam, &pinv);
+    prv_gmat(y, &pn, &cn, &g);
+    prv_sandwich(&pinv, &g, &c->res.axis_cov);
+    if (c->mode == SFIT_PAIR_MODE_HINGE) {
+        /* The point moves with the axis: d p = (a I + n b^T) d n. */
+        for (i = 0; i < 3; i++) {
+            for (k = 0; k < 3; k++) {
+                pinv.m[3 * i + k] = ((i == k) ? c->proj : 0.0f) + c->n1[i] * c->b[k];
+            }
+        }
+        prv_sandwich(&pinv, &c->res.axis_cov, &g);
+        for (k = 0; k < 9; k++) {
+            c->res.center_cov.m[k] += g.m[k];
+        }
+    }
+    if (c->corrected) {
+        float t[3];
+        for (i = 0; i < 3; i++) {
+            t[i] = c->cpp[i] - 0.5f * sfit_i_dot3(&y->kp.m[3 * i], c->cpp);
+        }
+        memcpy(c->cpp, t, sizeof t);
+    }
+    prv_symmetrise(&c->res.center_cov);
+    prv_symmetrise(&c->res.axis_cov);
+}
+
+/* The misfit and the scaling of both covariances; the axis cone; MISFIT.
+ * The joint model's residual larger than the registrations predict scales
+ * the centre's covariance (Birge), the hinge model's own ratio the axis'
+ * (out-of-axis rotation is not noise); (1 + trust) restores the terms of
+ * relative size trust_ratio that the first-order sandwich leaves out. */
+static void prv_scale(prv_ctx_t *c, float at, float mm)
+{
+    sfit_pair_result_t *r = &c->res;
+    sfit_vec3_t wa;
+    int k;
+    r->misfit = (c->expect > 0.0f) ? c->cost / c->expect : 0.0f;
+    {
+        const float f = ((r->misfit > 1.0f) ? r->misfit : 1.0f) * (1.0f + r->trust_ratio);
+        const float fa = ((c->hratio > 1.0f) ? c->hratio : 1.0f) * (1.0f + r->trust_ratio);
+        for (k = 0; k < 9; k++) {
+            r->center_cov.m[k] *= f;
+            r->axis_cov.m[k] *= fa;
+        }
+    }
+    if (sfit_mat3_eig_sym(&r->axis_cov, &wa, NULL) != SFIT_OK
+        || PRV_CHI2_2_95 * wa.v[2] > at * at) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+    }
+    if (c->mode != SFIT_PAIR_MODE_HINGE) {
+        memset(&r->axis_cov, 0, sizeof r->axis_cov);
+    }
+    if (c->expect > 0.0f && r->misfit > mm) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_MISFIT;
+    }
+}
+
+/* The main reason of SFIT_FLAG_UNTRUSTED, by priority. */
+static sfit_pair_reason_t prv_reason(uint32_t flags, sfit_pair_mode_t mode)
+{
+    if ((flags & (uint32_t)SFIT_FLAG_FEW_SAMPLES) != 0u) {
+        return SFIT_PAIR_REASON_FEW_FRAMES;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_NO_NOISE) != 0u) {
+        return SFIT_PAIR_REASON_NO_NOISE;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION) != 0u) {
+        return SFIT_PAIR_REASON_SMALL_MOTION;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u && mode == SFIT_PAIR_MODE_HINGE) {
+        return SFIT_PAIR_REASON_AXIS_FREE;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
+        return SFIT_PAIR_REASON_AMBIGUOUS;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_MISFIT) != 0u) {
+        return SFIT_PAIR_REASON_MISFIT;
+    }
+    return SFIT_PAIR_REASON_NONE;
+}
+
+/* Fill the result (axis sign: largest component positive, the child axis
+ * follows); 0 when something is not finite. */
+static int prv_fill(const sfit_pair_t *s, prv_ctx_t *c, uint32_t mf)
+{
+    sfit_pair_result_t *r = &c->res;
+    int i, im = 0, ok;
+    for (i = 1; i < 3; i++) {
+        if (SFIT_FABSF(c->n1[i]) > SFIT_FABSF(c->n1[im])) {
+            im = i;
+        }
+    }
+    if (c->n1[im] < 0.0f) {
+        for (i = 0; i < 3; i++) {
+            c->n1[i] = -c->n1[i];
+            c->axc[i] = -c->axc[i];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        r->center_p.v[i] = c->cpp[i] + s->cen_p.v[i];
+        r->center_c.v[i] = c->ccc[i] + s->cen_c.v[i];
+        r->axis_p.v[i] = c->n1[i];
+        r->axis_c.v[i] = c->axc[i];
+        r->eigenvalues.v[i] = c->lam.v[i] / c->y.n;
+    }
+    r->method = c->corrected ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
+    r->mode = c->mode;
+    r->rms = SFIT_SQRTF(c->cost / c->y.n);
+    r->marker_var_p = c->y.var_p;
+    r->marker_var_c = c->y.var_c;
+    r->marker_var = 0.5f * (c->y.var_p + c->y.var_c);
+    r->noise = s->cfg.noise;
+    r->frames = s->frames;
+    if (s->frames < mf) {
+        c->flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    }
+    r->reason = prv_reason(c->flags, c->mode);
+    if (r->reason != SFIT_PAIR_REASON_NONE) {
+        c->flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+    }
+    r->flags = c->flags;
+    ok = sfit_i_finite3(r->center_p.v) && sfit_i_finite3(r->center_c.v)
+         && sfit_i_finite3(r->axis_p.v) && sfit_i_finite3(r->axis_c.v)
+         && sfit_i_finite3(r->eigenvalues.v) && sfit_i_isfinite(r->trust_ratio)
+         && sfit_i_isfinite(r->misfit) && sfit_i_isfinite(r->rms)
+         && sfit_i_isfinite(r->marker_var);
+    for (i = 0; i < 9; i++) {
+        ok = ok && sfit_i_isfinite(r->center_cov.m[i]) && sfit_i_isfinite(r->axis_cov.m[i]);
+    }
+    return ok;
+}
+
+/* A threshold of the options, or its default when 0. */
+static float prv_or(float v, float def)
+{
+    return (v > 0.0f) ? v : def;
+}
+
+sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
+{
+    prv_ctx_t c;
+    float ssr_p, ssr_c, dof_p, dof_c;
+    sfit_status_t st;
+
+    if (s == NULL || out == NULL || !prv_state_ok(s)) {
+        return SFIT_E_ARG;
+    }
+    if (s->frames < 3u) {
+        return SFIT_E_TOO_FEW;
+    }
+    memset(&c, 0, sizeof c);
+    if (!prv_build(s, &c.y, &dof_p, &dof_c, &ssr_p, &ssr_c)) {
+        return SFIT_E_RANGE;
+    }
+    prv_noise(s, &c, ssr_p, dof_p, ssr_c, dof_c);
+    c.corrected = (s->cfg.method == SFIT_PAIR_METHOD_DEFAULT);
+    st = prv_system(&c);
+    if (st == SFIT_OK) {
+        st = prv_decide(s, &c, prv_or(s->cfg.hinge_ratio, PRV_HINGE_RATIO));
+    }
+    if (st == SFIT_OK) {
+        const float mt = prv_or(s->cfg.max_trust, PRV_MAX_TRUST);
+        st = (c.mode == SFIT_PAIR_MODE_BALL) ? prv_solve_ball(&c, mt) : prv_solve_hinge(&c, mt);
+    }
+    if (st != SFIT_OK) {
+        return st;
+    }
+    {
+        const float at = prv_or(s->cfg.axis_tol, PRV_AXIS_TOL);
+        prv_axis_seen(&c, at, prv_or(s->cfg.wobble, PRV_WOBBLE));
+        prv_points(&c);
+        prv_covariances(s, &c);
+        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
+    }
+    if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
+        return SFIT_E_RANGE;
+    }
+    *out = c.res;
+    return SFIT_OK;
+}
