@@ -243,6 +243,7 @@ typedef struct res {
     double err;     /* centre error (mm) or axis error (deg) */
     double e[3];    /* ball: the centre's error vector (parent frame, mm) */
     int reason;     /* pair module: sfit_pair_reason_t of a flagged result */
+    double tr;      /* trace of the reported covariance (0: none) */
 } res_t;
 
 static res_t g_res[E_COUNT][TMAX];
@@ -255,6 +256,7 @@ static double g_rp[FMAX][9], g_tp[FMAX][3], g_rc[FMAX][9], g_tc[FMAX][3];
 static int g_nf;
 static double g_sig2_hat; /* marker variance from the registration residuals */
 static sfit_joint_t g_j;
+static sfit_vec3_t g_pflat[FMAX * MAXM], g_cflat[FMAX * MAXM]; /* frame-major, no padding */
 
 /* Relative rotation of frame f (child in parent, about the joint centre). */
 static void rel_rot(const cell_t *c, int f, int nf, double phi0, const double wob[6],
@@ -602,9 +604,12 @@ static int score_cov(const double *dp, const double *dc, const double h[36], con
     return 0;
 }
 
+static double g_last_tr; /* trace of the last covariance given to covered3 */
+
 static int covered3(const double cov[9], const double e[3])
 {
     double x[3];
+    g_last_tr = cov[0] + cov[4] + cov[8];
     if (solve_n(cov, e, 3, x) != 0) {
         return 0;
     }
@@ -638,6 +643,7 @@ static void run_score(const cell_t *c, const seg_t *ps, const seg_t *cs, int eiv
         out->err = tu_norm3(e);
         if (score_cov(eiv ? dp : NULL, eiv ? dc : NULL, h, x, cov) == 0) {
             out->cov = covered3(cov, e);
+            out->tr = g_last_tr;
         }
     } else {
         double s[9], w[3], v[9], a[3];
@@ -882,8 +888,16 @@ static void run_mgdk(const cell_t *c, const sfit_cluster_t *cl, const seg_t *ps,
         out->err = tu_norm3(e);
         /* the covariance this fit would report with the true (mgdk) or the
          * used (mgdk_sig, mgdk_est) marker variance */
+        for (f = 0; f < g_nf; f++) {
+            for (k = 0; k < ps->m; k++) {
+                g_pflat[f * ps->m + k] = g_pf[f][k];
+            }
+            for (k = 0; k < cs->m; k++) {
+                g_cflat[f * cs->m + k] = g_cf[f][k];
+            }
+        }
         if (r.fit.mode == SFIT_MODE_SPHERE
-            && sfit_joint_center_cov(&g_j, &r, &g_pf[0][0], &g_cf[0][0], (size_t)g_nf,
+            && sfit_joint_center_cov(&g_j, &r, g_pflat, g_cflat, (size_t)g_nf,
                                      (float)(noise ? var : c->sigma * c->sigma),
                                      &cv) == SFIT_OK) {
             double cd[9];
@@ -891,6 +905,7 @@ static void run_mgdk(const cell_t *c, const sfit_cluster_t *cl, const seg_t *ps,
                 cd[k] = (double)cv.m[k];
             }
             out->cov = covered3(cd, e);
+            out->tr = g_last_tr;
         }
     } else {
         double a[3];
@@ -972,6 +987,7 @@ static void run_pair(const cell_t *c, const sfit_cluster_t *clp, const sfit_clus
             cd[k] = (double)r.center_cov.m[k];
         }
         out->cov = covered3(cd, out->e);
+        out->tr = g_last_tr;
     } else {
         double a[3], e[3], cd[9], sg;
         for (k = 0; k < 3; k++) {
@@ -995,6 +1011,7 @@ static void run_pair(const cell_t *c, const sfit_cluster_t *clp, const sfit_clus
 typedef struct stat {
     long n, ok, flagged, unfl, cov_n, cov_in, planar;
     double mean, sd, p95, mean_unfl, bias;
+    double trratio; /* unflagged with a covariance: mean reported trace / MC trace */
 } stat_t;
 
 static int cmp_d(const void *a, const void *b)
@@ -1007,6 +1024,7 @@ static void stats(const res_t *r, int n, stat_t *s)
 {
     static double v[TMAX];
     double sum = 0.0, ss = 0.0, su = 0.0, be[3] = {0.0, 0.0, 0.0};
+    double cs[3] = {0.0, 0.0, 0.0}, css = 0.0, ctr = 0.0;
     int i, m = 0;
     memset(s, 0, sizeof *s);
     s->n = n;
@@ -1029,8 +1047,14 @@ static void stats(const res_t *r, int n, stat_t *s)
         s->unfl++;
         su += r[i].err;
         if (r[i].cov >= 0) {
+            int k;
             s->cov_n++;
             s->cov_in += r[i].cov;
+            ctr += r[i].tr;
+            for (k = 0; k < 3; k++) {
+                cs[k] += r[i].e[k];
+                css += r[i].e[k] * r[i].e[k];
+            }
         }
     }
     if (m > 0) {
@@ -1041,6 +1065,11 @@ static void stats(const res_t *r, int n, stat_t *s)
         s->bias = tu_norm3(be) / m;
     }
     s->mean_unfl = (s->unfl > 0) ? su / (double)s->unfl : 0.0;
+    if (s->cov_n > 1) {
+        const double nn = (double)s->cov_n;
+        const double mc = (css - tu_dot3(cs, cs) / nn) / (nn - 1.0);
+        s->trratio = (mc > 0.0) ? (ctr / nn) / mc : 0.0;
+    }
 }
 
 /* Paired test of mean(err_a) <= k mean(err_b) over the trials where both
@@ -1345,7 +1374,7 @@ int main(int argc, char **argv)
         return 1;
     }
     fprintf(fc, "kind,parent,sta,wobble,rom,sigma,method,trials,ok,flagged,mean,sd,p95,"
-                "mean_unflagged,cov_n,coverage,planar,sigma_hat,bias\n");
+                "mean_unflagged,cov_n,coverage,planar,sigma_hat,bias,rep_mc_trace\n");
     memset(&k, 0, sizeof k);
     k.f = fk;
     k.def = E_SCORE_EIV;
@@ -1391,12 +1420,13 @@ int main(int argc, char **argv)
         for (e = 0; e < E_COUNT; e++) {
             stat_t *s = &g_st[ci][e];
             stats(g_res[e], trials, s);
-            fprintf(fc, "%s,%s,%d,%d,%g,%g,%s,%ld,%ld,%ld,%.5g,%.5g,%.5g,%.5g,%ld,%.4f,%ld,%.4g,%.4g\n",
+            fprintf(fc, "%s,%s,%d,%d,%g,%g,%s,%ld,%ld,%ld,%.5g,%.5g,%.5g,%.5g,%ld,%.4f,%ld,%.4g,%.4g,"
+                        "%.4g\n",
                     c->kind == K_BALL ? "ball" : "hinge", c->still ? "still" : "moving", c->sta,
                     c->wobble, c->rom, c->sigma, k_ename[e], s->n, s->ok, s->flagged, s->mean,
                     s->sd, s->p95, s->mean_unfl, s->cov_n,
                     s->cov_n > 0 ? (double)s->cov_in / (double)s->cov_n : -1.0, s->planar, shat,
-                    s->bias);
+                    s->bias, s->trratio);
         }
         for (t = 0; t < trials; t++) {
             const res_t *r = &g_res[k.def][t];
