@@ -5,7 +5,9 @@
 # the range of motion (moving parent, sigma 1 mm); middle, the coverage of
 # the reported 95 % ellipsoid among unflagged results (same cells); right,
 # the mean hinge-axis error against the flexion range with 2-5 degrees of
-# out-of-axis motion (sigma 1 mm). Methods missing from the CSV are skipped.
+# out-of-axis motion (sigma 1 mm), and (right axis, dashed) the fraction of
+# the pair default's hinge results flagged untrusted. Methods missing from
+# the CSV are skipped.
 if (!exists("d")) d = "docs/figures"
 set datafile separator ","
 set datafile missing NaN
@@ -46,8 +48,13 @@ set autoscale y
 set logscale y
 set xlabel "flexion range (deg)"
 set ylabel "mean axis error (deg)"
-set key top right box opaque
+set key bottom left box opaque
+set y2label "flagged fraction (dashed)"
+set y2range [0:1.05]
+set y2tics 0.2
+set ytics nomirror
 plot f using 5:(hinge("mgdk", 1, $11)) with linespoints pt 7 lc rgb "#7f7f7f" title "MGDK planar (today's)", \
      "" using 5:(hinge("score", 1, $11)) with linespoints pt 5 lc rgb "#1f5fbf" title "SARA (double)", \
-     "" using 5:(havepair ? hinge("pair_default", 1, $11) : NaN) with linespoints pt 9 lw 2 lc rgb "#d62728" title "sfit_pair default"
+     "" using 5:(havepair ? hinge("pair_default", 1, $11) : NaN) with linespoints pt 9 lw 2 lc rgb "#d62728" title "sfit_pair default", \
+     "" using 5:(havepair ? hinge("pair_default", 1, $10 / $8) : NaN) axes x1y2 with linespoints pt 9 dt 2 lc rgb "#d62728" title "sfit_pair default: flagged"
 unset multiplot
