@@ -1204,12 +1204,34 @@ static void claim_ratio(claims_t *k, const cell_t *c, int trials, double lim, in
             ok ? "yes" : known ? "**NO** (known)" : "**NO**");
 }
 
+/* The claims above pass for flagged results; so that they cannot pass by
+ * flagging everything, the default must leave a well-determined joint
+ * unflagged: at most 5 % flagged (+ 2 binomial SE) in noise-only ball cells
+ * with RoM >= 20 and pure-hinge cells with flexion >= 60. */
+static void claim_not_overflagged(claims_t *k, const cell_t *c, const stat_t *d)
+{
+    const double fr = (double)d->flagged / (double)d->n;
+    const double se = sqrt(0.05 * 0.95 / (double)d->n);
+    const int ok = fr <= 0.05 + 2.0 * se;
+    char nm[64];
+    k->n++;
+    k->fail += !ok;
+    fprintf(k->f, "| %s | %g | %g | %s flags <= 5 %% (+ 2 SE) of a well-determined joint | "
+                  "%ld | %.3f +- %.3f | %s |\n",
+            cell_name(c, nm, sizeof nm), c->rom, c->sigma, k_ename[k->def], d->n, fr, se,
+            ok ? "yes" : "**NO**");
+}
+
 static void claims_cell(claims_t *k, const cell_t *c, int ci, int trials)
 {
     const stat_t *d = &g_st[ci][k->def];
     char nm[64];
     if (c->sta) {
         return;
+    }
+    if ((c->kind == K_BALL && c->rom >= 20.0) || (c->kind == K_HINGE && !c->wobble
+                                                  && c->rom >= 60.0)) {
+        claim_not_overflagged(k, c, d);
     }
     if (c->kind == K_BALL) {
         claim_ratio(k, c, trials, 1.1, 1);
