@@ -17,15 +17,22 @@
  *  - score_eiv:  the same with the errors-in-variables bias of the noisy
  *                rotations removed, sigma^2 from the residuals (the other
  *                candidate default, see eiv_shrink below);
+ *  - score_gls:  score_eiv weighted by each frame's residual covariance at
+ *                a first estimate (a second pass; what weighting would gain);
  *  - the library's pair module (sfit_pair.h) when it is built in
- *    (SFIT_MC_HAVE_PAIR): its default, SCoRE and SARA modes.
+ *    (SFIT_MC_HAVE_PAIR): pair_default and pair_score (SFIT_PAIR_METHOD_*;
+ *    ball cells in mode auto, hinge cells in mode hinge) and pair_auto (the
+ *    default in mode auto on the hinge cells).
  *
- * Usage: sfit_mc_joint_bench OUTDIR [quick|check] [trials]
+ * Usage: sfit_mc_joint_bench OUTDIR [full|quick|check] [trials]
  *   full (default): every cell, 200 trials; writes OUTDIR/joint_bench.csv,
  *                   joint_bench_table.md and joint_bench_claims.md.
  *   quick:          every cell, 100 trials (or the given count).
- *   check:          the reduced grid of the ctest (fewer cells, 100 trials);
- *                   exit status 1 when a must-show of issue 28 fails.
+ *   check:          the reduced grid of the ctest (18 cells, 100 trials);
+ *                   exit status 1 when a claim fails (must-shows 1 and 2 of
+ *                   issue 28, see claims_cell), except the listed known
+ *                   exceptions (known_exception), or when the pair module is
+ *                   not built.
  * Fixed seeds: identical output from run to run on the same platform.
  */
 #include <math.h>
