@@ -41,7 +41,8 @@ def _version():
 lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
-    sources=[os.path.join(HERE, "src", "sfitmodule.c")] + lib_sources,
+    sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "pair_py.c")]
+    + lib_sources,
     include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],
