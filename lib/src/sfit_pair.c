@@ -604,28 +604,424 @@ static void prv_symmetrise(sfit_mat3_t *a)
     sfit_i_sym_unpack(p, a);
 }
 
-sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
-{
+/* Working state of one solve (the phases below share it). */
+typedef struct prv_ctx {
     prv_sys_t y;
     sfit_pair_result_t res;
-    sfit_mat3_t nm, sc, w_c, qinv, vec, tmp, tmp2, pmat, cmat, g, scinv;
+    sfit_mat3_t nm, sc, w_c, qinv, vec, scinv;
     sfit_vec3_t lam;
-    float ssr_p, ssr_c, dof_p, dof_c, rhs[3], cpp[3], ccc[3], n1[3], n2[3], axc[3];
-    float ratio12 = 0.0f, z = 0.0f, hratio = 1.0f, cost, expect, len;
-    uint32_t flags = 0u;
-    sfit_pair_reason_t reason = SFIT_PAIR_REASON_NONE;
+    float rhs[3], cpp[3], ccc[3], n1[3], n2[3], axc[3], b[3];
+    float ratio12, z, hratio, cost, expect, proj;
+    uint32_t flags;
     sfit_pair_mode_t mode;
-    int corrected, k, i;
+    int corrected;
+} prv_ctx_t;
+
+/* Status of an eigen-decomposition as the solve reports it. */
+static sfit_status_t prv_eig_status(sfit_status_t st)
+{
+    return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+}
+
+/* Marker variance of each cluster; K_p, K_c scaled by it. */
+static void prv_noise(const sfit_pair_t *s, prv_ctx_t *c, float ssr_p, float dof_p, float ssr_c,
+                      float dof_c)
+{
+    prv_sys_t *y = &c->y;
+    int k;
+    if (s->cfg.noise == SFIT_PAIR_NOISE_GIVEN) {
+        y->var_p = s->cfg.marker_var;
+        y->var_c = s->cfg.marker_var;
+    } else {
+        y->var_p = (dof_p > 0.0f) ? ssr_p / dof_p : -1.0f;
+        y->var_c = (dof_c > 0.0f) ? ssr_c / dof_c : -1.0f;
+        if (y->var_p < 0.0f && y->var_c < 0.0f) {
+            y->var_p = 0.0f;
+            y->var_c = 0.0f;
+            c->flags |= (uint32_t)SFIT_PAIR_FLAG_NO_NOISE;
+        } else if (y->var_p < 0.0f) {
+            y->var_p = y->var_c;
+        } else if (y->var_c < 0.0f) {
+            y->var_c = y->var_p;
+        }
+    }
+    for (k = 0; k < 9; k++) {
+        y->kp.m[k] *= y->var_p;
+        y->kc.m[k] *= y->var_c;
+    }
+}
+
+/* The noise inflation N (K_p + Abar K_c Abar^T) and the system to solve:
+ * corrected, S - N K_p - N Abar Q^-1 K_c Abar^T, Q = I - K_c, right-hand
+ * side r' - N Abar Q^-1 K_c gbar'; plain, S and r'. */
+static sfit_status_t prv_system(prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    sfit_mat3_t tmp, q, l;
+    int k, i;
+    prv_sandwich(&y->abar, &y->kc, &tmp);
+    for (k = 0; k < 9; k++) {
+        c->nm.m[k] = y->n * (y->kp.m[k] + tmp.m[k]);
+        q.m[k] = ((k % 4 == 0) ? 1.0f : 0.0f) - y->kc.m[k];
+    }
+    prv_symmetrise(&c->nm);
+    if (sfit_mat3_chol(&q, &l) != SFIT_OK) {
+        return SFIT_E_RANGE; /* var_c J_c^-1 beyond 1 rad^2: not a rotation noise */
+    }
+    sfit_i_chol_inverse(&l, &c->qinv);
+    sfit_i_mat3_mul(&c->qinv, &y->kc, &c->w_c);
+    prv_symmetrise(&c->w_c);
+    prv_sandwich(&y->abar, &c->w_c, &tmp);
+    c->sc = y->s;
+    for (i = 0; i < 3; i++) {
+        c->rhs[i] = y->r[i];
+    }
+    if (c->corrected) {
+        float wg[3];
+        for (k = 0; k < 9; k++) {
+            c->sc.m[k] -= y->n * (y->kp.m[k] + tmp.m[k]);
+        }
+        prv_symmetrise(&c->sc);
+        sfit_i_mat3_vec(&c->w_c, y->gbar, wg);
+        for (i = 0; i < 3; i++) {
+            c->rhs[i] -= y->n * sfit_i_dot3(&y->abar.m[3 * i], wg);
+        }
+    }
+    return SFIT_OK;
+}
+
+/* Eigen-decomposition of the system, the decision statistics (from the
+ * corrected eigenvalues) and the mode. */
+static sfit_status_t prv_decide(const sfit_pair_t *s, prv_ctx_t *c, float hr)
+{
+    prv_sys_t *y = &c->y;
+    sfit_vec3_t ws;
+    sfit_status_t st = sfit_mat3_eig_sym(&y->s, &ws, NULL);
+    if (st != SFIT_OK) {
+        return prv_eig_status(st);
+    }
+    if (!(ws.v[2] > PRV_MIN_SPREAD * y->n)) {
+        return SFIT_E_DEGENERATE; /* the relative rotation never changed */
+    }
+    st = sfit_mat3_eig_sym(&c->sc, &c->lam, &c->vec);
+    if (st != SFIT_OK) {
+        return prv_eig_status(st);
+    }
+    prv_col(&c->vec, 0, c->n1);
+    prv_col(&c->vec, 1, c->n2);
+    {
+        const float nz1 = prv_quad(&c->nm, c->n1);
+        const float l1c = c->corrected ? c->lam.v[0] : c->lam.v[0] - nz1;
+        const float l2c = c->corrected ? c->lam.v[1] : c->lam.v[1] - prv_quad(&c->nm, c->n2);
+        c->ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
+        c->hratio = 1.0f;
+        if (nz1 > 0.0f) {
+            c->z = SFIT_SQRTF(y->n) * l1c / nz1;
+            /* the hinge model's residual rotation against the noise's */
+            c->hratio = 1.0f + l1c / nz1;
+        } else {
+            c->z = (l1c > 0.0f) ? 1e30f : 0.0f;
+        }
+    }
+    if (s->cfg.mode == SFIT_PAIR_MODE_AUTO) {
+        c->mode = (c->ratio12 < hr) ? SFIT_PAIR_MODE_HINGE : SFIT_PAIR_MODE_BALL;
+        if ((c->ratio12 >= hr / 3.0f && c->ratio12 < 3.0f * hr)
+            || (c->mode == SFIT_PAIR_MODE_BALL && c->z < PRV_Z_BALL)) {
+            c->flags |= (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS;
+        }
+    } else {
+        c->mode = s->cfg.mode;
+    }
+    return SFIT_OK;
+}
+
+/* Back to the plain system (the correction took it below zero). */
+static void prv_plain(prv_ctx_t *c)
+{
+    int i;
+    c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    c->corrected = 0;
+    c->sc = c->y.s;
+    for (i = 0; i < 3; i++) {
+        c->rhs[i] = c->y.r[i];
+    }
+}
+
+/* Ball: Cholesky solve of the system (plain SCoRE when the corrected one is
+ * not positive definite). */
+static sfit_status_t prv_solve_ball(prv_ctx_t *c, float mt)
+{
+    sfit_mat3_t l;
+    const float den = prv_quad(&c->y.s, c->n1);
+    c->res.trust_ratio = (den > 0.0f) ? prv_quad(&c->nm, c->n1) / den : 1.0f;
+    if (sfit_mat3_chol(&c->sc, &l) != SFIT_OK) {
+        if (!c->corrected) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_plain(c);
+        if (sfit_mat3_chol(&c->sc, &l) != SFIT_OK) {
+            return SFIT_E_DEGENERATE;
+        }
+    }
+    sfit_i_chol_solve(&l, c->rhs, c->cpp);
+    sfit_i_chol_inverse(&l, &c->scinv);
+    if (c->res.trust_ratio > mt) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    }
+    return SFIT_OK;
+}
+
+/* Hinge: the pseudo-inverse over eigenvalues 2 and 3 (plain SARA's
+ * subspace when the corrected second eigenvalue is not positive). */
+static sfit_status_t prv_solve_hinge(prv_ctx_t *c, float mt)
+{
+    const float den = prv_quad(&c->y.s, c->n2);
+    c->res.trust_ratio = (den > 0.0f) ? prv_quad(&c->nm, c->n2) / den : 1.0f;
+    if (!(c->lam.v[1] > 0.0f)) {
+        sfit_status_t st;
+        if (!c->corrected) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_plain(c);
+        st = sfit_mat3_eig_sym(&c->sc, &c->lam, &c->vec);
+        if (st != SFIT_OK) {
+            return prv_eig_status(st);
+        }
+        if (!(c->lam.v[1] > 0.0f)) {
+            return SFIT_E_DEGENERATE;
+        }
+        prv_col(&c->vec, 0, c->n1);
+    }
+    prv_pinv2(&c->vec, &c->lam, &c->scinv);
+    sfit_i_mat3_vec(&c->scinv, c->rhs, c->cpp);
+    if (c->res.trust_ratio > mt) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
+    }
+    return SFIT_OK;
+}
+
+/* Is the axis fixed? tan^2(at) (series, 1e-3 relative up to 30 degrees)
+ * against the out-of-axis rotation seen and the one that cannot be seen
+ * (wobble in step with a flexion of spread sqrt(lambda_2)). */
+static void prv_axis_seen(prv_ctx_t *c, float at, float wb)
+{
+    const float a2 = at * at;
+    const float tan2 =
+        a2 * (1.0f + a2 * (2.0f / 3.0f + a2 * (17.0f / 45.0f + a2 * (62.0f / 315.0f))));
+    const float flex2 = c->lam.v[1] / c->y.n; /* flexion spread^2 (rad^2) */
+    if (c->ratio12 > tan2 || wb * wb > tan2 * flex2) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+    }
+}
+
+/* The SCoRE cost at the solution; the hinge point nearest the mid-point of
+ * the clusters; the child point and axis. */
+static void prv_points(prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    float cperp[3], len;
+    int i, k;
+    c->cost = prv_quad(&y->s, c->cpp) - 2.0f * sfit_i_dot3(c->cpp, y->r) + y->hh;
+    if (!(c->cost > 0.0f)) {
+        c->cost = 0.0f;
+    }
+    memcpy(cperp, c->cpp, sizeof cperp);
+    for (i = 0; i < 3; i++) {
+        c->b[i] = y->mid[i] - cperp[i];
+    }
+    c->proj = sfit_i_dot3(c->n1, c->b);
+    if (c->mode == SFIT_PAIR_MODE_HINGE) {
+        for (i = 0; i < 3; i++) {
+            c->cpp[i] = cperp[i] + c->proj * c->n1[i];
+        }
+    }
+    /* Child point: (I - K_c/2) Q^-1 (Abar^T c - gbar'), plain: Abar^T c - gbar'. */
+    for (i = 0; i < 3; i++) {
+        float t = 0.0f;
+        for (k = 0; k < 3; k++) {
+            t += y->abar.m[3 * k + i] * c->cpp[k];
+        }
+        c->ccc[i] = t - y->gbar[i];
+        c->axc[i] = y->abar.m[i] * c->n1[0] + y->abar.m[3 + i] * c->n1[1]
+                    + y->abar.m[6 + i] * c->n1[2];
+    }
+    if (c->corrected) {
+        float t[3];
+        sfit_i_mat3_vec(&c->qinv, c->ccc, t);
+        for (i = 0; i < 3; i++) {
+            c->ccc[i] = t[i] - 0.5f * sfit_i_dot3(&y->kc.m[3 * i], t);
+        }
+    }
+    if (!sfit_i_unit3(c->axc, &len)) {
+        c->axc[0] = 1.0f;
+        c->axc[1] = 0.0f;
+        c->axc[2] = 0.0f;
+    }
+}
+
+/* Covariances of the centre and the axis (docs/pair.md#covariance), the
+ * expected cost; then the corrected centre's (I - K_p/2). */
+static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
+{
+    prv_sys_t *y = &c->y;
+    sfit_mat3_t pmat, cmat, g, pn, cn, pinv;
+    int i, k;
+    prv_point_noise(y, s, c->cpp, c->ccc, &pmat, &cmat);
+    c->expect = (y->n - 2.0f)
+                * (pmat.m[0] + pmat.m[4] + pmat.m[8] + cmat.m[0] + cmat.m[4] + cmat.m[8]);
+    prv_gmat(y, &pmat, &cmat, &g);
+    prv_sandwich(&c->scinv, &g, &c->res.center_cov);
+    /* Axis: d n = -S^+ (d S) n, (d S) n = sum B xi, xi the noise of B^T n:
+     * the same sandwich with P = var_p [n]J_p^-1[n]^T. */
+    prv_cross_quad(c->n1, &y->jp, &pn);
+    prv_cross_quad(c->axc, &y->jc, &cn);
+    for (k = 0; k < 9; k++) {
+        pn.m[k] *= y->var_p;
+        cn.m[k] *= y->var_c;
+    }
+    prv_pinv2(&c->vec, &c->lam, &pinv);
+    prv_gmat(y, &pn, &cn, &g);
+    prv_sandwich(&pinv, &g, &c->res.axis_cov);
+    if (c->mode == SFIT_PAIR_MODE_HINGE) {
+        /* The point moves with the axis: d p = (a I + n b^T) d n. */
+        for (i = 0; i < 3; i++) {
+            for (k = 0; k < 3; k++) {
+                pinv.m[3 * i + k] = ((i == k) ? c->proj : 0.0f) + c->n1[i] * c->b[k];
+            }
+        }
+        prv_sandwich(&pinv, &c->res.axis_cov, &g);
+        for (k = 0; k < 9; k++) {
+            c->res.center_cov.m[k] += g.m[k];
+        }
+    }
+    if (c->corrected) {
+        float t[3];
+        for (i = 0; i < 3; i++) {
+            t[i] = c->cpp[i] - 0.5f * sfit_i_dot3(&y->kp.m[3 * i], c->cpp);
+        }
+        memcpy(c->cpp, t, sizeof t);
+    }
+    prv_symmetrise(&c->res.center_cov);
+    prv_symmetrise(&c->res.axis_cov);
+}
+
+/* The misfit and the scaling of both covariances; the axis cone; MISFIT.
+ * The joint model's residual larger than the registrations predict scales
+ * the centre's covariance (Birge), the hinge model's own ratio the axis'
+ * (out-of-axis rotation is not noise); (1 + trust) restores the terms of
+ * relative size trust_ratio that the first-order sandwich leaves out. */
+static void prv_scale(prv_ctx_t *c, float at, float mm)
+{
+    sfit_pair_result_t *r = &c->res;
+    sfit_vec3_t wa;
+    int k;
+    r->misfit = (c->expect > 0.0f) ? c->cost / c->expect : 0.0f;
+    {
+        const float f = ((r->misfit > 1.0f) ? r->misfit : 1.0f) * (1.0f + r->trust_ratio);
+        const float fa = ((c->hratio > 1.0f) ? c->hratio : 1.0f) * (1.0f + r->trust_ratio);
+        for (k = 0; k < 9; k++) {
+            r->center_cov.m[k] *= f;
+            r->axis_cov.m[k] *= fa;
+        }
+    }
+    if (sfit_mat3_eig_sym(&r->axis_cov, &wa, NULL) != SFIT_OK
+        || PRV_CHI2_2_95 * wa.v[2] > at * at) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+    }
+    if (c->mode != SFIT_PAIR_MODE_HINGE) {
+        memset(&r->axis_cov, 0, sizeof r->axis_cov);
+    }
+    if (c->expect > 0.0f && r->misfit > mm) {
+        c->flags |= (uint32_t)SFIT_PAIR_FLAG_MISFIT;
+    }
+}
+
+/* The main reason of SFIT_FLAG_UNTRUSTED, by priority. */
+static sfit_pair_reason_t prv_reason(uint32_t flags, sfit_pair_mode_t mode)
+{
+    if ((flags & (uint32_t)SFIT_FLAG_FEW_SAMPLES) != 0u) {
+        return SFIT_PAIR_REASON_FEW_FRAMES;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_NO_NOISE) != 0u) {
+        return SFIT_PAIR_REASON_NO_NOISE;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION) != 0u) {
+        return SFIT_PAIR_REASON_SMALL_MOTION;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u && mode == SFIT_PAIR_MODE_HINGE) {
+        return SFIT_PAIR_REASON_AXIS_FREE;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
+        return SFIT_PAIR_REASON_AMBIGUOUS;
+    }
+    if ((flags & (uint32_t)SFIT_PAIR_FLAG_MISFIT) != 0u) {
+        return SFIT_PAIR_REASON_MISFIT;
+    }
+    return SFIT_PAIR_REASON_NONE;
+}
+
+/* Fill the result (axis sign: largest component positive, the child axis
+ * follows); 0 when something is not finite. */
+static int prv_fill(const sfit_pair_t *s, prv_ctx_t *c, uint32_t mf)
+{
+    sfit_pair_result_t *r = &c->res;
+    int i, im = 0, ok;
+    for (i = 1; i < 3; i++) {
+        if (SFIT_FABSF(c->n1[i]) > SFIT_FABSF(c->n1[im])) {
+            im = i;
+        }
+    }
+    if (c->n1[im] < 0.0f) {
+        for (i = 0; i < 3; i++) {
+            c->n1[i] = -c->n1[i];
+            c->axc[i] = -c->axc[i];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        r->center_p.v[i] = c->cpp[i] + s->cen_p.v[i];
+        r->center_c.v[i] = c->ccc[i] + s->cen_c.v[i];
+        r->axis_p.v[i] = c->n1[i];
+        r->axis_c.v[i] = c->axc[i];
+        r->eigenvalues.v[i] = c->lam.v[i] / c->y.n;
+    }
+    r->method = c->corrected ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
+    r->mode = c->mode;
+    r->rms = SFIT_SQRTF(c->cost / c->y.n);
+    r->marker_var_p = c->y.var_p;
+    r->marker_var_c = c->y.var_c;
+    r->marker_var = 0.5f * (c->y.var_p + c->y.var_c);
+    r->noise = s->cfg.noise;
+    r->frames = s->frames;
+    if (s->frames < mf) {
+        c->flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
+    }
+    r->reason = prv_reason(c->flags, c->mode);
+    if (r->reason != SFIT_PAIR_REASON_NONE) {
+        c->flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
+    }
+    r->flags = c->flags;
+    ok = sfit_i_finite3(r->center_p.v) && sfit_i_finite3(r->center_c.v)
+         && sfit_i_finite3(r->axis_p.v) && sfit_i_finite3(r->axis_c.v)
+         && sfit_i_finite3(r->eigenvalues.v) && sfit_i_isfinite(r->trust_ratio)
+         && sfit_i_isfinite(r->misfit) && sfit_i_isfinite(r->rms)
+         && sfit_i_isfinite(r->marker_var);
+    for (i = 0; i < 9; i++) {
+        ok = ok && sfit_i_isfinite(r->center_cov.m[i]) && sfit_i_isfinite(r->axis_cov.m[i]);
+    }
+    return ok;
+}
+
+/* A threshold of the options, or its default when 0. */
+static float prv_or(float v, float def)
+{
+    return (v > 0.0f) ? v : def;
+}
+
+sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
+{
+    prv_ctx_t c;
+    float ssr_p, ssr_c, dof_p, dof_c;
     sfit_status_t st;
-    const float hr = (s != NULL && s->cfg.hinge_ratio > 0.0f) ? s->cfg.hinge_ratio
-                                                                 : PRV_HINGE_RATIO;
-    const float mt = (s != NULL && s->cfg.max_trust > 0.0f) ? s->cfg.max_trust : PRV_MAX_TRUST;
-    const float mm = (s != NULL && s->cfg.max_misfit > 0.0f) ? s->cfg.max_misfit
-                                                                : PRV_MAX_MISFIT;
-    const float at = (s != NULL && s->cfg.axis_tol > 0.0f) ? s->cfg.axis_tol : PRV_AXIS_TOL;
-    const float wb = (s != NULL && s->cfg.wobble > 0.0f) ? s->cfg.wobble : PRV_WOBBLE;
-    const uint32_t mf = (s != NULL && s->cfg.min_frames > 0u) ? s->cfg.min_frames
-                                                               : PRV_MIN_FRAMES;
 
     if (s == NULL || out == NULL || !prv_state_ok(s)) {
         return SFIT_E_ARG;
@@ -633,354 +1029,33 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     if (s->frames < 3u) {
         return SFIT_E_TOO_FEW;
     }
-    if (!prv_build(s, &y, &dof_p, &dof_c, &ssr_p, &ssr_c)) {
+    memset(&c, 0, sizeof c);
+    if (!prv_build(s, &c.y, &dof_p, &dof_c, &ssr_p, &ssr_c)) {
         return SFIT_E_RANGE;
     }
-    memset(&res, 0, sizeof res);
-    /* Marker variance of each cluster. */
-    if (s->cfg.noise == SFIT_PAIR_NOISE_GIVEN) {
-        y.var_p = s->cfg.marker_var;
-        y.var_c = s->cfg.marker_var;
-    } else {
-        y.var_p = (dof_p > 0.0f) ? ssr_p / dof_p : -1.0f;
-        y.var_c = (dof_c > 0.0f) ? ssr_c / dof_c : -1.0f;
-        if (y.var_p < 0.0f && y.var_c < 0.0f) {
-            y.var_p = 0.0f;
-            y.var_c = 0.0f;
-            flags |= (uint32_t)SFIT_PAIR_FLAG_NO_NOISE;
-        } else if (y.var_p < 0.0f) {
-            y.var_p = y.var_c;
-        } else if (y.var_c < 0.0f) {
-            y.var_c = y.var_p;
-        }
+    prv_noise(s, &c, ssr_p, dof_p, ssr_c, dof_c);
+    c.corrected = (s->cfg.method == SFIT_PAIR_METHOD_DEFAULT);
+    st = prv_system(&c);
+    if (st == SFIT_OK) {
+        st = prv_decide(s, &c, prv_or(s->cfg.hinge_ratio, PRV_HINGE_RATIO));
     }
-    for (k = 0; k < 9; k++) {
-        y.kp.m[k] *= y.var_p;
-        y.kc.m[k] *= y.var_c;
+    if (st == SFIT_OK) {
+        const float mt = prv_or(s->cfg.max_trust, PRV_MAX_TRUST);
+        st = (c.mode == SFIT_PAIR_MODE_BALL) ? prv_solve_ball(&c, mt) : prv_solve_hinge(&c, mt);
     }
-    /* Noise inflation of S: N (K_p + Abar K_c Abar^T). */
-    prv_sandwich(&y.abar, &y.kc, &tmp);
-    for (k = 0; k < 9; k++) {
-        nm.m[k] = y.n * (y.kp.m[k] + tmp.m[k]);
-    }
-    prv_symmetrise(&nm);
-    /* Corrected system: S - N K_p - N Abar Q^-1 K_c Abar^T, Q = I - K_c;
-     * right-hand side r' - N Abar Q^-1 K_c gbar'. */
-    corrected = (s->cfg.method == SFIT_PAIR_METHOD_DEFAULT);
-    {
-        sfit_mat3_t q, l;
-        for (k = 0; k < 9; k++) {
-            q.m[k] = ((k % 4 == 0) ? 1.0f : 0.0f) - y.kc.m[k];
-        }
-        if (sfit_mat3_chol(&q, &l) != SFIT_OK) {
-            return SFIT_E_RANGE; /* var_c J_c^-1 beyond 1 rad^2: not a rotation noise */
-        }
-        sfit_i_chol_inverse(&l, &qinv);
-    }
-    sfit_i_mat3_mul(&qinv, &y.kc, &w_c);
-    prv_symmetrise(&w_c);
-    prv_sandwich(&y.abar, &w_c, &tmp);
-    sc = y.s;
-    for (i = 0; i < 3; i++) {
-        rhs[i] = y.r[i];
-    }
-    if (corrected) {
-        float wg[3];
-        for (k = 0; k < 9; k++) {
-            sc.m[k] -= y.n * (y.kp.m[k] + tmp.m[k]);
-        }
-        prv_symmetrise(&sc);
-        sfit_i_mat3_vec(&w_c, y.gbar, wg);
-        for (i = 0; i < 3; i++) {
-            rhs[i] -= y.n * sfit_i_dot3(&y.abar.m[3 * i], wg);
-        }
-    }
-    /* Spread of the relative rotations. */
-    {
-        sfit_vec3_t ws;
-        st = sfit_mat3_eig_sym(&y.s, &ws, NULL);
-        if (st != SFIT_OK) {
-            return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
-        }
-        if (!(ws.v[2] > PRV_MIN_SPREAD * y.n)) {
-            return SFIT_E_DEGENERATE;
-        }
-    }
-    st = sfit_mat3_eig_sym(&sc, &lam, &vec);
     if (st != SFIT_OK) {
-        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
-    }
-    prv_col(&vec, 0, n1);
-    prv_col(&vec, 1, n2);
-    {
-        /* Decision statistics from the corrected eigenvalues. */
-        const float nz1 = prv_quad(&nm, n1);
-        const float l1c = corrected ? lam.v[0] : lam.v[0] - nz1;
-        const float l2c = corrected ? lam.v[1] : lam.v[1] - prv_quad(&nm, n2);
-        ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
-        if (nz1 > 0.0f) {
-            z = SFIT_SQRTF(y.n) * l1c / nz1;
-            /* the hinge model's residual rotation against the noise's */
-            hratio = 1.0f + l1c / nz1;
-        } else {
-            z = (l1c > 0.0f) ? 1e30f : 0.0f;
-        }
-    }
-    if (s->cfg.mode == SFIT_PAIR_MODE_AUTO) {
-        mode = (ratio12 < hr) ? SFIT_PAIR_MODE_HINGE : SFIT_PAIR_MODE_BALL;
-        if ((ratio12 >= hr / 3.0f && ratio12 < 3.0f * hr)
-            || (mode == SFIT_PAIR_MODE_BALL && z < PRV_Z_BALL)) {
-            flags |= (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS;
-        }
-    } else {
-        mode = s->cfg.mode;
-    }
-
-    if (mode == SFIT_PAIR_MODE_BALL) {
-        sfit_mat3_t l;
-        const float den = prv_quad(&y.s, n1);
-        res.trust_ratio = (den > 0.0f) ? prv_quad(&nm, n1) / den : 1.0f;
-        if (sfit_mat3_chol(&sc, &l) != SFIT_OK) {
-            if (!corrected) {
-                return SFIT_E_DEGENERATE;
-            }
-            /* The correction took S below zero: the motion is too small for
-             * the noise. Give plain SCoRE, flagged. */
-            flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
-            corrected = 0;
-            sc = y.s;
-            for (i = 0; i < 3; i++) {
-                rhs[i] = y.r[i];
-            }
-            if (sfit_mat3_chol(&sc, &l) != SFIT_OK) {
-                return SFIT_E_DEGENERATE;
-            }
-        }
-        sfit_i_chol_solve(&l, rhs, cpp);
-        sfit_i_chol_inverse(&l, &scinv);
-        if (res.trust_ratio > mt) {
-            flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
-        }
-    } else {
-        const float den = prv_quad(&y.s, n2);
-        res.trust_ratio = (den > 0.0f) ? prv_quad(&nm, n2) / den : 1.0f;
-        if (!(lam.v[1] > 0.0f)) {
-            /* Not even two directions are fixed: give plain SARA's subspace. */
-            if (!corrected) {
-                return SFIT_E_DEGENERATE;
-            }
-            flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
-            corrected = 0;
-            sc = y.s;
-            for (i = 0; i < 3; i++) {
-                rhs[i] = y.r[i];
-            }
-            st = sfit_mat3_eig_sym(&sc, &lam, &vec);
-            if (st != SFIT_OK) {
-                return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
-            }
-            if (!(lam.v[1] > 0.0f)) {
-                return SFIT_E_DEGENERATE;
-            }
-            prv_col(&vec, 0, n1);
-        }
-        prv_pinv2(&vec, &lam, &scinv);
-        sfit_i_mat3_vec(&scinv, rhs, cpp);
-        if (res.trust_ratio > mt) {
-            flags |= (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION;
-        }
-    }
-    res.method = corrected ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
-    /* Is the axis fixed? (A hinge's result; for a ball, about axis_p.) */
-    {
-        /* tan^2(at) (series, 1e-3 relative up to 30 degrees) against the
-         * out-of-axis rotation seen and the one that cannot be seen. */
-        const float a2 = at * at;
-        const float tan2 = a2 * (1.0f + a2 * (2.0f / 3.0f + a2 * (17.0f / 45.0f
-                                                            + a2 * (62.0f / 315.0f))));
-        const float flex2 = lam.v[1] / y.n; /* flexion spread^2 (rad^2) */
-        if (ratio12 > tan2 || wb * wb > tan2 * flex2) {
-            flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
-        }
-    }
-    /* The misfit: SCoRE's cost at the solution against its expectation. */
-    cost = prv_quad(&y.s, cpp) - 2.0f * sfit_i_dot3(cpp, y.r) + y.hh;
-    if (!(cost > 0.0f)) {
-        cost = 0.0f;
-    }
-    /* Hinge: the point nearest the mid-point of the clusters. */
-    {
-        float cperp[3], b[3], proj;
-        memcpy(cperp, cpp, sizeof cperp);
-        for (i = 0; i < 3; i++) {
-            b[i] = y.mid[i] - cperp[i];
-        }
-        proj = sfit_i_dot3(n1, b);
-        if (mode == SFIT_PAIR_MODE_HINGE) {
-            for (i = 0; i < 3; i++) {
-                cpp[i] = cperp[i] + proj * n1[i];
-            }
-        }
-        /* Child point: (I - K_c/2) Q^-1 (Abar^T c - gbar'), plain: Abar^T c - gbar'. */
-        for (i = 0; i < 3; i++) {
-            float t = 0.0f;
-            for (k = 0; k < 3; k++) {
-                t += y.abar.m[3 * k + i] * cpp[k];
-            }
-            ccc[i] = t - y.gbar[i];
-            axc[i] = y.abar.m[i] * n1[0] + y.abar.m[3 + i] * n1[1] + y.abar.m[6 + i] * n1[2];
-        }
-        if (corrected) {
-            float t[3];
-            sfit_i_mat3_vec(&qinv, ccc, t);
-            for (i = 0; i < 3; i++) {
-                ccc[i] = t[i] - 0.5f * sfit_i_dot3(&y.kc.m[3 * i], t);
-            }
-        }
-        if (!sfit_i_unit3(axc, &len)) {
-            axc[0] = 1.0f;
-            axc[1] = 0.0f;
-            axc[2] = 0.0f;
-        }
-        /* Covariances. */
-        prv_point_noise(&y, s, cpp, ccc, &pmat, &cmat);
-        expect = (y.n - 2.0f) * (pmat.m[0] + pmat.m[4] + pmat.m[8] + cmat.m[0] + cmat.m[4]
-                                 + cmat.m[8]);
-        prv_gmat(&y, &pmat, &cmat, &g);
-        prv_sandwich(&scinv, &g, &res.center_cov);
-        {
-            /* Axis: d n = -S^+ (d S) n, (d S) n = sum B xi, xi the noise of
-             * B^T n: the same sandwich with P = var_p [n]J_p^-1[n]^T. */
-            sfit_mat3_t pn, cn, gn;
-            prv_cross_quad(n1, &y.jp, &pn);
-            prv_cross_quad(axc, &y.jc, &cn);
-            for (k = 0; k < 9; k++) {
-                pn.m[k] *= y.var_p;
-                cn.m[k] *= y.var_c;
-            }
-            {
-                sfit_mat3_t pinv;
-                prv_pinv2(&vec, &lam, &pinv);
-                prv_gmat(&y, &pn, &cn, &gn);
-                prv_sandwich(&pinv, &gn, &res.axis_cov);
-            }
-            if (mode == SFIT_PAIR_MODE_HINGE) {
-                /* The point moves with the axis: d p = (a I + n b^T) d n. */
-                for (i = 0; i < 3; i++) {
-                    for (k = 0; k < 3; k++) {
-                        tmp2.m[3 * i + k] = ((i == k) ? proj : 0.0f) + n1[i] * b[k];
-                    }
-                }
-                prv_sandwich(&tmp2, &res.axis_cov, &tmp);
-                for (k = 0; k < 9; k++) {
-                    res.center_cov.m[k] += tmp.m[k];
-                }
-            }
-        }
-        if (corrected) {
-            float t[3];
-            for (i = 0; i < 3; i++) {
-                t[i] = cpp[i] - 0.5f * sfit_i_dot3(&y.kp.m[3 * i], cpp);
-            }
-            memcpy(cpp, t, sizeof t);
-        }
-    }
-    prv_symmetrise(&res.center_cov);
-    prv_symmetrise(&res.axis_cov);
-    res.misfit = (expect > 0.0f) ? cost / expect : 0.0f;
-    {
-        /* The joint model's residual larger than the registrations predict:
-         * scale the centre's covariance by the ratio (Birge), the axis' by
-         * the hinge model's own ratio (out-of-axis rotation is not noise).
-         * The first-order covariance leaves out terms of relative size
-         * trust_ratio (the noise of B times the equation noise): (1 + trust)
-         * restores them (docs/pair.md#covariance). */
-        const float f = ((res.misfit > 1.0f) ? res.misfit : 1.0f) * (1.0f + res.trust_ratio);
-        const float fa = ((hratio > 1.0f) ? hratio : 1.0f) * (1.0f + res.trust_ratio);
-        for (k = 0; k < 9; k++) {
-            res.center_cov.m[k] *= f;
-            res.axis_cov.m[k] *= fa;
-        }
+        return st;
     }
     {
-        sfit_vec3_t wa;
-        if (sfit_mat3_eig_sym(&res.axis_cov, &wa, NULL) != SFIT_OK
-            || PRV_CHI2_2_95 * wa.v[2] > at * at) {
-            flags |= (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
-        }
+        const float at = prv_or(s->cfg.axis_tol, PRV_AXIS_TOL);
+        prv_axis_seen(&c, at, prv_or(s->cfg.wobble, PRV_WOBBLE));
+        prv_points(&c);
+        prv_covariances(s, &c);
+        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
     }
-    if (mode != SFIT_PAIR_MODE_HINGE) {
-        memset(&res.axis_cov, 0, sizeof res.axis_cov);
+    if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
+        return SFIT_E_RANGE;
     }
-    if (expect > 0.0f && res.misfit > mm) {
-        flags |= (uint32_t)SFIT_PAIR_FLAG_MISFIT;
-    }
-    /* Axis sign: largest component positive; the child axis follows. */
-    {
-        int im = 0;
-        for (i = 1; i < 3; i++) {
-            if (SFIT_FABSF(n1[i]) > SFIT_FABSF(n1[im])) {
-                im = i;
-            }
-        }
-        if (n1[im] < 0.0f) {
-            for (i = 0; i < 3; i++) {
-                n1[i] = -n1[i];
-                axc[i] = -axc[i];
-            }
-        }
-    }
-    for (i = 0; i < 3; i++) {
-        res.center_p.v[i] = cpp[i] + s->cen_p.v[i];
-        res.center_c.v[i] = ccc[i] + s->cen_c.v[i];
-        res.axis_p.v[i] = n1[i];
-        res.axis_c.v[i] = axc[i];
-        res.eigenvalues.v[i] = lam.v[i] / y.n;
-    }
-    res.mode = mode;
-    res.rms = SFIT_SQRTF(cost / y.n);
-    res.marker_var_p = y.var_p;
-    res.marker_var_c = y.var_c;
-    res.marker_var = 0.5f * (y.var_p + y.var_c);
-    res.noise = s->cfg.noise;
-    res.frames = s->frames;
-    if (s->frames < mf) {
-        flags |= (uint32_t)SFIT_FLAG_FEW_SAMPLES;
-    }
-    /* Reason, by priority. */
-    if ((flags & (uint32_t)SFIT_FLAG_FEW_SAMPLES) != 0u) {
-        reason = SFIT_PAIR_REASON_FEW_FRAMES;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_NO_NOISE) != 0u) {
-        reason = SFIT_PAIR_REASON_NO_NOISE;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_SMALL_MOTION) != 0u) {
-        reason = SFIT_PAIR_REASON_SMALL_MOTION;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u
-               && mode == SFIT_PAIR_MODE_HINGE) {
-        reason = SFIT_PAIR_REASON_AXIS_FREE;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
-        reason = SFIT_PAIR_REASON_AMBIGUOUS;
-    } else if ((flags & (uint32_t)SFIT_PAIR_FLAG_MISFIT) != 0u) {
-        reason = SFIT_PAIR_REASON_MISFIT;
-    }
-    if (reason != SFIT_PAIR_REASON_NONE) {
-        flags |= (uint32_t)SFIT_FLAG_UNTRUSTED;
-    }
-    res.flags = flags;
-    res.reason = reason;
-    /* Everything written must be finite. */
-    {
-        int ok = sfit_i_finite3(res.center_p.v) && sfit_i_finite3(res.center_c.v)
-                 && sfit_i_finite3(res.axis_p.v) && sfit_i_finite3(res.axis_c.v)
-                 && sfit_i_finite3(res.eigenvalues.v) && sfit_i_isfinite(res.trust_ratio)
-                 && sfit_i_isfinite(res.misfit) && sfit_i_isfinite(res.rms)
-                 && sfit_i_isfinite(res.marker_var);
-        for (k = 0; k < 9; k++) {
-            ok = ok && sfit_i_isfinite(res.center_cov.m[k]) && sfit_i_isfinite(res.axis_cov.m[k]);
-        }
-        if (!ok) {
-            return SFIT_E_RANGE;
-        }
-    }
-    *out = res;
+    *out = c.res;
     return SFIT_OK;
 }
