@@ -14,8 +14,11 @@
 #     sfit_mc_coverage coverage_table.md and coverage.csv (docs/coverage.md;
 #     245 scenarios x 3 estimators x 10^4 trials at N <= 100, 3000 at
 #     N = 1000, 1000 at N = 10^4: about 3 minutes of CPU;
-#     --no-coverage skips it);
-#  3. draws the PNGs with gnuplot (tools/montecarlo/plots.gp, coverage.gp).
+#     --no-coverage skips it); sfit_mc_joint_bench the joint benchmark of
+#     docs/joint_benchmark.md (joint_bench.csv, joint_bench_table.md,
+#     joint_bench_claims.md; about a minute);
+#  3. draws the PNGs with gnuplot (tools/montecarlo/plots.gp, coverage.gp,
+#     joint_bench.gp).
 # --quick: a tenth of the trials (smoke test), written by default into
 #          DIR/quick instead of docs/figures.
 # The full run takes about 1.5 minutes of CPU on one core (fixed seeds:
@@ -37,7 +40,7 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift ;;
     --no-plot) plot=0 ;;
     --no-coverage) coverage=0 ;;
-    -h | --help) sed -n '3,23p' "$0"; exit 0 ;;
+    -h | --help) sed -n '3,26p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     esac
     shift
@@ -60,10 +63,12 @@ if [ "$coverage" = 1 ]; then
     "$build/sfit_mc_coverage" "$out" $quick || exit 1
     "$build/sfit_mc_coverage_joint" "$out" $quick || exit 1
 fi
+"$build/sfit_mc_joint_bench" "$out" ${quick:-full} || exit 1
 if [ "$plot" = 1 ]; then
     gnuplot -e "d='$out'" "$here/plots.gp" || exit 1
     if [ "$coverage" = 1 ]; then
         gnuplot -e "d='$out'" "$here/coverage.gp" || exit 1
     fi
+    gnuplot -e "d='$out'" "$here/joint_bench.gp" || exit 1
 fi
 echo "run.sh: done; see $out/claims.md, $out/results_table.md and $out/beyond_table.md" >&2
