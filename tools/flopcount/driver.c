@@ -140,6 +140,10 @@ static sfit_pose_t fc_pose;
 static sfit_cluster_fit_t fc_cfit;
 static sfit_vec3_t fc_jpar[FC_NJF][FC_NJP];
 static sfit_vec3_t fc_jchi[FC_NJF][FC_NJC];
+/* Tracking probe: the parent cluster on two consecutive frames at 200 Hz,
+ * turning at 200 degrees/s (1 degree between the frames). */
+static sfit_vec3_t fc_jtrk[2][FC_NJP];
+static sfit_cluster_track_t fc_trk;
 static sfit_joint_cfg_t fc_jcfg5;
 static sfit_joint_cfg_t fc_jcfg1;
 static sfit_joint_cfg_t fc_jcfgm;
@@ -296,6 +300,7 @@ static void fc_setup_joint(void)
                                         {45.0f, -10.0f, -420.0f}};
     static const float jc[3] = {-80.0f, 90.0f, -70.0f};
     sfit_vec3_t tv[FC_NJP];
+    float rq[9];
     unsigned f, i;
     int k;
     for (i = 0; i < FC_NJP; i++) {
@@ -307,7 +312,7 @@ static void fc_setup_joint(void)
         fc_st = SFIT_E_ARG;
     }
     for (f = 0; f < FC_NJF; f++) {
-        float u[3], rp[9], rq[9], c, s, y[3];
+        float u[3], rp[9], c, s, y[3];
         fc_dir(u, -1.0f, 0);
         c = 2.0f * fc_unif() - 1.0f;
         s = __builtin_sqrtf(1.0f - c * c);
@@ -327,6 +332,30 @@ static void fc_setup_joint(void)
             fc_apply(rp, y, fc_centre, fc_jchi[f][i].v);
             for (k = 0; k < 3; k++) {
                 fc_jchi[f][i].v[k] += fc_sigma * fc_noise();
+            }
+        }
+    }
+    {
+        float u[3], r0[9], r1[9], c, s;
+        static const float deg1c = 0.99984770f, deg1s = 0.017452406f;
+        unsigned a, b;
+        fc_dir(u, -1.0f, 0);
+        c = 2.0f * fc_unif() - 1.0f;
+        s = __builtin_sqrtf(1.0f - c * c);
+        fc_rot_axis(u, c, s, r0);
+        fc_dir(u, -1.0f, 0);
+        fc_rot_axis(u, deg1c, deg1s, rq);
+        for (a = 0; a < 3u; a++) {
+            for (b = 0; b < 3u; b++) {
+                r1[3u * a + b] = rq[3u * a] * r0[b] + rq[3u * a + 1u] * r0[3u + b] + rq[3u * a + 2u] * r0[6u + b];
+            }
+        }
+        for (i = 0; i < FC_NJP; i++) {
+            fc_apply(r0, tpl[i], fc_centre, fc_jtrk[0][i].v);
+            fc_apply(r1, tpl[i], fc_centre, fc_jtrk[1][i].v);
+            for (k = 0; k < 3; k++) {
+                fc_jtrk[0][i].v[k] += fc_sigma * fc_noise();
+                fc_jtrk[1][i].v[k] += fc_sigma * fc_noise();
             }
         }
     }
@@ -559,6 +588,29 @@ static void fc_register(void)
     fc_keep(sfit_cluster_register(&fc_cl, fc_jpar[0], FC_NJP, &fc_pose, &fc_cfit));
 }
 
+static void fc_prep_track(void) /* the first frame: the full solve */
+{
+    fc_keep(sfit_cluster_track_reset(&fc_trk));
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[0], FC_NJP, &fc_pose, &fc_cfit));
+}
+
+static void fc_track(void) /* the next frame, from the previous rotation */
+{
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[1], FC_NJP, &fc_pose, &fc_cfit));
+    fc_keep((fc_cfit.steps > 0u) ? SFIT_OK : SFIT_E_NO_CONVERGENCE);
+}
+
+static void fc_track_pose(void) /* the same, pose only (no residual) */
+{
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[1], FC_NJP, &fc_pose, NULL));
+}
+
+static void fc_track_first(void)
+{
+    fc_keep(sfit_cluster_track_reset(&fc_trk));
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[0], FC_NJP, &fc_pose, &fc_cfit));
+}
+
 static void fc_to_segment(void)
 {
     fc_keep(sfit_pose_to_segment(&fc_pose, &fc_jchi[0][0], &fc_x));
@@ -657,6 +709,9 @@ static const fc_op_t fc_ops[] = {
 #endif
 #if FC_HAVE_JOINT
     {"cluster_register", "sfit_cluster_register", NULL, fc_register, NULL, NULL, 1u},
+    {"cluster_track", "sfit_cluster_track", fc_prep_track, fc_track, NULL, NULL, 1u},
+    {"cluster_track_pose", "sfit_cluster_track", fc_prep_track, fc_track_pose, NULL, NULL, 1u},
+    {"cluster_track_first", "sfit_cluster_track", NULL, fc_track_first, NULL, NULL, 1u},
     {"pose_to_segment", "sfit_pose_to_segment", fc_register, fc_to_segment, NULL, NULL, 1u},
     {"joint_frame", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, NULL, NULL, FC_NJF},
     {"joint_per_child", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, fc_prep_joint1, fc_joint_frames, FC_NJF * (FC_NJC - 1u)},

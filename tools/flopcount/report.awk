@@ -32,6 +32,7 @@ FILENAME == ARGV[2] {
 }
 FILENAME == ARGV[3] {
     sub(/#.*/, "")
+    if ($1 == "insns" && NF >= 3) { nib++; ibname[nib] = $2; ibmax[$2] = $3; next }
     if (NF >= 2) { nb++; bname[nb] = $1; bmax[$1] = $2; bneeds[$1] = (NF >= 3) ? $3 : "" }
     next
 }
@@ -87,6 +88,17 @@ END {
             bstat[n] = "OVER"; bad = 1
             printf "BUDGET FAIL %s: %s FLOPs > budget %s\n", n, fmt(val[n, "flops"]), bmax[n] > "/dev/stderr"
         } else bstat[n] = "ok"
+    }
+    # instruction budgets ("insns NAME MAX" lines): M4F instructions, exact counts
+    for (b = 1; b <= nib; b++) {
+        n = ibname[b]
+        if (!have[n]) {
+            bad = 1
+            printf "BUDGET FAIL %s: instruction budget %s but not measured\n", n, ibmax[n] > "/dev/stderr"
+        } else if (val[n, "insns"] > ibmax[n] + 0) {
+            bad = 1
+            printf "BUDGET FAIL %s: %s M4F instructions > budget %s\n", n, fmt(val[n, "insns"]), ibmax[n] > "/dev/stderr"
+        }
     }
     for (n in failed) { bad = 1; printf "FAIL %s returned status %s\n", n, failed[n] > "/dev/stderr" }
 
