@@ -928,15 +928,15 @@ static void test_track_sequences(void **state)
                 assert_int_equal(st, SFIT_E_DEGENERATE);
                 continue;
             }
-            assert_true(ft.steps <= (uint32_t)SFIT_CLUSTER_TRACK_STEPS);
-            steps_hist[ft.steps]++;
+            assert_true(tr.steps <= (uint32_t)SFIT_CLUSTER_TRACK_STEPS);
+            steps_hist[tr.steps]++;
             if (after_gap) {
-                assert_int_equal(ft.steps, 0); /* the full solve at the start and after a gap */
-            } else if (ft.steps == 0u) {
+                assert_int_equal(tr.steps, 0); /* the full solve at the start and after a gap */
+            } else if (tr.steps == 0u) {
                 gave_up++; /* the convergence test failed: the full solve */
             }
             after_gap = 0;
-            if (ft.steps > 0u) {
+            if (tr.steps > 0u) {
                 tracked++;
             } else {
                 full++;
@@ -1014,13 +1014,13 @@ static void test_track_fallback_and_state(void **state)
     assert_int_equal(sfit_cluster_track_reset(&tr), SFIT_OK);
     assert_int_equal(tr.valid, 0);
     assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
-    assert_int_equal(fit.steps, 0);
+    assert_int_equal(tr.steps, 0);
     assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
-    assert_true(fit.steps >= 1u); /* the same frame again: converges at once */
+    assert_true(tr.steps >= 1u); /* the same frame again: converges at once */
     rot_step(jump, r);
     make_frame(&g, (const double (*)[3])tpl, 4u, r, t, 0.5, mv, xd);
     assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
-    assert_int_equal(fit.steps, 0); /* 120 degrees: the short path gives up */
+    assert_int_equal(tr.steps, 0); /* 120 degrees: the short path gives up */
     assert_int_equal(ref_horn_pose((const double (*)[3])tpl, (const double (*)[3])xd, NULL, 4u, rr,
                                    tt, NULL),
                      0);

@@ -561,8 +561,8 @@ SFIT_INLINE int prv_all_finite(const float *v, int n)
 
 /* The translation t = x_bar - R p_bar and the residual of a rotation; the
  * outputs written when everything is finite. */
-static sfit_status_t prv_finish(const prv_frame_t *fr, const sfit_mat3_t *r, uint32_t steps,
-                                sfit_pose_t *pose, sfit_cluster_fit_t *fit)
+static sfit_status_t prv_finish(const prv_frame_t *fr, const sfit_mat3_t *r, sfit_pose_t *pose,
+                                sfit_cluster_fit_t *fit)
 {
     const float *m = r->m;
     const float p0 = fr->pr[0] + fr->dp[0], p1 = fr->pr[1] + fr->dp[1], p2 = fr->pr[2] + fr->dp[2];
@@ -582,7 +582,6 @@ static sfit_status_t prv_finish(const prv_frame_t *fr, const sfit_mat3_t *r, uin
     if (fit != NULL) {
         fit->rms = SFIT_SQRTF(prv_resid2(fr, r) / (float)fr->nseen);
         fit->used = (uint32_t)fr->nseen;
-        fit->steps = steps;
     }
     return SFIT_OK;
 }
@@ -598,7 +597,7 @@ sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t 
     if (st == SFIT_OK) {
         st = prv_full(h, &r);
     }
-    return (st == SFIT_OK) ? prv_finish(&fr, &r, 0u, pose, fit) : st;
+    return (st == SFIT_OK) ? prv_finish(&fr, &r, pose, fit) : st;
 }
 
 /* ---- tracking: Newton steps from the previous frame's rotation ---- */
@@ -813,7 +812,7 @@ sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t 
             return st;
         }
     }
-    st = prv_finish(&fr, &r, steps, pose, fit);
+    st = prv_finish(&fr, &r, pose, fit);
     if (st != SFIT_OK) {
         return st;
     }
@@ -827,6 +826,7 @@ sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t 
         }
     }
     tr->valid = 1u;
+    tr->steps = steps;
     return SFIT_OK;
 }
 

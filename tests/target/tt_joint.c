@@ -214,7 +214,7 @@ static void tt_cluster(sfit_cluster_t *cl)
                     - (double)q[1] * ((double)q[3] * (double)q[8] - (double)q[5] * (double)q[6])
                     + (double)q[2] * ((double)q[3] * (double)q[7] - (double)q[4] * (double)q[6]);
                 TT_NEAR(det, 1.0, 24.0 * TT_EPS);
-                TT_TRUE((f == 0) ? (fit.steps == 0u) : (fit.steps > 0u));
+                TT_TRUE((f == 0) ? (trk.steps == 0u) : (trk.steps > 0u));
                 for (k = 0; k < 9; k++) {
                     TT_NEAR(pose.r.m[k], r[k], bound);
                     TT_NEAR(pose.r.m[k], pf.r.m[k], 2.0 * bound);

@@ -597,7 +597,7 @@ static void fc_prep_track(void) /* the first frame: the full solve */
 static void fc_track(void) /* the next frame, from the previous rotation */
 {
     fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[1], FC_NJP, &fc_pose, &fc_cfit));
-    fc_keep((fc_cfit.steps > 0u) ? SFIT_OK : SFIT_E_NO_CONVERGENCE);
+    fc_keep((fc_trk.steps > 0u) ? SFIT_OK : SFIT_E_NO_CONVERGENCE);
 }
 
 static void fc_track_pose(void) /* the same, pose only (no residual) */

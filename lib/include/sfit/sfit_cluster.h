@@ -51,17 +51,17 @@ typedef struct sfit_cluster_fit {
     float rms;      /**< RMS registration residual over the markers used:
                          sqrt(sum_i |R p_i + t - x_i|^2 / used), in input units. */
     uint32_t used;  /**< Markers used (seen, i.e. no NaN coordinate). */
-    uint32_t steps; /**< Newton steps sfit_cluster_track() took from the previous
-                         frame's rotation; 0: the full solve (sfit_cluster_register()). */
 } sfit_cluster_fit_t;
 
 /**
  * @brief The state sfit_cluster_track() keeps between frames: the previous
- * frame's rotation. Caller-owned; members are private. 20 B.
+ * frame's rotation. Caller-owned; members are private except steps. 24 B.
  */
 typedef struct sfit_cluster_track {
     float q[4];     /**< Unit quaternion (w, x, y, z) of the previous rotation. */
     uint32_t valid; /**< 1: q holds a previous frame's rotation; 0: none (start, gap). */
+    uint32_t steps; /**< Read-only: Newton steps the last successful call took from the
+                         previous rotation; 0: it ran the full solve. */
 } sfit_cluster_track_t;
 
 /**
@@ -176,7 +176,8 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
  * (docs/tracking.md: test, bound and measured differences).
  *
  * Statuses and outputs as sfit_cluster_register(); on SFIT_OK @p tr holds
- * this frame's rotation. SFIT_E_TOO_FEW (fewer than 3 markers seen) is a
+ * this frame's rotation and, in tr->steps, the Newton steps taken (0: the
+ * full solve ran). SFIT_E_TOO_FEW (fewer than 3 markers seen) is a
  * gap: @p tr forgets the rotation, and the next frame runs the full solve.
  * Any other failure leaves @p tr unchanged.
  * @param[in]     cl     Template.
@@ -184,8 +185,7 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
  * @param[in]     meas   @p count measured positions, template order; NaN = occluded.
  * @param[in]     count  Must equal the template's marker count.
  * @param[out]    pose   Pose; written only on SFIT_OK.
- * @param[out]    fit    NULL, or residual, markers used and Newton steps
- *                       (0 = full solve); written only on SFIT_OK.
+ * @param[out]    fit    NULL, or residual and markers used; written only on SFIT_OK.
  * @retval SFIT_E_ARG  also for a corrupted @p tr (valid not 0 or 1, or a
  *                     quaternion not finite or not of unit length)
  * @par Cost 4 markers, 1 degree between the frames (two Newton steps): 533
