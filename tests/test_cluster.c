@@ -954,9 +954,13 @@ static void test_track_sequences(void **state)
             bt = trans_bound(b, (const double (*)[3])tpl, (const double (*)[3])xd, seen, m);
             assert_rot_near(&pt.r, rr, (const double (*)[3])tpl, seen, m);
             assert_rot_near(&pf.r, rr, (const double (*)[3])tpl, seen, m);
-            d = max_rot_diff(&pt.r, (const double[9]){pf.r.m[0], pf.r.m[1], pf.r.m[2], pf.r.m[3],
-                                                     pf.r.m[4], pf.r.m[5], pf.r.m[6], pf.r.m[7],
-                                                     pf.r.m[8]});
+            {
+                double rf[9];
+                for (k = 0; k < 9; k++) {
+                    rf[k] = (double)pf.r.m[k];
+                }
+                d = max_rot_diff(&pt.r, rf);
+            }
             assert_true(d <= 2.0 * b);
             for (k = 0; k < 3; k++) {
                 const double e = fabs((double)pt.t.v[k] - (double)pf.t.v[k]);

@@ -373,8 +373,8 @@ SFIT_INLINE int prv_big(const float v[3])
     memcpy(&u0, &v[0], sizeof u0);
     memcpy(&u1, &v[1], sizeof u1);
     memcpy(&u2, &v[2], sizeof u2);
-    return (((u0 & 0x7F800000u) >= lim) | ((u1 & 0x7F800000u) >= lim)
-            | ((u2 & 0x7F800000u) >= lim)) != 0u;
+    return ((u0 & 0x7F800000u) >= lim) || ((u1 & 0x7F800000u) >= lim)
+           || ((u2 & 0x7F800000u) >= lim);
 }
 
 /*
@@ -549,14 +549,15 @@ static sfit_status_t prv_full(float h[9], sfit_mat3_t *r)
 /* 1 when every one of the n floats is finite (bit test). */
 SFIT_INLINE int prv_all_finite(const float *v, int n)
 {
-    uint32_t acc = 0u;
     int i;
     for (i = 0; i < n; i++) {
         uint32_t u;
         memcpy(&u, &v[i], sizeof u);
-        acc |= (uint32_t)((u & 0x7F800000u) == 0x7F800000u);
+        if ((u & 0x7F800000u) == 0x7F800000u) {
+            return 0;
+        }
     }
-    return acc == 0u;
+    return 1;
 }
 
 /* The translation t = x_bar - R p_bar and the residual of a rotation; the
@@ -695,7 +696,7 @@ static uint32_t prv_track(const float h[9], float q[4], sfit_mat3_t *r)
     uint32_t it;
     int conv = 0;
 
-    for (it = 0u;; it++) {
+    for (it = 0u; it <= (uint32_t)SFIT_CLUSTER_TRACK_STEPS; it++) {
         float b[9], g[3], w[3], nq[4];
         float tr, a01, a02, a12, d0, d1, d2, i0, i1, i2, l10, l20, l21, e12, y1, y2, c;
         int i;
@@ -704,7 +705,7 @@ static uint32_t prv_track(const float h[9], float q[4], sfit_mat3_t *r)
             return it;
         }
         if (it == (uint32_t)SFIT_CLUSTER_TRACK_STEPS) {
-            return 0u;
+            break;
         }
         prv_mul_at_b(r->m, h, b);
         g[0] = b[7] - b[5];
@@ -752,6 +753,7 @@ static uint32_t prv_track(const float h[9], float q[4], sfit_mat3_t *r)
             q[i] = nq[i];
         }
     }
+    return 0u;
 }
 
 sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr)

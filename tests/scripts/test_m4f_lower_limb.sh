@@ -106,7 +106,8 @@ PY
 grep -E '^(pair|ram|stack)' "$out/target.txt"
 
 # 4. instructions per frame
-"$src/tools/flopcount/count.sh" "$out/ll.elf" "$out/count" >/dev/null || exit 1
+# every instruction logged: about 10x slower than a plain run (100 s alone)
+SFIT_QEMU_TIMEOUT=${SFIT_QEMU_TIMEOUT:-1200} "$src/tools/flopcount/count.sh" "$out/ll.elf" "$out/count" >/dev/null || exit 1
 awk '
 { k = $2; n = $3; c = $4
   g = (k < 525) ? "calibrate hip (pelvis, right thigh)" : (k < 742) ? "calibrate knee (right thigh, shank)" : (k < 1228) ? "calibrate ankle (right shank, foot)" : "track 7 segments, 6 centres"
