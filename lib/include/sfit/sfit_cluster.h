@@ -146,7 +146,7 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  *                            second singular value of the cross-covariance is below
  *                            SFIT_CLUSTER_COLLINEAR_RATIO times the first
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 markers: 964 FLOPs, 3798 M4F instructions (tools/flopcount "cluster_register").
+ * @par Cost 4 markers: 964 FLOPs, 3779 M4F instructions (tools/flopcount "cluster_register").
  */
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit);
@@ -189,8 +189,8 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
  * @retval SFIT_E_ARG  also for a corrupted @p tr (valid not 0 or 1, or a
  *                     quaternion not finite or not of unit length)
  * @par Cost 4 markers, 1 degree between the frames (two Newton steps): 533
- * FLOPs, 1134 M4F instructions for the pose (fit NULL, "cluster_track_pose");
- * 679 FLOPs, 1381 instructions with the RMS residual ("cluster_track");
+ * FLOPs, 1116 M4F instructions for the pose (fit NULL, "cluster_track_pose");
+ * 679 FLOPs, 1363 instructions with the RMS residual ("cluster_track");
  * both budgeted at <= 1500 instructions in CI (tools/flopcount/budget.txt).
  */
 sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t *tr,
