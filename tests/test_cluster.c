@@ -758,6 +758,328 @@ static void test_extremes(void **state)
     }
 }
 
+/* ---------- tracking from the previous frame (sfit_cluster_track) ---------- */
+
+/* r := exp([w]x) r (a rotation vector w, rad, applied in the global frame). */
+static void rot_step(const double w[3], double r[9])
+{
+    const double th = tu_norm3(w);
+    double k[3] = {0, 0, 0}, e[9], out[9];
+    int i, j, l;
+    if (th > 0.0) {
+        for (i = 0; i < 3; i++) {
+            k[i] = w[i] / th;
+        }
+    }
+    {
+        const double c = cos(th), s = sin(th), v = 1.0 - c;
+        e[0] = c + k[0] * k[0] * v;
+        e[1] = k[0] * k[1] * v - k[2] * s;
+        e[2] = k[0] * k[2] * v + k[1] * s;
+        e[3] = k[1] * k[0] * v + k[2] * s;
+        e[4] = c + k[1] * k[1] * v;
+        e[5] = k[1] * k[2] * v - k[0] * s;
+        e[6] = k[2] * k[0] * v - k[1] * s;
+        e[7] = k[2] * k[1] * v + k[0] * s;
+        e[8] = c + k[2] * k[2] * v;
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double sum = 0.0;
+            for (l = 0; l < 3; l++) {
+                sum += e[3 * i + l] * r[3 * l + j];
+            }
+            out[3 * i + j] = sum;
+        }
+    }
+    memcpy(r, out, sizeof out);
+}
+
+/* Translation bound matching rot_bound(): |dt| <= b |p_bar| sqrt(3) + 8 eps
+ * (|x_bar| + |p_bar|) per solver (the rotation error carried to the template
+ * centroid, plus the rounding of t = x_bar - R p_bar). */
+static double trans_bound(double b, const double (*tpl)[3], const double (*x)[3], const int *seen,
+                          size_t m)
+{
+    double pb[3] = {0, 0, 0}, xb[3] = {0, 0, 0};
+    size_t i, n = 0;
+    int k;
+    for (i = 0; i < m; i++) {
+        if (seen[i]) {
+            for (k = 0; k < 3; k++) {
+                pb[k] += tpl[i][k];
+                xb[k] += x[i][k];
+            }
+            n++;
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        pb[k] /= (double)n;
+        xb[k] /= (double)n;
+    }
+    return b * tu_norm3(pb) * sqrt(3.0) + 8.0 * TC_FEPS * (tu_norm3(xb) + tu_norm3(pb));
+}
+
+/*
+ * Issue 30: 10^4 random frame sequences at 200 Hz (smooth motion: angular
+ * velocity up to 600 deg/s with angular acceleration, translation 1-3 m
+ * from the origin moving up to 2 m/s; noise 0 - 1 mm; a marker occluded
+ * now and then; gaps of 1-5 frames with every marker lost). Every frame:
+ * the tracked pose and the full solve (sfit_cluster_register) have the same
+ * status; each is a proper rotation, each is within the rounding bound
+ * rot_bound() (16 eps (s1/(s2+s3) + 1), from float epsilon and the
+ * conditioning of the template scatter) of Horn's double pose on the same
+ * float inputs, so the two differ by at most twice that bound; the
+ * translations likewise (trans_bound()). The tracked path must carry most
+ * frames; after a gap the full solve runs.
+ */
+static void test_track_sequences(void **state)
+{
+    enum { NSEQ = 10000, NFRAME = 24 };
+    tu_rng_t g;
+    double worst_dr = 0.0, worst_dt = 0.0, worst_ratio = 0.0;
+    long frames = 0, tracked = 0, full = 0, gaps = 0, gave_up = 0, steps_hist[SFIT_CLUSTER_TRACK_STEPS + 1];
+    int seq;
+    (void)state;
+    memset(steps_hist, 0, sizeof steps_hist);
+    tu_rng_seed(&g, 3030);
+    for (seq = 0; seq < NSEQ; seq++) {
+        double p[6][3], tpl[6][3], r[9], t[3], w[3], v[3], dw[3], sigma, dist, dir[3];
+        sfit_vec3_t tv[6];
+        sfit_cluster_t cl;
+        sfit_cluster_track_t tr;
+        const size_t m = 3u + (size_t)(tu_rng_u64(&g) % 4u);
+        int f, k, gap_left = 0, after_gap = 1;
+        rand_template(&g, m, p);
+        to_vec((const double (*)[3])p, m, tv, tpl);
+        if (sfit_cluster_init(&cl, tv, m) != SFIT_OK) {
+            continue; /* a nearly collinear random triangle */
+        }
+        rand_rot(&g, r);
+        for (k = 0; k < 3; k++) {
+            dir[k] = tu_rng_gauss(&g);
+        }
+        dist = 1000.0 + 2000.0 * tu_rng_uniform(&g);
+        for (k = 0; k < 3; k++) {
+            t[k] = dir[k] / tu_norm3(dir) * dist;
+        }
+        {
+            /* angular velocity: up to 600 deg/s = 3 deg per 5 ms frame */
+            const double speed = (3.0 * TU_PI / 180.0) * tu_rng_uniform(&g);
+            for (k = 0; k < 3; k++) {
+                w[k] = tu_rng_gauss(&g);
+                v[k] = 10.0 * (2.0 * tu_rng_uniform(&g) - 1.0) / sqrt(3.0); /* <= 10 mm/frame */
+            }
+            dist = tu_norm3(w);
+            for (k = 0; k < 3; k++) {
+                w[k] *= speed / dist;
+            }
+        }
+        sigma = (double)(tu_rng_u64(&g) % 5u) * 0.25;
+        assert_int_equal(sfit_cluster_track_reset(&tr), SFIT_OK);
+        for (f = 0; f < NFRAME; f++) {
+            double xd[6][3], rr[9], tt[3], b, bt, d, dt = 0.0;
+            sfit_vec3_t mv[6];
+            sfit_pose_t pt, pf;
+            sfit_cluster_fit_t ft, ff;
+            int seen[6];
+            sfit_status_t st, sf;
+            size_t i, nseen = 0;
+            /* smooth motion: small angular acceleration */
+            for (k = 0; k < 3; k++) {
+                dw[k] = 2e-3 * tu_rng_gauss(&g);
+                w[k] += dw[k];
+            }
+            rot_step(w, r);
+            for (k = 0; k < 3; k++) {
+                t[k] += v[k];
+            }
+            make_frame(&g, (const double (*)[3])tpl, m, r, t, sigma, mv, xd);
+            if (gap_left == 0 && tu_rng_uniform(&g) < 0.02) {
+                gap_left = 1 + (int)(tu_rng_u64(&g) % 5u);
+            }
+            for (i = 0; i < m; i++) {
+                seen[i] = gap_left == 0;
+                if (seen[i] && m > 3u && tu_rng_uniform(&g) < 0.03) {
+                    seen[i] = 0; /* one marker occluded */
+                }
+                if (!seen[i]) {
+                    mv[i].v[0] = mv[i].v[1] = mv[i].v[2] = NAN;
+                }
+                nseen += (size_t)seen[i];
+            }
+            if (gap_left > 0) {
+                gap_left--;
+            }
+            memset(&pt, 0, sizeof pt);
+            st = sfit_cluster_track(&cl, &tr, mv, m, &pt, &ft);
+            sf = sfit_cluster_register(&cl, mv, m, &pf, &ff);
+            assert_int_equal(st, sf);
+            frames++;
+            if (st == SFIT_E_TOO_FEW) {
+                assert_true(nseen < 3u);
+                assert_int_equal(tr.valid, 0);
+                gaps++;
+                after_gap = 1;
+                continue;
+            }
+            if (st != SFIT_OK) {
+                /* a nearly collinear triangle left by an occlusion: both agree */
+                assert_int_equal(st, SFIT_E_DEGENERATE);
+                continue;
+            }
+            assert_true(tr.steps <= (uint32_t)SFIT_CLUSTER_TRACK_STEPS);
+            steps_hist[tr.steps]++;
+            if (after_gap) {
+                assert_int_equal(tr.steps, 0); /* the full solve at the start and after a gap */
+            } else if (tr.steps == 0u) {
+                gave_up++; /* the convergence test failed: the full solve */
+            }
+            after_gap = 0;
+            if (tr.steps > 0u) {
+                tracked++;
+            } else {
+                full++;
+            }
+            assert_true(det3(pt.r.m) > 0.0); /* never a reflection */
+            assert_proper(&pt.r);
+            assert_int_equal(tr.valid, 1);
+            assert_near(tr.q[0] * tr.q[0] + tr.q[1] * tr.q[1] + tr.q[2] * tr.q[2] + tr.q[3] * tr.q[3],
+                        1.0, 4.0 * TC_FEPS, "|q|");
+            assert_int_equal(ft.used, ff.used);
+            assert_int_equal(ref_horn_pose((const double (*)[3])tpl, (const double (*)[3])xd, seen, m,
+                                           rr, tt, NULL),
+                             0);
+            b = rot_bound((const double (*)[3])tpl, seen, m);
+            bt = trans_bound(b, (const double (*)[3])tpl, (const double (*)[3])xd, seen, m);
+            assert_rot_near(&pt.r, rr, (const double (*)[3])tpl, seen, m);
+            assert_rot_near(&pf.r, rr, (const double (*)[3])tpl, seen, m);
+            {
+                double rf[9];
+                for (k = 0; k < 9; k++) {
+                    rf[k] = (double)pf.r.m[k];
+                }
+                d = max_rot_diff(&pt.r, rf);
+            }
+            assert_true(d <= 2.0 * b);
+            for (k = 0; k < 3; k++) {
+                const double e = fabs((double)pt.t.v[k] - (double)pf.t.v[k]);
+                assert_true(fabs((double)pt.t.v[k] - tt[k]) <= bt);
+                if (e > dt) {
+                    dt = e;
+                }
+            }
+            assert_true(dt <= 2.0 * bt);
+            assert_near(ft.rms, ff.rms, 1e-4 + 1e-3 * (double)ff.rms, "rms");
+            if (d > worst_dr) {
+                worst_dr = d;
+            }
+            if (dt > worst_dt) {
+                worst_dt = dt;
+            }
+            if (d / (2.0 * b) > worst_ratio) {
+                worst_ratio = d / (2.0 * b);
+            }
+        }
+    }
+    printf("  %ld frames, %ld tracked, %ld full solves (%ld of them after a failed convergence "
+           "test), %ld gap frames; steps 1/2/3: %ld/%ld/%ld\n",
+           frames, tracked, full, gave_up, gaps, steps_hist[1], steps_hist[2],
+           SFIT_CLUSTER_TRACK_STEPS >= 3 ? steps_hist[3] : 0L);
+    printf("  tracked vs full solve: max |dR| %.3g (worst / bound %.3f), max |dt| %.3g mm\n",
+           worst_dr, worst_ratio, worst_dt);
+    printf("  worst error / rounding bound (both vs Horn in double): %.3f\n", g_worst_ratio);
+    assert_true(tracked > 8 * full); /* the short path carries the sequences */
+}
+
+/* The convergence test can fail: a jump of 120 degrees between frames, or a
+ * state rotated away from the truth, runs the full solve (or converges to
+ * the global maximum); a corrupted state is SFIT_E_ARG and stays as it was. */
+static void test_track_fallback_and_state(void **state)
+{
+    tu_rng_t g;
+    double p[4][3], tpl[4][3], r[9], t[3], xd[4][3], rr[9], tt[3];
+    const double jump[3] = {0.0, 2.0944, 0.0};
+    sfit_vec3_t tv[4], mv[4];
+    sfit_cluster_t cl;
+    sfit_cluster_track_t tr, before;
+    sfit_pose_t pose;
+    sfit_cluster_fit_t fit;
+    const int all[4] = {1, 1, 1, 1};
+    int k;
+    (void)state;
+    tu_rng_seed(&g, 3031);
+    rand_template(&g, 4u, p);
+    to_vec((const double (*)[3])p, 4u, tv, tpl);
+    assert_int_equal(sfit_cluster_init(&cl, tv, 4u), SFIT_OK);
+    rand_rot(&g, r);
+    rand_far(&g, t);
+    make_frame(&g, (const double (*)[3])tpl, 4u, r, t, 0.5, mv, xd);
+    assert_int_equal(sfit_cluster_track_reset(&tr), SFIT_OK);
+    assert_int_equal(tr.valid, 0);
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
+    assert_int_equal(tr.steps, 0);
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
+    assert_true(tr.steps >= 1u); /* the same frame again: converges at once */
+    rot_step(jump, r);
+    make_frame(&g, (const double (*)[3])tpl, 4u, r, t, 0.5, mv, xd);
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
+    assert_int_equal(tr.steps, 0); /* 120 degrees: the short path gives up */
+    assert_int_equal(ref_horn_pose((const double (*)[3])tpl, (const double (*)[3])xd, NULL, 4u, rr,
+                                   tt, NULL),
+                     0);
+    assert_rot_near(&pose.r, rr, (const double (*)[3])tpl, all, 4u);
+    /* a unit quaternion far from the truth (180 degrees about x) */
+    tr.q[0] = 0.0f;
+    tr.q[1] = 1.0f;
+    tr.q[2] = tr.q[3] = 0.0f;
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, &fit), SFIT_OK);
+    assert_rot_near(&pose.r, rr, (const double (*)[3])tpl, all, 4u);
+    assert_true(det3(pose.r.m) > 0.0);
+    /* corrupted states */
+    for (k = 0; k < 5; k++) {
+        sfit_pose_t sent;
+        memset(&sent, 0xA5, sizeof sent);
+        pose = sent;
+        assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, NULL), SFIT_OK);
+        before = tr;
+        if (k == 0) {
+            tr.valid = 2u;
+        } else if (k == 1) {
+            tr.q[2] = NAN;
+        } else if (k == 2) {
+            tr.q[0] *= 1.01f;
+        } else if (k == 3) {
+            tr.q[0] = tr.q[1] = tr.q[2] = tr.q[3] = 0.0f;
+        } else {
+            tr.q[1] = INFINITY;
+        }
+        {
+            const sfit_cluster_track_t bad = tr;
+            pose = sent;
+            assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, NULL), SFIT_E_ARG);
+            assert_memory_equal(&tr, &bad, sizeof tr);
+            assert_memory_equal(&pose, &sent, sizeof pose);
+        }
+        tr = before;
+    }
+    /* invalid frames leave the state as it was; a gap (TOO_FEW) forgets it */
+    before = tr;
+    mv[1].v[0] = INFINITY;
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, NULL), SFIT_E_NONFINITE);
+    assert_memory_equal(&tr, &before, sizeof tr);
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 3u, &pose, NULL), SFIT_E_ARG);
+    assert_memory_equal(&tr, &before, sizeof tr);
+    mv[1].v[0] = NAN;
+    mv[2].v[1] = NAN;
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, NULL), SFIT_E_TOO_FEW);
+    assert_int_equal(tr.valid, 0);
+    assert_int_equal(sfit_cluster_track(NULL, &tr, mv, 4u, &pose, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_track(&cl, NULL, mv, 4u, &pose, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, NULL, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_cluster_track_reset(NULL), SFIT_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -774,6 +1096,8 @@ int main(void)
         cmocka_unit_test(test_from_frames),
         cmocka_unit_test(test_statuses),
         cmocka_unit_test(test_extremes),
+        cmocka_unit_test(test_track_sequences),
+        cmocka_unit_test(test_track_fallback_and_state),
     };
     return cmocka_run_group_tests_name("cluster", tests, NULL, NULL);
 }

@@ -29,7 +29,7 @@
 #if SFIT_GATE_WARMUP != 32 || SFIT_GATE_MIN_WINDOW != 20u || SFIT_GATE_MAX_REJECT_PCT != 30u
 #error "user configuration not seen (gate knobs)"
 #endif
-#if SFIT_CLUSTER_MAX_MARKERS != 12 || SFIT_JOINT_MAX_CHILD != 6
+#if SFIT_CLUSTER_MAX_MARKERS != 12 || SFIT_JOINT_MAX_CHILD != 6 || SFIT_CLUSTER_TRACK_STEPS != 4
 #error "user configuration not seen (cluster / joint knobs)"
 #endif
 

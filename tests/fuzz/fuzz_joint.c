@@ -45,6 +45,7 @@ typedef struct fz_jstate {
 } fz_jstate_t;
 
 static fz_jstate_t fz_s;
+static sfit_cluster_track_t fz_trk; /* issue 30: tracked alongside every JOP_REGISTER */
 
 /* A sample: a hostile float triple (selector bit 0) or a point near the
  * template, moved by a rotation about a byte-chosen axis and a far
@@ -250,6 +251,27 @@ static void fz_op_register(fz_in_t *in)
         FZ_CHECK(fz_finite(fit.rms) && fit.rms >= 0.0f && fit.used >= 3u && fit.used <= n,
                  "register fit");
     }
+    /* The same frame from the previous registration's rotation (no input
+     * bytes: the corpus keeps its meaning): the status of the full solve
+     * (its Jacobi bound aside), a proper finite pose, the state kept on a
+     * rejected frame and forgotten on a gap. */
+    {
+        const sfit_cluster_track_t tb = fz_trk;
+        sfit_pose_t tp;
+        sfit_status_t tst;
+        memset(&tp, FZ_SENTINEL, sizeof tp);
+        tst = sfit_cluster_track(&fz_s.cl, &fz_trk, x, n, &tp, NULL);
+        FZ_CHECK_OUT(tst, tp, "track pose");
+        FZ_CHECK(tst == st || st == SFIT_E_NO_CONVERGENCE, "track status differs from register");
+        if (tst == SFIT_OK) {
+            fz_check_pose(&tp);
+            FZ_CHECK(fz_trk.valid == 1u, "track state after OK");
+        } else if (tst == SFIT_E_TOO_FEW) {
+            FZ_CHECK(fz_trk.valid == 0u, "track gap");
+        } else {
+            FZ_CHECK(memcmp(&tb, &fz_trk, sizeof tb) == 0, "track state changed by a rejected frame");
+        }
+    }
 }
 
 /* The per-marker noise models and the solve with them (no input bytes: the
@@ -408,6 +430,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     in.n = size;
     in.i = 0;
     memset(&fz_s, 0, sizeof fz_s);
+    (void)sfit_cluster_track_reset(&fz_trk);
     while (fz_more(&in) && ops < FZ_MAX_OPS) {
         const uint8_t op = fz_u8(&in);
         ops++;

@@ -377,16 +377,49 @@ static inline void fz_g_cluster(fz_in_t *in, uint8_t fill)
     static const sfit_vec3_t tpl[4] = {
         {{0.0f, 0.0f, 0.0f}}, {{100.0f, 0.0f, 0.0f}}, {{0.0f, 80.0f, 0.0f}}, {{10.0f, 20.0f, 60.0f}}};
     sfit_cluster_t cl;
+    sfit_cluster_track_t trk;
     sfit_pose_t pose;
     int ops;
     (void)sfit_cluster_init(&cl, tpl, 4u);
+    (void)sfit_cluster_track_reset(&trk);
     fz_g_fill(in, &cl, sizeof cl, fill);
     fz_g_fill(in, &pose, sizeof pose, 0u);
     for (ops = 0; ops < 32 && fz_more(in); ops++) {
         const uint8_t op = fz_u8(in);
         sfit_vec3_t x[SFIT_CLUSTER_MAX_MARKERS], o;
         sfit_status_t st;
-        if ((op & 1u) == 0u) {
+        if ((op & 7u) == 4u) {
+            /* issue 30: the track state (garbage with op bit 3), then a frame */
+            sfit_pose_t p;
+            sfit_cluster_fit_t f;
+            sfit_cluster_track_t before;
+            const size_t n = fz_g_markers(in, &cl, x);
+            if ((op & 8u) != 0u) {
+                fz_g_fill(in, &trk, sizeof trk, (uint8_t)(fz_u8(in) % 3u));
+            }
+            before = trk;
+            memset(&p, FZ_SENTINEL, sizeof p);
+            memset(&f, FZ_SENTINEL, sizeof f);
+            st = sfit_cluster_track(&cl, &trk, x, n, &p, &f);
+            FZ_CHECK_OUT(st, p, "garbage: track pose");
+            if (st == SFIT_OK) {
+                const float *r = p.r.m;
+                const float det = r[0] * (r[4] * r[8] - r[5] * r[7])
+                                  - r[1] * (r[3] * r[8] - r[5] * r[6])
+                                  + r[2] * (r[3] * r[7] - r[4] * r[6]);
+                FZ_CHECK(fz_all_finite(p.r.m, 9) && fz_all_finite(p.t.v, 3) && fz_finite(f.rms),
+                         "garbage: track OK with a non-finite output");
+                FZ_CHECK(det > 0.9f && det < 1.1f, "garbage: track OK with an improper rotation");
+                FZ_CHECK(trk.valid == 1u && fz_all_finite(trk.q, 4), "garbage: track state after OK");
+                pose = p;
+            } else if (st == SFIT_E_TOO_FEW) {
+                FZ_CHECK(trk.valid == 0u || memcmp(&trk, &before, sizeof trk) == 0,
+                         "garbage: track gap");
+            } else {
+                FZ_CHECK(memcmp(&trk, &before, sizeof trk) == 0,
+                         "garbage: track state changed by a rejected frame");
+            }
+        } else if ((op & 1u) == 0u) {
             sfit_pose_t p;
             sfit_cluster_fit_t f;
             const size_t n = fz_g_markers(in, &cl, x);

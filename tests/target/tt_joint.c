@@ -169,6 +169,64 @@ static void tt_cluster(sfit_cluster_t *cl)
         TT_EQ_INT(sfit_cluster_register(cl, m, TT_JP - 1, &pose, NULL), SFIT_E_ARG);
     }
     TT_TRUE(memcmp(&pose, &save, sizeof pose) == 0);
+
+    tt_case("cluster.track");
+    {
+        /* 60 frames at 200 Hz turning at 200 deg/s about a fixed axis, noise
+         * 0.5 mm: the tracked pose within the rounding bound of Horn's pose
+         * and within twice that of the full solve, proper, from the previous
+         * rotation after the first frame (issue 30). */
+        static const double axis[3] = {0.3, -0.5, 0.8};
+        sfit_cluster_track_t trk;
+        tu_rng_t g;
+        double rp[9], step[9], tmp[9], xd[TT_JP][3];
+        size_t a, b2, l;
+        tu_rng_seed(&g, 3030u);
+        tt_rot(&g, TU_PI, rp);
+        tu_rot_axis_angle(axis, TU_PI / 180.0, step);
+        TT_EQ_INT(sfit_cluster_track_reset(&trk), SFIT_OK);
+        TT_EQ_INT(sfit_cluster_init(cl, tv, TT_JP), SFIT_OK);
+        for (f = 0; f < 60; f++) {
+            sfit_vec3_t m[TT_JP];
+            sfit_pose_t pf;
+            sfit_cluster_fit_t ff;
+            for (a = 0; a < 3; a++) {
+                for (b2 = 0; b2 < 3; b2++) {
+                    tmp[3 * a + b2] = 0.0;
+                    for (l = 0; l < 3; l++) {
+                        tmp[3 * a + b2] += step[3 * a + l] * rp[3 * l + b2];
+                    }
+                }
+            }
+            memcpy(rp, tmp, sizeof rp);
+            for (i = 0; i < TT_JP; i++) {
+                double x[3];
+                ref_pose_to_global(rp, tt_c, tt_tpl[i], x);
+                tu_add_noise(&g, 0.5, x);
+                tt_store(x, &m[i], xd[i]);
+            }
+            if (TT_EQ_INT(sfit_cluster_track(cl, &trk, m, TT_JP, &pose, &fit), SFIT_OK)
+                && TT_EQ_INT(sfit_cluster_register(cl, m, TT_JP, &pf, &ff), SFIT_OK)
+                && TT_EQ_INT(ref_horn_pose(REF_C3(tpl), REF_C3(xd), NULL, TT_JP, r, t, NULL), 0)) {
+                const float *q = pose.r.m;
+                const double det =
+                    (double)q[0] * ((double)q[4] * (double)q[8] - (double)q[5] * (double)q[7])
+                    - (double)q[1] * ((double)q[3] * (double)q[8] - (double)q[5] * (double)q[6])
+                    + (double)q[2] * ((double)q[3] * (double)q[7] - (double)q[4] * (double)q[6]);
+                TT_NEAR(det, 1.0, 24.0 * TT_EPS);
+                TT_TRUE((f == 0) ? (trk.steps == 0u) : (trk.steps > 0u));
+                for (k = 0; k < 9; k++) {
+                    TT_NEAR(pose.r.m[k], r[k], bound);
+                    TT_NEAR(pose.r.m[k], pf.r.m[k], 2.0 * bound);
+                }
+                for (k = 0; k < 3; k++) {
+                    TT_NEAR(pose.t.v[k], t[k], 2e-3);
+                }
+            }
+        }
+        trk.valid = 7u;
+        TT_EQ_INT(sfit_cluster_track(cl, &trk, tt_pf[0], TT_JP, &pose, NULL), SFIT_E_ARG);
+    }
 }
 
 void tt_joint(void)

@@ -115,6 +115,10 @@ static sfit_pose_t fc_pose;
 static sfit_cluster_fit_t fc_cfit;
 static sfit_vec3_t fc_jpar[FC_NJF][FC_NJP];
 static sfit_vec3_t fc_jchi[FC_NJF][FC_NJC];
+/* Tracking probe: the parent cluster on two consecutive frames at 200 Hz,
+ * turning at 200 degrees/s (1 degree between the frames). */
+static sfit_vec3_t fc_jtrk[2][FC_NJP];
+static sfit_cluster_track_t fc_trk;
 static sfit_joint_cfg_t fc_jcfg5;
 static sfit_joint_cfg_t fc_jcfg1;
 static sfit_joint_cfg_t fc_jcfgm;
@@ -265,6 +269,7 @@ static void fc_setup_joint(void)
                                         {45.0f, -10.0f, -420.0f}};
     static const float jc[3] = {-80.0f, 90.0f, -70.0f};
     sfit_vec3_t tv[FC_NJP];
+    float rq[9];
     unsigned f, i;
     int k;
     for (i = 0; i < FC_NJP; i++) {
@@ -276,7 +281,7 @@ static void fc_setup_joint(void)
         fc_st = SFIT_E_ARG;
     }
     for (f = 0; f < FC_NJF; f++) {
-        float u[3], rp[9], rq[9], c, s, y[3];
+        float u[3], rp[9], c, s, y[3];
         fc_dir(u, -1.0f, 0);
         c = 2.0f * fc_unif() - 1.0f;
         s = __builtin_sqrtf(1.0f - c * c);
@@ -296,6 +301,30 @@ static void fc_setup_joint(void)
             fc_apply(rp, y, fc_centre, fc_jchi[f][i].v);
             for (k = 0; k < 3; k++) {
                 fc_jchi[f][i].v[k] += fc_sigma * fc_noise();
+            }
+        }
+    }
+    {
+        float u[3], r0[9], r1[9], c, s;
+        static const float deg1c = 0.99984770f, deg1s = 0.017452406f;
+        unsigned a, b;
+        fc_dir(u, -1.0f, 0);
+        c = 2.0f * fc_unif() - 1.0f;
+        s = __builtin_sqrtf(1.0f - c * c);
+        fc_rot_axis(u, c, s, r0);
+        fc_dir(u, -1.0f, 0);
+        fc_rot_axis(u, deg1c, deg1s, rq);
+        for (a = 0; a < 3u; a++) {
+            for (b = 0; b < 3u; b++) {
+                r1[3u * a + b] = rq[3u * a] * r0[b] + rq[3u * a + 1u] * r0[3u + b] + rq[3u * a + 2u] * r0[6u + b];
+            }
+        }
+        for (i = 0; i < FC_NJP; i++) {
+            fc_apply(r0, tpl[i], fc_centre, fc_jtrk[0][i].v);
+            fc_apply(r1, tpl[i], fc_centre, fc_jtrk[1][i].v);
+            for (k = 0; k < 3; k++) {
+                fc_jtrk[0][i].v[k] += fc_sigma * fc_noise();
+                fc_jtrk[1][i].v[k] += fc_sigma * fc_noise();
             }
         }
     }
@@ -520,6 +549,29 @@ static void fc_register(void)
     fc_keep(sfit_cluster_register(&fc_cl, fc_jpar[0], FC_NJP, &fc_pose, &fc_cfit));
 }
 
+static void fc_prep_track(void) /* the first frame: the full solve */
+{
+    fc_keep(sfit_cluster_track_reset(&fc_trk));
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[0], FC_NJP, &fc_pose, &fc_cfit));
+}
+
+static void fc_track(void) /* the next frame, from the previous rotation */
+{
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[1], FC_NJP, &fc_pose, &fc_cfit));
+    fc_keep((fc_trk.steps > 0u) ? SFIT_OK : SFIT_E_NO_CONVERGENCE);
+}
+
+static void fc_track_pose(void) /* the same, pose only (no residual) */
+{
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[1], FC_NJP, &fc_pose, NULL));
+}
+
+static void fc_track_first(void)
+{
+    fc_keep(sfit_cluster_track_reset(&fc_trk));
+    fc_keep(sfit_cluster_track(&fc_cl, &fc_trk, fc_jtrk[0], FC_NJP, &fc_pose, &fc_cfit));
+}
+
 static void fc_to_segment(void)
 {
     fc_keep(sfit_cluster_to_segment(&fc_pose, &fc_jchi[0][0], &fc_x));
@@ -659,6 +711,156 @@ static void fc_pair_solve(void)
     fc_keep(sfit_pair_solve(&fc_pair, &fc_pres));
 }
 
+/* ---- issue 30: the whole lower limb per frame -------------------------------
+ * 7 segments (pelvis; right and left thigh, shank, foot: the left side the
+ * right one mirrored, x -> -x) with 4 / 5 / 5 / 4 markers, 6 joints (hips,
+ * knees, ankles), 200 Hz frames 2.5 m from the origin, noise 0.5 mm. Each
+ * segment turns about its own axis at a speed typical of gait (pelvis 40,
+ * thigh 250, shank 400, foot 400 degrees/s: 0.2 - 2 degrees per frame).
+ * Tracking: one pose per segment per frame (sfit_cluster_track, pose
+ * only), shared by the joints that use it, and every joint centre mapped
+ * to the global frame from its parent's pose. Calibrating: the poses with
+ * their residuals and one sfit_pair_add per joint. */
+#define FC_LL_NS 7u
+#define FC_LL_NJ 6u
+#define FC_LL_NF 33u /* frame 0 starts the tracks; 32 measured */
+#define FC_LL_MAXM 5u
+static const unsigned fc_ll_nm[FC_LL_NS] = {4u, 5u, 5u, 4u, 5u, 5u, 4u};
+static const float fc_ll_tpl[4][FC_LL_MAXM][3] = {
+    /* pelvis: ASIS, ASIS, PSIS, PSIS */
+    {{120.0f, 60.0f, 0.0f}, {-120.0f, 60.0f, 0.0f}, {50.0f, -110.0f, 30.0f}, {-50.0f, -110.0f, 30.0f}},
+    /* right thigh (segment frame at the hip) */
+    {{70.0f, 20.0f, -200.0f}, {60.0f, -40.0f, -180.0f}, {75.0f, 10.0f, -300.0f}, {55.0f, 0.0f, -420.0f}, {-50.0f, 0.0f, -420.0f}},
+    /* right shank (at the knee) */
+    {{60.0f, 30.0f, -150.0f}, {20.0f, 45.0f, -200.0f}, {55.0f, 20.0f, -260.0f}, {45.0f, 0.0f, -400.0f}, {-40.0f, 0.0f, -400.0f}},
+    /* right foot (at the ankle) */
+    {{0.0f, -60.0f, -40.0f}, {30.0f, 160.0f, -50.0f}, {-20.0f, 60.0f, -10.0f}, {55.0f, 130.0f, -45.0f}}};
+static const unsigned fc_ll_kind[FC_LL_NS] = {0u, 1u, 2u, 3u, 1u, 2u, 3u};
+static const float fc_ll_speed[4] = {40.0f, 250.0f, 400.0f, 400.0f}; /* degrees/s */
+static const unsigned fc_ll_par[FC_LL_NJ] = {0u, 1u, 2u, 0u, 4u, 5u};
+static const unsigned fc_ll_chi[FC_LL_NJ] = {1u, 2u, 3u, 4u, 5u, 6u};
+static sfit_cluster_t fc_ll_cl[FC_LL_NS];
+static sfit_cluster_track_t fc_ll_trk[FC_LL_NS];
+static sfit_pose_t fc_ll_pose[FC_LL_NS];
+static sfit_cluster_fit_t fc_ll_fit[FC_LL_NS];
+static sfit_pair_t fc_ll_pair[FC_LL_NJ];
+static sfit_vec3_t fc_ll_cen[FC_LL_NJ]; /* calibrated centres, parent frame */
+static sfit_vec3_t fc_ll_out[FC_LL_NJ];
+static sfit_vec3_t fc_ll_m[FC_LL_NF][FC_LL_NS][FC_LL_MAXM];
+
+static void fc_setup_lower_limb(void)
+{
+    static const float base[3] = {1500.0f, -1800.0f, 900.0f};
+    unsigned sg, f, i;
+    int k;
+    for (sg = 0; sg < FC_LL_NS; sg++) {
+        const unsigned kd = fc_ll_kind[sg];
+        const float mir = (sg >= 4u) ? -1.0f : 1.0f;
+        sfit_vec3_t tv[FC_LL_MAXM];
+        float u[3], r0[9], rs[9], r[9], c, ang;
+        for (i = 0; i < fc_ll_nm[sg]; i++) {
+            tv[i].v[0] = mir * fc_ll_tpl[kd][i][0];
+            tv[i].v[1] = fc_ll_tpl[kd][i][1];
+            tv[i].v[2] = fc_ll_tpl[kd][i][2];
+        }
+        if (sfit_cluster_init(&fc_ll_cl[sg], tv, fc_ll_nm[sg]) != SFIT_OK) {
+            fc_st = SFIT_E_ARG;
+        }
+        fc_dir(u, -1.0f, 0);
+        c = 2.0f * fc_unif() - 1.0f;
+        fc_rot_axis(u, c, __builtin_sqrtf(1.0f - c * c), r0);
+        fc_dir(u, -1.0f, 0);
+        ang = fc_ll_speed[kd] * (3.14159265f / 180.0f) / 200.0f;
+        fc_rot_axis(u, __builtin_cosf(ang), __builtin_sinf(ang), rs);
+        memcpy(r, r0, sizeof r);
+        for (f = 0; f < FC_LL_NF; f++) {
+            float t[3], nr[9];
+            unsigned a, b;
+            for (k = 0; k < 3; k++) {
+                t[k] = base[k] + 6.0f * (float)f + 100.0f * (float)sg;
+            }
+            for (i = 0; i < fc_ll_nm[sg]; i++) {
+                fc_apply(r, tv[i].v, t, fc_ll_m[f][sg][i].v);
+                for (k = 0; k < 3; k++) {
+                    fc_ll_m[f][sg][i].v[k] += fc_sigma * fc_noise();
+                }
+            }
+            for (a = 0; a < 3u; a++) {
+                for (b = 0; b < 3u; b++) {
+                    nr[3u * a + b] = rs[3u * a] * r[b] + rs[3u * a + 1u] * r[3u + b] + rs[3u * a + 2u] * r[6u + b];
+                }
+            }
+            memcpy(r, nr, sizeof r);
+        }
+    }
+    for (i = 0; i < FC_LL_NJ; i++) {
+        fc_ll_cen[i].v[0] = 10.0f;
+        fc_ll_cen[i].v[1] = -20.0f;
+        fc_ll_cen[i].v[2] = -80.0f;
+    }
+}
+
+/* Frame 0: the full solves that start the tracks and the pair states. */
+static void fc_prep_ll(void)
+{
+    unsigned sg, j;
+    for (sg = 0; sg < FC_LL_NS; sg++) {
+        fc_keep(sfit_cluster_track_reset(&fc_ll_trk[sg]));
+        fc_keep(sfit_cluster_track(&fc_ll_cl[sg], &fc_ll_trk[sg], fc_ll_m[0][sg], fc_ll_nm[sg],
+                                   &fc_ll_pose[sg], &fc_ll_fit[sg]));
+    }
+    for (j = 0; j < FC_LL_NJ; j++) {
+        fc_keep(sfit_pair_init(&fc_ll_pair[j], &fc_ll_cl[fc_ll_par[j]], &fc_ll_cl[fc_ll_chi[j]], NULL));
+    }
+}
+
+static void fc_ll_track_frames(void) /* FC_LL_NF - 1 frames */
+{
+    unsigned f, sg, j;
+    for (f = 1u; f < FC_LL_NF; f++) {
+        for (sg = 0; sg < FC_LL_NS; sg++) {
+            fc_keep(sfit_cluster_track(&fc_ll_cl[sg], &fc_ll_trk[sg], fc_ll_m[f][sg], fc_ll_nm[sg],
+                                       &fc_ll_pose[sg], NULL));
+        }
+        for (j = 0; j < FC_LL_NJ; j++) {
+            fc_keep(sfit_cluster_to_global(&fc_ll_pose[fc_ll_par[j]], &fc_ll_cen[j], &fc_ll_out[j]));
+        }
+    }
+}
+
+static void fc_ll_calib_frames(void) /* FC_LL_NF - 1 frames */
+{
+    unsigned f, sg, j;
+    for (f = 1u; f < FC_LL_NF; f++) {
+        for (sg = 0; sg < FC_LL_NS; sg++) {
+            fc_keep(sfit_cluster_track(&fc_ll_cl[sg], &fc_ll_trk[sg], fc_ll_m[f][sg], fc_ll_nm[sg],
+                                       &fc_ll_pose[sg], &fc_ll_fit[sg]));
+        }
+        for (j = 0; j < FC_LL_NJ; j++) {
+            const unsigned a = fc_ll_par[j], b = fc_ll_chi[j];
+            fc_keep(sfit_pair_add(&fc_ll_pair[j], &fc_ll_pose[a], &fc_ll_fit[a], &fc_ll_pose[b],
+                                  &fc_ll_fit[b]));
+        }
+    }
+}
+
+/* The same frames registered from nothing (sfit_cluster_register): the
+ * lower limb before issue 30. */
+static void fc_ll_register_frames(void)
+{
+    unsigned f, sg, j;
+    for (f = 1u; f < FC_LL_NF; f++) {
+        for (sg = 0; sg < FC_LL_NS; sg++) {
+            fc_keep(sfit_cluster_register(&fc_ll_cl[sg], fc_ll_m[f][sg], fc_ll_nm[sg], &fc_ll_pose[sg],
+                                          NULL));
+        }
+        for (j = 0; j < FC_LL_NJ; j++) {
+            fc_keep(sfit_cluster_to_global(&fc_ll_pose[fc_ll_par[j]], &fc_ll_cen[j], &fc_ll_out[j]));
+        }
+    }
+}
+
+
 /* ---- the table ------------------------------------------------------------ */
 static const fc_op_t fc_ops[] = {
     /* name, public function, prep, run, prep_base, base, div */
@@ -686,6 +888,9 @@ static const fc_op_t fc_ops[] = {
     {"multi_center_cov", "sfit_multi_center_cov", fc_multi_all, fc_multi_cov, NULL, NULL, 1u},
     {"noise_calibration", "sfit_noise_calibrate", NULL, fc_noise_calib, NULL, NULL, 1u},
     {"cluster_register", "sfit_cluster_register", NULL, fc_register, NULL, NULL, 1u},
+    {"cluster_track", "sfit_cluster_track", fc_prep_track, fc_track, NULL, NULL, 1u},
+    {"cluster_track_pose", "sfit_cluster_track", fc_prep_track, fc_track_pose, NULL, NULL, 1u},
+    {"cluster_track_first", "sfit_cluster_track", NULL, fc_track_first, NULL, NULL, 1u},
     {"pose_to_segment", "sfit_cluster_to_segment", fc_register, fc_to_segment, NULL, NULL, 1u},
     {"joint_frame", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, NULL, NULL, FC_NJF},
     {"joint_per_child", "sfit_joint_add", fc_prep_joint5, fc_joint_frames, fc_prep_joint1, fc_joint_frames, FC_NJF * (FC_NJC - 1u)},
@@ -697,6 +902,9 @@ static const fc_op_t fc_ops[] = {
     {"pair_add_markers", "sfit_pair_add_markers", fc_prep_pair, fc_pair_frames_markers, NULL, NULL, FC_NJF},
     {"pair_solve", "sfit_pair_solve", fc_prep_pair_full, fc_pair_solve, NULL, NULL, 1u},
     {"pair_solve_score", "sfit_pair_solve", fc_prep_pair_full_score, fc_pair_solve, NULL, NULL, 1u},
+    {"lower_limb_track_frame", "sfit_cluster_track", fc_prep_ll, fc_ll_track_frames, NULL, NULL, FC_LL_NF - 1u},
+    {"lower_limb_calib_frame", "sfit_pair_add", fc_prep_ll, fc_ll_calib_frames, NULL, NULL, FC_LL_NF - 1u},
+    {"lower_limb_register_frame", "sfit_cluster_register", fc_prep_ll, fc_ll_register_frames, NULL, NULL, FC_LL_NF - 1u},
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},
     {"incremental_add", "sfit_incr_add", fc_prep_incr_gdke, fc_incr_add, NULL, NULL, 1u},
     {"incremental_solve", "sfit_incr_fit", fc_prep_incr_gdke, fc_incr_solve, NULL, NULL, 1u},
@@ -722,6 +930,7 @@ int main(void)
     fc_setup();
     fc_setup_joint();
     fc_setup_pair();
+    fc_setup_lower_limb();
     printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);

@@ -32,6 +32,8 @@ FILENAME == ARGV[2] {
 }
 FILENAME == ARGV[3] {
     sub(/#.*/, "")
+    if ($1 == "insns" && NF >= 3) { nib++; ibname[nib] = $2; ibmax[$2] = $3; ibkey[nib] = "insns"; next }
+    if ($1 == "cycles" && NF >= 3) { nib++; ibname[nib] = $2; ibmax[$2 ",c"] = $3; ibkey[nib] = "cyc"; next }
     if (NF >= 2) { nb++; bname[nb] = $1; bmax[$1] = $2; bneeds[$1] = (NF >= 3) ? $3 : "" }
     next
 }
@@ -87,6 +89,20 @@ END {
             bstat[n] = "OVER"; bad = 1
             printf "BUDGET FAIL %s: %s FLOPs > budget %s\n", n, fmt(val[n, "flops"]), bmax[n] > "/dev/stderr"
         } else bstat[n] = "ok"
+    }
+    # instruction budgets ("insns NAME MAX" lines): M4F instructions, exact counts
+    # ("cycles NAME MAX" lines: the cycle model's estimate)
+    for (b = 1; b <= nib; b++) {
+        n = ibname[b]
+        lim = (ibkey[b] == "cyc") ? ibmax[n ",c"] : ibmax[n]
+        what = (ibkey[b] == "cyc") ? "estimated M4F cycles" : "M4F instructions"
+        if (!have[n]) {
+            bad = 1
+            printf "BUDGET FAIL %s: %s budget %s but not measured\n", n, what, lim > "/dev/stderr"
+        } else if (val[n, ibkey[b]] > lim + 0) {
+            bad = 1
+            printf "BUDGET FAIL %s: %s %s > budget %s\n", n, what, fmt(val[n, ibkey[b]]), lim > "/dev/stderr"
+        }
     }
     for (n in failed) { bad = 1; printf "FAIL %s returned status %s\n", n, failed[n] > "/dev/stderr" }
 

@@ -32,6 +32,7 @@ FC_SIZE(sfit_refine_result_t);
 FC_SIZE(sfit_uncert_t);
 FC_SIZE(sfit_cluster_t);
 FC_SIZE(sfit_pose_t);
+FC_SIZE(sfit_cluster_track_t);
 FC_SIZE(sfit_joint_t);
 FC_SIZE(sfit_joint_cfg_t);
 FC_SIZE(sfit_joint_result_t);

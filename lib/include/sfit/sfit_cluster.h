@@ -54,6 +54,17 @@ typedef struct sfit_cluster_fit {
 } sfit_cluster_fit_t;
 
 /**
+ * @brief The state sfit_cluster_track() keeps between frames: the previous
+ * frame's rotation. Caller-owned; members are private except steps. 24 B.
+ */
+typedef struct sfit_cluster_track {
+    float q[4];     /**< Unit quaternion (w, x, y, z) of the previous rotation. */
+    uint32_t valid; /**< 1: q holds a previous frame's rotation; 0: none (start, gap). */
+    uint32_t steps; /**< Read-only: Newton steps the last successful call took from the
+                         previous rotation; 0: it ran the full solve. */
+} sfit_cluster_track_t;
+
+/**
  * @brief Set a template from marker positions given in the segment frame.
  * The segment frame is the caller's frame of @p tpl (e.g. an anatomical
  * frame); nothing is re-centred.
@@ -135,10 +146,56 @@ sfit_status_t sfit_cluster_from_frames(sfit_cluster_t *cl, const sfit_vec3_t *fr
  *                            second singular value of the cross-covariance is below
  *                            SFIT_CLUSTER_COLLINEAR_RATIO times the first
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 markers: 1010 FLOPs (tools/flopcount "cluster_register").
+ * @par Cost 4 markers: 964 FLOPs (tools/flopcount "cluster_register").
  */
 sfit_status_t sfit_cluster_register(const sfit_cluster_t *cl, const sfit_vec3_t *meas,
                                     size_t count, sfit_pose_t *pose, sfit_cluster_fit_t *fit);
+
+/**
+ * @brief Start (or restart) a track: the next sfit_cluster_track() call
+ * runs the full solve.
+ * @param[out] tr  Track state.
+ * @retval SFIT_OK     success
+ * @retval SFIT_E_ARG  tr is NULL
+ */
+sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
+
+/**
+ * @brief The pose of sfit_cluster_register(), started from the previous
+ * frame's rotation: the frame-to-frame path of a firmware.
+ *
+ * With a previous rotation in @p tr, up to SFIT_CLUSTER_TRACK_STEPS Newton
+ * steps on tr(R^T H) (H the centred cross-covariance) are taken from it,
+ * each in quaternion form so that R is always a proper rotation. The
+ * short path is accepted when the Hessian is positive definite, the
+ * cluster is far from collinear (a bound that implies the collinearity
+ * test of sfit_cluster_register()) and the quadratic-convergence bound
+ * says that the remaining error is below one float epsilon; otherwise,
+ * and at the start, the full solve of sfit_cluster_register() runs. The
+ * pose equals the full solve's within float rounding
+ * (docs/tracking.md: test, bound and measured differences).
+ *
+ * Statuses and outputs as sfit_cluster_register(); on SFIT_OK @p tr holds
+ * this frame's rotation and, in tr->steps, the Newton steps taken (0: the
+ * full solve ran). SFIT_E_TOO_FEW (fewer than 3 markers seen) is a
+ * gap: @p tr forgets the rotation, and the next frame runs the full solve.
+ * Any other failure leaves @p tr unchanged.
+ * @param[in]     cl     Template.
+ * @param[in,out] tr     Track state (sfit_cluster_track_reset() first).
+ * @param[in]     meas   @p count measured positions, template order; NaN = occluded.
+ * @param[in]     count  Must equal the template's marker count.
+ * @param[out]    pose   Pose; written only on SFIT_OK.
+ * @param[out]    fit    NULL, or residual and markers used; written only on SFIT_OK.
+ * @retval SFIT_E_ARG  also for a corrupted @p tr (valid not 0 or 1, or a
+ *                     quaternion not finite or not of unit length)
+ * @par Cost 4 markers, 1 degree between the frames (two Newton steps): 533
+ * FLOPs, 1116 M4F instructions for the pose (fit NULL, "cluster_track_pose");
+ * 679 FLOPs, 1363 instructions with the RMS residual ("cluster_track");
+ * both budgeted at <= 1500 instructions in CI (tools/flopcount/budget.txt).
+ */
+sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t *tr,
+                                 const sfit_vec3_t *meas, size_t count, sfit_pose_t *pose,
+                                 sfit_cluster_fit_t *fit);
 
 /**
  * @brief Map a point from the segment frame to the global frame: r x + t.

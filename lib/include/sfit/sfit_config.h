@@ -210,6 +210,20 @@
 #endif
 
 /**
+ * @brief Newton steps sfit_cluster_track() takes from the previous frame's
+ * rotation before it gives up and runs the full solve
+ * (sfit_cluster_register()). Each step costs about 250 M4F instructions;
+ * a step's convergence test is in docs/tracking.md. At 200 Hz two steps
+ * converge for rotations up to several degrees per frame. Range 1..8.
+ */
+#ifndef SFIT_CLUSTER_TRACK_STEPS
+#define SFIT_CLUSTER_TRACK_STEPS 3
+#endif
+#if (SFIT_CLUSTER_TRACK_STEPS < 1) || (SFIT_CLUSTER_TRACK_STEPS > 8)
+#error "SFIT_CLUSTER_TRACK_STEPS must be in 1..8"
+#endif
+
+/**
  * @brief Most child markers of one joint (sfit_joint.h). Sets the size of
  * ::sfit_joint_t (one moments accumulator, about 140 B, per marker).
  * Range 1..64.

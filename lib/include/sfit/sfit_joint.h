@@ -128,7 +128,7 @@ sfit_status_t sfit_joint_reset(sfit_joint_t *j);
  *                            or a counter is full
  * @retval SFIT_E_DEGENERATE  the seen parent markers are collinear or coincident
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
- * @par Cost 4 parent + 5 child markers: 1237.3 FLOPs per frame, amortised
+ * @par Cost 4 parent + 5 child markers: 1191.3 FLOPs per frame, amortised
  * (tools/flopcount "joint_frame"); 45 FLOPs per further child
  * marker ("joint_per_child").
  */
@@ -240,7 +240,7 @@ sfit_status_t sfit_joint_marker_noise(const sfit_joint_t *j, float marker_var,
  * @retval SFIT_E_NOT_POSDEF  the solve's matrix is not positive definite
  * @retval SFIT_E_RANGE       the result would not be finite, or a child
  *                            accumulator is corrupted (statistics not finite)
- * @par Cost 4 parent + 5 child markers: 1519.45 FLOPs per frame (tools/flopcount
+ * @par Cost 4 parent + 5 child markers: 1327.45 FLOPs per frame (tools/flopcount
  * "joint_center_cov_frame").
  */
 sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
@@ -262,7 +262,7 @@ sfit_status_t sfit_joint_center_cov(const sfit_joint_t *j, const sfit_joint_resu
  *         SFIT_E_RANGE, SFIT_E_NO_CONVERGENCE  as sfit_cluster_register()
  *         (SFIT_E_ARG also for a NULL res/center or garbage counters;
  *         SFIT_E_NONFINITE also for a non-finite centre or axis in res)
- * @par Cost 4 parent markers: 1043 FLOPs (tools/flopcount "joint_center_at").
+ * @par Cost 4 parent markers: 851 FLOPs (tools/flopcount "joint_center_at").
  */
 sfit_status_t sfit_joint_center_at(const sfit_joint_t *j, const sfit_joint_result_t *res,
                                    const sfit_vec3_t *parent, size_t n_parent,
