@@ -24,6 +24,7 @@
  */
 #include "sfit/sfit_moments.h"
 
+#include <float.h>
 #include <string.h>
 
 #include "sfit_moments_i.h"
@@ -291,12 +292,16 @@ static int prv_total_ok(const float origin[3], const sfit_cmom_t *s)
     const float lim = (float)s->n * (4.0f * PRV_RANGE * PRV_RANGE);
     const float pair[3] = {m2[0] + m2[1], m2[0] + m2[2], m2[1] + m2[2]}; /* XY, XZ, YZ */
     const float tr = pair[0] + m2[2];
+    /* absolute slack: the rounding of the shifted sums (eps tr) and their
+     * underflow (n FLT_MIN): samples on a line give |M2_yz| ~ 1e-44 with
+     * M2_yy = M2_zz = 0 (found by fuzz_stream) */
+    const float tiny = FLT_EPSILON * tr + (float)s->n * FLT_MIN;
     int i, ok = 1;
     for (i = 0; i < 3; i++) {
         ok = ok && SFIT_FABSF(origin[i]) < PRV_RANGE
-             && SFIT_FABSF(origin[i] + s->d[i]) < PRV_RANGE && m2[i] >= 0.0f && m2[i] <= lim
-             && SFIT_FABSF(m2[3 + i]) <= (0.5f * PRV_SLACK) * pair[i]
-             && SFIT_FABSF(s->m3[i]) <= (4.0f * PRV_SLACK * PRV_RANGE) * tr;
+             && SFIT_FABSF(origin[i] + s->d[i]) < PRV_RANGE && m2[i] >= -tiny && m2[i] <= lim
+             && SFIT_FABSF(m2[3 + i]) <= (0.5f * PRV_SLACK) * pair[i] + tiny
+             && SFIT_FABSF(s->m3[i]) <= (4.0f * PRV_SLACK * PRV_RANGE) * tr + tiny;
     }
     return ok;
 }

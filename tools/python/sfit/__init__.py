@@ -755,7 +755,8 @@ if hasattr(_sfit, "Joint"):
     _PAIR_ERRORS = {-1: ArgError, -2: TooFewError, -3: NotPosDefError, -4: NoConvergenceError,
                     -5: DegenerateError, -6: NonFiniteError, -7: RangeError}
 
-    def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noise_var):
+    def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noise_var,
+                     label_swaps=None):
         """joint_center with the pair of segments (sfit_pair.h via _sfit._pair_solve)."""
         if mode not in ("auto", "sphere", "planar"):
             raise _arg_error("joint_center: mode must be auto, sphere or planar")
@@ -798,7 +799,7 @@ if hasattr(_sfit, "Joint"):
             ag[f] = pose.rotation @ d["axis"]
             valid[f] = True
         d.update(method=method, rejected_frames=rejected, center_global=cg, axis_global=ag,
-                 valid=valid, cluster=cl, child_cluster=ccl)
+                 valid=valid, cluster=cl, child_cluster=ccl, label_swaps=label_swaps)
         return JointResult(d)
 
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
@@ -868,10 +869,8 @@ if hasattr(_sfit, "Joint"):
             if noise_var is not None or noise_cov is not None:
                 raise _arg_error("joint_center: noise_var / noise_cov are the mgdk noise of a "
                                  "child marker; give marker_noise_var with method %r" % method)
-            res = _pair_center(parent, child_arr, cl, child_template, method, mode,
-                               marker_noise_var)
-            res.label_swaps = label_swaps
-            return res
+            return _pair_center(parent, child_arr, cl, child_template, method, mode,
+                                marker_noise_var, label_swaps)
         j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,
                   marker_noise_var=marker_noise_var)
         j.add(parent, child_arr)
