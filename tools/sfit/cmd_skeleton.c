@@ -30,6 +30,7 @@
 
 #include "cli.h"
 #include "cli_joint.h"
+#include "skel.h"
 
 #define SK_MAX_JOINTS 32
 #define SK_LINE 4096
@@ -591,6 +592,9 @@ int cli_cmd_skeleton(int argc, char **argv)
     long frame = 0;
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
+    if (skel_cmd_wanted(argc, argv)) {
+        return skel_cmd(argc, argv);
+    }
     {
         const int prc = sk_parse(argc, argv, &o);
         if (prc >= 0) {
