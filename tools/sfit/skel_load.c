@@ -96,6 +96,16 @@ int skel_rec_load(skel_rec_t *r, const char *const *files, int nfiles, const cha
         (void)snprintf(why, SKEL_ERR, "out of memory");
         goto fail;
     }
+    for (i = 0; i < r->nmark; i++) { /* every marker asked for is in some file */
+        int found = 0;
+        for (k = 0; k < nfiles && !found; k++) {
+            found = c3d_find(&c[k], r->label[i]) >= 0;
+        }
+        if (!found) {
+            (void)snprintf(why, SKEL_ERR, "marker %s is in none of the files", r->label[i]);
+            goto fail;
+        }
+    }
     for (k = 0; k < nfiles; k++) {
         int col[SKEL_MAX_MARK];
         long f, g;

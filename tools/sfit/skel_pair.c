@@ -22,7 +22,7 @@
 #include "skel.h"
 
 /* Decision thresholds (docs/skeleton.md). */
-#define SKEL_NO_MOTION_RAD 0.035  /* largest rotation spread below this (2 deg): no joint */
+#define SKEL_NO_MOTION_RAD 0.087  /* largest rotation spread below this (5 deg): no joint */
 #define SKEL_SMALL_RANGE_RAD 0.17 /* largest rotation spread below this (10 deg): flagged */
 #define SKEL_HINGE_RATIO 0.3      /* sqrt(s0 / s1) below this: a hinge */
 #define SKEL_MIN_FRAMES 30

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# `sfit skeleton FILE...`: the skeleton found in the recording
+# (docs/skeleton.md). Claims checked (tests/scripts/skeleton_check.py):
+#  1. the unlabeled arm recordings: the marker groups found from the data
+#     (listed) and a chain of two joints, without a map;
+#  2. the lower-limb session, all four functional trials together, segments
+#     given: the tree pelvis - thigh - shank - foot and pelvis - trunk, the
+#     knee a hinge; two segments that never move relative to each other are
+#     no joint;
+#  3. the BVH re-read by an independent parser (tests/scripts/bvh_ref.py):
+#     its forward kinematics gives the TRC's joint centres in every frame
+#     within 0.1 mm;
+#  4. the HTML page in headless Chromium: screenshots at two frames differ
+#     where the skeleton moved (the page's own report of where it drew
+#     the joints, via --dump-dom);
+#  5. errors: bad options, a missing file, a malformed map.
+# Usage: test_skeleton.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+. "$(dirname "$0")/common.sh"
+cli_setup skeleton "$1" "$2"
+chk() { PYTHONPATH="$cli_src/tests/scripts" /usr/bin/python3 "$cli_src/tests/scripts/skeleton_check.py" "$@"; }
+U="$data/c3d/unlabeled"
+L="$data/c3d/lower_limb_session"
+trials=("$L/Test_func_rankle.c3d" "$L/Test_func_rhip.c3d" "$L/Test_func_rknee.c3d" "$L/Test_func_trunk.c3d")
+
+# 1. Unlabeled: groups and a chain of two joints.
+"$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --json > "$tmp/a444.json"
+chk unlabeled "$tmp/a444.json" \
+  '[["M000","M001","M002","M003"],["M004","M005","M006","M007"],["M008","M009","M010","M011"]]' \
+  || fail "arm-4-4-4"
+# 10608 frames at 120 Hz: every 4th frame (30 Hz) is enough and 4 times faster.
+"$sfit" skeleton "$U/arm-4-2-3_clean_120fps.c3d" --step 4 --json > "$tmp/a423.json"
+chk unlabeled "$tmp/a423.json" \
+  '[["M000","M001","M002","M003"],["M004","M005"],["M006","M007","M008"]]' \
+  || fail "arm-4-2-3"
+"$sfit" skeleton "$U/arm-4-2-3_clean_120fps.c3d" --step 4 > "$tmp/a423.txt"
+grep -q "^  group 2    M004 M005  (spread .*) 2 markers: posed with a joint centre" "$tmp/a423.txt" \
+  || fail "the human listing of the groups: $(cat "$tmp/a423.txt")"
+
+# 2. The lower-limb session with its segments given (types left to the data).
+cat > "$tmp/session.txt" <<'EOF'
+# the shared lower-limb session (SESSION_MODEL.md format)
+segment pelvis  RASI,LASI,RPSI,LPSI
+segment r_thigh RTHI,RTHIB,RTHID,RKNE,RKNEM
+segment r_shank RTIB,RTIBF,RTIBD,RANK,RANKM
+segment r_foot  RHEE,RTOE,RNAV,RTOE5
+segment trunk   C7,T1,T6,T10,CLAV,STRN,RBAK
+joint r_hip   pelvis  r_thigh auto RHJC *func_rhip*
+joint r_knee  r_thigh r_shank auto RKJC *func_rknee*
+joint r_ankle r_shank r_foot  auto RAJC *func_rankle*
+joint trunk   pelvis  trunk   auto TJC  *func_trunk*
+root pelvis
+EOF
+"$sfit" skeleton "${trials[@]}" --segments "$tmp/session.txt" --json \
+  --bvh "$tmp/s.bvh" --trc "$tmp/s.trc" --svg "$tmp/s.svg" --html "$tmp/s.html" --frame 700 \
+  > "$tmp/session.json"
+chk session "$tmp/session.json" || fail "lower-limb tree"
+# without the root line the root is the segment that moves least: the pelvis
+grep -v '^root' "$tmp/session.txt" > "$tmp/noroot.txt"
+"$sfit" skeleton "${trials[@]}" --segments "$tmp/noroot.txt" --json > "$tmp/noroot.json"
+py 'import json,sys; d=json.load(open(sys.argv[1])); assert d["root"]=="pelvis" and d["root_rule"]=="moves_least", d["root"]' \
+  "$tmp/noroot.json" || fail "root rule"
+# Two segments on the same rigid pelvis (markers shared) never move: no joint.
+cat > "$tmp/rigid.txt" <<'EOF'
+segment a RASI,LASI,RPSI
+segment b LASI,RPSI,LPSI
+segment r_thigh RTHI,RTHIB,RTHID,RKNE,RKNEM
+EOF
+"$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/rigid.txt" --json > "$tmp/rigid.json"
+chk norigid "$tmp/rigid.json" || fail "no-motion pair"
+
+# 3. BVH: independent reader, forward kinematics = the TRC's joint centres.
+chk bvh "$tmp/s.bvh" "$tmp/s.trc" "$tmp/session.json" || fail "BVH"
+"$sfit" skeleton "$U/arm-4-2-3_clean_120fps.c3d" --step 4 --json --bvh "$tmp/a.bvh" \
+  --trc "$tmp/a.trc" > "$tmp/a.json"
+chk bvh "$tmp/a.bvh" "$tmp/a.trc" "$tmp/a.json" || fail "BVH of the unlabeled arm"
+grep -q '^<svg ' "$tmp/s.svg" && grep -q '</svg>' "$tmp/s.svg" || fail "SVG"
+
+# 4. The HTML page in headless Chromium: self-contained, two frames differ
+# where the skeleton moved.
+if grep -Eiq '(src|href)="?(https?:)?//|<script[^>]+src=|<link ' "$tmp/s.html"; then
+  fail "the page loads something from outside itself"
+fi
+chrome=$(command -v chromium || command -v chromium-browser || true)
+[ -n "$chrome" ] || missing "chromium not found (Debian package chromium)"
+shot() { # FRAME: screenshot and DOM of the page at that frame
+  "$chrome" --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=920,760 \
+    --screenshot="$tmp/f$1.png" "file://$tmp/s.html#frame=$1" > /dev/null 2>&1
+  "$chrome" --headless --no-sandbox --disable-gpu --window-size=920,760 --dump-dom \
+    "file://$tmp/s.html#frame=$1" > "$tmp/f$1.dom" 2> /dev/null
+  [ -s "$tmp/f$1.png" ] && grep -q '<pre id="state">{' "$tmp/f$1.dom" \
+    || fail "chromium did not render frame $1"
+}
+shot 0
+shot 700
+chk screens "$tmp/f0.png" "$tmp/f700.png" "$tmp/f0.dom" "$tmp/f700.dom" || fail "screenshots"
+
+# 5. Errors.
+expect_usage "FILE missing" skeleton --bvh "$tmp/x.bvh"
+expect_usage "--step needs a whole number >= 1" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --step 0
+expect_usage "--bvh needs a value" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --bvh
+expect_rc 3 "$sfit" skeleton "$tmp/nothing.c3d" --bvh "$tmp/x.bvh"
+printf 'segment a RASI,LASI\n' > "$tmp/bad.txt"
+expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/bad.txt" --json
+py 'import json,sys; d=json.loads(sys.argv[1]); assert d["status"]=="format_error" and "3 to" in d["message"], d' "$out" \
+  || fail "malformed map: $out"
+printf 'segment a RASI,LASI,RPSI\nsegment b NOPE1,NOPE2,NOPE3\n' > "$tmp/absent.txt"
+expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/absent.txt"
+grep -q "marker NOPE1 is in none of the files" "$tmp/stderr" || fail "absent marker: $(cat "$tmp/stderr")"
+expect_rc 2 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --frame 99999
+expect_rc 3 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --bvh "$tmp/no/such/dir.bvh"
+echo "skeleton: ok"
