@@ -135,6 +135,46 @@ def cmd_bvh(args):
               len(nodes), len(frames), ft, worst, units))
 
 
+def cmd_synth(args):
+    """synth JSON TRUTH ABS_TOL K_SIGMA ANGLE_TOL_DEG: the synthetic chain found
+    again: groups, chain A - B - C, ball then hinge, centres and axis vs the truth."""
+    js = json.load(open(args[0]))
+    truth = json.load(open(args[1]))
+    tol, ks, atol = float(args[2]), float(args[3]), float(args[4])
+    got = sorted(sorted(g) for g in groups(js) if len(g) >= 3)
+    if got != sorted(truth['groups']):
+        fail('groups %s, expected %s' % (got, truth['groups']))
+    path = chain(js)
+    if path is None or len(path) != 3:
+        fail('not a chain of three segments: %s' % tree_edges(js))
+    seg_of = {s['name']: sorted(s['markers']) for s in js['segments']}
+    names = [seg_of[p] for p in path]
+    if names != truth['groups']:
+        fail('chain %s, expected A - B - C' % names)
+    j1, j2 = js['joints'] if js['joints'][0]['parent'] == path[0] else js['joints'][::-1]
+    if j1['type'] != 'ball' or j2['type'] != 'hinge':
+        fail('types %s %s, expected ball hinge' % (j1['type'], j2['type']))
+    # in the parents' template frames (the generator makes frame 0 noise-free)
+    d1 = math.dist(j1['center_parent'], truth['ab_parent'])
+    if not d1 <= max(tol, ks * j1['sigma']):
+        fail('ball centre %.4g mm from the truth (sigma %.3g)' % (d1, j1['sigma']))
+    ax = j2['axis_parent']
+    tv = truth['axis_bc_parent']
+    n = math.sqrt(sum(v * v for v in tv))
+    cr = [ax[1] * tv[2] - ax[2] * tv[1], ax[2] * tv[0] - ax[0] * tv[2], ax[0] * tv[1] - ax[1] * tv[0]]
+    ang = math.degrees(math.asin(min(1.0, math.sqrt(sum(v * v for v in cr)) / n)))
+    if not ang <= atol:
+        fail('hinge axis %.4g deg off' % ang)
+    w = [truth['bc_parent'][i] - j2['center_parent'][i] for i in range(3)]
+    cw = [w[1] * ax[2] - w[2] * ax[1], w[2] * ax[0] - w[0] * ax[2], w[0] * ax[1] - w[1] * ax[0]]
+    d2 = math.sqrt(sum(v * v for v in cw))  # distance of the true centre to the found axis
+    if not d2 <= max(tol, ks * j2['sigma']):
+        fail('the true hinge centre is %.4g mm off the found axis (sigma %.3g)' % (d2, j2['sigma']))
+    print('synthetic chain: ball centre %.3g mm from the truth (1 sigma %.3g), hinge axis %.3g deg '
+          'off, true hinge centre %.3g mm off the axis (1 sigma %.3g)'
+          % (d1, j1['sigma'], ang, d2, j2['sigma']))
+
+
 def _state(path):
     text = open(path).read()
     a = text.index('<pre id="state">') + len('<pre id="state">')
@@ -189,5 +229,5 @@ def cmd_screens(args):
 
 
 if __name__ == '__main__':
-    {'unlabeled': cmd_unlabeled, 'session': cmd_session, 'norigid': cmd_norigid,
+    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'session': cmd_session, 'norigid': cmd_norigid,
      'bvh': cmd_bvh, 'screens': cmd_screens}[sys.argv[1]](sys.argv[2:])

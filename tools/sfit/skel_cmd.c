@@ -397,6 +397,15 @@ int skel_cmd(int argc, char **argv)
                     jvec(c, 3);
                     printf(",\"cov_lab\":");
                     jvec(cl, 9);
+                    if (j->pr.type == SKEL_HINGE) {
+                        double ax[3];
+                        for (a = 0; a < 3; a++) {
+                            ax[a] = q[a * 3] * j->pr.axis_a[0] + q[a * 3 + 1] * j->pr.axis_a[1]
+                                    + q[a * 3 + 2] * j->pr.axis_a[2];
+                        }
+                        printf(",\"axis_lab\":");
+                        jvec(ax, 3);
+                    }
                 } else {
                     printf("null");
                 }

@@ -10,7 +10,8 @@
  * The rigid level b: for every marker the smallest spread to another
  * marker (a marker shares its segment with at least one other), and the
  * median of those over the markers: what a rigid pair shows (noise and
- * skin motion). Clustering: average linkage (the spread between two groups
+ * skin motion); at least SKEL_GROUP_FLOOR times the median distance
+ * between markers (noise-free data, whose rigid spread is float rounding). Clustering: average linkage (the spread between two groups
  * is the mean spread of their pairs with a spread), merging the closest two
  * groups while that is at most the threshold; ties by the lowest marker
  * indices, so the result is deterministic. Threshold: the full merge
@@ -29,6 +30,7 @@
 #define SKEL_GROUP_LO 2.0
 #define SKEL_GROUP_HI 8.0
 #define SKEL_GROUP_MID 4.0
+#define SKEL_GROUP_FLOOR 1e-3
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -159,6 +161,35 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
     }
     qsort(mins, (size_t)nmins, sizeof *mins, cmp_double);
     g->noise = quantile(mins, nmins, 0.5);
+    {   /* floor: a thousandth of the median marker spacing (noise-free data) */
+        double *med = malloc((size_t)n * (size_t)n * sizeof *med);
+        long nm = 0;
+        if (med != NULL) {
+            for (i = 0; i < n; i++) {
+                for (j = i + 1; j < n; j++) {
+                    long m = 0, f;
+                    if (!isfinite(spread[i * n + j])) {
+                        continue;
+                    }
+                    for (f = 0; f < r->nframes; f++) {
+                        const double d = dist(skel_rec_at(r, f, i), skel_rec_at(r, f, j));
+                        if (isfinite(d)) {
+                            buf[m++] = d;
+                        }
+                    }
+                    qsort(buf, (size_t)m, sizeof *buf, cmp_double);
+                    med[nm++] = quantile(buf, m, 0.5);
+                }
+            }
+            if (nm > 0) {
+                qsort(med, (size_t)nm, sizeof *med, cmp_double);
+                if (g->noise < SKEL_GROUP_FLOOR * quantile(med, nm, 0.5)) {
+                    g->noise = SKEL_GROUP_FLOOR * quantile(med, nm, 0.5);
+                }
+            }
+            free(med);
+        }
+    }
     nh = linkage(spread, n, HUGE_VAL, cl, h);
     {
         const double lo = SKEL_GROUP_LO * g->noise, hi = SKEL_GROUP_HI * g->noise;
