@@ -175,6 +175,52 @@ def cmd_synth(args):
           % (d1, j1['sigma'], ang, d2, j2['sigma']))
 
 
+def _csv(path):
+    with open(path) as f:
+        head = f.readline().strip().split(',')
+        rows = [ln.strip().split(',') for ln in f if ln.strip()]
+    return head, rows
+
+
+def cmd_centres(args):
+    """centres SKEL.json CENTRES.csv START JOINT.json NAME MAX_SIGMAS: the
+    joint's centre from all trials together against `sfit joint --json` on
+    its own functional trial, in the lab at that joint's reference frame
+    (`sfit joint` gives its template frame the lab axes there), frame 0 of
+    the trial being frame START of the session. A ball: the distance between
+    the centres. A hinge: the distance, in the plane through this centre
+    across this axis, to the point where `sfit joint`'s axis crosses it (the
+    place along an axis is a convention), and the angle between the axes.
+    The distance is compared with this joint's 1-sigma radius."""
+    js = json.load(open(args[0]))
+    head, rows = _csv(args[1])
+    start = int(args[2])
+    jo = json.load(open(args[3]))
+    name, maxs = args[4], float(args[5])
+    j = [x for x in js['joints'] if x['name'] == name][0]
+    ci = head.index(name + '_X')
+    row = rows[start + jo['reference_frame']]
+    if row[ci] == '':
+        fail('%s: no pose of the parent at the reference frame' % name)
+    c = [float(row[ci + k]) for k in range(3)]
+    b = jo['center_lab_reference']
+    extra = ''
+    if j['type'] == 'hinge':
+        a = [float(row[ci + 3 + k]) for k in range(3)]
+        ax = jo['axis']
+        den = sum(ax[k] * a[k] for k in range(3))
+        t = sum((c[k] - b[k]) * a[k] for k in range(3)) / den
+        b = [b[k] + t * ax[k] for k in range(3)]
+        ang = math.degrees(math.acos(min(1.0, abs(den))))
+        extra = ', axes %.1f deg apart' % ang
+    d = math.dist(c, b)
+    print('%s (%s): %.2f %s from `sfit joint` (%s) on its trial%s; 1 sigma %.2f: %.2f sigma'
+          % (name, j['type'], d, js['units'], jo['mode'], extra, j['sigma'], d / j['sigma']))
+    if not d <= maxs * j['sigma']:
+        fail('%s: %.2f %s from sfit joint, more than %g sigma (%.2f)'
+             % (name, d, js['units'], maxs, j['sigma']))
+
+
 def _state(path):
     text = open(path).read()
     a = text.index('<pre id="state">') + len('<pre id="state">')
@@ -229,5 +275,5 @@ def cmd_screens(args):
 
 
 if __name__ == '__main__':
-    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'session': cmd_session, 'norigid': cmd_norigid,
+    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'centres': cmd_centres, 'session': cmd_session, 'norigid': cmd_norigid,
      'bvh': cmd_bvh, 'screens': cmd_screens}[sys.argv[1]](sys.argv[2:])

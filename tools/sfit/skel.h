@@ -210,6 +210,8 @@ void skel_free(skel_t *s);
 
 int skel_write_bvh(const skel_t *s, const char *path);
 int skel_write_trc(const skel_t *s, const char *path);
+/** Per frame, each joint's centre carried by its parent (and a hinge's axis), CSV. */
+int skel_write_centres(const skel_t *s, const char *path);
 int skel_write_svg(const skel_t *s, const char *path, long frame);
 int skel_write_html(const skel_t *s, const char *path);
 

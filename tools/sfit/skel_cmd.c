@@ -16,7 +16,7 @@
 typedef struct sk2_opts {
     const char *file[SKEL_MAX_FILES];
     int nfiles;
-    char *segments, *root, *bvh, *trc, *svg, *html;
+    char *segments, *root, *bvh, *trc, *svg, *html, *centres;
     long frame, step;
     int json;
 } sk2_opts_t;
@@ -39,6 +39,8 @@ static void sk2_usage(FILE *f)
           "  --svg OUT.svg    a picture at frame --frame K (default 0; frames counted over\n"
           "                   the trials in order, after --step)\n"
           "  --html OUT.html  a page that plays the skeleton over the markers\n"
+          "  --centres OUT.csv  each joint's centre (and hinge axis) as its parent\n"
+          "                   segment carries it, per frame (lab frame)\n"
           "  --json           one JSON object on stdout\n"
           "  (the joint-by-joint form: sfit skeleton MODEL FILE ..., see --help of it:\n"
           "   sfit skeleton MODEL FILE --help)\n",
@@ -50,7 +52,7 @@ static void sk2_usage(FILE *f)
 int skel_cmd_wanted(int argc, char **argv)
 {
     static const char *const own[] = {"--segments", "--root", "--step", "--bvh", "--trc",
-                                      "--html"};
+                                      "--html", "--centres"};
     int i, k;
     for (i = 1; i < argc; i++) {
         for (k = 0; k < (int)(sizeof own / sizeof own[0]); k++) {
@@ -107,6 +109,7 @@ static int sk2_parse(int argc, char **argv, sk2_opts_t *o)
         {.name = "--trc", .kind = CLI_OPT_STRING, .dst = &o->trc, .needs = 1},
         {.name = "--svg", .kind = CLI_OPT_STRING, .dst = &o->svg, .needs = 1},
         {.name = "--html", .kind = CLI_OPT_STRING, .dst = &o->html, .needs = 1},
+        {.name = "--centres", .kind = CLI_OPT_STRING, .dst = &o->centres, .needs = 1},
         {.name = "--step", .kind = CLI_OPT_FN, .dst = &o->step, .fn = step_opt, .needs = 1},
         {.name = "--frame", .kind = CLI_OPT_INDEX, .dst = &o->frame, .needs = 1,
          .err = "--frame needs a whole number >= 0"},
@@ -281,6 +284,9 @@ int skel_cmd(int argc, char **argv)
         rc = CLI_IO;
     }
     if (o.svg != NULL && skel_write_svg(s, o.svg, o.frame) != 0) {
+        rc = CLI_IO;
+    }
+    if (o.centres != NULL && skel_write_centres(s, o.centres) != 0) {
         rc = CLI_IO;
     }
     if (o.html != NULL && skel_write_html(s, o.html) != 0) {

@@ -205,14 +205,6 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
                 g->gap_hi = h[k + 1];
             }
         }
-        if (getenv("SFIT_SKEL_DEBUG") != NULL) {
-            fprintf(stderr, "rigid level %.4g threshold %.4g\nheights:", g->noise,
-                    g->threshold);
-            for (k = 0; k < nh; k++) {
-                fprintf(stderr, " %.3g", h[k]);
-            }
-            fprintf(stderr, "\n");
-        }
     }
     (void)linkage(spread, n, g->threshold, cl, h);
     for (i = 0; i < n; i++) {

@@ -169,3 +169,48 @@ int skel_write_trc(const skel_t *s, const char *path)
     }
     return close_checked(f, path);
 }
+
+/* Every joint's centre as its parent segment carries it (R_p c_p + t_p) per
+ * frame, and a hinge's axis (R_p w): the data, before the skeleton's fixed
+ * bone lengths (the TRC); blank where the parent has no pose. */
+int skel_write_centres(const skel_t *s, const char *path)
+{
+    FILE *f = open_out(path);
+    long fr;
+    int k, i;
+    if (f == NULL) {
+        return -1;
+    }
+    fputs("frame", f);
+    for (k = 0; k < s->njoint; k++) {
+        const char *n = s->joint[k].name;
+        fprintf(f, ",%s_X,%s_Y,%s_Z", n, n, n);
+        if (s->joint[k].pr.type == SKEL_HINGE) {
+            fprintf(f, ",%s_AX,%s_AY,%s_AZ", n, n, n);
+        }
+    }
+    fputc('\n', f);
+    for (fr = 0; fr < s->rec->nframes; fr++) {
+        fprintf(f, "%ld", fr);
+        for (k = 0; k < s->njoint; k++) {
+            const skel_joint_t *j = &s->joint[k];
+            const int ok = s->pose_ok[(size_t)fr * (size_t)s->nseg + (size_t)j->parent];
+            const double *q = &s->pose[((size_t)fr * (size_t)s->nseg + (size_t)j->parent) * 12u];
+            const int nv = j->pr.type == SKEL_HINGE ? 2 : 1;
+            int v;
+            for (v = 0; v < nv; v++) {
+                const double *x = v == 0 ? j->pr.ca : j->pr.axis_a;
+                for (i = 0; i < 3; i++) {
+                    if (ok) {
+                        fprintf(f, ",%.6f", q[i * 3] * x[0] + q[i * 3 + 1] * x[1] + q[i * 3 + 2] * x[2]
+                                                + (v == 0 ? q[9 + i] : 0.0));
+                    } else {
+                        fputc(',', f);
+                    }
+                }
+            }
+        }
+        fputc('\n', f);
+    }
+    return close_checked(f, path);
+}
