@@ -266,6 +266,20 @@ int skel_cmd(int argc, char **argv)
         goto done;
     }
     intree = skel_tree(s, map, o.root, why);
+    if (intree >= 0 && map == NULL) { /* found segments: seg1 the root, then down the tree */
+        int q;
+        for (q = 0; q < s->nseg && s->order[q] >= 0; q++) {
+            (void)snprintf(s->seg[s->order[q]].name, SKEL_NAME, "seg%d", q + 1);
+        }
+        for (k = 0; k < s->nseg; k++) {
+            if (k != s->root && s->parent_joint[k] < 0) {
+                (void)snprintf(s->seg[k].name, SKEL_NAME, "seg%d", ++q);
+            }
+        }
+        for (k = 0; k < s->njoint; k++) {
+            (void)snprintf(s->joint[k].name, SKEL_NAME, "%s", s->seg[s->joint[k].child].name);
+        }
+    }
     if (intree < 0 || skel_motion(s, why) != 0) {
         rc = fail(&o, why);
         goto done;
@@ -305,8 +319,14 @@ int skel_cmd(int argc, char **argv)
         }
         printf("]");
         if (map == NULL) {
-            printf(",\"grouping\":{\"noise\":%.6g,\"threshold\":%.6g,\"groups\":[", grp->noise,
+            printf(",\"grouping\":{\"noise\":%.6g,\"threshold\":%.6g,\"gap\":", grp->noise,
                    grp->threshold);
+            if (isfinite(grp->gap_lo)) {
+                printf("[%.6g,%.6g]", grp->gap_lo, grp->gap_hi);
+            } else {
+                printf("null");
+            }
+            printf(",\"groups\":[");
             for (k = 0; k < grp->n; k++) {
                 printf("%s{\"spread\":%.6g,\"markers\":[", k ? "," : "", grp->spread[k]);
                 for (i = 0; i < grp->size[k]; i++) {
@@ -437,8 +457,8 @@ int skel_cmd(int argc, char **argv)
         printf("trials       %d file(s), %ld frames (every %ld), %d markers, units %s\n",
                o.nfiles, rec.nframes, o.step, rec.nmark, rec.units[0] ? rec.units : "?");
         if (map == NULL) {
-            printf("groups       found from the data: noise %.3g, threshold %.3g (spread of "
-                   "pair distances, %s)\n",
+            printf("groups       found from the data: rigid level %.3g, threshold %.3g %s (spread "
+                   "of pair distances)\n",
                    grp->noise, grp->threshold, rec.units);
             for (k = 0; k < grp->n; k++) {
                 printf("  group %-4d", k + 1);
