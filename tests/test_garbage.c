@@ -65,12 +65,19 @@ static void test_multi(void **state)
     run_programs(106u, 3000, 5u, 1024u);
 }
 
+static void test_pair(void **state)
+{
+    (void)state;
+    run_programs(107u, 1500, 6u, 2048u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_moments), cmocka_unit_test(test_incr),
         cmocka_unit_test(test_gate),    cmocka_unit_test(test_cluster),
         cmocka_unit_test(test_joint),   cmocka_unit_test(test_multi),
+        cmocka_unit_test(test_pair),
     };
     return cmocka_run_group_tests_name("garbage", tests, NULL, NULL);
 }

@@ -13,8 +13,8 @@
  * SFIT_OK and then finite, the gate's noise_var finite and >= 0.
  *
  * Program: [target] [fill] state bytes ... [ops]...
- *   target % 6: 0 accumulator, 1 incremental, 2 gate, 3 cluster + pose,
- *               4 joint, 5 accumulator array for sfit_multi_fit
+ *   target % 7: 0 accumulator, 1 incremental, 2 gate, 3 cluster + pose,
+ *               4 joint, 5 accumulator array for sfit_multi_fit, 6 pair
  *   fill % 3:   0 every byte of the state from the input;
  *               1 a valid state (a few samples), then `k` patches: an
  *                 aligned word offset (2 bytes) and a value from a table of
@@ -33,6 +33,7 @@
 #include "sfit/sfit_joint.h"
 #include "sfit/sfit_multi.h"
 #include "sfit/sfit_noise.h"
+#include "sfit/sfit_pair.h"
 #include "sfit/sfit_uncert.h"
 
 /** Counter values a corrupted state is likely to hold. */
@@ -512,11 +513,115 @@ static inline void fz_g_multi(fz_in_t *in, uint8_t fill)
     }
 }
 
+static inline void fz_g_pose(fz_in_t *in, sfit_pose_t *p)
+{
+    int k;
+    if ((fz_u8(in) & 3u) == 0u) {
+        for (k = 0; k < 9; k++) {
+            p->r.m[k] = fz_float(in);
+        }
+    } else {
+        /* a rotation about z by a byte angle */
+        const float a = (float)(int8_t)fz_u8(in) * 0.01f;
+        const float c = 1.0f - 0.5f * a * a, s = a;
+        const float n = sqrtf(c * c + s * s);
+        memset(p->r.m, 0, sizeof p->r.m);
+        p->r.m[0] = c / n;
+        p->r.m[1] = -s / n;
+        p->r.m[3] = s / n;
+        p->r.m[4] = c / n;
+        p->r.m[8] = 1.0f;
+    }
+    for (k = 0; k < 3; k++) {
+        p->t.v[k] = ((fz_u8(in) & 7u) == 0u) ? fz_float(in) : (float)(int8_t)fz_u8(in);
+    }
+}
+
+static inline void fz_g_pair(fz_in_t *in, uint8_t fill)
+{
+    static const sfit_vec3_t tp[4] = {
+        {{0.0f, 0.0f, 0.0f}}, {{100.0f, 0.0f, 0.0f}}, {{0.0f, 80.0f, 0.0f}}, {{10.0f, 20.0f, 60.0f}}};
+    static const sfit_vec3_t tc[3] = {{{0.0f, 0.0f, -200.0f}}, {{50.0f, 0.0f, -300.0f}}, {{0.0f, 40.0f, -250.0f}}};
+    static sfit_pair_t s, before;
+    sfit_cluster_t cp, cc;
+    int ops;
+    (void)sfit_cluster_init(&cp, tp, 4u);
+    (void)sfit_cluster_init(&cc, tc, 3u);
+    (void)sfit_pair_init(&s, &cp, &cc, NULL);
+    if (fill == 1u) {
+        int i;
+        const int k = fz_u8(in) % 40;
+        for (i = 0; i < k; i++) {
+            sfit_pose_t a, b;
+            const sfit_cluster_fit_t f = {0.5f, 3u};
+            fz_g_pose(in, &a);
+            fz_g_pose(in, &b);
+            (void)sfit_pair_add(&s, &a, &f, &b, &f);
+        }
+    }
+    fz_g_fill(in, &s, sizeof s, fill);
+    for (ops = 0; ops < 32 && fz_more(in); ops++) {
+        const uint8_t op = fz_u8(in);
+        sfit_status_t st;
+        before = s;
+        switch (op % 4u) {
+        case 0: {
+            sfit_pose_t a, b;
+            sfit_cluster_fit_t f;
+            f.rms = fz_float(in);
+            f.used = fz_u8(in) % 6u;
+            fz_g_pose(in, &a);
+            fz_g_pose(in, &b);
+            st = sfit_pair_add(&s, &a, ((op & 4u) != 0u) ? NULL : &f, &b, &f);
+            FZ_CHECK(fz_status_defined(st), "garbage: pair add status");
+            if (st != SFIT_OK) {
+                FZ_CHECK(memcmp(&s, &before, sizeof s) == 0, "garbage: pair add changed the state");
+            }
+            break;
+        }
+        case 1: {
+            sfit_vec3_t pm[4], cm[3];
+            int i;
+            for (i = 0; i < 4; i++) {
+                fz_g_sample(in, &pm[i]);
+            }
+            for (i = 0; i < 3; i++) {
+                fz_g_sample(in, &cm[i]);
+            }
+            st = sfit_pair_add_markers(&s, &cp, pm, 4u, &cc, cm, 3u);
+            FZ_CHECK(fz_status_defined(st), "garbage: pair add_markers status");
+            if (st != SFIT_OK) {
+                FZ_CHECK(memcmp(&s, &before, sizeof s) == 0,
+                         "garbage: pair add_markers changed the state");
+            }
+            break;
+        }
+        case 2: {
+            sfit_pair_result_t r;
+            memset(&r, FZ_SENTINEL, sizeof r);
+            st = sfit_pair_solve(&s, &r);
+            FZ_CHECK_OUT(st, r, "garbage: pair solve");
+            if (st == SFIT_OK) {
+                FZ_CHECK(fz_all_finite(r.center_p.v, 3) && fz_all_finite(r.center_c.v, 3)
+                             && fz_all_finite(r.axis_p.v, 3) && fz_all_finite(r.center_cov.m, 9)
+                             && fz_all_finite(r.axis_cov.m, 9) && fz_finite(r.misfit)
+                             && fz_finite(r.trust_ratio) && fz_finite(r.marker_var),
+                         "garbage: pair solve OK with a non-finite output");
+            }
+            break;
+        }
+        default:
+            FZ_CHECK(fz_status_defined(sfit_pair_reset(&s)), "garbage: pair reset");
+            break;
+        }
+    }
+}
+
 /** Run one garbage-state program. */
 static inline void fz_garbage_run(const uint8_t *data, size_t size)
 {
     fz_in_t in = {data, size, 0u};
-    const uint8_t target = (uint8_t)(fz_u8(&in) % 6u);
+    const uint8_t target = (uint8_t)(fz_u8(&in) % 7u);
     const uint8_t fill = (uint8_t)(fz_u8(&in) % 3u);
     switch (target) {
     case 0:
@@ -534,8 +639,11 @@ static inline void fz_garbage_run(const uint8_t *data, size_t size)
     case 4:
         fz_g_joint(&in, fill);
         break;
-    default:
+    case 5:
         fz_g_multi(&in, fill);
+        break;
+    default:
+        fz_g_pair(&in, fill);
         break;
     }
 }

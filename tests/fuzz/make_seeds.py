@@ -496,10 +496,10 @@ def garbage_seeds():
     Every target with each fill mode, from a fixed-seed generator."""
     import random
     rnd = random.Random(19)
-    names = ["moments", "incr", "gate", "cluster", "joint", "multi"]
+    names = ["moments", "incr", "gate", "cluster", "joint", "multi", "pair"]
     out = {}
     for t, name in enumerate(names):
-        size = 2600 if name in ("gate", "joint") else 700
+        size = 2600 if name in ("gate", "joint", "pair") else 700
         for fill, how in enumerate(("bytes", "patched", "repeated")):
             body = bytes(rnd.getrandbits(8) for _ in range(size))
             out[f"{name}_{how}"] = bytes([t, fill]) + body
@@ -511,11 +511,52 @@ def garbage_seeds():
     return out
 
 
+def pair_seeds():
+    """fuzz_pair.c programs: [op][operands]... (enum fz_pop)."""
+    import random
+    rnd = random.Random(28)
+    P_INIT, P_ADD, P_MARK, P_SOLVE, P_GARB, P_RESET, P_NULLS = range(7)
+
+    def init(sel=8, method=0, mode=0, noise=0, extra=b"", min_frames=0):
+        return bytes([P_INIT, sel, method, mode, noise]) + extra + bytes([min_frames])
+
+    def mark(k, hinge=False, noisy=False):
+        # parent: slow turn about z; child: about x (hinge) or a star of axes
+        pr = bytes([0, 0, 100, (k * 3) % 256])
+        if hinge:
+            cr = bytes([100, 10, 0, (k * 5) % 120])
+        else:
+            cr = bytes([(k * 37) % 256, (k * 53) % 256, 20, 10 + (k % 20)])
+        sels = bytes([2, 0x11, 3, 4]) if noisy else bytes([3, 4, 5, 6])
+        extra = b""
+        if noisy:
+            extra = bytes([rnd.getrandbits(8)])
+            sels = bytes([2]) + extra + bytes([3, 4, 5])
+        return bytes([P_MARK]) + pr + cr + sels + bytes([1])
+
+    def add(k):
+        pose_p = bytes([1, 0, 0, 100, (k * 3) % 256, 10, 20, 30])
+        pose_c = bytes([1, (k * 37) % 256, (k * 11) % 256, 50, 15 + k % 30, 12, 25, 28])
+        fits = bytes([2, 40, 1, 2, 40, 1])
+        return bytes([P_ADD]) + pose_p + pose_c + fits
+
+    out = {}
+    out["ball_markers"] = init() + b"".join(mark(k) for k in range(60)) + bytes([P_SOLVE])
+    out["ball_noisy"] = init() + b"".join(mark(k, noisy=True) for k in range(60)) + bytes([P_SOLVE])
+    out["hinge_markers"] = init(mode=0) + b"".join(mark(k, hinge=True) for k in range(60)) + bytes([P_SOLVE])
+    out["hinge_forced_score"] = init(sel=0, method=1, mode=2, noise=0) + b"".join(mark(k, hinge=True) for k in range(40)) + bytes([P_SOLVE])
+    out["poses"] = init() + b"".join(add(k) for k in range(50)) + bytes([P_SOLVE, P_RESET, P_SOLVE])
+    out["given_noise"] = init(sel=1, noise=1, extra=bytes([0, 0, 128, 62])) + b"".join(add(k) for k in range(40)) + bytes([P_SOLVE])
+    out["garbage"] = init() + b"".join(mark(k) for k in range(30)) + bytes([P_GARB, 0x40, 0, 4, 255, 255, 255, 255, P_SOLVE, P_RESET])
+    out["nulls"] = bytes([P_NULLS]) + init() + bytes([P_NULLS, P_SOLVE])
+    return out
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
                        ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds()),
-                       ("garbage", garbage_seeds())):
+                       ("garbage", garbage_seeds()), ("pair", pair_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

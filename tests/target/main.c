@@ -20,6 +20,7 @@ void tt_incr(void);
 void tt_beyond(void);
 void tt_joint(void);
 void tt_hostile(void);
+void tt_pair(void);
 
 typedef void (*tt_suite_fn)(void);
 static const struct {
@@ -35,6 +36,7 @@ static const struct {
     {"beyond", tt_beyond},
     {"joint", tt_joint},
     {"hostile", tt_hostile},
+    {"pair", tt_pair},
 };
 
 static unsigned tt_pass;

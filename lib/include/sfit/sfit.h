@@ -24,5 +24,6 @@
 #include "sfit_gate.h"
 #include "sfit_cluster.h"
 #include "sfit_joint.h"
+#include "sfit_pair.h"
 
 #endif /* SFIT_H */
