@@ -76,6 +76,17 @@ def cmd_session(args):
     print('tree %s; types %s' % (' '.join('%s-%s' % e for e in tree_edges(js)), types))
 
 
+def cmd_tree(args):
+    """tree JSON: the lower-limb tree only (the joints' types printed)."""
+    js = json.load(open(args[0]))
+    want = sorted([('pelvis', 'r_thigh'), ('r_thigh', 'r_shank'), ('r_shank', 'r_foot'),
+                   ('pelvis', 'trunk')])
+    if tree_edges(js) != want:
+        fail('tree %s, expected %s' % (tree_edges(js), want))
+    print('tree %s; types %s' % (' '.join('%s-%s' % e for e in tree_edges(js)),
+                                 {j['name']: (j['type'], j['flags']) for j in js['joints']}))
+
+
 def cmd_norigid(args):
     """norigid JSON: a pair that never moved is no joint (type none, no edge)."""
     js = json.load(open(args[0]))
@@ -275,5 +286,5 @@ def cmd_screens(args):
 
 
 if __name__ == '__main__':
-    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'centres': cmd_centres, 'session': cmd_session, 'norigid': cmd_norigid,
+    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'centres': cmd_centres, 'session': cmd_session, 'tree': cmd_tree, 'norigid': cmd_norigid,
      'bvh': cmd_bvh, 'screens': cmd_screens}[sys.argv[1]](sys.argv[2:])

@@ -148,8 +148,12 @@ typedef struct skel_pair_res {
     double sigma;         /**< 1-sigma radius: sqrt(largest eigenvalue of cov_a) */
     double n;
     unsigned flags;
+    unsigned lib_flags;   /**< --pair lib: the pair module's flags (sfit_pair_flag, sfit_flag) */
+    int lib_reason;       /**< --pair lib: its sfit_pair_reason_t */
 } skel_pair_res_t;
 
+/** Symmetric 3x3 eigen-decomposition (double, Jacobi): ascending w, vectors in v's columns. */
+int skel_eig3(const double a[9], double w[3], double v[9]);
 void skel_pair_reset(skel_pair_acc_t *a);
 /** Add one frame: poses of a and b (R row-major segment->lab, t lab). */
 void skel_pair_add(skel_pair_acc_t *a, const double ra[9], const double ta[3],
@@ -186,7 +190,10 @@ typedef struct skel {
     skel_joint_t joint[SKEL_MAX_SEG];
     int order[SKEL_MAX_SEG];        /**< segments, parents before children */
     /* per frame */
+    int use_lib;                    /**< 1: the library's pair module (sfit_pair.h) */
     unsigned char *pose_ok;         /**< nframes * nseg */
+    float *fit_rms;                 /**< nframes * nseg: registration residual (RMS) */
+    unsigned char *fit_used;        /**< nframes * nseg: markers used */
     double *pose;                   /**< nframes * nseg * 12: R (9) then t (3) */
     double *rel;                    /**< nframes * nseg * 9: rotation written in the BVH
                                          (root: R_root; others: R_parent^T R_child) */

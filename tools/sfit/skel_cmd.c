@@ -19,6 +19,7 @@ typedef struct sk2_opts {
     char *segments, *root, *bvh, *trc, *svg, *html, *centres;
     long frame, step;
     int json;
+    char *pair;
 } sk2_opts_t;
 
 static void sk2_usage(FILE *f)
@@ -39,6 +40,8 @@ static void sk2_usage(FILE *f)
           "  --svg OUT.svg    a picture at frame --frame K (default 0; frames counted over\n"
           "                   the trials in order, after --step)\n"
           "  --html OUT.html  a page that plays the skeleton over the markers\n"
+          "  --pair host|lib  the joint cost of a pair: the host stand-in in double\n"
+          "                   (default) or the library's pair module (sfit_pair.h)\n"
           "  --centres OUT.csv  each joint's centre (and hinge axis) as its parent\n"
           "                   segment carries it, per frame (lab frame)\n"
           "  --json           one JSON object on stdout\n"
@@ -52,7 +55,7 @@ static void sk2_usage(FILE *f)
 int skel_cmd_wanted(int argc, char **argv)
 {
     static const char *const own[] = {"--segments", "--root", "--step", "--bvh", "--trc",
-                                      "--html", "--centres"};
+                                      "--html", "--centres", "--pair"};
     int i, k;
     for (i = 1; i < argc; i++) {
         for (k = 0; k < (int)(sizeof own / sizeof own[0]); k++) {
@@ -110,6 +113,7 @@ static int sk2_parse(int argc, char **argv, sk2_opts_t *o)
         {.name = "--svg", .kind = CLI_OPT_STRING, .dst = &o->svg, .needs = 1},
         {.name = "--html", .kind = CLI_OPT_STRING, .dst = &o->html, .needs = 1},
         {.name = "--centres", .kind = CLI_OPT_STRING, .dst = &o->centres, .needs = 1},
+        {.name = "--pair", .kind = CLI_OPT_STRING, .dst = &o->pair, .needs = 1},
         {.name = "--step", .kind = CLI_OPT_FN, .dst = &o->step, .fn = step_opt, .needs = 1},
         {.name = "--frame", .kind = CLI_OPT_INDEX, .dst = &o->frame, .needs = 1,
          .err = "--frame needs a whole number >= 0"},
@@ -227,6 +231,13 @@ int skel_cmd(int argc, char **argv)
         goto done;
     }
     s->rec = &rec;
+    if (o.pair != NULL && strcmp(o.pair, "lib") != 0 && strcmp(o.pair, "host") != 0) {
+        fprintf(stderr, "sfit: --pair is host or lib\n");
+        sk2_usage(stderr);
+        rc = CLI_USAGE;
+        goto done;
+    }
+    s->use_lib = o.pair != NULL && strcmp(o.pair, "lib") == 0;
     if (map != NULL) {
         s->nseg = map->nseg;
         for (k = 0; k < map->nseg; k++) {
@@ -435,6 +446,9 @@ int skel_cmd(int argc, char **argv)
                 } else {
                     printf("null");
                 }
+            }
+            if (s->use_lib) {
+                printf(",\"pair_flags\":%u,\"pair_reason\":%d", j->pr.lib_flags, j->pr.lib_reason);
             }
             printf(",\"lag1\":%.4g,\"inflation\":%.4g,\"frames\":%.0f,\"flags\":", j->lag1,
                    j->infl, j->pr.n);

@@ -57,7 +57,7 @@ void skel_pair_add(skel_pair_acc_t *a, const double ra[9], const double ta[3],
 
 /* Cyclic Jacobi for a symmetric 3x3 (double): a = v diag(w) v^T,
  * eigenvalues ascending, eigenvectors in the columns of v. 0, or -1. */
-static int eig3(const double a_in[9], double w[3], double v[9])
+int skel_eig3(const double a_in[9], double w[3], double v[9])
 {
     double a[9];
     int sweep, p, q, i;
@@ -161,7 +161,7 @@ int skel_pair_solve(const skel_pair_acc_t *a, skel_jtype_t force, skel_pair_res_
             rhs[i] -= a->m[i * 3 + k] * a->v[k] / n;
         }
     }
-    if (eig3(s, w, vec) != 0) {
+    if (skel_eig3(s, w, vec) != 0) {
         return -1;
     }
     for (i = 0; i < 3; i++) {
