@@ -126,7 +126,7 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
         goto fail;
     }
     for (i = 0; i < n; i++) {
-        spread[i * n + i] = NAN;
+        spread[i * n + i] = (double)NAN;
         for (j = i + 1; j < n; j++) {
             long m = 0, f;
             for (f = 0; f < r->nframes; f++) {
@@ -135,7 +135,7 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
                     buf[m++] = d;
                 }
             }
-            spread[i * n + j] = spread[j * n + i] = NAN;
+            spread[i * n + j] = spread[j * n + i] = (double)NAN;
             if (m >= SKEL_GROUP_MIN_COMMON) {
                 qsort(buf, (size_t)m, sizeof *buf, cmp_double);
                 spread[i * n + j] = spread[j * n + i] = quantile(buf, m, 0.9)
@@ -195,7 +195,7 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
         const double lo = SKEL_GROUP_LO * g->noise, hi = SKEL_GROUP_HI * g->noise;
         double best = 1.0;
         g->threshold = SKEL_GROUP_MID * g->noise;
-        g->gap_lo = g->gap_hi = NAN;
+        g->gap_lo = g->gap_hi = (double)NAN;
         for (k = 0; k + 1 < nh; k++) {
             const double gm = sqrt(h[k] * h[k + 1]);
             if (gm >= lo && gm <= hi && h[k] > 0.0 && h[k + 1] / h[k] > best) {

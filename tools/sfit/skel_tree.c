@@ -719,7 +719,7 @@ int skel_motion(skel_t *s, char *why)
         }
         for (k = 0; k < ns; k++) {
             double *e = &s->ends[((size_t)f * (size_t)ns + (size_t)k) * 3u];
-            e[0] = e[1] = e[2] = NAN;
+            e[0] = e[1] = e[2] = (double)NAN;
         }
         for (q = 0; q < ns && s->order[q] >= 0; q++) {
             const int c = s->order[q];
