@@ -148,6 +148,11 @@ printf 'segment a RASI,LASI\n' > "$tmp/bad.txt"
 expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/bad.txt" --json
 py 'import json,sys; d=json.loads(sys.argv[1]); assert d["status"]=="format_error" and "3 to" in d["message"], d' "$out" \
   || fail "malformed map: $out"
+printf 'segment a RASI,LASI,RPSI\nsegment a LASI,RPSI,LPSI\n' > "$tmp/twice.txt"
+expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/twice.txt"
+grep -q "segment a given twice" "$tmp/stderr" || fail "duplicate segment: $(cat "$tmp/stderr")"
+printf 'segment a RASI,LASI,RPSI\njoint j a b hinge\n' > "$tmp/badjoint.txt"
+expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/badjoint.txt"
 printf 'segment a RASI,LASI,RPSI\nsegment b NOPE1,NOPE2,NOPE3\n' > "$tmp/absent.txt"
 expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/absent.txt"
 grep -q "marker NOPE1 is in none of the files" "$tmp/stderr" || fail "absent marker: $(cat "$tmp/stderr")"

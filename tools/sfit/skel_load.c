@@ -190,9 +190,23 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
         if (nt == 0) {
             continue;
         }
-        if (strcmp(tok[0], "segment") == 0 && nt == 3 && m->nseg < SKEL_MAX_SEG
-            && strlen(tok[1]) < SKEL_NAME) {
+        if (strcmp(tok[0], "segment") == 0 && nt == 3 && m->nseg >= SKEL_MAX_SEG) {
+            (void)snprintf(why, SKEL_ERR, "%s:%lu: more than %d segments", path, lineno,
+                           SKEL_MAX_SEG);
+            fclose(f);
+            return -2;
+        }
+        if (strcmp(tok[0], "segment") == 0 && nt == 3 && strlen(tok[1]) < SKEL_NAME) {
             const int k = m->nseg;
+            int d;
+            for (d = 0; d < k; d++) {
+                if (strcmp(m->seg[d], tok[1]) == 0) {
+                    (void)snprintf(why, SKEL_ERR, "%s:%lu: segment %s given twice", path, lineno,
+                                   tok[1]);
+                    fclose(f);
+                    return -2;
+                }
+            }
             (void)snprintf(m->seg[k], SKEL_NAME, "%s", tok[1]);
             m->nm[k] = split_list(tok[2], m->mk[k], SFIT_CLUSTER_MAX_MARKERS * 4);
             if (m->nm[k] < 3) {
