@@ -12,6 +12,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "c3d.h"
@@ -76,33 +77,48 @@ static void put_cell(FILE *f, float v)
 
 static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
 {
-    int idx[CLI_MARKERS_MAX];
-    char *names[CLI_MARKERS_MAX];
+    int *idx;
+    char **names;
     int n = 0, k;
     long fr, last = (o->last < 0 || o->last >= c->nframes) ? c->nframes - 1 : o->last;
     FILE *f;
+    const size_t room = (size_t)c->npoints + (o->markers != NULL ? strlen(o->markers) : 0u) + 1u;
+    idx = malloc(room * sizeof *idx);
+    names = malloc(room * sizeof *names);
+    if (idx == NULL || names == NULL) {
+        free(idx);
+        free(names);
+        (void)snprintf(why, C3D_ERR_MAX, "out of memory");
+        return -2;
+    }
     if (o->markers != NULL) {
-        n = cli_split_list(o->markers, names, CLI_MARKERS_MAX);
+        n = cli_split_list(o->markers, names, (int)room);
         if (n < 1) {
-            (void)snprintf(why, C3D_ERR_MAX, "--markers: 1 to %d names", CLI_MARKERS_MAX);
+            (void)snprintf(why, C3D_ERR_MAX, "--markers: a comma-separated list of names");
+            free(idx);
+            free(names);
             return -2;
         }
         for (k = 0; k < n; k++) {
             idx[k] = c3d_find(c, names[k]);
             if (idx[k] < 0) {
-                (void)snprintf(why, C3D_ERR_MAX, "no marker labelled '%s'", names[k]);
+                (void)snprintf(why, C3D_ERR_MAX, "no marker labelled '%.200s'", names[k]);
+                free(idx);
+                free(names);
                 return -2;
             }
         }
     } else {
-        n = (c->npoints < CLI_MARKERS_MAX) ? c->npoints : CLI_MARKERS_MAX;
+        n = c->npoints; /* every marker, however many */
         for (k = 0; k < n; k++) {
             idx[k] = k;
         }
     }
+    free(names);
     f = fopen(o->out, "w");
     if (f == NULL) {
         (void)snprintf(why, C3D_ERR_MAX, "cannot write %s: %s", o->out, strerror(errno));
+        free(idx);
         return -2;
     }
     fputs("frame", f);
@@ -121,11 +137,56 @@ static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
         }
         fputc('\n', f);
     }
+    free(idx);
     if (fclose(f) != 0) {
         (void)snprintf(why, C3D_ERR_MAX, "cannot write %s", o->out);
         return -2;
     }
     return 0;
+}
+
+static void json_src(const char *key, const char *src)
+{
+    printf(",\"%s\":", key);
+    cli_print_json_string(src != NULL ? src : "");
+}
+
+static void print_c3d_json(const c3d_t *c)
+{
+    int k;
+    printf("{\"status\":\"ok\",\"processor\":%d,\"processor_name\":\"%s\",\"points\":%d,"
+           "\"frames\":%ld,\"first_frame\":%ld,\"rate\":%.9g,\"scale\":%.9g,"
+           "\"storage\":\"%s\",\"analog_channels\":%d,\"analog_per_frame\":%d,"
+           "\"analog_words\":%ld,\"analog_rate\":%.9g,\"frames_in_file\":%ld,"
+           "\"data_start_byte\":%lu,\"parameter_section\":%s,\"zero_samples\":%ld,\"units\":",
+           c->processor, c3d_processor_name(c->processor), c->npoints, c->nframes,
+           c->first_frame, (double)c->rate, (double)c->scale, c->word == 4 ? "float" : "integer",
+           c->analog_channels, c->analog_per_frame, c->analog_words, (double)c->analog_rate,
+           c->frames_in_file, (unsigned long)c->data_start, c->nentries > 0 ? "true" : "false",
+           c->zero_samples);
+    cli_print_json_string(c->units);
+    printf(",\"sources\":{\"processor\":");
+    cli_print_json_string(c->src_processor);
+    json_src("points", c->src_points);
+    json_src("frames", c->src_frames);
+    json_src("scale", c->src_scale);
+    json_src("rate", c->src_rate);
+    json_src("analog", c->src_analog);
+    printf("},\"warnings\":[");
+    for (k = 0; k < c->nwarn; k++) {
+        if (k > 0) {
+            putchar(',');
+        }
+        cli_print_json_string(c->warnings[k]);
+    }
+    printf("],\"warnings_dropped\":%d,\"labels\":[", c->nwarn_dropped);
+    for (k = 0; k < c->npoints; k++) {
+        if (k > 0) {
+            putchar(',');
+        }
+        cli_print_json_string(c->labels[k]);
+    }
+    printf("]}\n");
 }
 
 int cli_cmd_c3d(int argc, char **argv)
@@ -156,27 +217,20 @@ int cli_cmd_c3d(int argc, char **argv)
         }
     }
     if (o.json) {
-        printf("{\"status\":\"ok\",\"processor\":%d,\"points\":%d,\"frames\":%ld,"
-               "\"first_frame\":%ld,\"rate\":%.9g,\"scale\":%.9g,\"units\":",
-               c.processor, c.npoints, c.nframes, c.first_frame, (double)c.rate,
-               (double)c.scale);
-        cli_print_json_string(c.units);
-        printf(",\"labels\":[");
-        for (k = 0; k < c.npoints; k++) {
-            if (k > 0) {
-                putchar(',');
-            }
-            cli_print_json_string(c.labels[k]);
-        }
-        printf("]}\n");
+        print_c3d_json(&c);
     } else {
         printf("file         %s\n", o.file);
-        printf("processor    %d (%s)\n", c.processor,
-               c.processor == 84 ? "Intel" : c.processor == 85 ? "DEC" : "MIPS");
-        printf("points       %d, %s storage (scale %g)\n", c.npoints,
-               c.scale < 0.0f ? "float" : "16-bit integer", (double)c.scale);
-        printf("frames       %ld (first frame number %ld), %g Hz, units '%s'\n", c.nframes,
-               c.first_frame, (double)c.rate, c.units);
+        printf("processor    %d (%s; from the %s)\n", c.processor,
+               c3d_processor_name(c.processor), c.src_processor);
+        printf("points       %d (%s), %s storage (scale %g, %s)\n", c.npoints, c.src_points,
+               c.word == 4 ? "float" : "16-bit integer", (double)c.scale, c.src_scale);
+        printf("frames       %ld (%s; first frame number %ld), %g Hz (%s), units '%s'\n",
+               c.nframes, c.src_frames, c.first_frame, (double)c.rate, c.src_rate, c.units);
+        printf("analog       %d channels x %d samples per frame = %ld words (%s)\n",
+               c.analog_channels, c.analog_per_frame, c.analog_words, c.src_analog);
+        for (k = 0; k < c.nwarn; k++) {
+            printf("warning      %s\n", c.warnings[k]);
+        }
         printf("labels      ");
         for (k = 0; k < c.npoints; k++) {
             printf(" %s", c.labels[k]);
