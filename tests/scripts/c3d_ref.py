@@ -254,16 +254,20 @@ def check_added(orig, new, names, xyz, prefix=''):
     for k in list(new['params']):
         if k[0] == 'POINT' and k[1].startswith('LABELS'):
             assert new['params'][k].dims[1] <= 255
-    if orig['descriptions']:
-        assert new['descriptions'][:np_] == orig['descriptions'][:np_]
-        assert new['descriptions'][np_ + n:] == orig['descriptions'][np_:]
+    od, nd = orig['descriptions'], new['descriptions']
+    if od:
+        # a DESCRIPTIONS shorter than POINT:USED is padded with blanks up to it
+        m = min(len(od), np_)
+        assert nd[:m] == od[:m] and all(s == '' for s in nd[m:np_ + n]), nd[:np_ + n]
+        assert nd[np_ + n:] == od[np_:], 'descriptions past the points'
+        assert len(nd) == max(len(od), np_) + n
     # samples: every original point sample and analog value identical
     if to_float:
         assert np.array_equal(new['xyz'][:, :np_], orig['xyz'][:, :np_], equal_nan=True)
         assert np.array_equal(new['residual'][:, :np_], orig['residual'][:, :np_])
     else:
         assert np.array_equal(new['raw_points'][:, :np_], orig['raw_points'][:, :np_])
-    assert np.array_equal(new['analog'], orig['analog']), 'analog'
+    assert np.array_equal(new['analog'], orig['analog'], equal_nan=True), 'analog'
     # the new points where they were put; residual -1 where not placed
     got = new['xyz'][:, np_:]
     res = new['residual'][:, np_:]

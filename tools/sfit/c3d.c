@@ -695,17 +695,19 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
     }
     pstart = ((size_t)buf[0] - 1u) * C3D_BLOCK;
     proc = has(&in, pstart, 4u) ? (int)buf[pstart + 3u] : 0;
-    if (proc != C3D_PROC_INTEL && proc != C3D_PROC_DEC && proc != C3D_PROC_MIPS) {
-        /* No parameter section: the header's data block is at or before
-         * the parameter block (in either byte order). */
+    {
+        /* No parameter section: the header's data block is the parameter
+         * block (read in the processor's byte order, or either one). */
         const unsigned le = (unsigned)buf[16] | ((unsigned)buf[17] << 8);
         const unsigned be = ((unsigned)buf[16] << 8) | buf[17];
-        if ((le >= 2u && le <= buf[0]) || (be >= 2u && be <= buf[0])) {
+        const int valid = proc == C3D_PROC_INTEL || proc == C3D_PROC_DEC || proc == C3D_PROC_MIPS;
+        const unsigned w9 = valid ? (proc == C3D_PROC_MIPS ? be : le) : 0u;
+        if ((valid && w9 == buf[0]) || (!valid && (le == buf[0] || be == buf[0]))) {
             have_params = 0;
             proc = guess_processor(buf, len);
-        } else if (!has(&in, pstart, 4u)) {
+        } else if (!valid && !has(&in, pstart, 4u)) {
             return fail(err, "truncated: the parameter section (block %u) is missing", buf[0]);
-        } else {
+        } else if (!valid) {
             return fail(err, "unknown processor type %d (84 Intel, 85 DEC, 86 MIPS)", proc);
         }
     }

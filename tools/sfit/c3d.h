@@ -28,7 +28,7 @@
 #define C3D_ERR_MAX 320    /* size of the error-message buffer */
 #define C3D_WARN_MAX 240   /* size of one warning */
 #define C3D_WARNINGS_MAX 16 /* warnings kept (more are counted in nwarn_dropped) */
-#define C3D_NAME_MAX 128   /* parameter / group names (the format allows 127) */
+#define C3D_NAME_MAX 130   /* parameter / group names (127; a length byte -128 reads 128) */
 
 #define C3D_PROC_INTEL 84
 #define C3D_PROC_DEC 85
