@@ -6,9 +6,13 @@
  * non-empty message and an empty result; 0 gives labels that are
  * NUL-terminated and printable, nframes * npoints points every one of which
  * can be read (ASan checks the bounds), and c3d_find finds the first labels.
- * The reader is host code; it is compiled into the harness here.
+ * Warnings are terminated; the parameter entries lie inside the input.
+ * Every file read is also given to the writer (c3d_write.c) with one added
+ * point, written to /dev/null: 0 or -1 with a message, never a crash.
+ * The reader and writer are host code; they are compiled into the harness.
  */
 #include "../../tools/sfit/c3d.c"
+#include "../../tools/sfit/c3d_write.c"
 
 #include "fuzz_common.h"
 
@@ -40,6 +44,36 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             sink += c.xyz[i]; /* every point readable */
         }
         (void)sink;
+        FZ_CHECK(c.nwarn >= 0 && c.nwarn <= C3D_WARNINGS_MAX, "warning count");
+        for (k = 0; k < c.nwarn; k++) {
+            FZ_CHECK(memchr(c.warnings[k], '\0', C3D_WARN_MAX) != NULL, "warning terminated");
+        }
+        for (k = 0; k < c.nentries; k++) {
+            const c3d_entry_t *e = &c.entries[k];
+            FZ_CHECK(e->off < e->body && e->body <= e->end && e->end <= size, "entry inside");
+            FZ_CHECK(e->type == 0 || e->is_group || e->data + e->count * (size_t)(e->type < 0 ? 1 : e->type) <= size,
+                     "parameter data inside");
+        }
+        FZ_CHECK(c.data_start + (size_t)c.nframes * c.frame_bytes <= size || c.frame_bytes == 0u,
+                 "frames inside");
+        if (c.nframes <= 4096 && c.npoints <= 4096) {
+            static const char *const nm[1] = {"JC"};
+            float xyz[3 * 4096];
+            char werr[C3D_ERR_MAX];
+            c3d_add_t add;
+            int wrc;
+            long fi;
+            for (fi = 0; fi < 3 * c.nframes; fi++) {
+                xyz[fi] = (fi % 5 == 0) ? NAN : (float)fi;
+            }
+            memset(&add, 0, sizeof add);
+            add.n = 1;
+            add.names = nm;
+            add.xyz = xyz;
+            add.prefix = "S:";
+            wrc = c3d_write_added(data, size, &c, &add, "/dev/null", NULL, werr);
+            FZ_CHECK(wrc == 0 || (wrc == -1 && werr[0] != '\0'), "writer: 0 or -1 with a message");
+        }
         for (k = 0; k < c.npoints; k++) {
             size_t len, j;
             FZ_CHECK(memchr(c.labels[k], '\0', C3D_LABEL_MAX) != NULL, "label terminated");

@@ -471,6 +471,17 @@ def c3d_seeds():
     out["truncated_data"] = b[:-20]
     out["truncated_params"] = b[:600]
     out["bad_processor"] = b[:515] + b"\x53" + b[516:]
+    # issue 27: one seed per failure class of the reader (tests/data/c3d/cases,
+    # made by its make_cases.py from the c3d.org samples)
+    cases = os.path.join(os.path.dirname(__file__), "..", "data", "c3d", "cases")
+    for fn in sorted(os.listdir(cases)):
+        if fn.endswith(".c3d"):
+            out["case_" + fn[:-4]] = open(os.path.join(cases, fn), "rb").read()
+    # more than 65535 frames announced by POINT:LONG_FRAMES, the file short
+    lf = bytearray(out["intel_float"])
+    i = lf.find(b"LABELS", 512) - 2
+    ent = bytes([11, 1]) + b"LONG_FRAMES" + struct.pack("<H", 9) + bytes([4, 0]) + struct.pack("<f", 70000.0) + b"\0"
+    out["long_frames_short"] = bytes(lf[:i]) + ent + bytes(lf[i:])
     return out
 
 

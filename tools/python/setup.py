@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Build the sfit Python package: a CPython extension compiled from the
-library's own sources (../../lib/src, ../../lib/include, ../../port/host),
-with no copy. Needs Debian 12's python3-dev, python3-numpy and
+library's own sources (../../lib/src, ../../lib/include, ../../port/host)
+and the CLI's C3D reader and writer (../../tools/sfit/c3d*.c), with no copy. Needs Debian 12's python3-dev, python3-numpy and
 python3-setuptools only (no network).
 
     /usr/bin/python3 -m pip install --user --break-system-packages \\
@@ -23,6 +23,7 @@ LIB_SRC = os.path.join(ROOT, "lib", "src")
 LIB_INC = os.path.join(ROOT, "lib", "include")
 PORT = os.path.join(ROOT, "port")
 PORT_HOST = os.path.join(PORT, "host")
+CLI_SRC = os.path.join(ROOT, "tools", "sfit")  # the C3D reader and writer of the CLI
 
 if not os.path.isfile(os.path.join(LIB_INC, "sfit", "sfit.h")):
     raise SystemExit("sfit: lib/include not found at %s (build from a full sfit checkout)" % LIB_INC)
@@ -41,8 +42,9 @@ def _version():
 lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
-    sources=[os.path.join(HERE, "src", "sfitmodule.c")] + lib_sources,
-    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, numpy.get_include()],
+    sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
+             os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c")] + lib_sources,
+    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, CLI_SRC, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],

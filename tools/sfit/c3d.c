@@ -1,23 +1,26 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file c3d.c
- * @brief C3D reader of the `sfit` tool (see c3d.h). Written from the
- * format's description: every multi-byte read goes through rd_*(), which
- * checks the offset against the buffer, so a hostile file cannot make the
- * reader look outside it.
+ * @brief C3D reader of the `sfit` tool (see c3d.h and docs/c3d.md). Written
+ * from the format's description: every multi-byte read goes through rd_*(),
+ * whose offsets are checked against the buffer first, so a hostile file
+ * cannot make the reader look outside it.
  *
  * Layout used here (block = 512 bytes, block numbers count from 1):
  *   header, block 1: byte 0 parameter block, byte 1 key 0x50; 16-bit words
  *     (counting from 1) 2 points, 3 analog words per frame, 4 first frame,
- *     5 last frame, 7-8 float scale, 9 data block, 11-12 float rate;
- *   parameters: 4 bytes (byte 3 = 83 + processor type), then entries:
- *     int8 name length (0 ends; < 0 = locked), int8 id (< 0 group, > 0 the
- *     parameter's group), name, int16 offset of the next entry counted from
- *     this word (0 = last); a parameter then has int8 type (-1 char, 1 byte,
- *     2 int16, 4 float), uint8 dimension count, the dimensions, the data;
+ *     5 last frame, 7-8 float scale, 9 data block, 10 analog samples per
+ *     frame, 11-12 float rate;
+ *   parameters: 4 bytes (byte 2 = the section's size in blocks, byte 3 =
+ *     83 + processor type), then entries: int8 name length (0 ends; < 0 =
+ *     locked), int8 id (< 0 group, > 0 the parameter's group), name, int16
+ *     offset of the next entry counted from this word (0 = last); a
+ *     parameter then has int8 type (-1 char, 1 byte, 2 int16, 4 float),
+ *     uint8 dimension count, the dimensions, the data, then (as a group)
+ *     a description length byte and the description;
  *   data: per frame, per point x, y, z, residual word (4-byte floats when
  *     POINT:SCALE < 0, else 16-bit integers times SCALE), then the frame's
- *     analog words, which are skipped.
+ *     analog words.
  */
 #include "c3d.h"
 
@@ -31,9 +34,6 @@
 #include <string.h>
 
 #define C3D_BLOCK 512u
-#define C3D_PROC_INTEL 84
-#define C3D_PROC_DEC 85
-#define C3D_PROC_MIPS 86
 #define C3D_MAX_ENTRIES 65536   /* parameter entries walked at most */
 #define C3D_MAX_LABEL_PARAMS 64 /* LABELS, LABELS2 ... LABELS64 */
 #define C3D_FILE_MAX (1024ul * 1024ul * 1024ul) /* 1 GiB */
@@ -44,21 +44,6 @@ typedef struct c3d_in {
     int proc;
 } c3d_in_t;
 
-/* One located parameter of the POINT group. */
-typedef struct c3d_param {
-    int found;
-    int type;       /* -1, 1, 2, 4 */
-    int ndims;
-    unsigned dims[8];
-    size_t data;    /* offset of the data */
-    size_t count;   /* number of elements (product of the dimensions) */
-} c3d_param_t;
-
-typedef struct c3d_point_group {
-    c3d_param_t used, scale, rate, units, data_start, frames;
-    c3d_param_t labels[C3D_MAX_LABEL_PARAMS];
-} c3d_point_group_t;
-
 static int fail(char *err, const char *fmt, ...)
 {
     va_list ap;
@@ -66,6 +51,18 @@ static int fail(char *err, const char *fmt, ...)
     (void)vsnprintf(err, C3D_ERR_MAX, fmt, ap);
     va_end(ap);
     return -1;
+}
+
+static void warn(c3d_t *c, const char *fmt, ...)
+{
+    va_list ap;
+    if (c->nwarn >= C3D_WARNINGS_MAX) {
+        c->nwarn_dropped++;
+        return;
+    }
+    va_start(ap, fmt);
+    (void)vsnprintf(c->warnings[c->nwarn++], C3D_WARN_MAX, fmt, ap);
+    va_end(ap);
 }
 
 static int has(const c3d_in_t *in, size_t off, size_t len)
@@ -78,6 +75,11 @@ static unsigned rd_u16(const c3d_in_t *in, size_t off)
     const unsigned char *p = in->b + off;
     return (in->proc == C3D_PROC_MIPS) ? ((unsigned)p[0] << 8) | p[1]
                                        : ((unsigned)p[1] << 8) | p[0];
+}
+
+static unsigned swap16(unsigned u)
+{
+    return ((u & 0xffu) << 8) | (u >> 8);
 }
 
 static int rd_i16(const c3d_in_t *in, size_t off)
@@ -119,150 +121,287 @@ static float rd_f32(const c3d_in_t *in, size_t off)
     return f;
 }
 
-static int name_is(const unsigned char *s, size_t len, const char *want)
+static int name_eq(const char *a, const char *b)
 {
-    size_t i;
-    if (strlen(want) != len) {
+    while (*a != '\0' && toupper((unsigned char)*a) == toupper((unsigned char)*b)) {
+        a++;
+        b++;
+    }
+    return *a == '\0' && *b == '\0';
+}
+
+const char *c3d_processor_name(int proc)
+{
+    return proc == C3D_PROC_INTEL ? "Intel" : proc == C3D_PROC_DEC ? "DEC" : "MIPS";
+}
+
+/* ------------------------------------------------------------ parameters */
+
+/* Bytes of an entry's body (after the link word) from its content:
+ * type, dims, data, description for a parameter; description for a group.
+ * 0 when it does not fit before `bound`; fills the parameter fields. */
+static size_t natural_body(const c3d_in_t *in, size_t body, size_t bound, c3d_entry_t *e)
+{
+    size_t q = body, elem, bytes;
+    int d;
+    if (!e->is_group) {
+        if (q + 2u > bound) {
+            return 0;
+        }
+        e->type = (int)(signed char)in->b[q];
+        e->ndims = (int)in->b[q + 1u];
+        q += 2u;
+        if ((e->type != -1 && e->type != 1 && e->type != 2 && e->type != 4) || e->ndims > 7
+            || q + (size_t)e->ndims > bound) {
+            e->type = 0; /* unreadable parameter: kept as bytes, never interpreted */
+            e->ndims = 0;
+            return 0;
+        }
+        e->count = 1u;
+        for (d = 0; d < e->ndims; d++) {
+            e->dims[d] = in->b[q + (size_t)d];
+            e->count *= e->dims[d];
+        }
+        q += (size_t)e->ndims;
+        elem = (size_t)(e->type < 0 ? 1 : e->type);
+        bytes = e->count * elem; /* <= 255^7 * 4: fits in 64 bits */
+        if (bytes > bound - q) {
+            e->type = 0;
+            e->count = 0;
+            return 0;
+        }
+        e->data = q;
+        q += bytes;
+    }
+    if (q + 1u > bound) {
+        return (size_t)(q - body); /* no description byte before the bound */
+    }
+    q += 1u + (size_t)in->b[q];
+    if (q > bound) {
+        q = bound;
+    }
+    return (size_t)(q - body);
+}
+
+/* A plausible entry start at `off`: a name of printable characters. */
+static int plausible_entry(const c3d_in_t *in, size_t off, size_t bound)
+{
+    int nl, i;
+    if (off + 1u > bound) {
         return 0;
     }
-    for (i = 0; i < len; i++) {
-        if (toupper(s[i]) != toupper((unsigned char)want[i])) {
+    nl = (int)(signed char)in->b[off];
+    if (nl == 0) {
+        return 1; /* the end mark */
+    }
+    if (nl < 0) {
+        nl = -nl;
+    }
+    if (off + 4u + (size_t)nl > bound) {
+        return 0;
+    }
+    for (i = 0; i < nl; i++) {
+        const unsigned char ch = in->b[off + 2u + (size_t)i];
+        if (ch < 0x20u || ch >= 0x7fu) {
             return 0;
         }
     }
     return 1;
 }
 
-/* The first element of a numeric parameter, as a double. */
-static int param_number(const c3d_in_t *in, const c3d_param_t *p, double *v)
+typedef struct bad_link {
+    int entry;
+    unsigned link, used;
+    int how; /* 1 other byte order, 2 the entry's own length */
+} bad_link_t;
+
+/* Walk the whole parameter section once, bounded by its declared size. */
+static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c, char *err)
 {
-    if (!p->found || p->count < 1u) {
+    size_t off = start + 4u, cap = 0;
+    bad_link_t bad[C3D_WARNINGS_MAX];
+    int nbad = 0, k, i;
+    for (k = 0; k < C3D_MAX_ENTRIES; k++) {
+        c3d_entry_t e;
+        int nl;
+        size_t after, nat, next_off;
+        unsigned link;
+        if (off + 2u > bound) {
+            if (off >= bound && k > 0) {
+                break; /* the section ends without an end mark: its size bounds it */
+            }
+            return fail(err, "parameter section truncated at byte %lu", (unsigned long)off);
+        }
+        memset(&e, 0, sizeof e);
+        nl = (int)(signed char)in->b[off];
+        e.group = (int)(signed char)in->b[off + 1u];
+        if (nl == 0) {
+            break; /* end of the parameters */
+        }
+        e.locked = nl < 0;
+        if (nl < 0) {
+            nl = -nl;
+        }
+        if (off + 4u + (size_t)nl > bound) {
+            return fail(err, "parameter section truncated at byte %lu", (unsigned long)off);
+        }
+        e.off = off;
+        e.is_group = e.group < 0;
+        if (e.group < 0) {
+            e.group = -e.group;
+        }
+        for (i = 0; i < nl; i++) {
+            const unsigned char ch = in->b[off + 2u + (size_t)i];
+            e.name[i] = (ch >= 0x20u && ch < 0x7fu) ? (char)ch : '?';
+        }
+        e.name[nl] = '\0';
+        after = off + 2u + (size_t)nl; /* the link word */
+        e.body = after + 2u;
+        link = rd_u16(in, after);
+        nat = natural_body(in, e.body, bound, &e);
+        next_off = after + (size_t)link;
+        if (link != 0u && (link < 2u || next_off > bound || !plausible_entry(in, next_off, bound))) {
+            /* a link out of the section: the other byte order, or the entry's own length */
+            const unsigned sw = swap16(link);
+            bad_link_t b;
+            b.entry = (int)c->nentries;
+            b.link = link;
+            if (sw >= 2u && after + sw <= bound && plausible_entry(in, after + sw, bound)) {
+                b.used = sw;
+                b.how = 1;
+            } else if (nat > 0u && plausible_entry(in, e.body + nat, bound)) {
+                b.used = (unsigned)(nat + 2u);
+                b.how = 2;
+            } else {
+                return fail(err,
+                            "parameter section: the link after entry %s (byte %lu) points to byte "
+                            "%lu, outside the section's %lu bytes, and neither the other byte order "
+                            "nor the entry's length gives a next entry",
+                            e.name, (unsigned long)after, (unsigned long)next_off,
+                            (unsigned long)(bound - start));
+            }
+            if (nbad < C3D_WARNINGS_MAX) {
+                bad[nbad++] = b;
+            }
+            link = b.used;
+            next_off = after + (size_t)link;
+        }
+        e.end = (link == 0u) ? e.body + nat : next_off;
+        if (e.end < e.body + nat) {
+            e.end = e.body + nat; /* overlapping link: keep the body whole */
+        }
+        if ((size_t)c->nentries == cap) {
+            const size_t ncap = (cap == 0u) ? 64u : 2u * cap;
+            c3d_entry_t *ne = realloc(c->entries, ncap * sizeof *ne);
+            if (ne == NULL) {
+                return fail(err, "out of memory");
+            }
+            c->entries = ne;
+            cap = ncap;
+        }
+        c->entries[c->nentries++] = e;
+        if (link == 0u) {
+            break; /* last entry */
+        }
+        off = next_off; /* > off: no loop */
+    }
+    if (k == C3D_MAX_ENTRIES) {
+        return fail(err, "parameter section: more than %d entries", C3D_MAX_ENTRIES);
+    }
+    for (i = 0; i < nbad; i++) {
+        const c3d_entry_t *e = &c->entries[bad[i].entry];
+        const char *g = "?";
+        int j;
+        for (j = 0; j < c->nentries; j++) {
+            if (c->entries[j].is_group && c->entries[j].group == e->group) {
+                g = c->entries[j].name;
+                break;
+            }
+        }
+        warn(c,
+             "parameter section: the link after %s%s%s (byte %lu) reads %u, outside the section; "
+             "read as %u (%s)",
+             e->is_group ? "group " : g, e->is_group ? "" : ":", e->name,
+             (unsigned long)(e->body - 2u), bad[i].link, bad[i].used,
+             bad[i].how == 1 ? "the other byte order" : "the entry's own length");
+    }
+    return 0;
+}
+
+const c3d_entry_t *c3d_param(const c3d_t *c, const char *group, const char *name)
+{
+    int g = -1, i;
+    for (i = 0; i < c->nentries; i++) {
+        if (c->entries[i].is_group && name_eq(c->entries[i].name, group)) {
+            g = c->entries[i].group;
+            break;
+        }
+    }
+    if (g < 0) {
+        return NULL;
+    }
+    for (i = 0; i < c->nentries; i++) {
+        const c3d_entry_t *e = &c->entries[i];
+        if (!e->is_group && e->group == g && e->type != 0 && name_eq(e->name, name)) {
+            return e;
+        }
+    }
+    return NULL;
+}
+
+/* Element i of a numeric parameter, as a double; -1 when absent. */
+static int param_number_at(const c3d_in_t *in, const c3d_entry_t *p, size_t i, double *v)
+{
+    if (p == NULL || p->count <= i) {
         return -1;
     }
     switch (p->type) {
-    case 1: *v = (double)in->b[p->data]; return 0;
-    case 2: *v = (double)rd_i16(in, p->data); return 0;
-    case 4: *v = (double)rd_f32(in, p->data); return 0;
+    case 1: *v = (double)in->b[p->data + i]; return 0;
+    case 2: *v = (double)rd_i16(in, p->data + 2u * i); return 0;
+    case 4: *v = (double)rd_f32(in, p->data + 4u * i); return 0;
     default: return -1;
     }
 }
 
 /* A count parameter: an int16 read as unsigned (counts above 32767), a
  * byte or a float; -1 when absent or not a count. */
-static long param_count(const c3d_in_t *in, const c3d_param_t *p)
+static long param_count(const c3d_in_t *in, const c3d_entry_t *p)
 {
     double v;
-    if (param_number(in, p, &v) != 0) {
+    if (param_number_at(in, p, 0u, &v) != 0) {
         return -1;
     }
     if (p->type == 2 && v < 0.0) {
         v += 65536.0;
     }
-    if (!(v >= 0.0) || v > 1.0e9) {
+    if (!(v >= 0.0) || v > 1.0e9 || v != floor(v)) {
         return -1;
     }
     return (long)v;
 }
 
-/* Walk the parameter section once; pass 0 finds the POINT group id, pass 1
- * records its parameters. */
-static int walk_params(const c3d_in_t *in, size_t start, int pass, int *point_id,
-                       c3d_point_group_t *g, char *err)
+/* TRIAL:ACTUAL_*_FIELD: two unsigned 16-bit words, low first. */
+static long param_field(const c3d_in_t *in, const c3d_entry_t *p)
 {
-    size_t off = start + 4u;
-    long k;
-    for (k = 0; k < C3D_MAX_ENTRIES; k++) {
-        int nl, id, next;
-        size_t name, after;
-        if (!has(in, off, 2u)) {
-            return fail(err, "parameter section truncated at byte %lu", (unsigned long)off);
-        }
-        nl = (int)(signed char)in->b[off];
-        id = (int)(signed char)in->b[off + 1u];
-        if (nl == 0) {
-            return 0; /* end of the parameters */
-        }
-        if (nl < 0) {
-            nl = -nl;
-        }
-        name = off + 2u;
-        if (!has(in, name, (size_t)nl + 2u)) {
-            return fail(err, "parameter section truncated at byte %lu", (unsigned long)off);
-        }
-        after = name + (size_t)nl; /* the offset word */
-        next = (int)rd_u16(in, after);
-        if (pass == 0 && id < 0 && name_is(in->b + name, (size_t)nl, "POINT")) {
-            *point_id = -id;
-        } else if (pass == 1 && id > 0 && id == *point_id) {
-            c3d_param_t p;
-            c3d_param_t *dst = NULL;
-            size_t q = after + 2u, elem;
-            int d;
-            memset(&p, 0, sizeof p);
-            if (!has(in, q, 2u)) {
-                return fail(err, "parameter entry truncated at byte %lu", (unsigned long)q);
-            }
-            p.type = (int)(signed char)in->b[q];
-            p.ndims = (int)in->b[q + 1u];
-            q += 2u;
-            if (p.type != -1 && p.type != 1 && p.type != 2 && p.type != 4) {
-                return fail(err, "parameter POINT:%.*s has an invalid type %d", nl,
-                            (const char *)(in->b + name), p.type);
-            }
-            if (p.ndims > 7 || !has(in, q, (size_t)p.ndims)) {
-                return fail(err, "parameter POINT:%.*s has bad dimensions", nl,
-                            (const char *)(in->b + name));
-            }
-            p.count = 1u;
-            for (d = 0; d < p.ndims; d++) {
-                p.dims[d] = in->b[q + (size_t)d];
-                p.count *= p.dims[d];
-            }
-            q += (size_t)p.ndims;
-            elem = (size_t)(p.type < 0 ? 1 : p.type);
-            if (!has(in, q, p.count * elem)) {
-                return fail(err, "parameter POINT:%.*s: data past the end of the file", nl,
-                            (const char *)(in->b + name));
-            }
-            p.data = q;
-            p.found = 1;
-            if (name_is(in->b + name, (size_t)nl, "USED")) {
-                dst = &g->used;
-            } else if (name_is(in->b + name, (size_t)nl, "SCALE")) {
-                dst = &g->scale;
-            } else if (name_is(in->b + name, (size_t)nl, "RATE")) {
-                dst = &g->rate;
-            } else if (name_is(in->b + name, (size_t)nl, "UNITS")) {
-                dst = &g->units;
-            } else if (name_is(in->b + name, (size_t)nl, "DATA_START")) {
-                dst = &g->data_start;
-            } else if (name_is(in->b + name, (size_t)nl, "FRAMES")) {
-                dst = &g->frames;
-            } else if (name_is(in->b + name, (size_t)nl, "LABELS")) {
-                dst = &g->labels[0];
-            } else if (nl > 6 && nl <= 8 && name_is(in->b + name, 6u, "LABELS")) {
-                int i, num = 0;
-                for (i = 6; i < nl && isdigit(in->b[name + (size_t)i]); i++) {
-                    num = 10 * num + (in->b[name + (size_t)i] - '0');
-                }
-                if (i == nl && num >= 2 && num <= C3D_MAX_LABEL_PARAMS) {
-                    dst = &g->labels[num - 1];
-                }
-            }
-            if (dst != NULL && !dst->found) {
-                *dst = p;
-            }
-        }
-        if (next == 0) {
-            return 0; /* last entry */
-        }
-        off = after + (size_t)next; /* counted from the offset word; > off: no loop */
+    double lo, hi;
+    if (p == NULL || p->type != 2 || param_number_at(in, p, 0u, &lo) != 0
+        || param_number_at(in, p, 1u, &hi) != 0) {
+        return -1;
     }
-    return fail(err, "parameter section: more than %d entries", C3D_MAX_ENTRIES);
+    if (lo < 0.0) {
+        lo += 65536.0;
+    }
+    if (hi < 0.0) {
+        hi += 65536.0;
+    }
+    if (hi > 16383.0) {
+        return -1;
+    }
+    return (long)lo + 65536L * (long)hi;
 }
 
 /* Copy a blank-padded label, trimmed, printable. */
-static void copy_label(const unsigned char *s, size_t len, char *dst)
+static void copy_label(const unsigned char *s, size_t len, char *dst, size_t size)
 {
     size_t a = 0, b = len, i, k = 0;
     while (a < b && (s[a] == ' ' || s[a] == '\0')) {
@@ -271,19 +410,26 @@ static void copy_label(const unsigned char *s, size_t len, char *dst)
     while (b > a && (s[b - 1u] == ' ' || s[b - 1u] == '\0')) {
         b--;
     }
-    for (i = a; i < b && k < C3D_LABEL_MAX - 1u; i++) {
+    for (i = a; i < b && k + 1u < size; i++) {
         dst[k++] = (s[i] >= 0x20u && s[i] < 0x7fu) ? (char)s[i] : '?';
     }
     dst[k] = '\0';
 }
 
-static int read_labels(const c3d_in_t *in, const c3d_point_group_t *g, c3d_t *c)
+static void read_labels(const c3d_in_t *in, c3d_t *c)
 {
     int p, next = 0;
     for (p = 0; p < C3D_MAX_LABEL_PARAMS && next < c->npoints; p++) {
-        const c3d_param_t *l = &g->labels[p];
+        char nm[16];
+        const c3d_entry_t *l;
         size_t len, cnt, i;
-        if (!l->found || l->type != -1) {
+        if (p == 0) {
+            (void)snprintf(nm, sizeof nm, "LABELS");
+        } else {
+            (void)snprintf(nm, sizeof nm, "LABELS%d", p + 1);
+        }
+        l = c3d_param(c, "POINT", nm);
+        if (l == NULL || l->type != -1) {
             if (p == 0) {
                 continue;
             }
@@ -295,11 +441,66 @@ static int read_labels(const c3d_in_t *in, const c3d_point_group_t *g, c3d_t *c)
             cnt = l->count / len; /* a zero third dimension: fewer bytes stored */
         }
         for (i = 0; i < cnt && next < c->npoints; i++) {
-            copy_label(in->b + l->data + i * len, len, c->labels[next++]);
+            copy_label(in->b + l->data + i * len, len, c->labels[next++], C3D_LABEL_MAX);
         }
     }
-    for (; next < c->npoints; next++) {
-        (void)snprintf(c->labels[next], C3D_LABEL_MAX, "POINT%d", next + 1);
+    for (p = 0; p < c->npoints; p++) {
+        if (c->labels[p][0] == '\0') {
+            (void)snprintf(c->labels[p], C3D_LABEL_MAX, "POINT%d", p + 1);
+        }
+    }
+}
+
+static const c3d_t *g_sort_c3d; /* qsort has no context argument (C99) */
+
+static int cmp_label(const void *a, const void *b)
+{
+    const int i = *(const int *)a, j = *(const int *)b;
+    const int r = strcmp(g_sort_c3d->labels[i], g_sort_c3d->labels[j]);
+    return (r != 0) ? r : (i > j) - (i < j);
+}
+
+/* Duplicate labels: the second and later copies become LABEL#2, LABEL#3. */
+static int rename_duplicates(c3d_t *c)
+{
+    int *idx, k, renamed = 0;
+    char first[C3D_WARN_MAX] = "";
+    if (c->npoints < 2) {
+        return 0;
+    }
+    idx = malloc((size_t)c->npoints * sizeof *idx);
+    if (idx == NULL) {
+        return -1;
+    }
+    for (k = 0; k < c->npoints; k++) {
+        idx[k] = k;
+    }
+    g_sort_c3d = c;
+    qsort(idx, (size_t)c->npoints, sizeof *idx, cmp_label);
+    {
+        int start = 0, run = 1;
+        for (k = 1; k < c->npoints; k++) {
+            char base[C3D_LABEL_MAX];
+            if (strcmp(c->labels[idx[k]], c->labels[idx[start]]) != 0) {
+                start = k;
+                run = 1;
+                continue;
+            }
+            run++;
+            memcpy(base, c->labels[idx[k]], sizeof base);
+            base[C3D_LABEL_MAX - 12] = '\0';
+            if (renamed == 0) {
+                (void)snprintf(first, sizeof first, "%.40s (points %d and %d) -> %.40s#%d", base,
+                               idx[start] + 1, idx[k] + 1, base, run);
+            }
+            (void)snprintf(c->labels[idx[k]], C3D_LABEL_MAX, "%.51s#%d", base, run);
+            renamed++;
+        }
+    }
+    free(idx);
+    if (renamed > 0) {
+        warn(c, "duplicate labels: %d renamed LABEL#2, LABEL#3, ... in point order; first: %s",
+             renamed, first);
     }
     return 0;
 }
@@ -309,14 +510,175 @@ int c3d_sniff(const unsigned char *buf, size_t len)
     return len >= 2u && buf[1] == 0x50u && buf[0] >= 2u;
 }
 
+/* Frames: the header's count, POINT:FRAMES, the long counts and the file's
+ * size. 0 with c->nframes set, or -1. */
+static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have_params,
+                         char *err)
+{
+    const long cap = c->frames_in_file;
+    const long pf = have_params ? param_count(in, c3d_param(c, "POINT", "FRAMES")) : -1;
+    long lf = -1, n;
+    const char *lsrc = NULL;
+    if (have_params) {
+        const c3d_entry_t *lp = c3d_param(c, "POINT", "LONG_FRAMES");
+        const long s = param_field(in, c3d_param(c, "TRIAL", "ACTUAL_START_FIELD"));
+        const long e = param_field(in, c3d_param(c, "TRIAL", "ACTUAL_END_FIELD"));
+        double v;
+        if (lp != NULL && lp->type == 2 && lp->count >= 2u) {
+            lf = param_field(in, lp);
+        } else if (param_number_at(in, lp, 0u, &v) == 0 && v >= 1.0 && v < 1.0e9) {
+            lf = (long)v;
+        }
+        if (lf > 65535) {
+            lsrc = "POINT:LONG_FRAMES";
+        } else if (s >= 0 && e >= s && e - s + 1 > 65535) {
+            lf = e - s + 1;
+            lsrc = "TRIAL:ACTUAL_START_FIELD/ACTUAL_END_FIELD";
+            c->first_frame = s;
+        } else {
+            lf = -1;
+        }
+    }
+    if (lsrc != NULL) {
+        if (lf > cap) {
+            return fail(err, "truncated: %s announces %ld frames of %lu bytes, the file holds %ld",
+                        lsrc, lf, (unsigned long)c->frame_bytes, cap);
+        }
+        c->nframes = lf;
+        c->src_frames = lsrc;
+        return 0;
+    }
+    if (pf < 0 || pf == hdr_frames) {
+        n = hdr_frames;
+        c->src_frames = (pf < 0) ? "header" : "header, POINT:FRAMES";
+        if (n > cap) {
+            return fail(err, "truncated: %ld frames of %lu bytes announced (%s), the file holds %ld",
+                        n, (unsigned long)c->frame_bytes, c->src_frames, cap);
+        }
+    } else {
+        const int h_ok = hdr_frames <= cap, p_ok = pf <= cap;
+        if (!h_ok && !p_ok) {
+            return fail(err,
+                        "truncated: the header announces %ld frames, POINT:FRAMES %ld; the file "
+                        "holds %ld frames of %lu bytes",
+                        hdr_frames, pf, cap, (unsigned long)c->frame_bytes);
+        }
+        if (h_ok && (!p_ok || hdr_frames >= pf)) {
+            n = hdr_frames;
+            c->src_frames = "header (file size)";
+        } else {
+            n = pf;
+            c->src_frames = "POINT:FRAMES (file size)";
+        }
+        warn(c,
+             "frame count: the header says %ld, POINT:FRAMES %ld; the file holds %ld: read %ld "
+             "(%s)",
+             hdr_frames, pf, cap, n, n == pf ? "POINT:FRAMES" : "the header");
+    }
+    c->nframes = n;
+    if (cap > n && c->frame_bytes > 0u && (size_t)(cap - n) * c->frame_bytes >= C3D_BLOCK) {
+        warn(c, "the data section holds %ld frames, %ld announced (%s): read %ld", cap, n,
+             c->src_frames, n);
+    }
+    return 0;
+}
+
+/* Analog words per frame: the header against ANALOG:USED and the rates. */
+static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsigned hdr_samples,
+                        long hdr_frames, size_t data_bytes, char *err)
+{
+    const long used = param_count(in, c3d_param(c, "ANALOG", "USED"));
+    double ar = 0.0;
+    c->analog_words = (long)hdr_words;
+    c->src_analog = "header";
+    if (param_number_at(in, c3d_param(c, "ANALOG", "RATE"), 0u, &ar) == 0 && isfinite(ar)
+        && ar > 0.0) {
+        c->analog_rate = (float)ar;
+    }
+    if (used < 0) {
+        if (hdr_samples > 0u && hdr_words % hdr_samples == 0u) {
+            c->analog_per_frame = (int)hdr_samples;
+            c->analog_channels = (int)(hdr_words / hdr_samples);
+        }
+        return 0;
+    }
+    c->analog_channels = (int)used;
+    if (used == 0) {
+        if (hdr_words != 0u) {
+            return fail(err,
+                        "analog layout conflict: the header says %u analog words per frame, "
+                        "ANALOG:USED 0",
+                        hdr_words);
+        }
+        return 0;
+    }
+    if (c->analog_rate > 0.0f && c->rate > 0.0f) {
+        const double ratio = (double)c->analog_rate / (double)c->rate;
+        const double r = floor(ratio + 0.5);
+        if (r >= 1.0 && fabs(ratio - r) <= 1e-3 * r) {
+            const long want = used * (long)r;
+            if (want != (long)hdr_words) {
+                const size_t pb = 4u * (size_t)c->npoints * (size_t)c->word;
+                const size_t fh = pb + (size_t)hdr_words * (size_t)c->word;
+                const size_t fp = pb + (size_t)want * (size_t)c->word;
+                return fail(err,
+                            "analog layout conflict: the header says %u analog words per frame, "
+                            "ANALOG:USED %ld x ANALOG:RATE %g / POINT:RATE %g = %ld; %ld frames "
+                            "announced, the data section holds %lu frames of the header's layout, "
+                            "%lu of the parameters'",
+                            hdr_words, used, ar, (double)c->rate, want, hdr_frames,
+                            (unsigned long)(fh > 0u ? data_bytes / fh : 0u),
+                            (unsigned long)(fp > 0u ? data_bytes / fp : 0u));
+            }
+            c->analog_per_frame = (int)r;
+            c->src_analog = "header, ANALOG:USED x ANALOG:RATE / POINT:RATE";
+            return 0;
+        }
+        warn(c, "ANALOG:RATE / POINT:RATE = %g / %g is not a whole number", ar, (double)c->rate);
+    }
+    if (hdr_words % (unsigned long)used != 0u) {
+        return fail(err,
+                    "analog layout conflict: the header's %u analog words per frame are not a "
+                    "multiple of ANALOG:USED %ld",
+                    hdr_words, used);
+    }
+    c->analog_per_frame = (int)(hdr_words / (unsigned long)used);
+    c->src_analog = "header, ANALOG:USED";
+    return 0;
+}
+
+/* The processor type of a file without a parameter section: the byte order
+ * that gives a data-start block inside the file, Intel or DEC by the rate. */
+static int guess_processor(const unsigned char *buf, size_t len)
+{
+    c3d_in_t in;
+    const unsigned nblocks = (unsigned)(len / C3D_BLOCK);
+    unsigned w;
+    float r;
+    in.b = buf;
+    in.n = len;
+    in.proc = C3D_PROC_INTEL;
+    w = rd_u16(&in, 16u);
+    if (w < 2u || w > nblocks) {
+        return C3D_PROC_MIPS;
+    }
+    r = rd_f32(&in, 20u);
+    if (isfinite(r) && r > 0.0f && r < 1.0e6f) {
+        return C3D_PROC_INTEL;
+    }
+    in.proc = C3D_PROC_DEC;
+    r = rd_f32(&in, 20u);
+    return (isfinite(r) && r > 0.0f && r < 1.0e6f) ? C3D_PROC_DEC : C3D_PROC_INTEL;
+}
+
 static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
 {
     c3d_in_t in;
-    c3d_point_group_t g;
-    size_t pstart, dstart, frame_bytes, word, need_per_frame;
-    unsigned hdr_points, hdr_analog, hdr_first, hdr_last, hdr_data;
-    int point_id = 0, proc;
-    long nframes, f, cnt;
+    size_t pstart, dstart, bound;
+    unsigned hdr_points, hdr_analog, hdr_first, hdr_last, hdr_data, hdr_samples;
+    int proc, have_params = 1;
+    long f, cnt, hdr_frames;
+    float hdr_scale, hdr_rate;
     double v;
 
     memset(out, 0, sizeof *out);
@@ -332,114 +694,178 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
         return fail(err, "not a C3D file: no 0x50 key in the header");
     }
     pstart = ((size_t)buf[0] - 1u) * C3D_BLOCK;
-    if (!has(&in, pstart, 4u)) {
-        return fail(err, "truncated: the parameter section (block %u) is missing", buf[0]);
-    }
-    proc = (int)buf[pstart + 3u];
-    if (proc != C3D_PROC_INTEL && proc != C3D_PROC_DEC && proc != C3D_PROC_MIPS) {
-        return fail(err, "unknown processor type %d (84 Intel, 85 DEC, 86 MIPS)", proc);
+    proc = has(&in, pstart, 4u) ? (int)buf[pstart + 3u] : 0;
+    {
+        /* No parameter section: the header's data block is the parameter
+         * block (read in the processor's byte order, or either one). */
+        const unsigned le = (unsigned)buf[16] | ((unsigned)buf[17] << 8);
+        const unsigned be = ((unsigned)buf[16] << 8) | buf[17];
+        const int valid = proc == C3D_PROC_INTEL || proc == C3D_PROC_DEC || proc == C3D_PROC_MIPS;
+        const unsigned w9 = valid ? (proc == C3D_PROC_MIPS ? be : le) : 0u;
+        if ((valid && w9 == buf[0]) || (!valid && (le == buf[0] || be == buf[0]))) {
+            have_params = 0;
+            proc = guess_processor(buf, len);
+        } else if (!valid && !has(&in, pstart, 4u)) {
+            return fail(err, "truncated: the parameter section (block %u) is missing", buf[0]);
+        } else if (!valid) {
+            return fail(err, "unknown processor type %d (84 Intel, 85 DEC, 86 MIPS)", proc);
+        }
     }
     in.proc = proc;
+    out->processor = proc;
+    out->src_processor = have_params ? "parameter section" : "header (no parameter section)";
     hdr_points = rd_u16(&in, 2u);
     hdr_analog = rd_u16(&in, 4u);
     hdr_first = rd_u16(&in, 6u);
     hdr_last = rd_u16(&in, 8u);
+    hdr_scale = rd_f32(&in, 12u);
     hdr_data = rd_u16(&in, 16u);
+    hdr_samples = rd_u16(&in, 18u);
+    hdr_rate = rd_f32(&in, 20u);
+    hdr_frames = (hdr_last >= hdr_first) ? (long)hdr_last - (long)hdr_first + 1 : 0;
+    out->first_frame = (long)hdr_first;
 
-    memset(&g, 0, sizeof g);
-    if (walk_params(&in, pstart, 0, &point_id, &g, err) != 0) {
-        return -1;
-    }
-    if (point_id == 0) {
-        return fail(err, "no POINT group in the parameter section");
-    }
-    if (walk_params(&in, pstart, 1, &point_id, &g, err) != 0) {
-        return -1;
+    if (have_params) {
+        const unsigned nb = buf[pstart + 2u];
+        bound = (nb > 0u) ? pstart + (size_t)nb * C3D_BLOCK : len;
+        if (nb == 0u && hdr_data >= 2u && ((size_t)hdr_data - 1u) * C3D_BLOCK > pstart) {
+            bound = ((size_t)hdr_data - 1u) * C3D_BLOCK;
+        }
+        if (bound > len) {
+            bound = len;
+        }
+        out->param_start = pstart;
+        out->param_blocks = nb;
+        if (walk_params(&in, pstart, bound, out, err) != 0) {
+            return -1;
+        }
+        {
+            int i, g = 0;
+            for (i = 0; i < out->nentries; i++) {
+                g |= out->entries[i].is_group && name_eq(out->entries[i].name, "POINT");
+            }
+            if (!g) {
+                return fail(err, "no POINT group in the parameter section");
+            }
+        }
     }
 
-    out->processor = proc;
     out->npoints = (int)hdr_points;
-    cnt = param_count(&in, &g.used);
-    if (cnt >= 0 && cnt != (long)hdr_points) {
-        return fail(err, "POINT:USED (%ld) differs from the header's point count (%u)", cnt,
-                    hdr_points);
+    out->src_points = "header";
+    cnt = param_count(&in, c3d_param(out, "POINT", "USED"));
+    if (cnt >= 0) {
+        if (cnt != (long)hdr_points) {
+            return fail(err, "POINT:USED (%ld) differs from the header's point count (%u)", cnt,
+                        hdr_points);
+        }
+        out->src_points = "header, POINT:USED";
     }
-    out->scale = rd_f32(&in, 12u);
-    if (param_number(&in, &g.scale, &v) == 0) {
+    out->scale = hdr_scale;
+    out->src_scale = "header";
+    if (param_number_at(&in, c3d_param(out, "POINT", "SCALE"), 0u, &v) == 0) {
         out->scale = (float)v;
+        out->src_scale = "POINT:SCALE";
+        if (!(fabsf(out->scale - hdr_scale) <= 1e-6f * fabsf(out->scale))) {
+            warn(out, "the header's scale %g differs from POINT:SCALE %g: POINT:SCALE used",
+                 (double)hdr_scale, (double)out->scale);
+            out->src_scale = "POINT:SCALE (the header differs)";
+        }
     }
     if (!isfinite(out->scale) || out->scale == 0.0f) {
         return fail(err, "POINT:SCALE is %g: neither float (< 0) nor integer (> 0) storage",
                     (double)out->scale);
     }
-    out->rate = rd_f32(&in, 20u);
-    if (param_number(&in, &g.rate, &v) == 0) {
+    out->rate = hdr_rate;
+    out->src_rate = "header";
+    if (param_number_at(&in, c3d_param(out, "POINT", "RATE"), 0u, &v) == 0) {
         out->rate = (float)v;
+        out->src_rate = "POINT:RATE";
     }
     if (!isfinite(out->rate) || out->rate < 0.0f) {
         out->rate = 0.0f;
     }
-    if (g.units.found && g.units.type == -1) {
-        copy_label(buf + g.units.data, g.units.count < sizeof out->units ? g.units.count
-                                                                          : sizeof out->units - 1u,
-                   out->units);
+    {
+        const c3d_entry_t *u = c3d_param(out, "POINT", "UNITS");
+        if (u != NULL && u->type == -1) {
+            copy_label(buf + u->data, u->count, out->units, sizeof out->units);
+        }
     }
-    cnt = param_count(&in, &g.data_start);
+    cnt = param_count(&in, c3d_param(out, "POINT", "DATA_START"));
     if (cnt >= 1 && cnt <= 65535) {
+        if ((unsigned)cnt != hdr_data) {
+            warn(out, "the header's data block %u differs from POINT:DATA_START %ld: "
+                      "POINT:DATA_START used", hdr_data, cnt);
+        }
         hdr_data = (unsigned)cnt;
     }
     if (hdr_data < 2u) {
         return fail(err, "invalid data start block %u", hdr_data);
     }
-    nframes = (hdr_last >= hdr_first) ? (long)hdr_last - (long)hdr_first + 1 : 0;
-    cnt = param_count(&in, &g.frames);
-    if (cnt > nframes) {
-        nframes = cnt; /* long trials overflow the header's 16-bit words */
-    }
-    out->first_frame = (long)hdr_first;
-
-    word = (out->scale < 0.0f) ? 4u : 2u;
-    need_per_frame = (4u * (size_t)hdr_points + (size_t)hdr_analog) * word;
+    out->word = (out->scale < 0.0f) ? 4 : 2;
     dstart = ((size_t)hdr_data - 1u) * C3D_BLOCK;
     if (dstart > len) {
         return fail(err, "truncated: the data section (block %u) starts past the end", hdr_data);
     }
-    frame_bytes = need_per_frame;
-    if (frame_bytes > 0u && (size_t)nframes > (len - dstart) / frame_bytes) {
-        return fail(err, "truncated: %ld frames of %lu bytes announced, the file holds %lu",
-                    nframes, (unsigned long)frame_bytes,
-                    (unsigned long)((len - dstart) / frame_bytes));
+    out->data_start = dstart;
+    if (check_analog(&in, out, hdr_analog, hdr_samples, hdr_frames, len - dstart, err) != 0) {
+        return -1;
     }
-    out->nframes = nframes;
+    out->frame_bytes = (4u * (size_t)hdr_points + (size_t)out->analog_words) * (size_t)out->word;
+    out->frames_in_file = (out->frame_bytes > 0u) ? (long)((len - dstart) / out->frame_bytes)
+                                                  : 2147483647L;
+    if (choose_frames(&in, out, hdr_frames, have_params, err) != 0) {
+        return -1;
+    }
+    if (!have_params) {
+        warn(out, "no parameter section: counts, scale and rate from the header, processor type "
+                  "%s guessed from its byte order, points named POINT1, POINT2, ...",
+             c3d_processor_name(proc));
+    }
 
     out->labels = calloc((size_t)out->npoints + 1u, sizeof *out->labels);
-    out->xyz = malloc(((size_t)nframes * (size_t)out->npoints * 3u + 1u) * sizeof(float));
+    out->xyz = malloc(((size_t)out->nframes * (size_t)out->npoints * 3u + 1u) * sizeof(float));
     if (out->labels == NULL || out->xyz == NULL) {
-        c3d_free(out);
         return fail(err, "out of memory");
     }
-    (void)read_labels(&in, &g, out);
-    for (f = 0; f < nframes && out->npoints > 0; f++) {
-        const size_t fo = dstart + (size_t)f * frame_bytes;
+    read_labels(&in, out);
+    if (rename_duplicates(out) != 0) {
+        return fail(err, "out of memory");
+    }
+    {
+        long zero_markers = 0;
         int p;
         for (p = 0; p < out->npoints; p++) {
-            const size_t po = fo + (size_t)p * 4u * word;
-            float *x = out->xyz + ((size_t)f * (size_t)out->npoints + (size_t)p) * 3u;
-            int invalid, i;
-            if (word == 4u) {
-                for (i = 0; i < 3; i++) {
-                    x[i] = rd_f32(&in, po + 4u * (size_t)i);
+            long zeros = 0;
+            for (f = 0; f < out->nframes; f++) {
+                const size_t po = dstart + (size_t)f * out->frame_bytes
+                                  + (size_t)p * 4u * (size_t)out->word;
+                float *x = out->xyz + ((size_t)f * (size_t)out->npoints + (size_t)p) * 3u;
+                int invalid, i;
+                if (out->word == 4) {
+                    for (i = 0; i < 3; i++) {
+                        x[i] = rd_f32(&in, po + 4u * (size_t)i);
+                    }
+                    invalid = !(rd_f32(&in, po + 12u) >= 0.0f);
+                } else {
+                    for (i = 0; i < 3; i++) {
+                        x[i] = (float)rd_i16(&in, po + 2u * (size_t)i) * out->scale;
+                    }
+                    invalid = rd_i16(&in, po + 6u) < 0;
                 }
-                invalid = !(rd_f32(&in, po + 12u) >= 0.0f);
-            } else {
-                for (i = 0; i < 3; i++) {
-                    x[i] = (float)rd_i16(&in, po + 2u * (size_t)i) * out->scale;
+                if (invalid) {
+                    x[0] = x[1] = x[2] = NAN;
+                } else if (x[0] == 0.0f && x[1] == 0.0f && x[2] == 0.0f) {
+                    zeros++;
                 }
-                invalid = rd_i16(&in, po + 6u) < 0;
             }
-            if (invalid) {
-                x[0] = x[1] = x[2] = NAN;
-            }
+            out->zero_samples += zeros;
+            zero_markers += zeros > 0;
+        }
+        if (out->zero_samples > 0) {
+            warn(out,
+                 "%ld samples of %ld markers at exactly (0, 0, 0) with a valid residual (how some "
+                 "systems write a missing marker): sfit joint and skeleton take them as missing",
+                 out->zero_samples, zero_markers);
         }
     }
     return 0;
@@ -454,13 +880,13 @@ int c3d_parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
     return rc;
 }
 
-int c3d_read_file(const char *path, c3d_t *out, char *err)
+int c3d_load_bytes(const char *path, unsigned char **out, size_t *len, char *err)
 {
     FILE *f = fopen(path, "rb");
     unsigned char *buf = NULL;
     size_t n = 0, cap = 0;
-    int rc;
-    memset(out, 0, sizeof *out);
+    *out = NULL;
+    *len = 0;
     if (f == NULL) {
         return fail(err, "cannot open %s: %s", path, strerror(errno));
     }
@@ -494,6 +920,20 @@ int c3d_read_file(const char *path, c3d_t *out, char *err)
         return fail(err, "cannot read %s", path);
     }
     fclose(f);
+    *out = buf;
+    *len = n;
+    return 0;
+}
+
+int c3d_read_file(const char *path, c3d_t *out, char *err)
+{
+    unsigned char *buf;
+    size_t n;
+    int rc;
+    memset(out, 0, sizeof *out);
+    if (c3d_load_bytes(path, &buf, &n, err) != 0) {
+        return -1;
+    }
     rc = c3d_parse(buf, n, out, err);
     free(buf);
     return rc;
@@ -503,26 +943,45 @@ void c3d_free(c3d_t *c)
 {
     free(c->labels);
     free(c->xyz);
+    free(c->entries);
     memset(c, 0, sizeof *c);
 }
 
 int c3d_find(const c3d_t *c, const char *name)
 {
-    int i;
+    int i, hit = -1;
     for (i = 0; i < c->npoints; i++) {
         if (strcmp(c->labels[i], name) == 0) {
             return i;
         }
     }
     for (i = 0; i < c->npoints; i++) {
-        const char *a = c->labels[i], *b = name;
-        while (*a != '\0' && toupper((unsigned char)*a) == toupper((unsigned char)*b)) {
-            a++;
-            b++;
-        }
-        if (*a == '\0' && *b == '\0') {
+        if (name_eq(c->labels[i], name)) {
             return i;
         }
     }
-    return -1;
+    for (i = 0; i < c->npoints; i++) { /* "RASI" for "P01:RASI", when only one matches */
+        const char *colon = strrchr(c->labels[i], ':');
+        if (colon != NULL && strcmp(colon + 1, name) == 0) {
+            if (hit >= 0) {
+                return -1;
+            }
+            hit = i;
+        }
+    }
+    return hit;
+}
+
+void c3d_label_prefix(const c3d_t *c, int k, char *out, size_t size)
+{
+    const char *colon;
+    out[0] = '\0';
+    if (k < 0 || k >= c->npoints || size == 0u) {
+        return;
+    }
+    colon = strrchr(c->labels[k], ':');
+    if (colon != NULL) {
+        const size_t n = (size_t)(colon - c->labels[k]) + 1u;
+        (void)snprintf(out, size, "%.*s", (int)n, c->labels[k]);
+    }
 }

@@ -92,6 +92,9 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
         (void)snprintf(why, CLI_FRAMES_ERR_MAX, "%s", err);
         return -2;
     }
+    for (k = 0; k < c.nwarn; k++) { /* what was read differently from one source */
+        fprintf(stderr, "sfit: warning: %s: %s\n", path, c.warnings[k]);
+    }
     for (k = 0; k < n; k++) {
         idx[k] = c3d_find(&c, names[k]);
         if (idx[k] < 0) {
@@ -116,6 +119,11 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
         for (k = 0; k < n; k++) {
             const float *p = c.xyz + ((size_t)f * (size_t)c.npoints + (size_t)idx[k]) * 3u;
             sfit_vec3_t *d = &out->xyz[(size_t)f * (size_t)n + (size_t)k];
+            if (p[0] == 0.0f && p[1] == 0.0f && p[2] == 0.0f) {
+                d->v[0] = d->v[1] = d->v[2] = NAN; /* (0, 0, 0): "missing" in some systems */
+                out->zero_missing++;
+                continue;
+            }
             d->v[0] = p[0];
             d->v[1] = p[1];
             d->v[2] = p[2];

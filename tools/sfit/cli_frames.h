@@ -12,7 +12,7 @@
 
 #include "sfit/sfit_types.h"
 
-#define CLI_FRAMES_ERR_MAX 256
+#define CLI_FRAMES_ERR_MAX 384
 #define CLI_MARKERS_MAX 256 /* markers named in one command */
 
 typedef struct cli_frames {
@@ -22,6 +22,8 @@ typedef struct cli_frames {
     char units[16];      /**< "mm", "m" ... ("" unknown) */
     int is_c3d;
     long bad_rows;       /**< table rows that did not parse (all markers NaN there) */
+    long zero_missing;   /**< C3D samples at exactly (0, 0, 0) with a valid residual,
+                              taken as missing (how some systems write "missing") */
     sfit_vec3_t *xyz;    /**< nframes * nmarkers, frame-major; NaN = missing */
     /* every labelled point of a C3D file (context for pictures); NULL for tables */
     int nall;

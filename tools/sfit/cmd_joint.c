@@ -22,12 +22,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "c3d.h"
+#include "c3d_write.h"
 #include "cli.h"
 #include "cli_joint.h"
 
 typedef struct joint_opts {
     const char *file;
     char *trajectory;
+    char *write, *trc, *name; /* --write OUT.c3d, --trc OUT.trc, --name JC */
     int json;
     char *names[CLI_MARKERS_MAX]; /* parent markers, then child markers */
     int np, nc;
@@ -38,7 +41,8 @@ static void joint_usage(FILE *f)
 {
     fputs("usage: sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]\n"
           "                  [--noise-var V|auto] [--mode auto|sphere|planar]\n"
-          "                  [--trajectory OUT.csv] [--json]\n"
+          "                  [--trajectory OUT.csv] [--write OUT.c3d] [--trc OUT.trc]\n"
+          "                  [--name JC] [--json]\n"
           "  FILE  a C3D file, or a table with a header and one x,y,z column triple per\n"
           "        marker: NAME_X NAME_Y NAME_Z (also NAME.x, NAME:X, NAME-X, 'NAME X';\n"
           "        any case); other columns (time, frame) are ignored; blank cell = missing\n"
@@ -46,6 +50,13 @@ static void joint_usage(FILE *f)
           "  --child LIST     markers of the child segment\n" CLI_JOINT_USAGE
           "  --trajectory OUT write frame,x,y,z: the centre in the lab frame at every frame\n"
           "                   used (frame: 0-based index in FILE)\n"
+          "  --write OUT.c3d  FILE (a C3D file) with the centre added as a point NAME (in the\n"
+          "                   frames used; residual -1 elsewhere), for a hinge also NAME_AX1\n"
+          "                   and NAME_AX2 on the axis, 100 mm either side; the subject\n"
+          "                   prefix of the first parent marker ('P01:') is put before them;\n"
+          "                   nothing else in the file changes (docs/c3d.md)\n"
+          "  --trc OUT.trc    an OpenSim marker file: every marker of FILE and the new points\n"
+          "  --name NAME      the new point's label (default JC)\n"
           "  --json           one JSON object on stdout\n"
           "The centre is given in the parent frame: the template frame of the parent\n"
           "cluster (origin at the centroid of its markers' template, axes the lab axes\n"
@@ -75,6 +86,9 @@ static int joint_parse(int argc, char **argv, joint_opts_t *o)
         {.name = "--parent", .kind = CLI_OPT_STRING, .dst = &parent, .required = 1},
         {.name = "--child", .kind = CLI_OPT_STRING, .dst = &child, .required = 1},
         {.name = "--trajectory", .kind = CLI_OPT_STRING, .dst = &o->trajectory},
+        {.name = "--write", .kind = CLI_OPT_STRING, .dst = &o->write},
+        {.name = "--trc", .kind = CLI_OPT_STRING, .dst = &o->trc},
+        {.name = "--name", .kind = CLI_OPT_STRING, .dst = &o->name},
     };
     const cli_args_t args = {.opts = opts, .nopts = sizeof opts / sizeof opts[0],
                              .pos = &o->file, .max_pos = 1, .min_pos = 1,
@@ -251,6 +265,91 @@ static int write_trajectory(const joint_opts_t *o, const cli_frames_t *fr,
     return 0;
 }
 
+/* --write / --trc: the recording with the centre (and a hinge's axis points). */
+static int write_c3d_points(const joint_opts_t *o, const cli_frames_t *fr,
+                            const cli_joint_out_t *jo, long last)
+{
+    const int hinge = jo->res.fit.mode == SFIT_MODE_PLANAR;
+    const int n = hinge ? 3 : 1;
+    const char *base = (o->name != NULL) ? o->name : "JC";
+    char n1[C3D_LABEL_MAX], n2[C3D_LABEL_MAX], prefix[C3D_LABEL_MAX], err[C3D_ERR_MAX];
+    const char *names[3];
+    unsigned char *buf = NULL;
+    size_t len = 0;
+    c3d_t c;
+    c3d_add_t add;
+    float *xyz;
+    float d = 100.0f; /* the axis points: 100 mm either side of the centre */
+    long k;
+    int rc = -1, to_float = 0;
+    if (!fr->is_c3d) {
+        fprintf(stderr, "sfit: --write and --trc need a C3D file\n");
+        return -1;
+    }
+    if (strcmp(fr->units, "m") == 0) {
+        d = 0.1f;
+    } else if (strcmp(fr->units, "cm") == 0) {
+        d = 10.0f;
+    }
+    (void)snprintf(n1, sizeof n1, "%.50s_AX1", base);
+    (void)snprintf(n2, sizeof n2, "%.50s_AX2", base);
+    names[0] = base;
+    names[1] = n1;
+    names[2] = n2;
+    if (c3d_load_bytes(o->file, &buf, &len, err) != 0 || c3d_parse(buf, len, &c, err) != 0) {
+        fprintf(stderr, "sfit: %s\n", err);
+        free(buf);
+        return -1;
+    }
+    xyz = malloc(((size_t)c.nframes * (size_t)n * 3u + 1u) * sizeof *xyz);
+    if (xyz == NULL || c.nframes != fr->nframes) {
+        fprintf(stderr, "sfit: out of memory\n");
+        goto out;
+    }
+    for (k = 0; k < c.nframes * n * 3; k++) {
+        xyz[k] = NAN;
+    }
+    for (k = o->j.first; k <= last; k++) {
+        sfit_vec3_t ctr, ax;
+        float *p = xyz + (size_t)k * (size_t)n * 3u;
+        int i;
+        if (!jo->ok[k] || cli_joint_lab(fr, o->np, jo, k, &ctr, hinge ? &ax : NULL) != SFIT_OK) {
+            continue;
+        }
+        for (i = 0; i < 3; i++) {
+            p[i] = ctr.v[i];
+            if (hinge) {
+                p[3 + i] = ctr.v[i] - d * ax.v[i];
+                p[6 + i] = ctr.v[i] + d * ax.v[i];
+            }
+        }
+    }
+    c3d_label_prefix(&c, c3d_find(&c, o->names[0]), prefix, sizeof prefix);
+    memset(&add, 0, sizeof add);
+    add.n = n;
+    add.names = names;
+    add.xyz = xyz;
+    add.prefix = prefix;
+    if (o->write != NULL && c3d_write_added(buf, len, &c, &add, o->write, &to_float, err) != 0) {
+        fprintf(stderr, "sfit: %s\n", err);
+        goto out;
+    }
+    if (to_float) {
+        fprintf(stderr, "sfit: note: %s written with float storage (the new points do not fit "
+                        "16-bit integers times POINT:SCALE)\n", o->write);
+    }
+    if (o->trc != NULL && c3d_write_trc(o->trc, &c, &add, err) != 0) {
+        fprintf(stderr, "sfit: %s\n", err);
+        goto out;
+    }
+    rc = 0;
+out:
+    free(xyz);
+    c3d_free(&c);
+    free(buf);
+    return rc;
+}
+
 int cli_cmd_joint(int argc, char **argv)
 {
     joint_opts_t o;
@@ -310,6 +409,9 @@ int cli_cmd_joint(int argc, char **argv)
     }
     rc = CLI_OK;
     if (o.trajectory != NULL && write_trajectory(&o, &fr, &jo, last) != 0) {
+        rc = CLI_IO;
+    }
+    if ((o.write != NULL || o.trc != NULL) && write_c3d_points(&o, &fr, &jo, last) != 0) {
         rc = CLI_IO;
     }
     cli_joint_free(&jo);

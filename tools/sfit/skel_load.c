@@ -64,7 +64,7 @@ int skel_rec_load(skel_rec_t *r, const char *const *files, int nfiles, const cha
     for (k = 0; k < nfiles; k++) {
         r->file[k] = files[k];
         if (c3d_read_file(files[k], &c[k], err) != 0) {
-            (void)snprintf(why, SKEL_ERR, "%s: %s", files[k], err);
+            (void)snprintf(why, SKEL_ERR, "%.80s: %.170s", files[k], err);
             goto fail;
         }
         if (k == 0) {

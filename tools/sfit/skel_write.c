@@ -16,6 +16,9 @@
 #include <math.h>
 #include <string.h>
 
+#include <stdlib.h>
+
+#include "c3d_write.h"
 #include "skel.h"
 
 static int close_checked(FILE *f, const char *path)
@@ -132,42 +135,57 @@ int skel_write_bvh(const skel_t *s, const char *path)
     return close_checked(f, path);
 }
 
-/* TRC (OpenSim marker file) of the joint centres: the root node and every joint. */
+/* TRC (OpenSim marker file) of the joint centres: the root node and every
+ * joint, by the TRC writer of issue 27 (c3d_write.h) with no recorded marker. */
 int skel_write_trc(const skel_t *s, const char *path)
 {
-    FILE *f = open_out(path);
-    const char *base = strrchr(path, '/');
-    const double rate = s->rec->rate > 0.0f ? (double)s->rec->rate : 1.0;
+    const long nf = s->rec->nframes;
+    const int np = s->njoint + 1;
+    const char **names = malloc((size_t)np * sizeof *names);
+    float *xyz = malloc((size_t)nf * (size_t)np * 3u * sizeof *xyz);
+    c3d_t c;
+    c3d_add_t add;
+    char err[C3D_ERR_MAX];
     long fr;
-    int k;
-    if (f == NULL) {
+    int k, i, rc;
+    if (names == NULL || xyz == NULL) {
+        free(names);
+        free(xyz);
+        fprintf(stderr, "sfit: out of memory\n");
         return -1;
     }
-    fprintf(f, "PathFileType\t4\t(X/Y/Z)\t%s\n", base != NULL ? base + 1 : path);
-    fputs("DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\t"
-          "OrigDataStartFrame\tOrigNumFrames\n",
-          f);
-    fprintf(f, "%g\t%g\t%ld\t%d\t%s\t%g\t1\t%ld\n", rate, rate, s->rec->nframes, s->njoint + 1,
-            s->rec->units[0] ? s->rec->units : "mm", rate, s->rec->nframes);
-    fprintf(f, "Frame#\tTime\t%s", s->seg[s->root].name);
+    names[0] = s->seg[s->root].name;
     for (k = 0; k < s->njoint; k++) {
-        fprintf(f, "\t\t\t%s", s->joint[k].name);
+        names[k + 1] = s->joint[k].name;
     }
-    fputs("\n\t", f);
-    for (k = 0; k <= s->njoint; k++) {
-        fprintf(f, "\tX%d\tY%d\tZ%d", k + 1, k + 1, k + 1);
-    }
-    fputs("\n\n", f);
-    for (fr = 0; fr < s->rec->nframes; fr++) {
-        fprintf(f, "%ld\t%.6f\t%.6f\t%.6f\t%.6f", fr + 1, (double)fr / rate, s->root_t[fr * 3],
-                s->root_t[fr * 3 + 1], s->root_t[fr * 3 + 2]);
-        for (k = 0; k < s->njoint; k++) {
-            const double *p = &s->jc[((size_t)fr * (size_t)s->njoint + (size_t)k) * 3u];
-            fprintf(f, "\t%.6f\t%.6f\t%.6f", p[0], p[1], p[2]);
+    for (fr = 0; fr < nf; fr++) {
+        float *row = xyz + (size_t)fr * (size_t)np * 3u;
+        for (i = 0; i < 3; i++) {
+            row[i] = (float)s->root_t[fr * 3 + i];
         }
-        fputc('\n', f);
+        for (k = 0; k < s->njoint; k++) {
+            for (i = 0; i < 3; i++) {
+                row[(k + 1) * 3 + i] =
+                    (float)s->jc[((size_t)fr * (size_t)s->njoint + (size_t)k) * 3u + (size_t)i];
+            }
+        }
     }
-    return close_checked(f, path);
+    memset(&c, 0, sizeof c);
+    c.nframes = nf;
+    c.first_frame = 1;
+    c.rate = s->rec->rate > 0.0f ? s->rec->rate : 1.0f;
+    (void)snprintf(c.units, sizeof c.units, "%s", s->rec->units);
+    memset(&add, 0, sizeof add);
+    add.n = np;
+    add.names = names;
+    add.xyz = xyz;
+    rc = c3d_write_trc(path, &c, &add, err);
+    if (rc != 0) {
+        fprintf(stderr, "sfit: %s\n", err);
+    }
+    free(names);
+    free(xyz);
+    return rc;
 }
 
 /* Every joint's centre as its parent segment carries it (R_p c_p + t_p) per

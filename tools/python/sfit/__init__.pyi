@@ -2,7 +2,8 @@
 # Type hints of the sfit package (the runtime is sfit/__init__.py over the
 # compiled sfit._sfit). Arrays in: any real array-like, float32 inside.
 # Arrays out: float64 ndarrays holding float32 values.
-from typing import Any, Literal, Optional, Sequence, Tuple, Union
+import os
+from typing import Any, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -169,6 +170,30 @@ def refine(points: ArrayLike, center: ArrayLike, max_iters: int = 0,
            tol: float = 0.0) -> RefineResult: ...
 def uncertainty(points: ArrayLike, center: ArrayLike, radius: Optional[float] = None,
                 noise_var: Optional[float] = None) -> Uncertainty: ...
+
+# C3D files (the CLI's reader and writer, docs/c3d.md)
+class C3D:
+    labels: list[str]
+    rate: float
+    units: str
+    points: npt.NDArray[np.float64]
+    first_frame: int
+    processor: str
+    storage: str
+    scale: float
+    analog_channels: int
+    analog_per_frame: int
+    analog_rate: float
+    zero_samples: int
+    warnings: list[str]
+    sources: dict[str, str]
+    def to_dict(self) -> dict: ...
+
+def read_c3d(path: Union[str, bytes, "os.PathLike[str]"]) -> C3D: ...
+def write_c3d(src: Union[str, bytes, "os.PathLike[str]"], dst: Union[str, bytes, "os.PathLike[str]"],
+              points: "Mapping[str, ArrayLike]", prefix: Optional[str] = None) -> bool: ...
+def write_trc(src: Union[str, bytes, "os.PathLike[str]"], dst: Union[str, bytes, "os.PathLike[str]"],
+              points: "Optional[Mapping[str, ArrayLike]]" = None, prefix: Optional[str] = None) -> None: ...
 
 # Joint-centre API (present when the C library has sfit_joint.h)
 CLUSTER_MAX_MARKERS: int

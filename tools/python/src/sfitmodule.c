@@ -51,6 +51,9 @@
 
 #define N_STATUS 8 /* SFIT_OK .. SFIT_E_RANGE (0 .. -7) */
 
+/* C3D files (c3dmodule.c): sfit.read_c3d / write_c3d / write_trc. */
+PyMethodDef *sfit_py_c3d_methods(void);
+
 static PyObject *g_error;            /* sfit.Error */
 static PyObject *g_exc[N_STATUS];    /* per status code (index -code), [0] unused */
 
@@ -2358,6 +2361,10 @@ PyMODINIT_FUNC PyInit__sfit(void)
     }
     m = PyModule_Create(&module_def);
     if (m == NULL) {
+        return NULL;
+    }
+    if (PyModule_AddFunctions(m, sfit_py_c3d_methods()) < 0) {
+        Py_DECREF(m);
         return NULL;
     }
     g_error = PyErr_NewExceptionWithDoc(

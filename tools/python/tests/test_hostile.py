@@ -650,6 +650,7 @@ def build_cases():
            "NoiseEstimate": sfit.calibrate_noise(P, c0, 10.0),
            "Uncertainty": sfit.uncertainty(P, c0, 10.0, 1e-3), "RefineResult": sfit.refine(P, c0),
            "Estimate": fresh_i().estimate(), "Track": sfit.Incremental().track(P)}
+    res["C3D"] = sfit.read_c3d(_C3D_HIP)
     if HAVE_JOINT:
         tpl, par, chi = _joint_data()
         res["Pose"] = sfit.Cluster(tpl).register(par[0])
@@ -670,7 +671,77 @@ def build_cases():
 
     if HAVE_JOINT:
         _joint_cases(T, res)
+    _c3d_cases(T)
     return T
+
+
+_SRC = os.environ.get("SFIT_SOURCE_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                       "..", "..", ".."))
+_C3D_HIP = os.path.join(_SRC, "tests", "data", "c3d", "biobuddy_right_hip.c3d")
+_C3D_CASES = os.path.join(_SRC, "tests", "data", "c3d", "cases")
+
+
+def _c3d_cases(T):
+    """read_c3d, write_c3d, write_trc: bad paths, malformed files, bad points."""
+    import pathlib
+    import tempfile
+    tmp = tempfile.mkdtemp(prefix="sfit_hostile_c3d_")
+    hip = _C3D_HIP
+    with open(hip, "rb") as f:
+        head = f.read(600)
+    trunc = os.path.join(tmp, "trunc.c3d")
+    with open(trunc, "wb") as f:
+        f.write(head)
+    empty = os.path.join(tmp, "empty.c3d")
+    open(empty, "wb").close()
+    out = os.path.join(tmp, "out.c3d")
+    nowhere = os.path.join(tmp, "no", "such", "dir", "out.c3d")
+    nf = 1690
+    good = {"JC": np.tile([100.0, 200.0, 300.0], (nf, 1))}
+    T["read_c3d"] = [
+        ("hip", lambda: sfit.read_c3d(hip), "ok"),
+        ("bytes path", lambda: sfit.read_c3d(hip.encode()), "ok"),
+        ("pathlib", lambda: sfit.read_c3d(pathlib.Path(hip)), "ok"),
+        ("None", lambda: sfit.read_c3d(None), TypeError),
+        ("int", lambda: sfit.read_c3d(5), TypeError),
+        ("NUL in path", lambda: sfit.read_c3d("a\0b"), ValueError),
+        ("missing file", lambda: sfit.read_c3d(os.path.join(tmp, "none.c3d")), OSError),
+        ("directory", lambda: sfit.read_c3d(tmp), (OSError, ValueError)),
+        ("empty file", lambda: sfit.read_c3d(empty), ValueError),
+        ("truncated", lambda: sfit.read_c3d(trunc), ValueError),
+        ("analog conflict", lambda: sfit.read_c3d(os.path.join(_C3D_CASES, "analog_conflict.c3d")),
+         ValueError),
+        ("not a C3D file", lambda: sfit.read_c3d(__file__), ValueError)]
+    for fn in ("write_c3d", "write_trc"):
+        w = getattr(sfit, fn)
+        T[fn] = [
+            ("one point", lambda w=w: w(hip, out, good), "ok"),
+            ("prefix", lambda w=w: w(hip, out, good, prefix="S1:"), "ok"),
+            ("NaN frames", lambda w=w: w(hip, out, {"A": np.where(np.arange(nf)[:, None] % 3 == 0,
+                                                                  np.nan, 1.0) * np.ones((nf, 3))}), "ok"),
+            ("int dtype", lambda w=w: w(hip, out, {"A": np.ones((nf, 3), dtype=np.int16)}), "ok"),
+            ("points list", lambda w=w: w(hip, out, [1, 2, 3]), sfit.ArgError),
+            ("points {}", lambda w=w: w(hip, out, {}), sfit.ArgError),
+            ("name int", lambda w=w: w(hip, out, {5: good["JC"]}), sfit.ArgError),
+            ("name empty", lambda w=w: w(hip, out, {"": good["JC"]}), ValueError),
+            ("name with tab", lambda w=w: w(hip, out, {"a\tb": good["JC"]}), ValueError),
+            ("name 300 chars", lambda w=w: w(hip, out, {"x" * 300: good["JC"]}), ValueError),
+            ("wrong frames", lambda w=w: w(hip, out, {"A": np.ones((nf - 1, 3))}), sfit.ArgError),
+            ("(F, 2)", lambda w=w: w(hip, out, {"A": np.ones((nf, 2))}), sfit.ArgError),
+            ("Inf", lambda w=w: w(hip, out, {"A": np.full((nf, 3), np.inf)}), sfit.ArgError),
+            ("1e39", lambda w=w: w(hip, out, {"A": np.full((nf, 3), 1e39)}), sfit.ArgError),
+            ("complex", lambda w=w: w(hip, out, {"A": np.ones((nf, 3), complex)}), sfit.ArgError),
+            ("object", lambda w=w: w(hip, out, {"A": object()}), sfit.ArgError),
+            ("str array", lambda w=w: w(hip, out, {"A": "abc"}), sfit.ArgError),
+            ("__array__ raises", lambda w=w: w(hip, out, {"A": RaisingArray()}), HostileError),
+            ("prefix int", lambda w=w: w(hip, out, good, prefix=5), TypeError),
+            ("prefix 100 chars", lambda w=w: w(hip, out, good, prefix="p" * 100), ValueError),
+            ("src missing", lambda w=w: w(os.path.join(tmp, "none.c3d"), out, good), OSError),
+            ("src malformed", lambda w=w: w(trunc, out, good), ValueError),
+            ("dst nowhere", lambda w=w: w(hip, nowhere, good), OSError),
+            ("dst None", lambda w=w: w(hip, None, good), TypeError),
+            ("no args", lambda w=w: w(), TypeError)]
+    T["write_trc"].append(("no points", lambda: sfit.write_trc(hip, out), "ok"))
 
 
 def _joint_cases(T, res):
@@ -1009,6 +1080,8 @@ def check(name, label, thunk, expect):
     allowed = ALLOWED + (HostileError,)
     if expect is AttributeError or (isinstance(expect, tuple) and AttributeError in expect):
         allowed += (AttributeError,)
+    if expect is OSError or (isinstance(expect, tuple) and OSError in expect):
+        allowed += (OSError,)  # the C3D file functions: a path that cannot be read or written
     try:
         out = thunk()
     except AssertionError as e:

@@ -1,0 +1,280 @@
+# SPDX-License-Identifier: MIT
+"""An independent C3D reader for the tests of sfit's C3D writer
+(tests/scripts/test_cli_c3d.sh, tools/python/tests/test_c3d.py; not a test).
+
+Written from the format description with struct and numpy; shares no code
+with tools/sfit/c3d.c or c3d_write.c. It returns everything a file holds:
+the header words, every group and parameter (type, dimensions, decoded
+values, description, locked flag), every point sample (x, y, z, residual as
+stored, scaled) and every analog word, so a test can compare two files
+field by field.
+
+Where a parameter's link to the next entry leads outside the section
+(c3d.org's SGI sample), this reader goes on at the entry's own length.
+"""
+import struct
+
+import numpy as np
+
+BLOCK = 512
+INTEL, DEC, MIPS = 84, 85, 86
+
+
+def _order(proc):
+    return '>' if proc == MIPS else '<'
+
+
+def _floats(raw, proc):
+    """float32 array from 4-byte words in the processor's format."""
+    if proc == DEC:
+        a = np.frombuffer(raw, dtype='<u2').reshape(-1, 2)
+        # VAX F: halves swapped; value = IEEE value with exponent - 2
+        u = (a[:, 0].astype(np.uint32) << 16) | a[:, 1].astype(np.uint32)
+        e = (u >> 23) & 0xff
+        f = np.zeros(len(u), dtype=np.float64)
+        ok = e != 0
+        sign = np.where(u >> 31, -1.0, 1.0)
+        mant = 1.0 + (u & 0x7fffff).astype(np.float64) / 8388608.0
+        f[ok] = sign[ok] * np.ldexp(mant[ok], (e[ok].astype(np.int64) - 129))
+        f[(~ok) & ((u >> 31) == 1)] = np.nan
+        return f.astype(np.float32)
+    return np.frombuffer(raw, dtype=_order(proc) + 'f4').astype(np.float32)
+
+
+def _ints(raw, proc, unsigned=False):
+    return np.frombuffer(raw, dtype=_order(proc) + ('u2' if unsigned else 'i2')).astype(np.int64)
+
+
+class Param:
+    def __init__(self, group, name, typ, dims, raw, desc, locked):
+        self.group, self.name, self.type, self.dims = group, name, typ, dims
+        self.raw, self.desc, self.locked = raw, desc, locked
+
+    def values(self, proc):
+        if self.type == -1:
+            return self.raw
+        if self.type == 1:
+            return np.frombuffer(self.raw, dtype=np.uint8).astype(np.int64)
+        if self.type == 2:
+            return _ints(self.raw, proc)
+        return _floats(self.raw, proc)
+
+    def strings(self):
+        """A char array as its list of strings (trailing blanks removed)."""
+        if not self.dims:
+            return [self.raw.decode('latin-1').rstrip(' \0')]
+        w = self.dims[0]
+        n = len(self.raw) // w if w else 0
+        return [self.raw[i * w:(i + 1) * w].decode('latin-1').rstrip(' \0') for i in range(n)]
+
+
+def read(path):
+    buf = open(path, 'rb').read()
+    assert buf[1] == 0x50, 'not a C3D file'
+    pblock = buf[0]
+    ps = (pblock - 1) * BLOCK
+    proc = buf[ps + 3]
+    assert proc in (INTEL, DEC, MIPS), proc
+    e = _order(proc)
+    words = list(struct.unpack(e + '256H', buf[:BLOCK]))
+    hdr_scale = float(_floats(buf[12:16], proc)[0])
+    hdr_rate = float(_floats(buf[20:24], proc)[0])
+    end = ps + buf[ps + 2] * BLOCK
+    groups, params, order = {}, {}, []
+    off = ps + 4
+    while off + 2 <= end:
+        nl = struct.unpack('b', buf[off:off + 1])[0]
+        gid = struct.unpack('b', buf[off + 1:off + 2])[0]
+        if nl == 0:
+            break
+        locked = nl < 0
+        nl = abs(nl)
+        name = buf[off + 2:off + 2 + nl].decode('latin-1').upper()
+        lw = off + 2 + nl
+        link = struct.unpack(e + 'H', buf[lw:lw + 2])[0]
+        q = lw + 2
+        if gid < 0:
+            dl = buf[q]
+            groups[-gid] = (name, buf[q + 1:q + 1 + dl], locked)
+            size = 1 + dl
+            order.append(('group', name))
+        else:
+            typ = struct.unpack('b', buf[q:q + 1])[0]
+            nd = buf[q + 1]
+            dims = list(buf[q + 2:q + 2 + nd])
+            cnt = 1
+            for d in dims:
+                cnt *= d
+            d0 = q + 2 + nd
+            raw = buf[d0:d0 + cnt * abs(typ)]
+            dl = buf[d0 + cnt * abs(typ)]
+            desc = buf[d0 + cnt * abs(typ) + 1:d0 + cnt * abs(typ) + 1 + dl]
+            params[(gid, name)] = (typ, dims, raw, desc, locked)
+            size = 2 + nd + cnt * abs(typ) + 1 + dl
+            order.append(('param', gid, name))
+        if link == 0:
+            break
+        nxt = lw + link
+        if nxt > end or link < 2:
+            nxt = lw + 2 + size  # a link outside the section: the entry's own length
+        off = nxt
+    gname = {g: v[0] for g, v in groups.items()}
+    P = {}
+    for (gid, name), (typ, dims, raw, desc, locked) in params.items():
+        P[(gname.get(gid, '?%d' % gid), name)] = Param(gname.get(gid), name, typ, dims, raw, desc, locked)
+    G = {v[0]: (v[1], v[2]) for v in groups.values()}
+
+    def num(g, n, default=None):
+        p = P.get((g, n))
+        if p is None:
+            return default
+        v = p.values(proc)
+        return v[0].item() if hasattr(v[0], 'item') else v[0]
+
+    npts = words[1]
+    scale = num('POINT', 'SCALE', hdr_scale)
+    rate = num('POINT', 'RATE', hdr_rate)
+    dblock = num('POINT', 'DATA_START', words[8])
+    if dblock is not None and dblock < 0:
+        dblock += 65536
+    nanalog = words[2]
+    first, last = words[3], words[4]
+    nframes = num('POINT', 'FRAMES', last - first + 1)
+    if nframes < 0:
+        nframes += 65536
+    word = 4 if scale < 0 else 2
+    fb = (4 * npts + nanalog) * word
+    d0 = (dblock - 1) * BLOCK
+    data = buf[d0:d0 + nframes * fb]
+    assert len(data) == nframes * fb, 'data section short'
+    fmt = P.get(('ANALOG', 'FORMAT'))
+    unsigned = fmt is not None and fmt.strings()[0].upper().startswith('UNSIGNED')
+    if word == 4:
+        allw = _floats(data, proc).reshape(nframes, -1)
+        pts = allw[:, :4 * npts].reshape(nframes, npts, 4).astype(np.float64)
+        analog = allw[:, 4 * npts:].astype(np.float64)
+        xyz = pts[:, :, :3]
+        res = pts[:, :, 3]
+        raw_pts = pts
+    else:
+        alli = _ints(data, proc).reshape(nframes, -1)
+        raw_pts = alli[:, :4 * npts].reshape(nframes, npts, 4)
+        xyz = (raw_pts[:, :, :3].astype(np.float32) * np.float32(scale)).astype(np.float64)
+        res = raw_pts[:, :, 3].astype(np.float64)
+        analog = (_ints(data, proc, unsigned).reshape(nframes, -1)[:, 4 * npts:]).astype(np.float64)
+    labels = []
+    for k in range(1, 100):
+        p = P.get(('POINT', 'LABELS' if k == 1 else 'LABELS%d' % k))
+        if p is None:
+            break
+        labels += p.strings()
+    descs = []
+    for k in range(1, 100):
+        p = P.get(('POINT', 'DESCRIPTIONS' if k == 1 else 'DESCRIPTIONS%d' % k))
+        if p is None:
+            break
+        descs += p.strings()
+    return dict(proc=proc, words=words, header_scale=hdr_scale, header_rate=hdr_rate,
+                groups=G, params=P, order=order, npoints=npts, nframes=nframes, scale=scale,
+                rate=rate, data_block=dblock, word=word, xyz=xyz, residual=res, raw_points=raw_pts,
+                analog=analog, labels=labels[:npts], all_labels=labels, descriptions=descs,
+                units=(P[('POINT', 'UNITS')].strings()[0] if ('POINT', 'UNITS') in P else ''))
+
+
+def read_trc(path):
+    """An OpenSim TRC file by its header rules: line 1 PathFileType,
+    line 2 the names of line 3's values (DataRate ... OrigNumFrames),
+    line 4 Frame#, Time and the marker names (each followed by two blank
+    cells), line 5 X1 Y1 Z1 ..., then (after an optional blank line) one row
+    per frame, tab-separated; a blank cell is a missing coordinate."""
+    lines = open(path).read().split('\n')
+    assert lines[0].split('\t')[0] == 'PathFileType', lines[0]
+    keys = lines[1].split('\t')
+    vals = lines[2].split('\t')
+    assert len(keys) == len(vals), (keys, vals)
+    meta = dict(zip(keys, vals))
+    h4 = lines[3].split('\t')
+    assert h4[0] == 'Frame#' and h4[1] == 'Time', h4
+    names = [h4[i] for i in range(2, len(h4), 3) if h4[i] != '']
+    h5 = lines[4].split('\t')
+    want = ['', ''] + [c for k in range(len(names)) for c in ('X%d' % (k + 1), 'Y%d' % (k + 1), 'Z%d' % (k + 1))]
+    assert h5 == want, (h5[:8], want[:8])
+    rows = [l for l in lines[5:] if l.strip() != '']
+    frames, times, xyz = [], [], []
+    for r in rows:
+        c = r.split('\t')
+        assert len(c) == 2 + 3 * len(names), (len(c), len(names))
+        frames.append(int(c[0]))
+        times.append(float(c[1]))
+        xyz.append([float(v) if v != '' else np.nan for v in c[2:]])
+    return dict(meta=meta, names=names, frames=frames, times=np.array(times),
+                xyz=np.array(xyz).reshape(len(rows), len(names), 3))
+
+
+def check_added(orig, new, names, xyz, prefix=''):
+    """The file `new` is `orig` (both from read()) with points `names`
+    added (xyz: frames x n x 3, NaN = not placed): raise AssertionError
+    on any other difference. Returns the largest error of a new point."""
+    n = len(names)
+    np_ = orig['npoints']
+    assert new['proc'] == orig['proc']
+    assert new['npoints'] == np_ + n and new['nframes'] == orig['nframes']
+    to_float = orig['word'] == 2 and new['word'] == 4
+    # header: every word but the point count, the scale (when converted) and the data block
+    for i, (a, b) in enumerate(zip(orig['words'], new['words'])):
+        if i in (1, 8) or (to_float and i in (6, 7)):
+            continue
+        assert a == b, 'header word %d: %d -> %d' % (i + 1, a, b)
+    assert new['words'][1] == np_ + n
+    # parameters: every one identical, but the ones adding points changes
+    changed = {('POINT', 'USED'), ('POINT', 'DATA_START')}
+    if to_float:
+        changed.add(('POINT', 'SCALE'))
+    fam = lambda k: k[0] == 'POINT' and (k[1].startswith('LABELS') or k[1].startswith('DESCRIPTIONS'))
+    assert set(orig['groups']) == set(new['groups'])
+    for g, (desc, locked) in orig['groups'].items():
+        assert new['groups'][g] == (desc, locked), g
+    for key, p in orig['params'].items():
+        assert key in new['params'], key
+        q = new['params'][key]
+        if key in changed or fam(key):
+            continue
+        assert (q.type, q.dims, q.raw, q.desc, q.locked) == (p.type, p.dims, p.raw, p.desc, p.locked), key
+    extra = set(new['params']) - set(orig['params'])
+    assert all(fam(k) for k in extra), extra
+    assert new['params'][('POINT', 'USED')].values(new['proc'])[0] % 65536 == np_ + n
+    if ('POINT', 'DATA_START') in orig['params']:
+        assert new['params'][('POINT', 'DATA_START')].values(new['proc'])[0] % 65536 == new['data_block']
+    if to_float:
+        assert new['scale'] == -abs(orig['scale'])
+    full = [prefix + s for s in names]
+    assert new['all_labels'][:np_] == orig['all_labels'][:np_]
+    assert new['all_labels'][np_:np_ + n] == full, new['all_labels'][np_:np_ + n]
+    assert new['all_labels'][np_ + n:] == orig['all_labels'][np_:], 'labels past the points'
+    for k in list(new['params']):
+        if k[0] == 'POINT' and k[1].startswith('LABELS'):
+            assert new['params'][k].dims[1] <= 255
+    od, nd = orig['descriptions'], new['descriptions']
+    if od:
+        # a DESCRIPTIONS shorter than POINT:USED is padded with blanks up to it
+        m = min(len(od), np_)
+        assert nd[:m] == od[:m] and all(s == '' for s in nd[m:np_ + n]), nd[:np_ + n]
+        assert nd[np_ + n:] == od[np_:], 'descriptions past the points'
+        assert len(nd) == max(len(od), np_) + n
+    # samples: every original point sample and analog value identical
+    if to_float:
+        assert np.array_equal(new['xyz'][:, :np_], orig['xyz'][:, :np_], equal_nan=True)
+        assert np.array_equal(new['residual'][:, :np_], orig['residual'][:, :np_])
+    else:
+        assert np.array_equal(new['raw_points'][:, :np_], orig['raw_points'][:, :np_])
+    assert np.array_equal(new['analog'], orig['analog'], equal_nan=True), 'analog'
+    # the new points where they were put; residual -1 where not placed
+    got = new['xyz'][:, np_:]
+    res = new['residual'][:, np_:]
+    miss = np.isnan(xyz).any(axis=2)
+    assert np.all(res[miss] == -1) and np.all(res[~miss] >= 0)
+    tol = 0.0 if new['word'] == 4 else abs(new['scale']) / 2 * 1.0001
+    err = np.abs(got[~miss] - np.asarray(xyz, dtype=np.float32).astype(np.float64)[~miss])
+    worst = float(err.max()) if err.size else 0.0
+    assert worst <= tol, (worst, tol)
+    return worst
