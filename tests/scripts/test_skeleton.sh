@@ -159,4 +159,38 @@ grep -q "marker NOPE1 is in none of the files" "$tmp/stderr" || fail "absent mar
 expect_rc 2 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --frame 99999
 expect_rc 2 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --pair other
 expect_rc 3 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --bvh "$tmp/no/such/dir.bvh"
+# Hostile recordings (written with skeleton_synth.write_c3d): a marker at
+# 1e30 (beyond the library's range: unseen, counted), one at +Inf, no motion
+# at all (no joint: exit 1), only 6 frames with markers (exit 1); the JSON
+# stays JSON (no NaN, no Inf).
+py '
+import sys, skeleton_synth as S
+out = sys.argv[1]
+labels = ["P%02d" % k for k in range(12)]
+def rec(kind):
+    frames = []
+    for f in range(300):
+        ps = S.poses(0.0 if kind == "static" else f / 50.0)[0]
+        row = [S.add(S.app(ps[g][0], m), ps[g][1]) for g in "ABC" for m in S.MK[g]]
+        if kind == "huge":
+            row[3] = [1e30, 1e30, 1e30]
+        if kind == "inf":
+            row[3] = [float("inf"), 0.0, 0.0]
+        if kind == "few" and f > 5:
+            row = [None] * 12
+        frames.append(row)
+    S.write_c3d("%s/%s.c3d" % (out, kind), labels, frames, 100.0)
+for k in ("huge", "inf", "static", "few"):
+    rec(k)
+' "$tmp"
+for k in huge inf; do
+  expect_rc 0 "$sfit" skeleton "$tmp/$k.c3d" --json --bvh "$tmp/$k.bvh" --trc "$tmp/$k.trc"
+  py 'import json,sys; d=json.loads(sys.argv[1], parse_constant=lambda c: sys.exit("non-JSON constant " + c)); assert d["dropped"] == 300 and len(d["joints"]) == 2, d' "$out" \
+    || fail "$k: $out"
+  chk bvh "$tmp/$k.bvh" "$tmp/$k.trc" <(echo "$out") || fail "BVH of $k"
+done
+expect_rc 1 "$sfit" skeleton "$tmp/static.c3d"
+grep -q "fewer than two segments with a pose: no joint" "$tmp/stderr" || fail "static: $(cat "$tmp/stderr")"
+expect_rc 1 "$sfit" skeleton "$tmp/few.c3d" --json
+py 'import json,sys; d=json.loads(sys.argv[1]); assert d["status"] == "error", d' "$out" || fail "few: $out"
 echo "skeleton: ok"

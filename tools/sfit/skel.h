@@ -36,6 +36,8 @@ typedef struct skel_rec {
     char (*label)[SKEL_NAME];       /**< nmark labels */
     float *xyz;                     /**< nframes * nmark * 3, NaN = not seen */
     float rate;                     /**< frames per second after --step (first file's) */
+    long dropped;                   /**< samples not finite or beyond the library's range
+                                         (2^SFIT_COORD_MAX_EXP), taken as unseen */
     char units[16];
 } skel_rec_t;
 

@@ -321,8 +321,9 @@ int skel_cmd(int argc, char **argv)
         goto done;
     }
     if (o.json) {
-        printf("{\"status\":\"ok\",\"files\":%d,\"frames\":%ld,\"step\":%ld,\"units\":", o.nfiles,
-               rec.nframes, o.step);
+        printf("{\"status\":\"ok\",\"files\":%d,\"frames\":%ld,\"step\":%ld,\"dropped\":%ld,"
+               "\"units\":",
+               o.nfiles, rec.nframes, o.step, rec.dropped);
         cli_print_json_string(rec.units);
         printf(",\"segments_from\":\"%s\",\"frame\":%ld,\"trial_start\":[", map != NULL ? "map" : "data", o.frame);
         for (k = 0; k < o.nfiles; k++) {
@@ -470,6 +471,10 @@ int skel_cmd(int argc, char **argv)
     } else {
         printf("trials       %d file(s), %ld frames (every %ld), %d markers, units %s\n",
                o.nfiles, rec.nframes, o.step, rec.nmark, rec.units[0] ? rec.units : "?");
+        if (rec.dropped > 0) {
+            printf("dropped      %ld samples not finite or beyond 2^%d (taken as unseen)\n",
+                   rec.dropped, SFIT_COORD_MAX_EXP);
+        }
         if (map == NULL) {
             printf("groups       found from the data: rigid level %.3g, threshold %.3g %s (spread "
                    "of pair distances)\n",

@@ -13,6 +13,9 @@
 #include "c3d.h"
 #include "skel.h"
 
+/* 2^SFIT_COORD_MAX_EXP (sfit_config.h): larger coordinates are refused by the library */
+#define SKEL_COORD_MAX ((float)(1UL << SFIT_COORD_MAX_EXP))
+
 static int find_label(const skel_rec_t *r, const char *name)
 {
     int i;
@@ -124,6 +127,15 @@ int skel_rec_load(skel_rec_t *r, const char *const *files, int nfiles, const cha
                 if (col[i] >= 0) {
                     memcpy(dst, c[k].xyz + ((size_t)f * (size_t)c[k].npoints + (size_t)col[i]) * 3u,
                            3u * sizeof *dst);
+                    /* beyond the library's coordinate range or not finite: unseen */
+                    if (isnan(dst[0]) || isnan(dst[1]) || isnan(dst[2])) {
+                        dst[0] = dst[1] = dst[2] = NAN; /* missing */
+                    } else if (!(fabsf(dst[0]) < SKEL_COORD_MAX)
+                               || !(fabsf(dst[1]) < SKEL_COORD_MAX)
+                               || !(fabsf(dst[2]) < SKEL_COORD_MAX)) {
+                        dst[0] = dst[1] = dst[2] = NAN;
+                        r->dropped++;
+                    }
                 } else {
                     dst[0] = dst[1] = dst[2] = NAN;
                 }
