@@ -73,6 +73,8 @@ def cmd_session(args):
     for j in js['joints']:
         if 'forced' in j['flags']:
             fail('joint %s forced: the test model says auto' % j['name'])
+    if js['map_joints_not_in_tree']:
+        fail('map joints not in the tree: %s' % js['map_joints_not_in_tree'])
     print('tree %s; types %s' % (' '.join('%s-%s' % e for e in tree_edges(js)), types))
 
 

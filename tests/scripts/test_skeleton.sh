@@ -112,6 +112,11 @@ segment r_thigh RTHI,RTHIB,RTHID,RKNE,RKNEM
 EOF
 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/rigid.txt" --json > "$tmp/rigid.json"
 chk norigid "$tmp/rigid.json" || fail "no-motion pair"
+# a map joint the data do not support is reported
+printf 'segment pelvis RASI,LASI,RPSI,LPSI\nsegment r_thigh RTHI,RTHIB,RTHID,RKNE,RKNEM\nsegment r_shank RTIB,RTIBF,RTIBD,RANK,RANKM\njoint wrong pelvis r_shank auto X\n' > "$tmp/wrong.txt"
+"$sfit" skeleton "${trials[@]}" --segments "$tmp/wrong.txt" > "$tmp/wrong.out"
+grep -q "^map joint    wrong (pelvis - r_shank) is not in the tree found" "$tmp/wrong.out" \
+  || fail "map joint not in the tree: $(cat "$tmp/wrong.out")"
 
 # 3. BVH: independent reader, forward kinematics = the TRC's joint centres.
 chk bvh "$tmp/s.bvh" "$tmp/s.trc" "$tmp/session.json" || fail "BVH"

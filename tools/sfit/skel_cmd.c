@@ -172,6 +172,20 @@ static void jvec(const double *v, int n)
     printf("]");
 }
 
+/* 1 when the map's joint k joins two segments the found tree joins. */
+static int map_joint_in_tree(const skel_t *s, const skel_map_t *map, int k)
+{
+    int j;
+    for (j = 0; j < s->njoint; j++) {
+        const char *p = s->seg[s->joint[j].parent].name, *c = s->seg[s->joint[j].child].name;
+        if ((strcmp(map->jpar[k], p) == 0 && strcmp(map->jchi[k], c) == 0)
+            || (strcmp(map->jpar[k], c) == 0 && strcmp(map->jchi[k], p) == 0)) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static int fail(const sk2_opts_t *o, const char *why)
 {
     if (o->json) {
@@ -456,6 +470,17 @@ int skel_cmd(int argc, char **argv)
             print_flags_json(j->pr.flags);
             printf("}");
         }
+        printf("],\"map_joints_not_in_tree\":[");
+        if (map != NULL) {
+            int first = 1;
+            for (k = 0; k < map->njoint; k++) {
+                if (!map_joint_in_tree(s, map, k)) {
+                    printf("%s", first ? "" : ",");
+                    cli_print_json_string(map->jname[k]);
+                    first = 0;
+                }
+            }
+        }
         printf("],\"not_in_tree\":[");
         {
             int first = 1;
@@ -519,6 +544,12 @@ int skel_cmd(int argc, char **argv)
         for (k = 0; k < s->nseg; k++) {
             if (k != s->root && s->parent_joint[k] < 0) {
                 printf("not in tree  %s (no joint to the others)\n", s->seg[k].name);
+            }
+        }
+        for (k = 0; map != NULL && k < map->njoint; k++) {
+            if (!map_joint_in_tree(s, map, k)) {
+                printf("map joint    %s (%s - %s) is not in the tree found\n", map->jname[k],
+                       map->jpar[k], map->jchi[k]);
             }
         }
         if (o.bvh != NULL) {
