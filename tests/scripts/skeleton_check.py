@@ -227,8 +227,9 @@ def cmd_centres(args):
         ang = math.degrees(math.acos(min(1.0, abs(den))))
         extra = ', axes %.1f deg apart' % ang
     d = math.dist(c, b)
-    print('%s (%s): %.2f %s from `sfit joint` (%s) on its trial%s; 1 sigma %.2f: %.2f sigma'
-          % (name, j['type'], d, js['units'], jo['mode'], extra, j['sigma'], d / j['sigma']))
+    print('%s (%s): %.2f %s from `sfit joint` (%s, %s) on its trial%s; 1 sigma %.2f: %.2f sigma'
+          % (name, j['type'], d, js['units'], jo.get('method'), jo['mode'], extra, j['sigma'],
+             d / j['sigma']))
     if not d <= maxs * j['sigma']:
         fail('%s: %.2f %s from sfit joint, more than %g sigma (%.2f)'
              % (name, d, js['units'], maxs, j['sigma']))
