@@ -78,7 +78,10 @@ static void sk_usage(FILE *f)
           "  --frame K        frame of the picture and of the lab-frame centres\n"
           "                   (default: the first frame used)\n"
           "  --svg OUT.svg    draw the skeleton at frame K (two orthographic views)\n"
-          "  --json           one JSON object on stdout\n",
+          "  --json           one JSON object on stdout\n"
+          "The skeleton found in the data (segments, joints, tree; BVH, TRC, HTML):\n"
+          "  sfit skeleton FILE.c3d... [--segments MAP] [--bvh OUT.bvh] ...\n"
+          "  (its options: sfit skeleton FILE.c3d --help; docs/skeleton.md)\n",
           f);
 }
 

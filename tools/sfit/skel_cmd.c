@@ -26,7 +26,8 @@ static void sk2_usage(FILE *f)
 {
     fputs("usage: sfit skeleton FILE... [--segments MAP] [--root SEGMENT] [--step K]\n"
           "                     [--bvh OUT.bvh] [--trc OUT.trc] [--svg OUT.svg]\n"
-          "                     [--html OUT.html] [--frame K] [--json]\n"
+          "                     [--html OUT.html] [--centres OUT.csv] [--pair host|lib]\n"
+          "                     [--frame K] [--json]\n"
           "  FILE...          C3D trials of one session, used together (each joint may\n"
           "                   move in its own functional trial)\n"
           "  --segments MAP   session model: `segment NAME M1,M2,M3[,...]` lines (joint\n"
