@@ -420,7 +420,7 @@ static void read_labels(const c3d_in_t *in, c3d_t *c)
 {
     int p, next = 0;
     for (p = 0; p < C3D_MAX_LABEL_PARAMS && next < c->npoints; p++) {
-        char nm[16];
+        char nm[24];
         const c3d_entry_t *l;
         size_t len, cnt, i;
         if (p == 0) {

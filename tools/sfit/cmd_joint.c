@@ -303,7 +303,7 @@ static int write_c3d_points(const joint_opts_t *o, const cli_frames_t *fr,
     }
     xyz = malloc(((size_t)c.nframes * (size_t)n * 3u + 1u) * sizeof *xyz);
     if (xyz == NULL || c.nframes != fr->nframes) {
-        fprintf(stderr, "sfit: out of memory\n");
+        fprintf(stderr, "sfit: %s\n", xyz == NULL ? "out of memory" : "the file changed while read");
         goto out;
     }
     for (k = 0; k < c.nframes * n * 3; k++) {
