@@ -303,7 +303,7 @@ int skel_cmd(int argc, char **argv)
             }
         }
         for (k = 0; k < s->njoint; k++) {
-            (void)snprintf(s->joint[k].name, SKEL_NAME, "%s", s->seg[s->joint[k].child].name);
+            memcpy(s->joint[k].name, s->seg[s->joint[k].child].name, SKEL_NAME);
         }
     }
     if (intree < 0 || skel_motion(s, why) != 0) {

@@ -604,7 +604,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
                 memset(j, 0, sizeof *j);
                 j->parent = p;
                 j->child = b;
-                (void)snprintf(j->name, sizeof j->name, "%s", s->seg[b].name);
+                memcpy(j->name, s->seg[b].name, sizeof j->name);
                 if (map != NULL) {
                     for (k = 0; k < map->njoint; k++) {
                         if ((strcmp(map->jpar[k], s->seg[p].name) == 0
