@@ -318,8 +318,8 @@ static void check_against_ref(int kind, double rom, double sigma, uint64_t seed)
                 double cpd[3], ccd[3];
                 tc_to_double3(&r.center_p, cpd);
                 tc_to_double3(&r.center_c, ccd);
-                assert_int_equal(ref_pair_cov(g_fr, g_nf, &tp, &tc, r.marker_var_p,
-                                              r.marker_var_c, cpd, ccd, cov, &cost, &expect),
+                assert_int_equal(ref_pair_cov(g_fr, g_nf, &tp, &tc, (double)r.marker_var_p,
+                                              (double)r.marker_var_c, cpd, ccd, cov, &cost, &expect),
                                  0);
                 assert_near(r.misfit, cost / expect, 5e-3 * cost / expect, "misfit vs ref");
                 f = ((r.misfit > 1.0f) ? (double)r.misfit : 1.0) * (1.0 + (double)r.trust_ratio);

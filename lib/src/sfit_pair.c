@@ -40,7 +40,7 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 #define PRV_MAX_TRUST 0.25f
 #define PRV_MAX_MISFIT 2.0f
 #define PRV_AXIS_TOL 0.1745329f /* 10 degrees */
-#define PRV_WOBBLE 0.0523599f /* 3 degrees */
+#define PRV_WOBBLE 0.0436332f /* 2.5 degrees rms: a 2-5 degree out-of-axis rotation in step with the flexion */
 #define PRV_MIN_FRAMES 30u
 /* Ball: lambda_1 of the corrected S must be this many of its noise
  * standard deviations above zero for the centre to be fixed by the data. */
@@ -611,7 +611,7 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     sfit_mat3_t nm, sc, w_c, qinv, vec, tmp, tmp2, pmat, cmat, g, scinv;
     sfit_vec3_t lam;
     float ssr_p, ssr_c, dof_p, dof_c, rhs[3], cpp[3], ccc[3], n1[3], n2[3], axc[3];
-    float ratio12 = 0.0f, z = 0.0f, cost, expect, len;
+    float ratio12 = 0.0f, z = 0.0f, hratio = 1.0f, cost, expect, len;
     uint32_t flags = 0u;
     sfit_pair_reason_t reason = SFIT_PAIR_REASON_NONE;
     sfit_pair_mode_t mode;
@@ -720,6 +720,8 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
         if (nz1 > 0.0f) {
             z = SFIT_SQRTF(y.n) * l1c / nz1;
+            /* the hinge model's residual rotation against the noise's */
+            hratio = 1.0f + l1c / nz1;
         } else {
             z = (l1c > 0.0f) ? 1e30f : 0.0f;
         }
@@ -885,6 +887,21 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     }
     prv_symmetrise(&res.center_cov);
     prv_symmetrise(&res.axis_cov);
+    res.misfit = (expect > 0.0f) ? cost / expect : 0.0f;
+    {
+        /* The joint model's residual larger than the registrations predict:
+         * scale the centre's covariance by the ratio (Birge), the axis' by
+         * the hinge model's own ratio (out-of-axis rotation is not noise).
+         * The first-order covariance leaves out terms of relative size
+         * trust_ratio (the noise of B times the equation noise): (1 + trust)
+         * restores them (docs/pair.md#covariance). */
+        const float f = ((res.misfit > 1.0f) ? res.misfit : 1.0f) * (1.0f + res.trust_ratio);
+        const float fa = ((hratio > 1.0f) ? hratio : 1.0f) * (1.0f + res.trust_ratio);
+        for (k = 0; k < 9; k++) {
+            res.center_cov.m[k] *= f;
+            res.axis_cov.m[k] *= fa;
+        }
+    }
     {
         sfit_vec3_t wa;
         if (sfit_mat3_eig_sym(&res.axis_cov, &wa, NULL) != SFIT_OK
@@ -894,19 +911,6 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     }
     if (mode != SFIT_PAIR_MODE_HINGE) {
         memset(&res.axis_cov, 0, sizeof res.axis_cov);
-    }
-    res.misfit = (expect > 0.0f) ? cost / expect : 0.0f;
-    {
-        /* The joint model's residual larger than the registrations predict:
-         * scale both covariances by the ratio (Birge). The first-order
-         * covariance leaves out terms of relative size trust_ratio (the
-         * noise of B times the equation noise): (1 + trust) restores them
-         * (docs/pair.md#covariance). */
-        const float f = ((res.misfit > 1.0f) ? res.misfit : 1.0f) * (1.0f + res.trust_ratio);
-        for (k = 0; k < 9; k++) {
-            res.center_cov.m[k] *= f;
-            res.axis_cov.m[k] *= f;
-        }
     }
     if (expect > 0.0f && res.misfit > mm) {
         flags |= (uint32_t)SFIT_PAIR_FLAG_MISFIT;

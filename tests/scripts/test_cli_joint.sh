@@ -27,7 +27,7 @@ shank=RLEG1,RLEG2,RLEG3,RATT,RLM,RSPH
 
 # 1 + 2. The must-show command, verbatim but for the paths.
 (cd "$tmp" && "$sfit" joint "$hip" --parent $pelvis --child $thigh --frames 0:498 \
-   --trajectory t.csv --json) > "$tmp/hip.json"
+   --method mgdk --trajectory t.csv --json) > "$tmp/hip.json"
 for m in RTHI1 RTHI2 RTHI3 RLFE RMFE; do head -n 500 "$data/mocap/hip_right/$m.csv" > "$tmp/$m.csv"; done
 "$sfit" fit --json "$tmp"/RTHI1.csv "$tmp"/RTHI2.csv "$tmp"/RTHI3.csv "$tmp"/RLFE.csv "$tmp"/RMFE.csv \
   > "$tmp/csvfit.json"
@@ -97,8 +97,61 @@ print("hip: trajectory RMS %.4f mm vs the double reference (max %.4f); centre %s
 ' "$tmp/hip.json" "$hip" "$tmp/t.csv" "$tmp/csvfit.json" "$data/mocap/hip_right/RTHI1.csv" \
   || fail "hip trial vs the double-precision reference"
 
+# 2b. The default (issue 28): SCoRE from the two clusters' poses with the
+#     bias removed, its covariance, noise figure and flags; --method score
+#     against SCoRE's 6x6 least squares in double (numpy) on the same poses'
+#     convention (Kabsch on the averaged templates).
+"$sfit" joint "$hip" --parent $pelvis --child $thigh --frames 0:498 --json > "$tmp/hip_default.json"
+"$sfit" joint "$hip" --parent $pelvis --child $thigh --frames 0:498 --method score --json \
+  > "$tmp/hip_score.json"
+"$sfit" joint "$hip" --parent $pelvis --child $thigh --frames 0:498 > "$tmp/hip_default.txt"
+py '
+import json, sys, numpy as np, mocap_ref as m
+d = json.load(open(sys.argv[1])); s = json.load(open(sys.argv[2])); c = m.read_c3d(sys.argv[3])
+txt = open(sys.argv[4]).read()
+assert d["status"] == "ok" and d["method"] == "default" and s["method"] == "score", (d, s)
+for o in (d, s):
+    cov = np.array(o["center_cov"])
+    assert cov.shape == (3, 3) and np.allclose(cov, cov.T) and np.linalg.eigvalsh(cov).min() > 0, cov
+    assert o["marker_noise"]["source"] == "registration_residuals" and o["marker_noise"]["var"] > 0, o
+    assert isinstance(o["flags"], list) and o["reason"] in ("none", "few_frames", "small_motion",
+        "axis_free", "ambiguous", "misfit", "no_noise") and o["untrusted"] == ("untrusted" in o["flags"]), o
+assert "95% ellipse  semi-axes" in txt and "marker noise sigma" in txt, txt
+L = c["labels"]
+def traj(names):
+    return np.array([[c["frames"][f][L.index(n)] for n in names] for f in range(499)], float)
+P = traj(["RASIS", "LASIS", "LPSIS", "RPSIS"])
+C = traj(["RTHI1", "RTHI2", "RTHI3", "RLFE", "RMFE"])
+tp, _ = m.template(P)
+tc, _ = m.template(C)
+H = np.zeros((6, 6)); b = np.zeros(6)
+for f in range(499):
+    rp, t_p = m.kabsch(tp, P[f]); rc, t_c = m.kabsch(tc, C[f])
+    X = np.hstack([rp, -rc]); H += X.T @ X; b += X.T @ (t_c - t_p)
+x = np.linalg.solve(H, b)
+ds = float(np.linalg.norm(np.array(s["center"]) - x[:3]))
+dd = float(np.linalg.norm(np.array(d["center"]) - x[:3]))
+assert ds <= 0.05, (s["center"], x[:3], ds)
+# the correction is small at this range of motion: within the 95 % ellipsoid scale
+assert dd <= 3.0 * np.sqrt(np.linalg.eigvalsh(np.array(d["center_cov"])).max() * 7.815), (d["center"], x[:3], dd)
+print("hip default: centre %s (SCoRE ref %s; --method score %.4f mm from it, default %.3f mm), "
+      "sigma %.3f mm, flags %s, reason %s" % (np.round(d["center"], 3), np.round(x[:3], 3), ds, dd,
+      d["marker_noise"]["var"] ** 0.5, d["flags"], d["reason"]))
+' "$tmp/hip_default.json" "$tmp/hip_score.json" "$hip" "$tmp/hip_default.txt" || fail "hip default / score"
+
 # 3. The knee trial: a hinge (planar solution), axis and centre.
-"$sfit" joint "$knee" --parent $thigh --child $shank --json > "$tmp/knee.json"
+"$sfit" joint "$knee" --parent $thigh --child $shank --method mgdk --json > "$tmp/knee.json"
+"$sfit" joint "$knee" --parent $thigh --child $shank --method sara --json > "$tmp/knee_sara.json"
+py '
+import json, sys, numpy as np
+a = json.load(open(sys.argv[1])); o = json.load(open(sys.argv[2]))
+assert a["status"] == "ok" and a["method"] == "sara" and a["mode"] == "planar", a
+cov = np.array(a["axis_cov"]); ax = np.array(a["axis"])
+assert cov.shape == (3, 3) and np.allclose(cov, cov.T) and abs(ax @ cov @ ax) <= 1e-6 * np.trace(cov) + 1e-12, (cov, ax)
+ang = float(np.degrees(np.arccos(min(1.0, abs(np.dot(ax, o["axis"]))))))
+print("knee: SARA axis %s, %.2f deg from the planar MGDK axis, cone %.3g deg" % (np.round(ax, 4), ang,
+      np.degrees(np.sqrt(5.99 * np.trace(cov)))))
+' "$tmp/knee_sara.json" "$tmp/knee.json" || fail "knee sara"
 py '
 import json, sys, numpy as np, mocap_ref as m
 o = json.load(open(sys.argv[1])); c = m.read_c3d(sys.argv[2]); L = c["labels"]
@@ -134,7 +187,7 @@ sed '1s/_\([XYZ]\)/.\L\1/g' "$tmp/wide.csv" > "$tmp/wide_dot.csv"             # 
   | awk 'NR == 1 { gsub(",", ";"); print; next } { n = split($0, a, ","); s = a[1];
          for (i = 2; i <= n; i += 2) s = s ";" a[i] "," a[i+1]; print s }' > "$tmp/wide_semi.csv"  # RASIS:X ; 1,5
 for w in wide.csv wide_dot.csv wide_space.tsv wide_semi.csv; do
-  "$sfit" joint "$tmp/$w" --parent $pelvis --child $thigh --json > "$tmp/w.json"
+  "$sfit" joint "$tmp/$w" --parent $pelvis --child $thigh --method mgdk --json > "$tmp/w.json"
   py '
 import json, sys, math
 a = json.load(open(sys.argv[1])); b = json.load(open(sys.argv[2]))
@@ -162,7 +215,7 @@ for f in range(499):
     frames.append(row)
 m.write_c3d(sys.argv[2], names, frames, proc=m.INTEL, scale=-0.05)
 ' "$hip" "$tmp/holes.c3d"
-"$sfit" joint "$tmp/holes.c3d" --parent $pelvis --child $thigh --json --trajectory "$tmp/th.csv" > "$tmp/holes.json"
+"$sfit" joint "$tmp/holes.c3d" --parent $pelvis --child $thigh --method mgdk --json --trajectory "$tmp/th.csv" > "$tmp/holes.json"
 py '
 import json, sys, math, csv
 o = json.load(open(sys.argv[1])); full = json.load(open(sys.argv[2]))
@@ -209,7 +262,8 @@ expect_usage "--parent needs 3 to 8 comma-separated marker names" joint "$hip" -
 expect_usage "--parent needs 3 to 8 comma-separated marker names" joint "$hip" --parent A,B,C,D,E,F,G,H,I --child RTHI1
 expect_usage "--child needs 1 to 8 comma-separated marker names" joint "$hip" --parent $pelvis --child ,
 expect_usage "--child needs 1 to 8 comma-separated marker names" joint "$hip" --parent $pelvis --child A,B,C,D,E,F,G,H,I
-for opt in --frames --noise-var --mode; do
+expect_usage "--method is default, score, sara or mgdk" "${j[@]}" --method sphere
+for opt in --frames --noise-var --mode --method; do
   expect_usage "$opt needs a value" "${j[@]}" $opt
 done
 expect_usage "--frames needs F:L, whole numbers with 0 <= F <= L" "${j[@]}" --frames 5:2
@@ -234,7 +288,8 @@ assert svg.tag.endswith("svg"), svg.tag
 texts = [t.text for t in svg.iter("{http://www.w3.org/2000/svg}text")]
 assert "right_hip" in texts and "RASIS" in texts, texts[:5]
 assert len(list(svg.iter("{http://www.w3.org/2000/svg}line"))) >= 4
-' "$tmp/sk.json" "$tmp/hip.json" "$tmp/hip.svg" || fail "skeleton"
+assert "center_cov" in h and h["method"] == "default", h
+' "$tmp/sk.json" "$tmp/hip_default.json" "$tmp/hip.svg" || fail "skeleton"
 printf 'joint a RASIS,LASIS RTHI1\n' > "$tmp/bad_model.txt"
 expect_rc 3 "$sfit" skeleton --json "$tmp/bad_model.txt" "$hip"
 echo "$out" | grep -q "3 to" || fail "bad model: $out"

@@ -52,6 +52,7 @@
 #endif
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
+#include "sfit/sfit_pair.h"
 #define FC_HAVE_JOINT 1
 #ifndef FC_HAVE_MULTI
 #define FC_HAVE_MULTI 0
@@ -623,6 +624,80 @@ static void fc_prep_joint_solved(void)
     fc_prep_joint5_full();
     fc_joint_solve();
 }
+
+/* ---- pair of segments (sfit_pair.h): the joint's frames, the 5 child
+ * markers as a rigid child cluster; poses registered in the set-up. ---- */
+static sfit_cluster_t fc_ccl;
+static sfit_pose_t fc_ppose[FC_NJF], fc_cpose[FC_NJF];
+static sfit_cluster_fit_t fc_pfit[FC_NJF], fc_qfit[FC_NJF];
+static sfit_pair_t fc_pair;
+static sfit_pair_result_t fc_pres;
+
+static void fc_setup_pair(void)
+{
+    static const float dk[FC_NJC][3] = {{30.0f, -20.0f, -150.0f}, {-35.0f, 25.0f, -220.0f},
+                                        {40.0f, 30.0f, -300.0f}, {-20.0f, -45.0f, -380.0f},
+                                        {45.0f, -10.0f, -420.0f}};
+    sfit_vec3_t tv[FC_NJC];
+    unsigned f, i;
+    int k;
+    for (i = 0; i < FC_NJC; i++) {
+        for (k = 0; k < 3; k++) {
+            tv[i].v[k] = dk[i][k];
+        }
+    }
+    fc_keep(sfit_cluster_init(&fc_ccl, tv, FC_NJC));
+    for (f = 0; f < FC_NJF; f++) {
+        fc_keep(sfit_cluster_register(&fc_cl, fc_jpar[f], FC_NJP, &fc_ppose[f], &fc_pfit[f]));
+        fc_keep(sfit_cluster_register(&fc_ccl, fc_jchi[f], FC_NJC, &fc_cpose[f], &fc_qfit[f]));
+    }
+}
+
+static void fc_prep_pair(void)
+{
+    fc_keep(sfit_pair_init(&fc_pair, &fc_cl, &fc_ccl, NULL));
+}
+
+static void fc_prep_pair_score(void)
+{
+    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
+    cfg.method = SFIT_PAIR_METHOD_SCORE;
+    fc_keep(sfit_pair_init(&fc_pair, &fc_cl, &fc_ccl, &cfg));
+}
+
+static void fc_pair_frames(void) /* FC_NJF frames */
+{
+    unsigned f;
+    for (f = 0; f < FC_NJF; f++) {
+        fc_keep(sfit_pair_add(&fc_pair, &fc_ppose[f], &fc_pfit[f], &fc_cpose[f], &fc_qfit[f]));
+    }
+}
+
+static void fc_pair_frames_markers(void) /* FC_NJF frames */
+{
+    unsigned f;
+    for (f = 0; f < FC_NJF; f++) {
+        fc_keep(sfit_pair_add_markers(&fc_pair, &fc_cl, fc_jpar[f], FC_NJP, &fc_ccl, fc_jchi[f],
+                                      FC_NJC));
+    }
+}
+
+static void fc_prep_pair_full(void)
+{
+    fc_prep_pair();
+    fc_pair_frames();
+}
+
+static void fc_prep_pair_full_score(void)
+{
+    fc_prep_pair_score();
+    fc_pair_frames();
+}
+
+static void fc_pair_solve(void)
+{
+    fc_keep(sfit_pair_solve(&fc_pair, &fc_pres));
+}
 #endif
 
 /* ---- the table ------------------------------------------------------------ */
@@ -664,6 +739,10 @@ static const fc_op_t fc_ops[] = {
     {"joint_center_at", "sfit_joint_center_at", fc_prep_joint_solved, fc_joint_center_at, NULL, NULL, 1u},
     {"joint_fit_marker", "sfit_joint_fit", fc_prep_joint5_marker, fc_joint_solve, NULL, NULL, 1u},
     {"joint_center_cov_frame", "sfit_joint_center_cov", fc_prep_joint_marker_solved, fc_joint_center_cov, NULL, NULL, FC_NJF},
+    {"pair_add", "sfit_pair_add", fc_prep_pair, fc_pair_frames, NULL, NULL, FC_NJF},
+    {"pair_add_markers", "sfit_pair_add_markers", fc_prep_pair, fc_pair_frames_markers, NULL, NULL, FC_NJF},
+    {"pair_solve", "sfit_pair_solve", fc_prep_pair_full, fc_pair_solve, NULL, NULL, 1u},
+    {"pair_solve_score", "sfit_pair_solve", fc_prep_pair_full_score, fc_pair_solve, NULL, NULL, 1u},
 #endif
 #if FC_HAVE_INCR
     {"incremental_update", "sfit_incr_update", fc_prep_incr_gdke, fc_incr_update, NULL, NULL, 1u},
@@ -692,6 +771,7 @@ int main(void)
     fc_setup();
 #if FC_HAVE_JOINT
     fc_setup_joint();
+    fc_setup_pair();
 #endif
     printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);

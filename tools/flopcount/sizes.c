@@ -46,3 +46,6 @@ FC_SIZE(sfit_pose_t);
 FC_SIZE(sfit_joint_t);
 FC_SIZE(sfit_joint_cfg_t);
 FC_SIZE(sfit_joint_result_t);
+FC_SIZE(sfit_pair_t);
+FC_SIZE(sfit_pair_cfg_t);
+FC_SIZE(sfit_pair_result_t);

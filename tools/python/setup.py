@@ -43,6 +43,7 @@ lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
     sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
+             os.path.join(HERE, "src", "pair_py.c"),
              os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c")] + lib_sources,
     include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, CLI_SRC, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math

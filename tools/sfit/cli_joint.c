@@ -16,6 +16,21 @@ void cli_joint_opts_default(cli_joint_opts_t *o)
     o->mode = SFIT_MODE_AUTO;
     o->noise = 0;
     o->noise_var = 0.0f;
+    o->method = CLI_JOINT_DEFAULT;
+}
+
+const char *cli_joint_method_opt(void *dst, const char *v)
+{
+    static const char *const names[] = {"default", "score", "sara", "mgdk"};
+    cli_joint_opts_t *o = (cli_joint_opts_t *)dst;
+    int k;
+    for (k = 0; k < 4; k++) {
+        if (strcmp(v, names[k]) == 0) {
+            o->method = k;
+            return NULL;
+        }
+    }
+    return "--method is default, score, sara or mgdk";
 }
 
 const char *cli_joint_frames_opt(void *dst, const char *v)
@@ -137,6 +152,192 @@ static sfit_status_t estimate_noise(const sfit_vec3_t *keep, const size_t *nkeep
     return SFIT_OK;
 }
 
+/* The pair of segments (sfit_pair.h) over the frames the joint accepted:
+ * a child template from the child markers, both clusters registered per
+ * frame; the result replaces res.fit's centre, axis and mode (so the lab
+ * centre, the trajectory and the skeleton use it). */
+static sfit_status_t run_pair(const cli_frames_t *fr, int np, int nc, long first, long last,
+                              const cli_joint_opts_t *o, cli_joint_out_t *out)
+{
+    static const char *const names[] = {"default", "score", "sara", "mgdk"};
+    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
+    sfit_cluster_t ccl;
+    sfit_pair_t *pr;
+    sfit_vec3_t *blk;
+    size_t used_tpl = 0;
+    long f;
+    sfit_status_t st;
+    int k;
+
+    out->stage = "child template";
+    blk = malloc((size_t)(last - first + 1) * (size_t)nc * sizeof *blk);
+    pr = malloc(sizeof *pr);
+    if (blk == NULL || pr == NULL) {
+        free(blk);
+        free(pr);
+        return SFIT_E_RANGE;
+    }
+    for (f = first; f <= last; f++) {
+        for (k = 0; k < nc; k++) {
+            blk[(size_t)(f - first) * (size_t)nc + (size_t)k] = *cli_frames_at(fr, f, np + k);
+        }
+    }
+    st = sfit_cluster_from_frames(&ccl, blk, (size_t)(last - first + 1), (size_t)nc, &used_tpl);
+    free(blk);
+    if (st != SFIT_OK) {
+        free(pr);
+        return st;
+    }
+    cfg.method = (o->method == CLI_JOINT_DEFAULT) ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
+    cfg.mode = (o->method == CLI_JOINT_SARA || o->mode == SFIT_MODE_PLANAR) ? SFIT_PAIR_MODE_HINGE
+               : (o->mode == SFIT_MODE_SPHERE || o->method == CLI_JOINT_SCORE) ? SFIT_PAIR_MODE_BALL
+                                                                              : SFIT_PAIR_MODE_AUTO;
+    if (o->noise == 1) {
+        cfg.noise = SFIT_PAIR_NOISE_GIVEN;
+        cfg.marker_var = o->noise_var;
+    }
+    out->stage = "pair";
+    st = sfit_pair_init(pr, &out->j.parent, &ccl, &cfg);
+    out->pair_rejected = 0;
+    for (f = first; f <= last && st == SFIT_OK; f++) {
+        const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
+        if (out->ok[f] == 0u) {
+            continue;
+        }
+        if (sfit_pair_add_markers(pr, &out->j.parent, row, (size_t)np, &ccl, row + np,
+                                  (size_t)nc) != SFIT_OK) {
+            out->pair_rejected++;
+        }
+    }
+    if (st == SFIT_OK) {
+        out->stage = "solve";
+        st = sfit_pair_solve(pr, &out->pair);
+    }
+    free(pr);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    out->pair_used = 1;
+    out->method_name = names[o->method];
+    out->res.fit.center = out->pair.center_p;
+    out->res.fit.axis = out->pair.axis_p;
+    out->res.fit.mode = (out->pair.mode == SFIT_PAIR_MODE_HINGE) ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
+    out->res.fit.eigenvalues = out->pair.eigenvalues;
+    out->res.fit.trust_ratio = out->pair.trust_ratio;
+    return SFIT_OK;
+}
+
+static const char *pair_reason(sfit_pair_reason_t r)
+{
+    switch (r) {
+    case SFIT_PAIR_REASON_FEW_FRAMES: return "few_frames";
+    case SFIT_PAIR_REASON_SMALL_MOTION: return "small_motion";
+    case SFIT_PAIR_REASON_AXIS_FREE: return "axis_free";
+    case SFIT_PAIR_REASON_AMBIGUOUS: return "ambiguous";
+    case SFIT_PAIR_REASON_MISFIT: return "misfit";
+    case SFIT_PAIR_REASON_NO_NOISE: return "no_noise";
+    case SFIT_PAIR_REASON_NONE:
+    default: return "none";
+    }
+}
+
+static void print_mat_json(const sfit_mat3_t *m)
+{
+    int r;
+    printf("[");
+    for (r = 0; r < 3; r++) {
+        printf("%s", r > 0 ? "," : "");
+        cli_print_vec(&m->m[3 * r]);
+    }
+    printf("]");
+}
+
+void cli_joint_print_flags_json(const cli_joint_out_t *out)
+{
+    static const struct {
+        uint32_t bit;
+        const char *name;
+    } names[] = {
+        {SFIT_FLAG_UNTRUSTED, "untrusted"},         {SFIT_FLAG_FEW_SAMPLES, "few_frames"},
+        {SFIT_PAIR_FLAG_SMALL_MOTION, "small_motion"}, {SFIT_PAIR_FLAG_AXIS_FREE, "axis_free"},
+        {SFIT_PAIR_FLAG_AMBIGUOUS, "ambiguous"},    {SFIT_PAIR_FLAG_MISFIT, "misfit"},
+        {SFIT_PAIR_FLAG_NO_NOISE, "no_noise"},
+    };
+    const char *sep = "";
+    size_t k;
+    if (!out->pair_used) {
+        cli_print_flags_json(out->res.fit.flags);
+        return;
+    }
+    printf("[");
+    for (k = 0; k < sizeof names / sizeof names[0]; k++) {
+        if ((out->pair.flags & names[k].bit) != 0u) {
+            printf("%s\"%s\"", sep, names[k].name);
+            sep = ",";
+        }
+    }
+    printf("]");
+}
+
+void cli_joint_print_pair_json(const cli_joint_out_t *out)
+{
+    const sfit_pair_result_t *p = &out->pair;
+    if (out->note != NULL) {
+        printf(",\"note\":");
+        cli_print_json_string(out->note);
+    }
+    if (!out->pair_used) {
+        return;
+    }
+    printf(",\"center_cov\":");
+    print_mat_json(&p->center_cov);
+    if (p->mode == SFIT_PAIR_MODE_HINGE) {
+        printf(",\"axis_cov\":");
+        print_mat_json(&p->axis_cov);
+    }
+    printf(",\"center_child\":");
+    cli_print_vec(p->center_c.v);
+    printf(",\"untrusted\":%s,\"reason\":\"%s\",\"marker_noise\":{\"var\":%.9g,"
+           "\"parent\":%.9g,\"child\":%.9g,\"source\":\"%s\"},\"misfit\":%.9g,"
+           "\"model_rms\":%.9g,\"frames_pair\":%lu,\"frames_pair_rejected\":%ld",
+           (p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? "true" : "false", pair_reason(p->reason),
+           (double)p->marker_var, (double)p->marker_var_p, (double)p->marker_var_c,
+           p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "registration_residuals",
+           (double)p->misfit, (double)p->rms, (unsigned long)p->frames, out->pair_rejected);
+}
+
+void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, const char *indent)
+{
+    const sfit_pair_result_t *p = &out->pair;
+    sfit_vec3_t w;
+    if (out->note != NULL) {
+        printf("%snote         %s\n", indent, out->note);
+    }
+    if (!out->pair_used) {
+        return;
+    }
+    if (sfit_mat3_eig_sym(&p->center_cov, &w, NULL) == SFIT_OK) {
+        /* 95 % ellipsoid: chi-square 3 dof quantile 7.815 */
+        printf("%s95%% ellipse  semi-axes %.3g %.3g %.3g %s (centre; %s)\n", indent,
+               sqrt(7.8147 * (double)(w.v[2] > 0.0f ? w.v[2] : 0.0f)),
+               sqrt(7.8147 * (double)(w.v[1] > 0.0f ? w.v[1] : 0.0f)),
+               sqrt(7.8147 * (double)(w.v[0] > 0.0f ? w.v[0] : 0.0f)), units,
+               p->mode == SFIT_PAIR_MODE_HINGE ? "normal to the axis and along it" : "ball");
+    }
+    if (p->mode == SFIT_PAIR_MODE_HINGE) {
+        const double t = (double)(p->axis_cov.m[0] + p->axis_cov.m[4] + p->axis_cov.m[8]);
+        printf("%saxis 95%%     cone half-angle %.3g degrees\n", indent,
+               sqrt(5.9915 * (t > 0.0 ? t : 0.0)) * 57.29578);
+    }
+    printf("%smarker noise sigma %.4g %s (parent %.4g, child %.4g; %s)\n", indent,
+           sqrt((double)p->marker_var), units, sqrt((double)p->marker_var_p),
+           sqrt((double)p->marker_var_c),
+           p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "from the registration residuals");
+    if ((p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
+        printf("%swarning      untrusted: %s (docs/pair.md)\n", indent, pair_reason(p->reason));
+    }
+}
+
 sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_joint_opts_t *o,
                             cli_joint_out_t *out)
 {
@@ -180,7 +381,7 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     out->template_frames = (unsigned long)used_tpl;
     cfg.n_child = (uint32_t)nc;
     cfg.solve.fit.mode = o->mode;
-    if (o->noise == 1) { /* the measured markers' noise, propagated by the library */
+    if (o->noise == 1 && o->method == CLI_JOINT_MGDK) { /* the measured markers' noise, propagated by the library */
         cfg.noise_model = SFIT_JOINT_NOISE_MARKER;
         cfg.solve.fit.noise = SFIT_NOISE_ISO;
         cfg.solve.fit.noise_var = o->noise_var;
@@ -192,7 +393,7 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     if (st != SFIT_OK) {
         return out->st = st;
     }
-    if (o->noise == 2) {
+    if (o->noise == 2 && o->method == CLI_JOINT_MGDK) {
         const size_t stride = (size_t)(last - first + 1);
         keep = malloc(stride * (size_t)nc * sizeof *keep);
         if (keep == NULL) {
@@ -219,7 +420,25 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     (void)feed(fr, np, nc, first, last, out, NULL, NULL);
     out->stage = "solve";
     st = sfit_joint_fit(&out->j, &out->res, out->radii);
-    return out->st = st;
+    out->method_name = "mgdk";
+    if (o->method == CLI_JOINT_MGDK) {
+        return out->st = st;
+    }
+    if (nc < 3) {
+        if (o->method != CLI_JOINT_DEFAULT) {
+            out->stage = "child cluster";
+            return out->st = SFIT_E_TOO_FEW;
+        }
+        out->note = "fewer than 3 child markers: no child cluster, the multi-marker fit (mgdk)";
+        return out->st = st;
+    }
+    {
+        const sfit_status_t pst = run_pair(fr, np, nc, first, last, o, out);
+        if (pst != SFIT_OK) {
+            return out->st = pst;
+        }
+    }
+    return out->st = SFIT_OK;
 }
 
 sfit_status_t cli_joint_lab(const cli_frames_t *fr, int np, const cli_joint_out_t *out, long f,

@@ -18,6 +18,15 @@
 #include "cli.h"
 #include "cli_frames.h"
 #include "sfit/sfit_joint.h"
+#include "sfit/sfit_pair.h"
+
+/** --method: the estimator (the pair module's for every one but mgdk). */
+enum cli_joint_method {
+    CLI_JOINT_DEFAULT = 0, /**< SCoRE / SARA with the bias removed (sfit_pair, default) */
+    CLI_JOINT_SCORE = 1,   /**< plain SCoRE (ball; hinge with --mode planar) */
+    CLI_JOINT_SARA = 2,    /**< plain SARA (hinge) */
+    CLI_JOINT_MGDK = 3     /**< the multi-marker algebraic fit (sfit_joint) */
+};
 
 /** Options of one joint. */
 typedef struct cli_joint_opts {
@@ -26,6 +35,7 @@ typedef struct cli_joint_opts {
     int noise;          /**< 0 none (MGDK), 1 given (noise_var), 2 auto (estimated) */
     float noise_var;    /**< noise == 1: sigma^2 per coordinate of every measured marker
                              (unit^2), SFIT_JOINT_NOISE_MARKER */
+    int method;         /**< enum cli_joint_method */
 } cli_joint_opts_t;
 
 /** Everything a joint run produces. */
@@ -40,6 +50,11 @@ typedef struct cli_joint_out {
     int has_noise, noise_estimated;
     float noise_var;
     unsigned char *ok;                  /**< per frame of the file: 1 = accepted */
+    int pair_used;                      /**< 1: res.fit.center / axis / mode are the pair's */
+    const char *method_name;            /**< "default", "score", "sara", "mgdk" */
+    const char *note;                   /**< NULL, or why the method differs from the asked */
+    sfit_pair_result_t pair;            /**< pair_used: centre, covariances, flags */
+    long pair_rejected;                 /**< frames the pair rejected (child not registrable) */
     sfit_status_t st;                   /**< SFIT_OK or the failure */
     const char *stage;                  /**< where it failed: "template", "frames", "solve" */
 } cli_joint_out_t;
@@ -65,6 +80,18 @@ sfit_status_t cli_joint_lab(const cli_frames_t *fr, int np, const cli_joint_out_
 /** --frames F:L into a cli_joint_opts_t (a cli_opt_fn_t). */
 const char *cli_joint_frames_opt(void *dst, const char *v);
 
+/** --method default|score|sara|mgdk into a cli_joint_opts_t (a cli_opt_fn_t). */
+const char *cli_joint_method_opt(void *dst, const char *v);
+
+/** The pair's JSON members (after "center"...): center_cov, axis_cov, noise, reason. */
+void cli_joint_print_pair_json(const cli_joint_out_t *out);
+
+/** The result's flags as a JSON array (the pair's, or the multi-marker fit's). */
+void cli_joint_print_flags_json(const cli_joint_out_t *out);
+
+/** Text lines of the pair: 95 % semi-axes (mm), noise figure and source, flags. */
+void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, const char *indent);
+
 /** --noise-var V|auto into a cli_joint_opts_t (a cli_opt_fn_t). */
 const char *cli_joint_noise_opt(void *dst, const char *v);
 
@@ -79,7 +106,9 @@ const char *cli_joint_noise_opt(void *dst, const char *v);
     {.name = "--noise-var", .kind = CLI_OPT_FN, .dst = (J), .fn = cli_joint_noise_opt,     \
      .needs = 1},                                                                          \
     {.name = "--mode", .kind = CLI_OPT_MODE, .dst = &(J)->mode, .needs = 1,                \
-     .err = "--mode is auto, sphere or planar"}
+     .err = "--mode is auto, sphere or planar"},                                          \
+    {.name = "--method", .kind = CLI_OPT_FN, .dst = (J), .fn = cli_joint_method_opt,       \
+     .needs = 1}
 
 /** Defaults: every frame, auto mode, no noise model. */
 void cli_joint_opts_default(cli_joint_opts_t *o);
@@ -92,6 +121,10 @@ void cli_joint_opts_default(cli_joint_opts_t *o);
     "  --noise-var auto the child markers' noise in the parent frame, estimated per\n"   \
     "                   marker (self-calibrated UGDK) and pooled\n"                       \
     "  --mode M         auto (default): ball joint, or hinge when the markers' arcs are\n" \
-    "                   near-planar; sphere / planar force one\n"
+    "                   near-planar; sphere / planar force one\n"                         \
+    "  --method M       default: SCoRE / SARA from the two clusters' poses with the\n"    \
+    "                   bias removed (marker noise from the registration residuals;\n"  \
+    "                   needs 3 child markers, else mgdk); score, sara: as published;\n"\
+    "                   mgdk: the multi-marker fit of the child markers (sfit_joint)\n"
 
 #endif /* SFIT_CLI_JOINT_H */

@@ -41,8 +41,8 @@ static void joint_usage(FILE *f)
 {
     fputs("usage: sfit joint FILE --parent A,B,C[,...] --child D,E[,...] [--frames F:L]\n"
           "                  [--noise-var V|auto] [--mode auto|sphere|planar]\n"
-          "                  [--trajectory OUT.csv] [--write OUT.c3d] [--trc OUT.trc]\n"
-          "                  [--name JC] [--json]\n"
+          "                  [--method default|score|sara|mgdk] [--trajectory OUT.csv]\n"
+          "                  [--write OUT.c3d] [--trc OUT.trc] [--name JC] [--json]\n"
           "  FILE  a C3D file, or a table with a header and one x,y,z column triple per\n"
           "        marker: NAME_X NAME_Y NAME_Z (also NAME.x, NAME:X, NAME-X, 'NAME X';\n"
           "        any case); other columns (time, frame) are ignored; blank cell = missing\n"
@@ -123,7 +123,8 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
            "\"reference_frame\":%ld,\"first\":%ld,\"last\":%ld,\"frames_used\":%ld,"
            "\"frames_rejected\":%ld,\"bad_rows\":%ld,\"template_frames\":%lu,\"n\":%lu,"
            "\"center\":",
-           method_name(r), r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", jo->ref_frame,
+           jo->pair_used ? jo->method_name : method_name(r),
+           r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", jo->ref_frame,
            o->j.first, last, jo->used, jo->rejected, fr->bad_rows, jo->template_frames,
            (unsigned long)r->n_total);
     cli_print_vec(r->center.v);
@@ -141,8 +142,9 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     cli_print_vec(r->eigenvalues.v);
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
            (double)r->leontief_ratio);
-    cli_print_flags_json(r->flags);
+    cli_joint_print_flags_json(jo);
     cli_print_noise_json(jo->has_noise, jo->noise_var, jo->noise_estimated);
+    cli_joint_print_pair_json(jo);
     printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
            (double)jo->res.residual_mean, (double)jo->res.residual_max);
     cli_print_json_string(fr->units);
@@ -194,7 +196,10 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
         printf("%s%s", k > 0 ? " " : "", o->names[o->np + k]);
     }
     printf("\nmethod       %s, %s\n",
-           r->method == SFIT_METHOD_UGDK ? "unbiased MGDK" : "MGDK",
+           jo->pair_used ? (strcmp(jo->method_name, "default") == 0
+                                ? "SCoRE/SARA from the two clusters' poses, bias removed"
+                                : jo->method_name)
+           : r->method == SFIT_METHOD_UGDK ? "unbiased MGDK" : "MGDK",
            r->mode == SFIT_MODE_PLANAR ? "hinge (planar solution: axis, centre on it)"
                                        : "ball joint (sphere solution)");
     printf("centre       %.4f %.4f %.4f %s (parent frame)\n", (double)r->center.v[0],
@@ -207,6 +212,7 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
            "             its %d markers (template averaged over %lu frames), axes the lab\n"
            "             axes at the reference frame %ld\n",
            o->np, jo->template_frames, jo->ref_frame);
+    cli_joint_print_pair_text(jo, u, "");
     if (lab_ref != NULL) {
         printf("centre (lab) %.4f %.4f %.4f at frame %ld\n", (double)lab_ref->v[0],
                (double)lab_ref->v[1], (double)lab_ref->v[2], jo->ref_frame);
@@ -219,8 +225,9 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
                    ? "child markers in the parent frame, estimated: self-calibrated UGDK, pooled"
                    : "given, per marker coordinate; propagated through the parent pose");
     }
-    printf("eigenvalues  %.6g %.6g %.6g (of sum_p w_p C_p)\n", (double)r->eigenvalues.v[0],
-           (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2]);
+    printf("eigenvalues  %.6g %.6g %.6g (%s)\n", (double)r->eigenvalues.v[0],
+           (double)r->eigenvalues.v[1], (double)r->eigenvalues.v[2],
+           jo->pair_used ? "spread of the relative rotations, rad^2" : "of sum_p w_p C_p");
     printf("per marker   %s:\n",
            r->mode == SFIT_MODE_PLANAR ? "distance from the axis" : "radius about the centre");
     for (k = 0; k < o->nc; k++) {
@@ -231,11 +238,11 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
             printf("  %-10s    skipped (%lu samples)\n", o->names[o->np + k], jo->child_n[k]);
         }
     }
-    if (r->flags & SFIT_FLAG_UNTRUSTED) {
+    if (!jo->pair_used && (r->flags & SFIT_FLAG_UNTRUSTED)) {
         printf("warning      Leontief ratio %.3g >= 1: do not trust this fit\n",
                (double)r->leontief_ratio);
     }
-    if ((r->flags & SFIT_FLAG_NEAR_PLANAR) && r->mode == SFIT_MODE_SPHERE) {
+    if (!jo->pair_used && (r->flags & SFIT_FLAG_NEAR_PLANAR) && r->mode == SFIT_MODE_SPHERE) {
         printf("warning      the markers' arcs are near-planar: the sphere is ill-conditioned "
                "(a hinge? try --mode planar)\n");
     }

@@ -539,7 +539,7 @@ static void print_joint_json(const sk_joint_t *j)
     }
     printf(",\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frames_used\":%ld,"
            "\"frames_rejected\":%ld,\"reference_frame\":%ld,\"center\":",
-           r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke",
+           j->out.pair_used ? j->out.method_name : r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke",
            r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", j->out.used, j->out.rejected,
            j->out.ref_frame);
     cli_print_vec(r->center.v);
@@ -553,6 +553,9 @@ static void print_joint_json(const sk_joint_t *j)
     } else {
         printf("null");
     }
+    printf(",\"flags\":");
+    cli_joint_print_flags_json(&j->out);
+    cli_joint_print_pair_json(&j->out);
     printf(",\"residual_mean\":%.9g,\"radii\":[", (double)j->out.res.residual_mean);
     for (k = 0; k < j->nc; k++) {
         printf("%s%.9g", k > 0 ? "," : "", (double)j->out.radii[k]);
@@ -578,6 +581,7 @@ static void print_joint_human(const sk_joint_t *j, long frame)
         printf("  axis         %.5f %.5f %.5f (parent frame)\n", (double)r->axis.v[0],
                (double)r->axis.v[1], (double)r->axis.v[2]);
     }
+    cli_joint_print_pair_text(&j->out, "units", "  ");
     if (j->lab_ok) {
         printf("  centre (lab) %.4f %.4f %.4f at frame %ld\n", (double)j->lab.v[0],
                (double)j->lab.v[1], (double)j->lab.v[2], frame);

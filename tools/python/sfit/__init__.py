@@ -492,12 +492,22 @@ class JointResult(_Record):
     :func:`joint_center` also: center_global (F, 3) and axis_global (F, 3)
     (NaN in frames whose parent cannot be registered), valid (F,) bool,
     cluster (the parent template used).
+    With method "default", "score" or "sara" (the pair of segments,
+    docs/pair.md): center_cov (3, 3, parent frame), axis_cov (3, 3, hinge;
+    else None), center_child, axis_child, marker_noise_var (and _parent,
+    _child), noise_source ("registration_residuals" or "given"), untrusted,
+    reason, misfit, model_rms, child_cluster; flags is then the pair's list
+    of names ("untrusted", "few_frames", "small_motion", "axis_free",
+    "ambiguous", "misfit", "no_noise"); radii, marker_n, n, markers are None.
     """
 
     __slots__ = ("center", "axis", "eigenvalues", "radii", "marker_n", "n", "markers",
                  "skipped", "trust_ratio", "leontief_ratio", "flags", "flags_mask", "method",
                  "mode", "frames", "rejected_frames", "residual_mean", "residual_max",
-                 "center_global", "axis_global", "valid", "cluster", "_raw")
+                 "center_global", "axis_global", "valid", "cluster", "_raw",
+                 "center_cov", "axis_cov", "center_child", "axis_child", "marker_noise_var",
+                 "marker_noise_var_parent", "marker_noise_var_child", "noise_source",
+                 "untrusted", "reason", "misfit", "model_rms", "child_cluster")
     _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
 
 
@@ -691,8 +701,58 @@ if hasattr(_sfit, "Joint"):
                 raise _arg_error("Joint.center_at: result must be a JointResult of solve()")
             return self._center_at(raw, parent)
 
+    _PAIR_ERRORS = {-1: ArgError, -2: TooFewError, -3: NotPosDefError, -4: NoConvergenceError,
+                    -5: DegenerateError, -6: NonFiniteError, -7: RangeError}
+
+    def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noise_var):
+        """joint_center with the pair of segments (sfit_pair.h via _sfit._pair_solve)."""
+        if mode not in ("auto", "sphere", "planar"):
+            raise _arg_error("joint_center: mode must be auto, sphere or planar")
+        if child_arr.shape[1] < 3:
+            raise _arg_error("joint_center: method %r needs 3 child markers (a cluster); "
+                             "use method='mgdk'" % method)
+        if child_template is None:
+            ccl = Cluster.from_frames(child_arr)
+        elif isinstance(child_template, _sfit.Cluster):
+            ccl = child_template
+        else:
+            ccl = Cluster(child_template)
+        if marker_noise_var is None or (isinstance(marker_noise_var, str)
+                                        and marker_noise_var == "auto"):
+            noise, var = 0, 0.0
+        else:
+            noise, var = 1, _float(marker_noise_var, "marker_noise_var")
+            if not (var >= 0.0) or var == float("inf"):
+                raise _arg_error("joint_center: marker_noise_var must be 'auto' or a finite value >= 0")
+        imode = 2 if (method == "sara" or mode == "planar") else \
+            1 if (mode == "sphere" or method == "score") else 0
+        code, d, rejected = _sfit._pair_solve(parent, child_arr, cl.positions, ccl.positions,
+                                              0 if method == "default" else 1, imode, noise, var)
+        if code != 0:
+            e = _PAIR_ERRORS.get(code, Error)("joint_center (%s): %s" % (method, _sfit.status_name(code)))
+            e.status, e.code, e.message, e.n, e.rejected = (_sfit.status_name(code), code,
+                                                            str(e), None, rejected)
+            raise e
+        par = _np.asarray(parent, dtype=_np.float64)
+        nf = par.shape[0]
+        cg = _np.full((nf, 3), _np.nan)
+        ag = _np.full((nf, 3), _np.nan)
+        valid = _np.zeros(nf, bool)
+        for f in range(nf):
+            try:
+                pose = cl.register(par[f])
+            except Error:
+                continue
+            cg[f] = pose.rotation @ d["center"] + pose.translation
+            ag[f] = pose.rotation @ d["axis"]
+            valid[f] = True
+        d.update(method=method, rejected_frames=rejected, center_global=cg, axis_global=ag,
+                 valid=valid, cluster=cl, child_cluster=ccl)
+        return JointResult(d)
+
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
-                     weight="equal", marker_noise_var=None) -> JointResult:
+                     weight="equal", marker_noise_var=None, method="mgdk",
+                     child_template=None) -> JointResult:
         """Functional joint centre from trajectories.
 
         Args:
@@ -704,6 +764,16 @@ if hasattr(_sfit, "Joint"):
                 child marker in the parent frame).
             marker_noise_var: variance of each measured marker coordinate
                 instead; the library propagates it through the parent pose.
+                With a pair method: None or "auto" (default) = from the two
+                clusters' registration residuals, or the given variance.
+            method: "mgdk" (the multi-marker fit, this function's default so
+                far), or the pair of segments (docs/pair.md): "default"
+                (SCoRE / SARA with the bias removed, a covariance and flags:
+                the CLI's default), "score" (plain SCoRE; with mode="planar"
+                SARA), "sara" (plain SARA). noise_var / noise_cov / weight
+                belong to mgdk.
+            child_template: pair methods: None (Cluster.from_frames of the
+                child), a Cluster or (Mc, 3) positions.
 
         Returns:
             JointResult (centre in the parent frame) with center_global and
@@ -723,6 +793,14 @@ if hasattr(_sfit, "Joint"):
         k = child_arr.shape[1] if child_arr is not None and child_arr.ndim == 3 else -1
         if k < 1:
             raise _arg_error("joint_center: child must be (frames, markers, 3)")
+        if not isinstance(method, str) or method not in ("mgdk", "default", "score", "sara"):
+            raise _arg_error("joint_center: method must be mgdk, default, score or sara")
+        if method != "mgdk":
+            if noise_var is not None or noise_cov is not None:
+                raise _arg_error("joint_center: noise_var / noise_cov are the mgdk noise of a "
+                                 "child marker; give marker_noise_var with method %r" % method)
+            return _pair_center(parent, child_arr, cl, child_template, method, mode,
+                                marker_noise_var)
         j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,
                   marker_noise_var=marker_noise_var)
         j.add(parent, child_arr)

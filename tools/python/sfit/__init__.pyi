@@ -233,7 +233,7 @@ class JointResult:
     leontief_ratio: float
     flags: list[str]
     flags_mask: int
-    method: Literal["gdke", "ugdk"]
+    method: Literal["gdke", "ugdk", "default", "score", "sara"]
     mode: Literal["sphere", "planar"]
     frames: int
     rejected_frames: int
@@ -243,6 +243,19 @@ class JointResult:
     axis_global: Optional[npt.NDArray[np.float64]]
     valid: Optional[npt.NDArray[np.bool_]]
     cluster: Optional[Cluster]
+    center_cov: Optional[npt.NDArray[np.float64]]
+    axis_cov: Optional[npt.NDArray[np.float64]]
+    center_child: Optional[Vec3]
+    axis_child: Optional[Vec3]
+    marker_noise_var: Optional[float]
+    marker_noise_var_parent: Optional[float]
+    marker_noise_var_child: Optional[float]
+    noise_source: Optional[Literal["registration_residuals", "given"]]
+    untrusted: Optional[bool]
+    reason: Optional[str]
+    misfit: Optional[float]
+    model_rms: Optional[float]
+    child_cluster: Optional[Cluster]
     def to_dict(self) -> dict[str, Any]: ...
 
 class Joint:
@@ -265,4 +278,6 @@ class Joint:
 def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Cluster, ArrayLike] = None,
                  noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
                  mode: Mode = "auto", weight: Literal["equal", "samples"] = "equal",
-                 marker_noise_var: Optional[float] = None) -> JointResult: ...
+                 marker_noise_var: Union[None, float, Literal["auto"]] = None,
+                 method: Literal["mgdk", "default", "score", "sara"] = "mgdk",
+                 child_template: Union[None, Cluster, ArrayLike] = None) -> JointResult: ...

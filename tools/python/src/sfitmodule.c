@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "sfit/sfit.h"
+#include "pair_py.h" /* the pair of segments: pair_py.c */
 
 /* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
  * library has it. */
@@ -2344,6 +2345,7 @@ static PyMethodDef module_methods[] = {
     {"coverage_estimate_theta", (PyCFunction)(void (*)(void))py_coverage_estimate_theta,
      METH_VARARGS | METH_KEYWORDS, "Internal: see sfit.coverage_estimate_theta."},
     {"status_name", py_status_name, METH_O, "status_name(code) -> str (the library's name)."},
+    {"_pair_solve", sfit_py_pair_solve, METH_VARARGS, "Internal: see sfit.joint_center (pair_py.c)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {
@@ -2356,6 +2358,9 @@ PyMODINIT_FUNC PyInit__sfit(void)
     PyObject *m;
     int i;
     import_array();
+    if (sfit_py_pair_import() < 0) {
+        return NULL;
+    }
     if (PyType_Ready(&MomentsType) < 0 || PyType_Ready(&IncrType) < 0) {
         return NULL;
     }

@@ -197,3 +197,47 @@ def test_marker_noise_model(rng):
         sfit.Joint(cl, 3, marker_noise_var=var, noise_var=var)
     with pytest.raises(sfit.ArgError):
         j.noise_cov(-1.0)
+
+
+def test_joint_center_pair_methods(rng):
+    """method="default" / "score" / "sara" (the pair of segments, pair_py.c):
+    plain SCoRE equals the 6x6 least squares in double on the same float
+    poses' templates; the default carries center_cov (PSD), the noise figure
+    from the residuals (close to sigma^2) and the flags; bad options raise."""
+    tpl, centre, parent, child = simulate(rng, frames=600, sigma=0.3, occlude=0.0)
+    # SCoRE in double: Kabsch of both clusters, the 6x6 normal equations
+    cl = sfit.Cluster.from_frames(parent)
+    ccl = sfit.Cluster.from_frames(child)
+    h = np.zeros((6, 6))
+    b = np.zeros(6)
+    for f in range(parent.shape[0]):
+        rp, tp = kabsch(cl.positions, parent[f].astype(np.float64))
+        rc, tc = kabsch(ccl.positions, child[f].astype(np.float64))
+        x = np.hstack([rp, -rc])
+        h += x.T @ x
+        b += x.T @ (tc - tp)
+    want = np.linalg.solve(h, b)[:3]
+    s = sfit.joint_center(parent, child, method="score")
+    assert s.method == "score" and s.mode == "sphere"
+    assert np.linalg.norm(s.center - want) < 2e-3, (s.center, want)
+    d = sfit.joint_center(parent, child, method="default")
+    assert d.method == "default" and d.noise_source == "registration_residuals"
+    assert abs(d.marker_noise_var - 0.09) < 0.01, d.marker_noise_var
+    cov = d.center_cov
+    assert cov.shape == (3, 3) and np.allclose(cov, cov.T) and np.linalg.eigvalsh(cov).min() > 0
+    assert d.untrusted == ("untrusted" in d.flags) and isinstance(d.reason, str)
+    assert d.valid.all() and d.center_global.shape == (parent.shape[0], 3)
+    # the centre is the truth's parent-frame centre (template frames differ by
+    # the centroid shift of Cluster.from_frames): compare in the lab frame
+    r0, t0 = kabsch(tpl, parent[0].astype(np.float64))
+    assert np.linalg.norm(d.center_global[0] - (r0 @ centre + t0)) < 3.0
+    g = sfit.joint_center(parent, child, method="default", marker_noise_var=0.09)
+    assert g.noise_source == "given" and g.marker_noise_var == pytest.approx(0.09)
+    with pytest.raises(sfit.ArgError):
+        sfit.joint_center(parent, child, method="nope")
+    with pytest.raises(sfit.ArgError):
+        sfit.joint_center(parent, child, method="default", noise_var=0.1)
+    with pytest.raises(sfit.ArgError):
+        sfit.joint_center(parent, child, method="default", marker_noise_var=-1.0)
+    with pytest.raises(sfit.ArgError):
+        sfit.joint_center(parent, child[:, :2], method="default")
