@@ -79,25 +79,28 @@ chk session "$tmp/session.json" || fail "lower-limb tree"
 "$sfit" skeleton "${trials[@]}" --segments "$tmp/session.txt" --pair lib --json > "$tmp/session_lib.json"
 chk tree "$tmp/session_lib.json" || fail "lower-limb tree, --pair lib"
 # Each joint's centre against `sfit joint` on that joint's own functional
-# trial (the i29 `sfit calibrate` is not on this branch yet): the ball
-# joints within 3 sigma of their centre; the knee's distance is printed
-# (about 13 mm across the axis, 10 sigma: docs/skeleton.md, open).
+# trial (the i29 `sfit calibrate` is not on this branch yet), with its
+# default method (the pair module, SCoRE / SARA with the bias removed) and
+# with the chapter's sphere route (mgdk): the ball joints within 3 sigma of
+# their centre; the knee's distance is printed (docs/skeleton.md, open).
 "$sfit" skeleton "${trials[@]}" --segments "$tmp/session.txt" --json --centres "$tmp/cen.csv" \
   > "$tmp/session2.json"
 declare -A mk=([pelvis]=RASI,LASI,RPSI,LPSI [r_thigh]=RTHI,RTHIB,RTHID,RKNE,RKNEM
   [r_shank]=RTIB,RTIBF,RTIBD,RANK,RANKM [r_foot]=RHEE,RTOE,RNAV,RTOE5
   [trunk]=C7,T1,T6,T10,CLAV,STRN,RBAK)
-k=0
-for spec in "r_ankle r_shank r_foot 3 sphere" "r_hip pelvis r_thigh 3 sphere" \
-            "r_knee r_thigh r_shank 1000 planar" "trunk pelvis trunk 3 sphere"; do
-  set -- $spec
-  "$sfit" joint "${trials[$k]}" --parent "${mk[$2]}" --child "${mk[$3]}" --mode "$5" --json \
-    > "$tmp/joint_$1.json"
-  start=$(py 'import json,sys; print(json.load(open(sys.argv[1]))["trial_start"][int(sys.argv[2])])' \
-    "$tmp/session2.json" "$k")
-  chk centres "$tmp/session2.json" "$tmp/cen.csv" "$start" "$tmp/joint_$1.json" "$1" "$4" \
-    || fail "centre of $1"
-  k=$((k + 1))
+for meth in default mgdk; do
+  k=0
+  for spec in "r_ankle r_shank r_foot 3 sphere" "r_hip pelvis r_thigh 3 sphere" \
+              "r_knee r_thigh r_shank 1000 planar" "trunk pelvis trunk 3 sphere"; do
+    set -- $spec
+    "$sfit" joint "${trials[$k]}" --parent "${mk[$2]}" --child "${mk[$3]}" --mode "$5" \
+      --method "$meth" --json > "$tmp/joint_$1.json" 2> /dev/null
+    start=$(py 'import json,sys; print(json.load(open(sys.argv[1]))["trial_start"][int(sys.argv[2])])' \
+      "$tmp/session2.json" "$k")
+    chk centres "$tmp/session2.json" "$tmp/cen.csv" "$start" "$tmp/joint_$1.json" "$1" "$4" \
+      || fail "centre of $1 against sfit joint --method $meth"
+    k=$((k + 1))
+  done
 done
 # without the root line the root is the segment that moves least: the pelvis
 grep -v '^root' "$tmp/session.txt" > "$tmp/noroot.txt"
