@@ -32,6 +32,7 @@
 #include "cli.h"
 #include "cli_joint.h"
 #include "cli_swaps.h"
+#include "skel.h"
 
 #define SK_MAX_JOINTS 32
 #define SK_LINE 4096
@@ -82,7 +83,10 @@ static void sk_usage(FILE *f)
           "  --frame K        frame of the picture and of the lab-frame centres\n"
           "                   (default: the first frame used)\n"
           "  --svg OUT.svg    draw the skeleton at frame K (two orthographic views)\n"
-          "  --json           one JSON object on stdout\n",
+          "  --json           one JSON object on stdout\n"
+          "The skeleton found in the data (segments, joints, tree; BVH, TRC, HTML):\n"
+          "  sfit skeleton FILE.c3d... [--segments MAP] [--bvh OUT.bvh] ...\n"
+          "  (its options: sfit skeleton FILE.c3d --help; docs/skeleton.md)\n",
           f);
 }
 
@@ -611,6 +615,9 @@ int cli_cmd_skeleton(int argc, char **argv)
     long frame = 0;
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
+    if (skel_cmd_wanted(argc, argv)) {
+        return skel_cmd(argc, argv);
+    }
     {
         const int prc = sk_parse(argc, argv, &o);
         if (prc >= 0) {

@@ -1,0 +1,476 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file skel_draw.c
+ * @brief Pictures of the found skeleton: an SVG at one frame (two
+ * orthographic views) and a self-contained HTML page that plays it over
+ * the markers (inline script, no network; docs/skeleton.md).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "skel.h"
+
+static const char *const k_colour[] = {"#2a6fdb", "#1b9e4b", "#e08a00", "#8e44ad",
+                                       "#c0392b", "#16a085", "#7f8c8d", "#d35400"};
+#define NCOL (int)(sizeof k_colour / sizeof k_colour[0])
+
+/* Position of segment k's node (root: its origin; else its joint centre). */
+static const double *node(const skel_t *s, long f, int k)
+{
+    const int j = s->parent_joint[k];
+    if (k == s->root) {
+        return &s->root_t[f * 3];
+    }
+    return j >= 0 ? &s->jc[((size_t)f * (size_t)s->njoint + (size_t)j) * 3u] : NULL;
+}
+
+static int finite3d(const double *p)
+{
+    return p != NULL && isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
+}
+
+/* Segment of marker m (-1: none). */
+static int seg_of(const skel_t *s, int m)
+{
+    int k, i;
+    for (k = 0; k < s->nseg; k++) {
+        for (i = 0; i < s->seg[k].nm; i++) {
+            if (s->seg[k].mk[i] == m) {
+                return k;
+            }
+        }
+    }
+    return -1;
+}
+
+static void esc(FILE *f, const char *t)
+{
+    for (; *t != '\0'; t++) {
+        if (*t == '<') {
+            fputs("&lt;", f);
+        } else if (*t == '&') {
+            fputs("&amp;", f);
+        } else if (*t == '>') {
+            fputs("&gt;", f);
+        } else if (*t == '"') {
+            fputs("&quot;", f);
+        } else {
+            fputc(*t, f);
+        }
+    }
+}
+
+/* The picture's vertical: the lab axis along which the skeleton (its
+ * nodes and end sites) spreads most, summed over (up to 500) frames; its
+ * sign puts the end site of the leaf farthest from the root (in joints)
+ * below the root on average. */
+static void view_up(const skel_t *s, int *up, double *sign)
+{
+    const long nf = s->rec->nframes;
+    const long step = nf > 500 ? nf / 500 : 1;
+    double ext[3] = {0.0, 0.0, 0.0}, below = 0.0;
+    int k, i, deep = -1, best = -1;
+    long f;
+    for (k = 0; k < s->nseg; k++) {
+        int d = 0, c = k;
+        if (!s->leaf[k]) {
+            continue;
+        }
+        while (s->parent_joint[c] >= 0 && d < SKEL_MAX_SEG) {
+            c = s->joint[s->parent_joint[c]].parent;
+            d++;
+        }
+        if (d > best) {
+            best = d;
+            deep = k;
+        }
+    }
+    for (f = 0; f < nf; f += step) {
+        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (k = 0; k < s->nseg; k++) {
+            const double *p[2];
+            int t;
+            p[0] = node(s, f, k);
+            p[1] = s->leaf[k] ? &s->ends[((size_t)f * (size_t)s->nseg + (size_t)k) * 3u] : NULL;
+            for (t = 0; t < 2; t++) {
+                for (i = 0; i < 3 && finite3d(p[t]); i++) {
+                    lo[i] = p[t][i] < lo[i] ? p[t][i] : lo[i];
+                    hi[i] = p[t][i] > hi[i] ? p[t][i] : hi[i];
+                }
+            }
+        }
+        for (i = 0; i < 3; i++) {
+            ext[i] += hi[i] > lo[i] ? hi[i] - lo[i] : 0.0;
+        }
+    }
+    *up = 2;
+    for (i = 0; i < 3; i++) {
+        if (ext[i] > ext[*up]) {
+            *up = i;
+        }
+    }
+    for (f = 0; deep >= 0 && f < nf; f += step) {
+        const double *e = &s->ends[((size_t)f * (size_t)s->nseg + (size_t)deep) * 3u];
+        if (finite3d(e)) {
+            below += e[*up] - s->root_t[f * 3 + *up];
+        }
+    }
+    *sign = below > 0.0 ? -1.0 : 1.0;
+}
+
+/* ------------------------------------------------------------------ SVG */
+
+typedef struct view {
+    int h, v;
+    double sign; /* vertical = sign * p[v] */
+    double x0, y0, lo_h, lo_v, scale, ph;
+} view_t;
+
+static void px(const view_t *w, const double *p, double *x, double *y)
+{
+    *x = w->x0 + 20.0 + (p[w->h] - w->lo_h) * w->scale;
+    *y = w->y0 + w->ph - 20.0 - (w->sign * p[w->v] - w->lo_v) * w->scale;
+}
+
+int skel_write_svg(const skel_t *s, const char *path, long fr)
+{
+    static const char *const axn[3] = {"X", "Y", "Z"};
+    int up, h1, h2;
+    double sg;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    double pw, ph = 600.0, scale, span;
+    view_t w[2];
+    FILE *f;
+    int m, i, k, v;
+    view_up(s, &up, &sg);
+    h1 = up == 0 ? 1 : 0;
+    h2 = up == 2 ? 1 : 2;
+    for (m = 0; m < s->rec->nmark; m++) {
+        const float *p = skel_rec_at(s->rec, fr, m);
+        for (i = 0; i < 3; i++) {
+            const double x = (i == up ? sg : 1.0) * (double)p[i];
+            if (isfinite(x)) {
+                lo[i] = x < lo[i] ? x : lo[i];
+                hi[i] = x > hi[i] ? x : hi[i];
+            }
+        }
+    }
+    for (k = 0; k < s->nseg; k++) {
+        const double *p = node(s, fr, k);
+        for (i = 0; i < 3 && finite3d(p); i++) {
+            const double x = (i == up ? sg : 1.0) * p[i];
+            lo[i] = x < lo[i] ? x : lo[i];
+            hi[i] = x > hi[i] ? x : hi[i];
+        }
+    }
+    span = hi[up] - lo[up];
+    if (!(span > 0.0)) {
+        fprintf(stderr, "sfit: nothing to draw at frame %ld\n", fr);
+        return -1;
+    }
+    for (i = 0; i < 3; i++) {
+        lo[i] -= 0.05 * span;
+        hi[i] += 0.05 * span;
+    }
+    scale = (ph - 40.0) / (hi[up] - lo[up]);
+    pw = ((hi[h1] - lo[h1]) > (hi[h2] - lo[h2]) ? hi[h1] - lo[h1] : hi[h2] - lo[h2]) * scale + 40.0;
+    if (pw < 260.0) {
+        pw = 260.0;
+    }
+    for (v = 0; v < 2; v++) {
+        w[v].h = v == 0 ? h2 : h1;
+        w[v].v = up;
+        w[v].sign = sg;
+        w[v].x0 = v == 0 ? 0.0 : pw + 20.0;
+        w[v].y0 = 40.0;
+        w[v].lo_h = lo[w[v].h];
+        w[v].lo_v = lo[up];
+        w[v].scale = scale;
+        w[v].ph = ph;
+    }
+    f = fopen(path, "w");
+    if (f == NULL) {
+        fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+               "width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n",
+            2.0 * pw + 20.0, ph + 90.0, 2.0 * pw + 20.0, ph + 90.0);
+    fputs("<style>text{font-family:sans-serif}.t{font-size:15px;font-weight:bold}"
+          ".c{font-size:13px;fill:#333}.j{font-size:12px;fill:#b00;font-weight:bold}"
+          ".b{stroke:#333;stroke-width:5;stroke-linecap:round}.fr{fill:#fafafa;stroke:#ccc}"
+          ".jc{fill:#d00;stroke:#fff;stroke-width:1.5}.ax{stroke:#d00;stroke-width:2;"
+          "stroke-dasharray:6 3}</style>\n",
+          f);
+    fprintf(f, "<text class=\"t\" x=\"10\" y=\"22\">sfit skeleton: frame %ld of %ld, %d segments, "
+               "%d joints (lab frame, ",
+            fr, s->rec->nframes, s->nseg, s->njoint);
+    esc(f, s->rec->units[0] ? s->rec->units : "units");
+    fputs(")</text>\n", f);
+    for (v = 0; v < 2; v++) {
+        double x, y, x2, y2;
+        fprintf(f, "<rect class=\"fr\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\"/>\n",
+                w[v].x0, w[v].y0, pw, ph);
+        fprintf(f, "<text class=\"c\" x=\"%.1f\" y=\"%.1f\">view along %s: %s right, %s%s up</text>\n",
+                w[v].x0 + 8.0, w[v].y0 + ph + 18.0, axn[v == 0 ? h1 : h2], axn[w[v].h],
+                sg < 0.0 ? "-" : "", axn[up]);
+        for (m = 0; m < s->rec->nmark; m++) {
+            const float *p = skel_rec_at(s->rec, fr, m);
+            const int g = seg_of(s, m);
+            double d[3];
+            if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+                continue;
+            }
+            d[0] = (double)p[0];
+            d[1] = (double)p[1];
+            d[2] = (double)p[2];
+            px(&w[v], d, &x, &y);
+            fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"%s\"/>\n", x, y,
+                    g >= 0 ? k_colour[g % NCOL] : "#bbb");
+        }
+        for (k = 0; k < s->nseg; k++) { /* bones */
+            const int j = s->parent_joint[k];
+            if (j >= 0) {
+                const double *a = node(s, fr, s->joint[j].parent), *b = node(s, fr, k);
+                if (finite3d(a) && finite3d(b)) {
+                    px(&w[v], a, &x, &y);
+                    px(&w[v], b, &x2, &y2);
+                    fprintf(f, "<line class=\"b\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n",
+                            x, y, x2, y2);
+                }
+            }
+            if (s->leaf[k]) {
+                const double *a = node(s, fr, k);
+                const double *b = &s->ends[((size_t)fr * (size_t)s->nseg + (size_t)k) * 3u];
+                if (finite3d(a) && finite3d(b)) {
+                    px(&w[v], a, &x, &y);
+                    px(&w[v], b, &x2, &y2);
+                    fprintf(f, "<line class=\"b\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" "
+                               "stroke-dasharray=\"8 5\"/>\n",
+                            x, y, x2, y2);
+                }
+            }
+        }
+        for (k = 0; k < s->nseg; k++) {
+            const double *a = node(s, fr, k);
+            const int j = s->parent_joint[k];
+            if (!finite3d(a) || (j < 0 && k != s->root)) {
+                continue;
+            }
+            if (j >= 0 && s->joint[j].pr.type == SKEL_HINGE) {
+                const double *q = &s->pose[((size_t)fr * (size_t)s->nseg
+                                            + (size_t)s->joint[j].parent) * 12u];
+                double ax[3], p0[3], p1[3];
+                for (i = 0; i < 3; i++) {
+                    ax[i] = q[i * 3] * s->joint[j].pr.axis_a[0] + q[i * 3 + 1] * s->joint[j].pr.axis_a[1]
+                            + q[i * 3 + 2] * s->joint[j].pr.axis_a[2];
+                    p0[i] = a[i] - 0.06 * span * ax[i];
+                    p1[i] = a[i] + 0.06 * span * ax[i];
+                }
+                px(&w[v], p0, &x, &y);
+                px(&w[v], p1, &x2, &y2);
+                fprintf(f, "<line class=\"ax\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", x,
+                        y, x2, y2);
+            }
+            px(&w[v], a, &x, &y);
+            fprintf(f, "<circle class=\"jc\" cx=\"%.1f\" cy=\"%.1f\" r=\"6\"/>\n", x, y);
+            fprintf(f, "<text class=\"j\" x=\"%.1f\" y=\"%.1f\">", x + 9.0, y + 14.0);
+            esc(f, j >= 0 ? s->joint[j].name : s->seg[k].name);
+            fputs("</text>\n", f);
+        }
+    }
+    fprintf(f, "<text class=\"c\" x=\"10\" y=\"%.0f\">red: joint centres (root: its segment's "
+               "marker centroid); dark: bones (dashed: to a leaf's marker centroid); dots: markers, "
+               "coloured by segment (grey: none)</text>\n",
+            ph + 80.0);
+    fputs("</svg>\n", f);
+    if (ferror(f) != 0 || fclose(f) != 0) {
+        fprintf(stderr, "sfit: cannot write %s\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+/* ----------------------------------------------------------------- HTML */
+
+static void jnum(FILE *f, double x)
+{
+    if (isfinite(x)) {
+        fprintf(f, "%.1f", x);
+    } else {
+        fputs("null", f);
+    }
+}
+
+static void jstr(FILE *f, const char *t)
+{
+    fputc('"', f);
+    for (; *t != '\0'; t++) {
+        if (*t == '"' || *t == '\\') {
+            fputc('\\', f);
+            fputc(*t, f);
+        } else if (*t == '<') {
+            fputs("\\u003c", f);
+        } else if ((unsigned char)*t < 0x20u) {
+            fprintf(f, "\\u%04x", (unsigned)(unsigned char)*t);
+        } else {
+            fputc(*t, f);
+        }
+    }
+    fputc('"', f);
+}
+
+#define HTML_MAX_FRAMES 3000L
+
+int skel_write_html(const skel_t *s, const char *path)
+{
+    const long nf = s->rec->nframes;
+    const long stride = (nf + HTML_MAX_FRAMES - 1) / HTML_MAX_FRAMES;
+    FILE *f = fopen(path, "w");
+    long fr;
+    int k, m, i, first;
+    if (f == NULL) {
+        fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+          "<title>sfit skeleton</title>\n<style>\n"
+          "body{font-family:sans-serif;margin:8px;background:#fff;color:#222}\n"
+          "#bar{margin:4px 0;height:28px;white-space:nowrap;overflow:hidden}\n"
+          "#bar input[type=range]{width:420px;vertical-align:middle}\n"
+          "canvas{border:1px solid #ccc;background:#fafafa}\n"
+          "#state{display:none}\n</style></head><body>\n"
+          "<div id=\"bar\"><button id=\"play\">play</button> frame <input id=\"fr\" "
+          "type=\"range\" min=\"0\" value=\"0\"> <span id=\"lbl\"></span> &nbsp; turn "
+          "<input id=\"yaw\" type=\"range\" min=\"-180\" max=\"180\" value=\"0\" "
+          "style=\"width:120px\"></div>\n"
+          "<canvas id=\"cv\" width=\"900\" height=\"640\"></canvas>\n"
+          "<div id=\"legend\"></div><pre id=\"state\"></pre>\n"
+          "<script>\nconst D=",
+          f);
+    /* data */
+    {
+        int up;
+        double sg;
+        view_up(s, &up, &sg);
+        fprintf(f, "{\"rate\":%g,\"stride\":%ld,\"nframes\":%ld,\"up\":%d,\"sgn\":%g,\"units\":",
+                (double)s->rec->rate, stride, nf, up, sg);
+    }
+    jstr(f, s->rec->units);
+    fputs(",\"seg\":[", f);
+    for (k = 0; k < s->nseg; k++) {
+        const int j = s->parent_joint[k];
+        fprintf(f, "%s{\"name\":", k ? "," : "");
+        jstr(f, s->seg[k].name);
+        fprintf(f, ",\"joint\":");
+        jstr(f, j >= 0 ? s->joint[j].name : (k == s->root ? s->seg[k].name : ""));
+        fprintf(f, ",\"parent\":%d,\"in\":%d,\"leaf\":%d,\"colour\":\"%s\"}",
+                j >= 0 ? s->joint[j].parent : -1, (k == s->root || j >= 0) ? 1 : 0, s->leaf[k],
+                k_colour[k % NCOL]);
+    }
+    fputs("],\"mseg\":[", f);
+    for (m = 0; m < s->rec->nmark; m++) {
+        fprintf(f, "%s%d", m ? "," : "", seg_of(s, m));
+    }
+    fputs("],\n\"f\":[", f);
+    first = 1;
+    for (fr = 0; fr < nf; fr += stride) {
+        /* per frame: nodes (per segment), end sites (per segment), markers */
+        fprintf(f, "%s[", first ? "" : ",\n");
+        first = 0;
+        for (k = 0; k < s->nseg; k++) {
+            const double *p = node(s, fr, k);
+            for (i = 0; i < 3; i++) {
+                fputs(k || i ? "," : "", f);
+                jnum(f, p != NULL ? p[i] : (double)NAN);
+            }
+        }
+        for (k = 0; k < s->nseg; k++) {
+            const double *p = &s->ends[((size_t)fr * (size_t)s->nseg + (size_t)k) * 3u];
+            for (i = 0; i < 3; i++) {
+                fputc(',', f);
+                jnum(f, p[i]);
+            }
+        }
+        for (m = 0; m < s->rec->nmark; m++) {
+            const float *p = skel_rec_at(s->rec, fr, m);
+            for (i = 0; i < 3; i++) {
+                fputc(',', f);
+                jnum(f, (double)p[i]);
+            }
+        }
+        fputc(']', f);
+    }
+    fputs("]};\n", f);
+    /* the player (plain script, no library) */
+    fputs(
+        "const cv=document.getElementById('cv'),cx=cv.getContext('2d');\n"
+        "const S=D.seg.length,NM=D.mseg.length,NF=D.f.length;\n"
+        "const up=D.up,h1=(up+1)%3,h2=(up+2)%3;\n"
+        "const fr=document.getElementById('fr'),lbl=document.getElementById('lbl'),"
+        "yaw=document.getElementById('yaw');\n"
+        "fr.max=NF-1;\n"
+        "function cen(row){let c=[0,0,0],n=0;for(let i=0;i<S;i++){if(row[3*i]===null)continue;"
+        "for(let a=0;a<3;a++)c[a]+=row[3*i+a];n++;}return n?c.map(v=>v/n):[0,0,0];}\n"
+        "const C=D.f.map(cen);const dd=[];\n"
+        "D.f.forEach((row,k)=>{for(let i=0;i<row.length;i+=3){if(row[i]===null)continue;"
+        "dd.push(Math.hypot(row[i]-C[k][0],row[i+1]-C[k][1],row[i+2]-C[k][2]));}});\n"
+        "dd.sort((a,b)=>a-b);const R=Math.max(1e-9,dd[Math.floor(0.995*(dd.length-1))]||1);\n"
+        "const sc=Math.min(cv.width,cv.height)/(2.2*R);let ctr=C[0];\n"
+        "function proj(p){const t=yaw.value*Math.PI/180,a=p[h1]-ctr[h1],b=p[h2]-ctr[h2];\n"
+        " const x=a*Math.cos(t)-b*Math.sin(t);\n"
+        " return [cv.width/2+x*sc,cv.height/2-D.sgn*(p[up]-ctr[up])*sc];}\n"
+        "function pt(row,i){const p=[row[3*i],row[3*i+1],row[3*i+2]];return p[0]===null?null:p;}\n"
+        "let cur=0,timer=null;\n"
+        "function draw(k){cur=k;fr.value=k;const row=D.f[k];ctr=C[k];const r=cv.getBoundingClientRect();"
+        "const st={frame:k*D.stride,canvas:[r.left,r.top,cv.width,cv.height],nodes:{},bones:[]};\n"
+        " cx.clearRect(0,0,cv.width,cv.height);cx.fillStyle='#fafafa';"
+        "cx.fillRect(0,0,cv.width,cv.height);\n"
+        " for(let m=0;m<NM;m++){const p=pt(row,2*S+m);if(!p)continue;const q=proj(p);"
+        "const g=D.mseg[m];\n"
+        "  cx.fillStyle=g>=0?D.seg[g].colour:'#bbb';cx.beginPath();"
+        "cx.arc(q[0],q[1],3.5,0,7);cx.fill();}\n"
+        " cx.lineCap='round';\n"
+        " for(let k2=0;k2<S;k2++){const s=D.seg[k2];if(!s.in)continue;const a=pt(row,k2);"
+        "if(!a)continue;const qa=proj(a);\n"
+        "  if(s.parent>=0){const b=pt(row,s.parent);if(b){const qb=proj(b);cx.strokeStyle='#333';"
+        "cx.lineWidth=6;cx.setLineDash([]);\n"
+        "   cx.beginPath();cx.moveTo(qb[0],qb[1]);cx.lineTo(qa[0],qa[1]);cx.stroke();"
+        "st.bones.push([qb[0],qb[1],qa[0],qa[1]]);}}\n"
+        "  if(s.leaf){const e=pt(row,S+k2);if(e){const qe=proj(e);cx.strokeStyle='#333';"
+        "cx.lineWidth=6;cx.setLineDash([10,6]);\n"
+        "   cx.beginPath();cx.moveTo(qa[0],qa[1]);cx.lineTo(qe[0],qe[1]);cx.stroke();"
+        "cx.setLineDash([]);st.bones.push([qa[0],qa[1],qe[0],qe[1]]);}}}\n"
+        " cx.font='bold 13px sans-serif';\n"
+        " for(let k2=0;k2<S;k2++){const s=D.seg[k2];if(!s.in)continue;const a=pt(row,k2);"
+        "if(!a)continue;const q=proj(a);\n"
+        "  cx.fillStyle='#d00';cx.beginPath();cx.arc(q[0],q[1],7,0,7);cx.fill();\n"
+        "  cx.fillText(s.joint,q[0]+10,q[1]+15);st.nodes[s.joint]=[Math.round(q[0]),"
+        "Math.round(q[1])];}\n"
+        " lbl.textContent=(k*D.stride)+' / '+D.nframes+' ('+(k*D.stride/(D.rate||1))"
+        ".toFixed(2)+' s)';\n"
+        " document.getElementById('state').textContent=JSON.stringify(st);"
+        "document.title='sfit skeleton, frame '+(k*D.stride);}\n"
+        "function fromHash(){const m=/frame=(\\d+)/.exec(location.hash+location.search);"
+        "if(m){stop();draw(Math.min(NF-1,Math.floor(+m[1]/D.stride)));return true;}return false;}\n"
+        "function stop(){if(timer){clearInterval(timer);timer=null;}"
+        "document.getElementById('play').textContent='play';}\n"
+        "document.getElementById('play').onclick=function(){if(timer){stop();return;}"
+        "this.textContent='pause';\n"
+        " timer=setInterval(()=>draw((cur+1)%NF),1000/((D.rate||30)/D.stride));};\n"
+        "fr.oninput=()=>{stop();draw(+fr.value);};yaw.oninput=()=>draw(cur);\n"
+        "window.onhashchange=fromHash;\n"
+        "document.getElementById('legend').innerHTML=D.seg.map(s=>'<span style=\"color:'+"
+        "s.colour+'\">&#9679; '+s.name.replace(/&/g,'&amp;').replace(/</g,'&lt;')+'</span>').join(' &nbsp; ')+"
+        "' &nbsp; red: joint centres; dark: bones; grey: markers of no segment ('+D.units+')';\n"
+        "if(!fromHash())draw(0);\n"
+        "</script></body></html>\n",
+        f);
+    if (ferror(f) != 0 || fclose(f) != 0) {
+        fprintf(stderr, "sfit: cannot write %s\n", path);
+        return -1;
+    }
+    return 0;
+}
