@@ -148,7 +148,7 @@ def read(path):
     data = buf[d0:d0 + nframes * fb]
     assert len(data) == nframes * fb, 'data section short'
     fmt = P.get(('ANALOG', 'FORMAT'))
-    unsigned = fmt is not None and fmt.strings()[0].upper().startswith('UNSIGNED')
+    unsigned = fmt is not None and len(fmt.strings()) > 0 and fmt.strings()[0].upper().startswith('UNSIGNED')
     if word == 4:
         allw = _floats(data, proc).reshape(nframes, -1)
         pts = allw[:, :4 * npts].reshape(nframes, npts, 4).astype(np.float64)
