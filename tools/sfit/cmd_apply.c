@@ -467,6 +467,7 @@ int cli_cmd_apply(int argc, char **argv)
         frame = strtol(frame_s, &e, 10);
         if (*e != '\0' || e == frame_s || errno != 0 || frame < 0) {
             fprintf(stderr, "sfit: --frame needs a whole number >= 0\n");
+            apply_usage(stderr);
             return CLI_USAGE;
         }
     }
