@@ -16,9 +16,8 @@
 #include "c3d_write.h"
 #include "cli.h"
 #include "cli_frames.h"
-#include "cli_swaps.h"
 #include "session.h"
-#include "sfit/sfit_cluster.h"
+#include "session_calib.h"
 
 #define CHI2_3_95 7.814727903251178
 
@@ -48,27 +47,17 @@ typedef struct apply_joint {
 
 /* Place joint j in every frame; pts (nframes x npoints_total x 3) from column col. */
 static int place_joint(const char *trial, const session_joint_t *j, float d, long nframes,
-                       float *pts, int ntot, int col, apply_joint_t *aj, int *swapped)
+                       float *pts, int ntot, int col, apply_joint_t *aj)
 {
     const char *names[SM_MARKERS_MAX];
     cli_frames_t fr;
-    cli_swaps_t sw;
-    sfit_cluster_t cl;
-    sfit_vec3_t tpl[SM_MARKERS_MAX];
     char why[CLI_FRAMES_ERR_MAX];
-    long f;
-    int i, k;
+    long placed;
+    int i;
     for (i = 0; i < j->nmarkers; i++) {
         names[i] = j->markers[i];
-        for (k = 0; k < 3; k++) {
-            tpl[i].v[k] = j->tpl[i][k];
-        }
     }
     aj->missing = nframes;
-    if (sfit_cluster_init(&cl, tpl, (size_t)j->nmarkers) != SFIT_OK) {
-        fprintf(stderr, "sfit: %s: the session's template is degenerate\n", j->name);
-        return -1;
-    }
     if (cli_frames_load(trial, names, j->nmarkers, &fr, why) != 0) {
         fprintf(stderr, "sfit: %s: %s: not placed in any frame\n", j->name, why);
         return 0;
@@ -79,40 +68,14 @@ static int place_joint(const char *trial, const session_joint_t *j, float d, lon
         return -1;
     }
     aj->loaded = 1;
-    /* the parent's label swaps, repaired as `sfit joint` does */
-    if (cli_swaps_run(fr.xyz, fr.nframes, fr.nmarkers, 0, fr.nmarkers, 0, fr.nframes - 1, 1,
-                      &sw) == 0) {
-        *swapped += sw.frames_swapped > 0;
-        cli_swaps_free(&sw);
-    }
-    aj->missing = 0;
-    for (f = 0; f < nframes; f++) {
-        sfit_pose_t pose;
-        sfit_vec3_t c, a;
-        float *p = pts + ((size_t)f * (size_t)ntot + (size_t)col) * 3u;
-        if (sfit_cluster_register(&cl, cli_frames_at(&fr, f, 0), (size_t)j->nmarkers, &pose, NULL)
-                != SFIT_OK
-            || sfit_pose_to_global(&pose, (const sfit_vec3_t *)j->center, &c) != SFIT_OK) {
-            aj->missing++;
-            continue;
-        }
-        aj->rot[f] = pose.r;
-        for (k = 0; k < 3; k++) {
-            p[k] = c.v[k];
-        }
-        if (j->hinge) {
-            for (i = 0; i < 3; i++) {
-                a.v[i] = pose.r.m[i * 3] * j->axis[0] + pose.r.m[i * 3 + 1] * j->axis[1]
-                         + pose.r.m[i * 3 + 2] * j->axis[2];
-            }
-            for (k = 0; k < 3; k++) {
-                p[3 + k] = c.v[k] - d * a.v[k];
-                p[6 + k] = c.v[k] + d * a.v[k];
-            }
-        }
-        aj->placed++;
-    }
+    placed = session_place_frames(j, &fr, d, pts + (size_t)col * 3u, ntot, aj->rot);
     cli_frames_free(&fr);
+    if (placed < 0) {
+        fprintf(stderr, "sfit: %s: the session's template is degenerate\n", j->name);
+        return -1;
+    }
+    aj->placed = placed;
+    aj->missing = nframes - placed;
     return 0;
 }
 
@@ -456,7 +419,7 @@ int cli_cmd_apply(int argc, char **argv)
     float *pts = NULL;
     float d = 100.0f;
     long frame = -1, f;
-    int ntot = 0, i, rc = CLI_FAIL, swapped = 0, to_float = 0, all_missing = 0;
+    int ntot = 0, i, rc = CLI_FAIL, to_float = 0, all_missing = 0;
     const int prc = cli_parse(argc, argv, &args);
     if (prc >= 0) {
         return prc;
@@ -522,7 +485,7 @@ int cli_cmd_apply(int argc, char **argv)
     for (i = 0; i < s.njoint; i++) {
         aj[i].rot = calloc((size_t)c.nframes, sizeof *aj[i].rot);
         if (aj[i].rot == NULL
-            || place_joint(pos[1], &s.joint[i], d, c.nframes, pts, ntot, col[i], &aj[i], &swapped)
+            || place_joint(pos[1], &s.joint[i], d, c.nframes, pts, ntot, col[i], &aj[i])
                    != 0) {
             goto out;
         }
@@ -598,6 +561,5 @@ out:
     free(pts);
     c3d_free(&c);
     free(buf);
-    (void)swapped;
     return rc;
 }
