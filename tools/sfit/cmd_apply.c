@@ -246,9 +246,9 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         if (!finite3(p) || (p[0] == 0.0f && p[1] == 0.0f && p[2] == 0.0f)) {
             continue;
         }
-        q[0] = p[0];
-        q[1] = p[1];
-        q[2] = p[2];
+        q[0] = (double)p[0];
+        q[1] = (double)p[1];
+        q[2] = (double)p[2];
         x = dot3(q, v.ex);
         y = dot3(q, v.ey);
         lo[0] = x < lo[0] ? x : lo[0];
@@ -284,9 +284,9 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         if (!finite3(p) || (p[0] == 0.0f && p[1] == 0.0f && p[2] == 0.0f)) {
             continue;
         }
-        q[0] = p[0];
-        q[1] = p[1];
-        q[2] = p[2];
+        q[0] = (double)p[0];
+        q[1] = (double)p[1];
+        q[2] = (double)p[2];
         fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"#999\"><title>%s</title></circle>\n",
                 PX(q), PY(q), c->labels[k]);
     }
@@ -298,22 +298,22 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         if (!finite3(a)) {
             continue;
         }
-        qa[0] = a[0];
-        qa[1] = a[1];
-        qa[2] = a[2];
+        qa[0] = (double)a[0];
+        qa[1] = (double)a[1];
+        qa[2] = (double)a[2];
         for (q = 0; q < s->njoint; q++) {
             const float *b = pts + ((size_t)f * (size_t)ntot + (size_t)col[q]) * 3u;
             if (strcmp(s->joint[q].parent, s->joint[k].child) == 0) {
                 linked = 1;
                 if (finite3(b)) {
-                    double qb[3] = {b[0], b[1], b[2]};
+                    double qb[3] = {(double)b[0], (double)b[1], (double)b[2]};
                     fprintf(o, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" "
                                "stroke=\"#1f5fbf\" stroke-width=\"7\" stroke-linecap=\"round\"/>\n",
                             PX(qa), PY(qa), PX(qb), PY(qb));
                 }
             }
             if (q > k && strcmp(s->joint[q].parent, s->joint[k].parent) == 0 && finite3(b)) {
-                double qb[3] = {b[0], b[1], b[2]}; /* two joints of one segment */
+                double qb[3] = {(double)b[0], (double)b[1], (double)b[2]}; /* two joints of one segment */
                 fprintf(o, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" "
                            "stroke=\"#1f5fbf\" stroke-width=\"7\" stroke-linecap=\"round\"/>\n",
                         PX(qa), PY(qa), PX(qb), PY(qb));
@@ -340,9 +340,9 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         if (!finite3(a)) {
             continue;
         }
-        qa[0] = a[0];
-        qa[1] = a[1];
-        qa[2] = a[2];
+        qa[0] = (double)a[0];
+        qa[1] = (double)a[1];
+        qa[2] = (double)a[2];
         for (r = 0; r < 3; r++) { /* lab = R cov R^T */
             for (t = 0; t < 3; t++) {
                 double sum = 0.0;
