@@ -142,7 +142,7 @@ void session_write_json(FILE *f, const session_t *s)
 enum { J_NULL, J_BOOL, J_NUM, J_STR, J_ARR, J_OBJ };
 
 #define J_DEPTH_MAX 8
-#define J_NODES_MAX 20000
+#define J_NODES_MAX 8192 /* a session of 32 joints of 8 markers needs about 3700 */
 #define J_STR_MAX 600
 
 typedef struct jnode {
