@@ -45,7 +45,13 @@ ext = Extension(
     sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
              os.path.join(HERE, "src", "swaps.c"), os.path.join(HERE, "src", "pair_py.c"),
              os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c"),
-             os.path.join(CLI_SRC, "cli_swaps.c")] + lib_sources,
+             os.path.join(CLI_SRC, "cli_swaps.c")]
+    # the lab session (session_py.c) and the CLI code it runs
+    + [os.path.join(HERE, "src", "session_py.c")]
+    + [os.path.join(CLI_SRC, f + ".c") for f in ("session_model", "session", "session_calib",
+                                                  "cli_swaps_print", "cli_joint", "cli_frames",
+                                                  "cli_common", "table")]
+    + lib_sources,
     include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, CLI_SRC, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],

@@ -198,5 +198,7 @@ int cli_cmd_track(int argc, char **argv);
 int cli_cmd_joint(int argc, char **argv);
 int cli_cmd_skeleton(int argc, char **argv);
 int cli_cmd_c3d(int argc, char **argv);
+int cli_cmd_calibrate(int argc, char **argv); /* cmd_calibrate.c */
+int cli_cmd_apply(int argc, char **argv);     /* cmd_apply.c */
 
 #endif /* SFIT_CLI_H */

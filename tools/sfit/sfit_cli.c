@@ -22,6 +22,8 @@ static const cli_command_t commands[] = {
     {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
     {"joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table"},
     {"skeleton", cli_cmd_skeleton, "every joint of a model, and an SVG of the skeleton"},
+    {"calibrate", cli_cmd_calibrate, "every joint of a session model from its functional trial"},
+    {"apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial"},
     {"c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table"},
 };
 

@@ -283,3 +283,14 @@ def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Clus
                  method: Literal["mgdk", "default", "score", "sara"] = "mgdk",
                  child_template: Union[None, Cluster, ArrayLike] = None,
                  repair_swaps: bool = True) -> JointResult: ...
+
+# A lab session (docs/session.md)
+def session_model(model: Union[str, bytes, "os.PathLike[str]"]) -> dict[str, Any]: ...
+def calibrate(model: Union[str, bytes, "os.PathLike[str]"],
+              trials: Union[Sequence[Union[str, "os.PathLike[str]"]],
+                            "Mapping[str, Union[str, os.PathLike[str], Mapping[str, ArrayLike]]]"],
+              out: Optional[Union[str, "os.PathLike[str]"]] = None) -> dict[str, Any]: ...
+def apply_session(session: Union[dict[str, Any], str, "os.PathLike[str]"],
+                  trial: Union[str, "os.PathLike[str]", "Mapping[str, ArrayLike]"],
+                  out: Optional[Union[str, "os.PathLike[str]"]] = None,
+                  trc: Optional[Union[str, "os.PathLike[str]"]] = None) -> dict[str, Any]: ...

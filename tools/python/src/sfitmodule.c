@@ -55,6 +55,8 @@
 
 /* C3D files (c3dmodule.c): sfit.read_c3d / write_c3d / write_trc. */
 PyMethodDef *sfit_py_c3d_methods(void);
+/* A lab session (session_py.c): sfit.session_model / calibrate / apply_session. */
+PyMethodDef *sfit_py_session_methods(void);
 
 static PyObject *g_error;            /* sfit.Error */
 static PyObject *g_exc[N_STATUS];    /* per status code (index -code), [0] unused */
@@ -2371,7 +2373,8 @@ PyMODINIT_FUNC PyInit__sfit(void)
     if (m == NULL) {
         return NULL;
     }
-    if (PyModule_AddFunctions(m, sfit_py_c3d_methods()) < 0) {
+    if (PyModule_AddFunctions(m, sfit_py_c3d_methods()) < 0
+        || PyModule_AddFunctions(m, sfit_py_session_methods()) < 0) {
         Py_DECREF(m);
         return NULL;
     }

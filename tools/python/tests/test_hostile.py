@@ -672,6 +672,7 @@ def build_cases():
     if HAVE_JOINT:
         _joint_cases(T, res)
     _c3d_cases(T)
+    _session_cases(T)
     return T
 
 
@@ -743,6 +744,109 @@ def _c3d_cases(T):
             ("no args", lambda w=w: w(), TypeError)]
     T["write_trc"].append(("no points", lambda: sfit.write_trc(hip, out), "ok"))
 
+
+
+def _session_data(frames=120):
+    """A synthetic session on arrays: a still pelvis of 4 markers, a thigh
+    of 3 markers turning about a ball joint at (0, 0, -100)."""
+    pel = np.array([[100.0, 80, 0], [100, -80, 0], [-60, 60, 10], [-60, -60, 10]])
+    loc = np.array([[0.0, 60, -300], [50, 0, -250], [-40, -30, -420]])
+    t = np.arange(frames) * 0.11
+    out = {}
+    thigh = []
+    for f in range(frames):
+        a, b = 0.5 * np.sin(t[f]), 0.4 * np.cos(1.7 * t[f])
+        ra = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+        rb = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
+        thigh.append((ra @ rb @ (loc - [0, 0, -100]).T).T + [0, 0, -100])
+    thigh = np.array(thigh)
+    for k, n in enumerate(["P1", "P2", "P3", "P4"]):
+        out[n] = np.tile(pel[k], (frames, 1))
+    for k, n in enumerate(["T1", "T2", "T3"]):
+        out[n] = thigh[:, k]
+    return out
+
+
+_SESSION_MODEL = ("segment pelvis P1,P2,P3,P4\nsegment thigh T1,T2,T3\n"
+                  "joint hip pelvis thigh ball HJC trial*\n")
+
+
+def _session_cases(T):
+    """session_model, calibrate, apply_session: bad models, sessions, trials."""
+    import copy
+    import tempfile
+    tmp = tempfile.mkdtemp(prefix="sfit_hostile_session_")
+    data = _session_data()
+    path = os.path.join(tmp, "model.txt")
+    with open(path, "w") as f:
+        f.write(_SESSION_MODEL)
+    good = {"trial1": data}
+    T["session_model"] = [
+        ("text", lambda: sfit.session_model(_SESSION_MODEL), "ok"),
+        ("path", lambda: sfit.session_model(path), "ok"),
+        ("bytes", lambda: sfit.session_model(_SESSION_MODEL.encode()), "ok"),
+        ("None", lambda: sfit.session_model(None), sfit.ArgError),
+        ("int", lambda: sfit.session_model(5), sfit.ArgError),
+        ("unknown keyword", lambda: sfit.session_model("bone a A,B,C\n"), ValueError),
+        ("NUL", lambda: sfit.session_model("segment a A,B,C\0\n"), ValueError),
+        ("long line", lambda: sfit.session_model("#" * 5000 + "\n"), ValueError),
+        ("cycle", lambda: sfit.session_model("segment a A,B,C\nsegment b D,E,F\njoint j a b ball P\n"
+                                             "joint k b a ball Q\n"), ValueError),
+        ("empty", lambda: sfit.session_model(""), ValueError)]
+    sess = sfit.calibrate(_SESSION_MODEL, good)
+    T["calibrate"] = [
+        ("arrays", lambda: sfit.calibrate(_SESSION_MODEL, good), "ok"),
+        ("model path", lambda: sfit.calibrate(path, good), "ok"),
+        ("trials str", lambda: sfit.calibrate(_SESSION_MODEL, "trial1"), sfit.ArgError),
+        ("trials None", lambda: sfit.calibrate(_SESSION_MODEL, None), sfit.ArgError),
+        ("no match", lambda: sfit.calibrate(_SESSION_MODEL, {"other": data}), sfit.ArgError),
+        ("marker missing", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": {k: v for k, v in data.items()
+                                                                              if k != "T2"}}), sfit.ArgError),
+        ("(F, 2) marker", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(data, T1=data["T1"][:, :2])}),
+         sfit.ArgError),
+        ("frame counts differ", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(data, T1=data["T1"][:5])}),
+         sfit.ArgError),
+        ("Inf", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(data, T1=data["T1"] + np.inf)}),
+         sfit.ArgError),
+        ("1e300", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(data, T1=data["T1"] * 1e300)}),
+         sfit.ArgError),
+        ("all NaN", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": {k: v * np.nan for k, v in data.items()}}),
+         ValueError),
+        ("still child", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(
+            data, T1=np.tile(data["T1"][0], (120, 1)), T2=np.tile(data["T2"][0], (120, 1)),
+            T3=np.tile(data["T3"][0], (120, 1)))}), ValueError),
+        ("str array", lambda: sfit.calibrate(_SESSION_MODEL, {"trial1": dict(data, T1="abc")}), sfit.ArgError),
+        ("bad model", lambda: sfit.calibrate("segment a A\n", good), ValueError),
+        ("no pattern", lambda: sfit.calibrate(_SESSION_MODEL.replace(" trial*", ""), good), sfit.ArgError)]
+
+    def broken(**kw):
+        s = copy.deepcopy(sess)
+        s["joints"][0].update(kw)
+        return s
+    T["apply_session"] = [
+        ("arrays", lambda: sfit.apply_session(sess, data), "ok"),
+        ("session file", lambda: sfit.apply_session(_write_json(tmp, sess), data), "ok"),
+        ("session None", lambda: sfit.apply_session(None, data), sfit.ArgError),
+        ("session {}", lambda: sfit.apply_session({}, data), sfit.ArgError),
+        ("not JSON", lambda: sfit.apply_session("{not json", data), sfit.ArgError),
+        ("centre NaN", lambda: sfit.apply_session(broken(center=[np.nan, 0, 0]), data), sfit.ArgError),
+        ("centre short", lambda: sfit.apply_session(broken(center=[1, 2]), data), ValueError),
+        ("centre 1e40", lambda: sfit.apply_session(broken(center=[1e40, 0, 0]), data), ValueError),
+        ("template collinear", lambda: sfit.apply_session(
+            broken(template=[[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]]), data), ValueError),
+        ("markers not a list", lambda: sfit.apply_session(broken(parent_markers="P1"), data), sfit.ArgError),
+        ("marker missing", lambda: sfit.apply_session(sess, {k: v for k, v in data.items() if k != "P1"}),
+         sfit.ArgError),
+        ("object session", lambda: sfit.apply_session({"joints": [object()]}, data), sfit.ArgError),
+        ("out with arrays", lambda: sfit.apply_session(sess, data, out=os.path.join(tmp, "x.c3d")), sfit.ArgError)]
+
+
+def _write_json(tmp, obj):
+    import json
+    p = os.path.join(tmp, "session.json")
+    with open(p, "w") as f:
+        json.dump(obj, f)
+    return p
 
 def _joint_cases(T, res):
     tpl, par, chi = _joint_data()

@@ -1,0 +1,275 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# A lab session end to end (issue 29, docs/session.md), on the shared
+# lower-limb session (tests/data/c3d/lower_limb_session) with its model
+# docs/lower_limb_session.txt:
+#  1. `sfit calibrate` calibrates the right hip, knee, ankle and the trunk
+#     and prints each joint's verdict; the session JSON holds them;
+#  2. `sfit apply` on the functional trial a joint was calibrated on gives
+#     `sfit joint --trajectory` of that trial within 0.01 mm (hip: ball,
+#     knee: hinge with its axis points); the hip centre placed in
+#     anatomical_posture and in Test_func_anat, seen from the thigh: the
+#     distance and the Mahalanobis value against the calibrated covariance;
+#  3. the annotated anatomical_posture passes the C3D writer's round-trip
+#     checks (tests/scripts/c3d_ref.py: every original value identical), the
+#     new points equal an independent double-precision placement (Kabsch
+#     registration of the session's template) within 1e-3 mm;
+#  4. the SVG opens in headless Chromium; the screenshot shows the
+#     segments (blue) over most of the picture's height;
+#  5. bad models, bad sessions and trials without the parent's markers.
+# Usage: test_cli_session.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1 src=$2
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
+cli_setup test_cli_session "$build" "$src"
+/usr/bin/python3 -c 'import numpy' 2>/dev/null || missing "python3-numpy not installed"
+ses="$data/c3d/lower_limb_session"
+model="$src/docs/lower_limb_session.txt"
+
+# ------------------------------------------------------------ 1. calibrate
+"$sfit" calibrate "$model" "$ses"/*.c3d -o "$tmp/session.json" >"$tmp/cal.txt" 2>"$tmp/cal.err" \
+  || fail "calibrate: $(cat "$tmp/cal.err")"
+cat "$tmp/cal.txt"
+for j in r_hip r_knee r_ankle trunk; do
+  grep -q "^           $j (\(ball\|hinge\)): 95 % ellips" "$tmp/cal.txt" || fail "no verdict for $j"
+done
+grep -q "4 of 4 joints calibrated" "$tmp/cal.txt" || fail "not every joint calibrated"
+py '
+import json, sys, numpy as np
+s = json.load(open(sys.argv[1]))
+assert s["format"] == "sfit-session" and s["units"] == "mm" and s["root"] == "pelvis"
+J = {j["name"]: j for j in s["joints"]}
+assert sorted(J) == ["r_ankle", "r_hip", "r_knee", "trunk"], sorted(J)
+assert J["r_hip"]["type"] == "ball" and J["r_knee"]["type"] == "hinge", J["r_knee"]["type"]
+assert J["r_knee"]["points"] == ["RKJC", "RKJC_AX1", "RKJC_AX2"]
+for j in J.values():
+    C = np.array(j["center_cov"])
+    assert np.allclose(C, C.T, rtol=1e-5, atol=1e-9), j["name"]
+    ev = np.sort(np.linalg.eigvalsh((C + C.T) / 2))[::-1]
+    q = 5.991464547107979 if j["type"] == "hinge" else 7.814727903251178
+    want = np.sqrt(q * np.clip(ev, 0, None))
+    assert np.allclose(j["semi_axes_95"], want, rtol=1e-4, atol=1e-6), (j["name"], j["semi_axes_95"], want)
+    assert j["verdict"].startswith(j["name"] + " ("), j["verdict"]
+    assert max(j["semi_axes_95"]) < 10, (j["name"], j["semi_axes_95"])
+print("session: 4 joints, covariances symmetric, 95 % semi-axes = sqrt(chi2 eigenvalues)")
+' "$tmp/session.json" || fail "session JSON"
+
+# ------------------------------------------ 2. apply == joint --trajectory
+hip_p=RASI,LASI,RPSI,LPSI hip_c=RTHI,RTHIB,RTHID,RKNE,RKNEM
+knee_c=RTIB,RTIBF,RTIBD,RANK,RANKM
+"$sfit" apply "$tmp/session.json" "$ses/Test_func_rhip.c3d" -o "$tmp/rhip.c3d" >/dev/null 2>&1 \
+  || fail "apply on the hip trial"
+"$sfit" joint "$ses/Test_func_rhip.c3d" --parent $hip_p --child $hip_c --mode sphere \
+  --trajectory "$tmp/hip.csv" >/dev/null 2>&1 || fail "joint on the hip trial"
+"$sfit" apply "$tmp/session.json" "$ses/Test_func_rknee.c3d" -o "$tmp/rknee.c3d" >/dev/null 2>&1 \
+  || fail "apply on the knee trial"
+"$sfit" joint "$ses/Test_func_rknee.c3d" --parent $hip_c --child $knee_c --mode planar \
+  --trajectory "$tmp/knee.csv" --write "$tmp/kneejoint.c3d" --name RKJC >/dev/null 2>&1 \
+  || fail "joint on the knee trial"
+py '
+import sys, csv, numpy as np, c3d_ref
+def traj(p):
+    return {int(r[0]): np.array([float(v) for v in r[1:]]) for r in list(csv.reader(open(p)))[1:]}
+for out, csvp, name, ref in ((sys.argv[1], sys.argv[2], "RHJC", None),
+                             (sys.argv[3], sys.argv[4], "RKJC", sys.argv[5])):
+    b = c3d_ref.read(out); i = b["labels"].index(name); t = traj(csvp)
+    worst = max(np.abs(b["xyz"][f, i] - v).max() for f, v in t.items())
+    assert len(t) == b["nframes"] and worst < 0.01, (name, len(t), worst)
+    if ref is not None:  # the axis points as sfit joint --write puts them
+        r = c3d_ref.read(ref)
+        for k in range(3):
+            d = np.nanmax(np.abs(b["xyz"][:, i + k] - r["xyz"][:, -3 + k]))
+            assert d < 0.01, (k, d)
+    print("apply %s: equals sfit joint --trajectory in all %d frames (max diff %.3g mm)" % (name, len(t), worst))
+' "$tmp/rhip.c3d" "$tmp/hip.csv" "$tmp/rknee.c3d" "$tmp/knee.csv" "$tmp/kneejoint.c3d" \
+  || fail "apply vs joint --trajectory"
+
+for t in anatomical_posture Test_func_anat; do
+  "$sfit" apply "$tmp/session.json" "$ses/$t.c3d" -o "$tmp/$t.c3d" >"$tmp/$t.txt" 2>/dev/null \
+    || fail "apply on $t"
+done
+# The hip centre seen from the thigh in the two static trials.
+py '
+import sys, json, numpy as np, c3d_ref
+s = json.load(open(sys.argv[1])); hip = [j for j in s["joints"] if j["name"] == "r_hip"][0]
+C = np.array(hip["center_cov"]); T = np.array(hip["template"])
+thigh = ["RTHI", "RTHIB", "RTHID", "RKNE", "RKNEM"]; pelvis = hip["parent_markers"]
+def kabsch(A, B):  # B ~ R A + t (least squares)
+    ca, cb = A.mean(0), B.mean(0); U, _, Vt = np.linalg.svd((A - ca).T @ (B - cb))
+    D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))]); R = Vt.T @ D @ U.T
+    return R, cb - R @ ca
+tpl = None; mean = {}; rel = None
+for p in sys.argv[2:]:
+    a = c3d_ref.read(p); L = a["labels"]
+    jc = a["xyz"][:, L.index("RHJC")]; th = a["xyz"][:, [L.index(m) for m in thigh]]
+    pe = a["xyz"][:, [L.index(m) for m in pelvis]]
+    v = []
+    for f in range(a["nframes"]):
+        if np.isnan(th[f]).any() or np.isnan(jc[f]).any() or np.isnan(pe[f]).any():
+            continue
+        if tpl is None:
+            tpl = th[f]
+        R, t = kabsch(tpl, th[f]); v.append(R.T @ (jc[f] - t))
+        if rel is None:
+            Rp, _ = kabsch(T, pe[f]); rel = R.T @ Rp  # pelvis template -> thigh frame
+    mean[p] = np.mean(v, 0)
+d = mean[sys.argv[2]] - mean[sys.argv[3]]
+Ct = rel @ C @ rel.T
+m2 = float(d @ np.linalg.solve(Ct, d))
+print("hip centre seen from the thigh: anatomical_posture vs Test_func_anat %.2f mm apart; "
+      "Mahalanobis^2 %.1f against the calibrated covariance (chi2_3 95 %% = 7.81), %.1f against twice it"
+      % (np.linalg.norm(d), m2, m2 / 2))
+assert np.linalg.norm(d) < 5.0, d
+' "$tmp/session.json" "$tmp/anatomical_posture.c3d" "$tmp/Test_func_anat.c3d" \
+  || fail "hip centre in the two static trials"
+
+# ------------------------------------------------- 3. round trip, reference
+py '
+import sys, json, numpy as np, c3d_ref
+s = json.load(open(sys.argv[1])); a = c3d_ref.read(sys.argv[2]); b = c3d_ref.read(sys.argv[3])
+L = a["labels"]; names = []; cols = []
+for j in s["joints"]:
+    names += j["points"]
+xyz = np.full((a["nframes"], len(names), 3), np.nan); k = 0
+def kabsch(A, B):
+    ca, cb = A.mean(0), B.mean(0); U, _, Vt = np.linalg.svd((A - ca).T @ (B - cb))
+    D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))]); R = Vt.T @ D @ U.T
+    return R, cb - R @ ca
+invalid = 0
+for j in s["joints"]:
+    T = np.array(j["template"]); idx = [L.index(m) for m in j["parent_markers"]]
+    for f in range(a["nframes"]):
+        P = a["xyz"][f, idx]; ok = ~np.isnan(P).any(1) & ~(P == 0).all(1)
+        if ok.sum() < 3:
+            invalid += 1; continue
+        R, t = kabsch(T[ok], P[ok]); c = R @ np.array(j["center"]) + t
+        xyz[f, k] = c
+        if j["type"] == "hinge":
+            ax = R @ np.array(j["axis"]); xyz[f, k + 1] = c - 100 * ax; xyz[f, k + 2] = c + 100 * ax
+    k += len(j["points"])
+# everything but the new points identical, each new point valid exactly where the
+# reference places it (float storage: check_added wants the values written exactly)
+got = b["xyz"][:, a["npoints"]:]
+assert c3d_ref.check_added(a, b, names, np.where(np.isnan(xyz), np.nan, got)) == 0.0
+worst = float(np.nanmax(np.abs(got - xyz)))
+assert worst < 1e-3, worst
+print("annotated anatomical_posture: every original value identical (c3d_ref.check_added); "
+      "%d new points within %.2g mm of a double-precision Kabsch placement; %d parent-frames not placeable"
+      % (len(names), worst, invalid))
+' "$tmp/session.json" "$ses/anatomical_posture.c3d" "$tmp/anatomical_posture.c3d" \
+  || fail "round trip of the annotated C3D"
+grep -q "r_hip      RHJC: placed in 122 frames, 0 invalid" "$tmp/anatomical_posture.txt" \
+  || fail "apply's count: $(cat "$tmp/anatomical_posture.txt")"
+
+# ------------------------------------------------------ 4. the picture
+"$sfit" apply "$tmp/session.json" "$ses/anatomical_posture.c3d" -o "$tmp/a2.c3d" \
+  --trc "$tmp/a2.trc" --svg "$tmp/anat.svg" >/dev/null 2>&1 || fail "apply --svg"
+cmp -s "$tmp/a2.c3d" "$tmp/anatomical_posture.c3d" || fail "--svg changed the C3D"
+py 'import sys, c3d_ref; t = c3d_ref.read_trc(sys.argv[1]); assert t["names"][-6:] == ["RHJC", "RKJC", "RKJC_AX1", "RKJC_AX2", "RAJC", "TJC"], t["names"][-6:]' \
+  "$tmp/a2.trc" || fail "TRC labels"
+py 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1]).getroot()
+ns = "{http://www.w3.org/2000/svg}"
+assert len(r.findall(ns + "ellipse")) == 4 and len(r.findall(ns + "line")) >= 4
+print("SVG: well-formed XML, 4 ellipsoids,", len(r.findall(ns + "line")), "segments,", len(r.findall(ns + "circle")), "points")' \
+  "$tmp/anat.svg" || fail "SVG structure"
+chrome=$(command -v chromium || command -v chromium-browser || true)
+[ -n "$chrome" ] || missing "chromium not installed"
+HOME="$tmp" timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --hide-scrollbars \
+  --user-data-dir="$tmp/chrome" --window-size=640,900 --screenshot="$tmp/anat.png" \
+  "file://$tmp/anat.svg" >/dev/null 2>&1 || fail "chromium could not render the SVG"
+py '
+import sys, zlib, struct
+def png(p):  # stdlib PNG decoder: 8-bit RGB / RGBA, not interlaced
+    b = open(p, "rb").read(); assert b[:8] == b"\x89PNG\r\n\x1a\n"
+    i = 8; idat = b""
+    while i < len(b):
+        n, t = struct.unpack(">I4s", b[i:i + 8]); d = b[i + 8:i + 8 + n]; i += 12 + n
+        if t == b"IHDR":
+            w, h, depth, ct, _, _, il = struct.unpack(">IIBBBBB", d)
+        elif t == b"IDAT":
+            idat += d
+    assert depth == 8 and ct in (2, 6) and il == 0, (depth, ct, il)
+    bpp = 3 if ct == 2 else 4; raw = zlib.decompress(idat); stride = w * bpp
+    rows = []; prev = bytearray(stride); o = 0
+    for y in range(h):
+        f = raw[o]; line = bytearray(raw[o + 1:o + 1 + stride]); o += 1 + stride
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0; up = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+            if f == 1: line[x] = (line[x] + a) & 255
+            elif f == 2: line[x] = (line[x] + up) & 255
+            elif f == 3: line[x] = (line[x] + (a + up) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(up - c), abs(a - c), abs(a + up - 2 * c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else up if pb <= pc else c)) & 255
+        rows.append(line); prev = line
+    return w, h, bpp, rows
+w, h, bpp, rows = png(sys.argv[1])
+blue = [y for y in range(h) for x in range(0, w * bpp, bpp)
+        if rows[y][x + 2] > 150 and rows[y][x] < 80 and rows[y][x + 1] < 140]
+grey = sum(1 for y in range(h) for x in range(0, w * bpp, bpp) if 130 < rows[y][x] < 170
+           and abs(rows[y][x] - rows[y][x + 2]) < 8)
+red = sum(1 for y in range(h) for x in range(0, w * bpp, bpp) if rows[y][x] > 180 and rows[y][x + 1] < 60)
+span = (max(blue) - min(blue)) / h if blue else 0
+print("screenshot %dx%d: segments span %.0f %% of the height, %d grey and %d red pixels" % (w, h, 100 * span, grey, red))
+assert span > 0.5 and grey > 200 and red > 20, (span, grey, red)
+' "$tmp/anat.png" || fail "the screenshot does not show the skeleton"
+if [ -n "${SFIT_SESSION_FIGURE:-}" ]; then cp "$tmp/anat.png" "$SFIT_SESSION_FIGURE"; fi
+
+# ------------------------------------------------------- 5. bad input
+expect_usage "-o SESSION.json is required" calibrate "$model" "$ses/Test_func_rhip.c3d"
+expect_usage "MODEL and at least one FILE are required" calibrate "$model" -o "$tmp/x.json"
+expect_usage "-o OUT.c3d is required" apply "$tmp/session.json" "$ses/Test_func_anat.c3d"
+expect_usage "--frame needs a whole number >= 0" apply "$tmp/session.json" \
+  "$ses/Test_func_anat.c3d" -o "$tmp/x.c3d" --frame -1
+bad_model() {  # bad_model 'TEXT' 'MESSAGE'
+  printf '%b' "$1" >"$tmp/bad.txt"
+  expect_rc 3 "$sfit" calibrate "$tmp/bad.txt" "$ses/Test_func_rhip.c3d" -o "$tmp/x.json"
+  grep -qF "$2" "$tmp/stderr" || fail "model '$1': $(cat "$tmp/stderr"), expected '$2'"
+}
+bad_model 'segment a A,B\n' "line 1: segment 'a' needs 3 to 8 comma-separated markers"
+bad_model 'segment a A,B,A\n' "line 1: segment 'a' names marker 'A' twice"
+bad_model 'segment a A,B,C\njoint j a b ball P\n' "line 2: joint 'j': segment 'b' is not declared above it"
+bad_model 'segment a A,B,C\nsegment b D,E,F\njoint j a b knee P\n' "type 'knee' is not auto, ball or hinge"
+bad_model 'segment a A,B,C\nsegment b D,E,F\njoint j a b hinge P\n' "a hinge joint names 3 points"
+bad_model 'segment a A,B,C\nsegment b D,E,F\njoint j a b ball P\njoint k b a ball Q\n' "cycle"
+bad_model 'segments a A,B,C\n' "line 1: unknown keyword 'segments'"
+bad_model 'segment a A,B,C\nroot z\n' "root segment 'z' is not declared"
+bad_model '' "no segment declared"
+bad_model 'segment a A,B,C\0\n' "NUL byte"
+expect_rc 3 "$sfit" calibrate "$tmp/nope.txt" "$ses/Test_func_rhip.c3d" -o "$tmp/x.json"
+# a pattern that matches nothing: the other joints are kept, exit 1
+printf 'segment pelvis RASI,LASI,RPSI,LPSI\nsegment th RTHI,RTHIB,RTHID,RKNE,RKNEM\nsegment sh RTIB,RTIBF,RTIBD,RANK,RANKM\njoint h pelvis th ball HJC *func_rhip*\njoint k th sh hinge K,K1,K2 *nothing*\n' >"$tmp/m2.txt"
+expect_rc 1 "$sfit" calibrate "$tmp/m2.txt" "$ses/Test_func_rhip.c3d" -o "$tmp/m2.json"
+grep -q "k: no FILE matches its trial pattern \*nothing\*" "$tmp/stderr" || fail "no match: $(cat "$tmp/stderr")"
+py 'import json,sys; s=json.load(open(sys.argv[1])); assert [j["name"] for j in s["joints"]] == ["h"]' "$tmp/m2.json" \
+  || fail "the calibrated joint kept"
+# a marker missing from the trial
+printf 'segment pelvis RASI,LASI,RPSI,NOPE\nsegment th RTHI,RTHIB,RTHID\njoint h pelvis th ball HJC *rhip*\n' >"$tmp/m3.txt"
+expect_rc 1 "$sfit" calibrate "$tmp/m3.txt" "$ses/Test_func_rhip.c3d" -o "$tmp/m3.json"
+grep -q "NOPE" "$tmp/stderr" || fail "missing marker: $(cat "$tmp/stderr")"
+# bad sessions
+bad_session() {  # bad_session FILE MESSAGE
+  expect_rc 3 "$sfit" apply "$1" "$ses/Test_func_anat.c3d" -o "$tmp/x.c3d"
+  grep -qF "$2" "$tmp/stderr" || fail "session $1: $(cat "$tmp/stderr"), expected '$2'"
+  [ ! -e "$tmp/x.c3d" ] || fail "a C3D written from a bad session"
+}
+printf %s "{\"format\":" >"$tmp/cut.json"; bad_session "$tmp/cut.json" "the JSON ends early"
+head -c 300 "$tmp/session.json" >"$tmp/cut2.json"; bad_session "$tmp/cut2.json" "unterminated string"
+echo '{"format":"other"}' >"$tmp/other.json"; bad_session "$tmp/other.json" "not an sfit session"
+sed 's/"center":\[16/"center":[1e999,16/' "$tmp/session.json" >"$tmp/inf.json"
+py 'import sys; s=open(sys.argv[1]).read(); i=s.index("\"center\":["); j=s.index("]", i)
+open(sys.argv[2],"w").write(s[:i] + "\"center\":[1,2]" + s[j+1:])' "$tmp/session.json" "$tmp/short.json"
+bad_session "$tmp/short.json" "\"center\" must be an array of 3 numbers"
+py 'import sys; s=open(sys.argv[1]).read(); i=s.index("\"center\":["); j=s.index("]", i)
+open(sys.argv[2],"w").write(s[:i] + "\"center\":[1e999,2,3]" + s[j+1:])' "$tmp/session.json" "$tmp/inf.json"
+bad_session "$tmp/inf.json" "a bad number"
+py 'import sys; s=open(sys.argv[1]).read(); open(sys.argv[2],"w").write("[" * 100 + s)' "$tmp/session.json" "$tmp/deep.json"
+bad_session "$tmp/deep.json" "nested deeper than"
+bad_session "$tmp/nope.json" "cannot open"
+# a trial without the parents' markers: every sample invalid, counted, exit 1
+expect_rc 1 "$sfit" apply "$tmp/session.json" "$data/c3d/c3d_org/s02_pc_real.c3d" -o "$tmp/none.c3d"
+echo "$out" | grep -q "r_hip      RHJC: placed in 0 frames, 89 invalid" || fail "no parent: $out"
+py 'import sys, numpy as np, c3d_ref; b = c3d_ref.read(sys.argv[1]); assert (b["residual"][:, -6:] == -1).all()' \
+  "$tmp/none.c3d" || fail "invalid samples written"
+echo "$name: all checks passed"

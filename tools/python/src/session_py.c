@@ -1,0 +1,313 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file session_py.c
+ * @brief A lab session for the Python package: the CLI's session model
+ * parser, calibration and placement (tools/sfit/session_model.c,
+ * session.c, session_calib.c and what they use, compiled into the
+ * extension by setup.py) behind three functions of sfit._sfit, wrapped by
+ * sfit.session_model, sfit.calibrate and sfit.apply_session
+ * (sfit/__init__.py). Registered in sfitmodule.c.
+ *
+ *   _session_model(text) -> str            the model as JSON
+ *   _session_calibrate(model_text, joint, buf, frames, units, trial) -> str
+ *       buf: writable float32 frames x (parent + child markers) x 3 in the
+ *       model's order (label swaps repaired in place); a session JSON with
+ *       that one joint
+ *   _session_place(session_text, joint, buf, frames, d) -> bytes
+ *       buf: writable float32 frames x parent markers x 3; float32 frames x
+ *       points x 3, NaN where the parent does not register
+ *
+ * A bad model or session raises ValueError with the parser's message; a
+ * joint that cannot be calibrated raises ValueError with the reason.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_frames.h"
+#include "session.h"
+#include "session_calib.h"
+#include "session_model.h"
+
+PyMethodDef *sfit_py_session_methods(void);
+
+/* The text written to a temporary file, as a Python str. */
+static PyObject *file_text(FILE *f)
+{
+    long n;
+    char *buf;
+    PyObject *s;
+    if (fflush(f) != 0 || (n = ftell(f)) < 0 || fseek(f, 0L, SEEK_SET) != 0) {
+        fclose(f);
+        return PyErr_Format(PyExc_OSError, "temporary file failed");
+    }
+    buf = malloc((size_t)n + 1u);
+    if (buf == NULL) {
+        fclose(f);
+        return PyErr_NoMemory();
+    }
+    if (fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        fclose(f);
+        return PyErr_Format(PyExc_OSError, "temporary file failed");
+    }
+    fclose(f);
+    s = PyUnicode_DecodeLatin1(buf, (Py_ssize_t)n, "replace");
+    free(buf);
+    return s;
+}
+
+static void put_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s != '\0'; s++) {
+        if (*s == '"' || *s == '\\') {
+            fputc('\\', f);
+        }
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static int parse_model(const char *text, Py_ssize_t len, session_model_t *m)
+{
+    char err[SM_ERR_MAX];
+    if (session_model_parse(text, (size_t)len, m, err) != 0) {
+        PyErr_Format(PyExc_ValueError, "session model: %s", err);
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *py_session_model(PyObject *self, PyObject *args)
+{
+    const char *text;
+    Py_ssize_t len;
+    session_model_t *m;
+    FILE *f;
+    int i, k;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "s#:_session_model", &text, &len)) {
+        return NULL;
+    }
+    m = malloc(sizeof *m);
+    if (m == NULL) {
+        return PyErr_NoMemory();
+    }
+    if (parse_model(text, len, m) != 0) {
+        free(m);
+        return NULL;
+    }
+    f = tmpfile();
+    if (f == NULL) {
+        free(m);
+        return PyErr_SetFromErrno(PyExc_OSError);
+    }
+    fprintf(f, "{\"root\":");
+    put_str(f, m->seg[m->root].name);
+    fprintf(f, ",\"segments\":[");
+    for (i = 0; i < m->nseg; i++) {
+        fprintf(f, "%s{\"name\":", i > 0 ? "," : "");
+        put_str(f, m->seg[i].name);
+        fprintf(f, ",\"markers\":[");
+        for (k = 0; k < m->seg[i].nmarkers; k++) {
+            if (k > 0) {
+                fputc(',', f);
+            }
+            put_str(f, m->seg[i].markers[k]);
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, "],\"joints\":[");
+    for (i = 0; i < m->njoint; i++) {
+        const sm_joint_t *j = &m->joint[i];
+        fprintf(f, "%s{\"name\":", i > 0 ? "," : "");
+        put_str(f, j->name);
+        fprintf(f, ",\"parent\":");
+        put_str(f, m->seg[j->parent].name);
+        fprintf(f, ",\"child\":");
+        put_str(f, m->seg[j->child].name);
+        fprintf(f, ",\"type\":\"%s\",\"points\":[", session_model_type_name(j->type));
+        for (k = 0; k < (j->type == SM_AUTO ? 3 : j->npoints); k++) {
+            if (k > 0) {
+                fputc(',', f);
+            }
+            put_str(f, j->points[k]);
+        }
+        fprintf(f, "],\"pattern\":");
+        put_str(f, j->pattern);
+        fprintf(f, "}");
+    }
+    fprintf(f, "]}");
+    free(m);
+    return file_text(f);
+}
+
+/* A writable C-contiguous buffer of exactly n float32 values. */
+static int float_buffer(PyObject *o, Py_buffer *b, Py_ssize_t n)
+{
+    if (PyObject_GetBuffer(o, b, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS) != 0) {
+        return -1;
+    }
+    if (b->len != n * (Py_ssize_t)sizeof(float)) {
+        PyBuffer_Release(b);
+        PyErr_Format(PyExc_ValueError, "buffer of %zd bytes, %zd float32 values expected",
+                     b->len, n);
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *py_session_calibrate(PyObject *self, PyObject *args)
+{
+    const char *text, *units, *trial;
+    Py_ssize_t len, frames;
+    int k, nm;
+    PyObject *bo;
+    Py_buffer b;
+    session_model_t *m;
+    session_t *s;
+    cli_frames_t fr;
+    char err[SM_ERR_MAX];
+    FILE *f;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "s#iOnss:_session_calibrate", &text, &len, &k, &bo, &frames,
+                          &units, &trial)) {
+        return NULL;
+    }
+    m = malloc(sizeof *m);
+    s = malloc(sizeof *s);
+    if (m == NULL || s == NULL) {
+        free(m);
+        free(s);
+        return PyErr_NoMemory();
+    }
+    if (parse_model(text, len, m) != 0) {
+        goto fail;
+    }
+    if (k < 0 || k >= m->njoint) {
+        PyErr_Format(PyExc_ValueError, "joint %d: the model has %d joints", k, m->njoint);
+        goto fail;
+    }
+    if (frames < 1 || frames > 100000000) {
+        PyErr_Format(PyExc_ValueError, "frames must be 1 to 1e8, not %zd", frames);
+        goto fail;
+    }
+    if (strlen(trial) >= SESSION_PATH_MAX || strlen(units) >= 16) {
+        PyErr_Format(PyExc_ValueError, "trial name or units too long");
+        goto fail;
+    }
+    nm = m->seg[m->joint[k].parent].nmarkers + m->seg[m->joint[k].child].nmarkers;
+    if (float_buffer(bo, &b, frames * nm * 3) != 0) {
+        goto fail;
+    }
+    memset(&fr, 0, sizeof fr);
+    fr.nmarkers = nm;
+    fr.nframes = (long)frames;
+    fr.xyz = (sfit_vec3_t *)b.buf;
+    fr.is_c3d = 1;
+    (void)snprintf(fr.units, sizeof fr.units, "%s", units);
+    memset(s, 0, sizeof *s);
+    if (session_calibrate_frames(&fr, m, k, trial, &s->joint[0], err) != 0) {
+        PyBuffer_Release(&b);
+        PyErr_Format(PyExc_ValueError, "%s: %s", m->joint[k].name, err);
+        goto fail;
+    }
+    PyBuffer_Release(&b);
+    s->njoint = 1;
+    s->nseg = m->nseg;
+    memcpy(s->seg, m->seg, sizeof s->seg);
+    s->root = m->root;
+    (void)snprintf(s->units, sizeof s->units, "%s", units);
+    f = tmpfile();
+    if (f == NULL) {
+        PyErr_SetFromErrno(PyExc_OSError);
+        goto fail;
+    }
+    session_write_json(f, s);
+    free(m);
+    free(s);
+    return file_text(f);
+fail:
+    free(m);
+    free(s);
+    return NULL;
+}
+
+static PyObject *py_session_place(PyObject *self, PyObject *args)
+{
+    const char *text;
+    Py_ssize_t len, frames;
+    int k;
+    float d;
+    PyObject *bo, *out;
+    Py_buffer b;
+    session_t *s;
+    cli_frames_t fr;
+    char err[SM_ERR_MAX];
+    float *pts;
+    size_t i, n;
+    long placed;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "s#iOnf:_session_place", &text, &len, &k, &bo, &frames, &d)) {
+        return NULL;
+    }
+    if (!(d > 0.0f && d < 1e6f)) {
+        return PyErr_Format(PyExc_ValueError, "axis point distance must be in (0, 1e6)");
+    }
+    s = malloc(sizeof *s);
+    if (s == NULL) {
+        return PyErr_NoMemory();
+    }
+    if (session_parse(text, (size_t)len, s, err) != 0) {
+        free(s);
+        return PyErr_Format(PyExc_ValueError, "session: %s", err);
+    }
+    if (k < 0 || k >= s->njoint || frames < 0 || frames > 100000000) {
+        free(s);
+        return PyErr_Format(PyExc_ValueError, "joint %d or frames %zd out of range", k, frames);
+    }
+    if (float_buffer(bo, &b, frames * s->joint[k].nmarkers * 3) != 0) {
+        free(s);
+        return NULL;
+    }
+    n = (size_t)frames * (size_t)s->joint[k].npoints * 3u;
+    pts = malloc((n + 1u) * sizeof *pts);
+    if (pts == NULL) {
+        PyBuffer_Release(&b);
+        free(s);
+        return PyErr_NoMemory();
+    }
+    for (i = 0; i < n; i++) {
+        pts[i] = NAN;
+    }
+    memset(&fr, 0, sizeof fr);
+    fr.nmarkers = s->joint[k].nmarkers;
+    fr.nframes = (long)frames;
+    fr.xyz = (sfit_vec3_t *)b.buf;
+    placed = session_place_frames(&s->joint[k], &fr, d, pts, s->joint[k].npoints, NULL);
+    PyBuffer_Release(&b);
+    free(s);
+    if (placed < 0) {
+        free(pts);
+        return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate", k);
+    }
+    out = PyBytes_FromStringAndSize((const char *)pts, (Py_ssize_t)(n * sizeof *pts));
+    free(pts);
+    return out;
+}
+
+static PyMethodDef methods[] = {
+    {"_session_model", py_session_model, METH_VARARGS, "Internal: see sfit.session_model."},
+    {"_session_calibrate", py_session_calibrate, METH_VARARGS, "Internal: see sfit.calibrate."},
+    {"_session_place", py_session_place, METH_VARARGS, "Internal: see sfit.apply_session."},
+    {NULL, NULL, 0, NULL}};
+
+PyMethodDef *sfit_py_session_methods(void)
+{
+    return methods;
+}

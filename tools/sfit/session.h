@@ -1,0 +1,63 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file session.h
+ * @brief A calibrated session (`sfit calibrate` writes it, `sfit apply`
+ * reads it): per joint the parent segment's marker template and the joint
+ * centre (and hinge axis) in that template's frame, with its covariance,
+ * flags and verdict (docs/session.md). Host only.
+ */
+#ifndef SFIT_TOOLS_SESSION_H
+#define SFIT_TOOLS_SESSION_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "session_model.h"
+
+#define SESSION_VERDICT_MAX 400
+#define SESSION_PATH_MAX 512
+
+/** One calibrated joint. */
+typedef struct session_joint {
+    char name[SM_NAME_MAX];
+    char parent[SM_NAME_MAX], child[SM_NAME_MAX]; /**< segment names */
+    int hinge;                        /**< 1: hinge (centre on the axis), 0: ball */
+    int npoints;                      /**< points written: 1 ball, 3 hinge */
+    char points[3][SM_NAME_MAX];
+    char trial[SESSION_PATH_MAX];     /**< the functional trial (as given) */
+    int nmarkers;                     /**< parent markers (3..8) */
+    char markers[SM_MARKERS_MAX][SM_NAME_MAX];
+    float tpl[SM_MARKERS_MAX][3];     /**< parent template (parent frame) */
+    float center[3], axis[3];         /**< parent frame; axis unit (hinge) */
+    double cov[3][3];                 /**< centre covariance (parent frame, units^2) */
+    double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
+    double range_deg[3];              /**< rotation range of the child about lab x, y, z
+                                           at the reference frame (degrees) */
+    double marker_sigma;              /**< marker noise used for cov (units) */
+    uint32_t flags;                   /**< sfit flags of the fit */
+    long frames_used, frames_total;
+    char verdict[SESSION_VERDICT_MAX];
+} session_joint_t;
+
+typedef struct session {
+    char units[16];
+    int nseg;
+    sm_segment_t seg[SM_SEGMENTS_MAX];
+    int root;
+    int njoint;
+    session_joint_t joint[SM_JOINTS_MAX];
+} session_t;
+
+/** Write the session as JSON (one object). */
+void session_write_json(FILE *f, const session_t *s);
+
+/**
+ * Read a session JSON file written by session_write_json. 0, or -1 with a
+ * message in err (SM_ERR_MAX bytes). Checks every count, name and number.
+ */
+int session_read(const char *path, session_t *s, char *err);
+
+/** The same from memory. */
+int session_parse(const char *text, size_t len, session_t *s, char *err);
+
+#endif /* SFIT_TOOLS_SESSION_H */
