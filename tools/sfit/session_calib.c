@@ -359,7 +359,7 @@ long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, f
         float *p = pts + (size_t)f * (size_t)stride * 3u;
         if (sfit_cluster_register(&cl, cli_frames_at(fr, f, 0), (size_t)j->nmarkers, &pose, NULL)
                 != SFIT_OK
-            || sfit_pose_to_global(&pose, (const sfit_vec3_t *)j->center, &c) != SFIT_OK) {
+            || sfit_cluster_to_global(&pose, (const sfit_vec3_t *)j->center, &c) != SFIT_OK) {
             continue;
         }
         if (rot != NULL) {
