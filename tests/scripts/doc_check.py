@@ -135,16 +135,33 @@ for doc in docs:
                 problems.append("%s: `%s` prints\n    %s\n  the document shows\n    %s" % (
                     rel(doc), lines[i][2:], "\n    ".join(got), "\n    ".join(lines[i + 1:j])))
 
-# 3. The README's demo.
+# 3. The README's demo: after the build, one or more `./build/bin/sfit ...`
+# commands chained with &&; each runs in a scratch directory that sees the
+# tree's tests/ and docs/ (its output files land there), shell globs
+# expanded; their outputs, one after the other, are the block shown.
 with open(docs[0], encoding="utf-8") as f:
     readme = f.read()
-demo = re.search(r"^```sh\n(cmake --preset default && .*? && (\./build/bin/sfit [^\n]*))\n```", readme,
-                 re.M)
+demo = re.search(r"^```sh\n(cmake --preset default && cmake --build --preset default && "
+                 r"(\./build/bin/sfit [^\n]*))\n```", readme, re.M)
 shown = re.search(r"^Demo output \(measured\):\n\n```\n(.*?)^```", readme, re.S | re.M)
 if not demo or not shown:
     problems.append("README.md: the demo command or its output block is not found")
 else:
-    got = run([sfit] + demo.group(2).split()[1:], src)
+    import tempfile
+    got = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for sub in ("tests", "docs"):
+            os.symlink(os.path.join(src, sub), os.path.join(scratch, sub))
+        for part in demo.group(2).split(" && "):
+            argv = part.split()
+            if argv[0] != "./build/bin/sfit":
+                problems.append("README.md: the demo runs %s, not sfit" % argv[0])
+                break
+            args = []
+            for a in argv[1:]:
+                hits = sorted(glob.glob(os.path.join(scratch, a))) if "*" in a else []
+                args += [os.path.relpath(h, scratch) for h in hits] if hits else [a]
+            got += run([sfit] + args, scratch)
     checked += 1
     if got != shown.group(1).splitlines():
         problems.append("README.md: the demo prints\n    %s" % "\n    ".join(got))

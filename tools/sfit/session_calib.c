@@ -213,7 +213,7 @@ static void verdict(session_joint_t *j, const char *u)
 {
     static const char *ax[3] = {"x", "y", "z"};
     const double big = j->semi95[0];
-    char advice[96];
+    char advice[128];
     int order[3] = {0, 1, 2}, a, b;
     for (a = 0; a < 2; a++) { /* order: ranges descending */
         for (b = a + 1; b < 3; b++) {
@@ -224,7 +224,17 @@ static void verdict(session_joint_t *j, const char *u)
             }
         }
     }
-    if (j->flags & SFIT_FLAG_UNTRUSTED) {
+    if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_MISFIT)) {
+        (void)snprintf(advice, sizeof advice,
+                       "untrusted: soft-tissue motion far above the marker noise, not in the "
+                       "ellipsoid");
+    } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)) {
+        (void)snprintf(advice, sizeof advice,
+                       "untrusted: the motion does not fix the hinge axis: record more flexion");
+    } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AMBIGUOUS)) {
+        (void)snprintf(advice, sizeof advice,
+                       "untrusted: ball or hinge cannot be told apart: give the joint's type");
+    } else if (j->flags & SFIT_FLAG_UNTRUSTED) {
         (void)snprintf(advice, sizeof advice,
                        "untrusted fit (too little motion for the noise): record more motion");
     } else if (j->hinge && j->range_deg[order[0]] < 30.0) {
@@ -314,7 +324,19 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
     j->frames_total = fr->nframes;
     var = marker_var(fr, np, &jo);
     j->marker_sigma = sqrt(var);
-    if (center_cov(fr, np, nc, &jo, var, j->cov) != 0) {
+    if (jo.pair_used) {
+        /* the pair module's (the default method, docs/pair.md): its centre,
+         * its covariance (marker noise from both clusters' registration
+         * residuals) and its flags */
+        int q;
+        j->flags = jo.pair.flags;
+        j->marker_sigma = sqrt((double)jo.pair.marker_var);
+        for (i = 0; i < 3; i++) {
+            for (q = 0; q < 3; q++) {
+                j->cov[i][q] = (double)jo.pair.center_cov.m[i * 3 + q];
+            }
+        }
+    } else if (center_cov(fr, np, nc, &jo, var, j->cov) != 0) {
         j->flags |= SFIT_FLAG_UNTRUSTED;
     }
     sym3_eig(j->cov, ev);
