@@ -228,7 +228,7 @@ static sfit_status_t run_pair(const cli_frames_t *fr, int np, int nc, long first
     return SFIT_OK;
 }
 
-static const char *pair_reason(sfit_pair_reason_t r)
+const char *cli_joint_pair_reason(sfit_pair_reason_t r)
 {
     switch (r) {
     case SFIT_PAIR_REASON_FEW_FRAMES: return "few_frames";
@@ -301,7 +301,7 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
     printf(",\"untrusted\":%s,\"reason\":\"%s\",\"marker_noise\":{\"var\":%.9g,"
            "\"parent\":%.9g,\"child\":%.9g,\"source\":\"%s\"},\"misfit\":%.9g,"
            "\"model_rms\":%.9g,\"frames_pair\":%lu,\"frames_pair_rejected\":%ld",
-           (p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? "true" : "false", pair_reason(p->reason),
+           (p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? "true" : "false", cli_joint_pair_reason(p->reason),
            (double)p->marker_var, (double)p->marker_var_p, (double)p->marker_var_c,
            p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "registration_residuals",
            (double)p->misfit, (double)p->rms, (unsigned long)p->frames, out->pair_rejected);
@@ -335,7 +335,7 @@ void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, co
            sqrt((double)p->marker_var_c),
            p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "from the registration residuals");
     if ((p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-        printf("%swarning      untrusted: %s (docs/pair.md)\n", indent, pair_reason(p->reason));
+        printf("%swarning      untrusted: %s (docs/pair.md)\n", indent, cli_joint_pair_reason(p->reason));
     }
 }
 

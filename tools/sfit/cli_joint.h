@@ -84,6 +84,9 @@ const char *cli_joint_frames_opt(void *dst, const char *v);
 /** --method default|score|sara|mgdk into a cli_joint_opts_t (a cli_opt_fn_t). */
 const char *cli_joint_method_opt(void *dst, const char *v);
 
+/** The name of a pair result's reason (JSON and Python: "none", "misfit", ...). */
+const char *cli_joint_pair_reason(sfit_pair_reason_t r);
+
 /** The pair's JSON members (after "center"...): center_cov, axis_cov, noise, reason. */
 void cli_joint_print_pair_json(const cli_joint_out_t *out);
 

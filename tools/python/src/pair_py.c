@@ -23,6 +23,7 @@
 
 #include <string.h>
 
+#include "cli_joint.h" /* cli_joint_pair_reason: the CLI's names */
 #include "pair_py.h"
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_pair.h"
@@ -124,20 +125,6 @@ static PyObject *flags_list(uint32_t flags)
     return l;
 }
 
-static const char *reason_name(sfit_pair_reason_t r)
-{
-    switch (r) {
-    case SFIT_PAIR_REASON_FEW_FRAMES: return "few_frames";
-    case SFIT_PAIR_REASON_SMALL_MOTION: return "small_motion";
-    case SFIT_PAIR_REASON_AXIS_FREE: return "axis_free";
-    case SFIT_PAIR_REASON_AMBIGUOUS: return "ambiguous";
-    case SFIT_PAIR_REASON_MISFIT: return "misfit";
-    case SFIT_PAIR_REASON_NO_NOISE: return "no_noise";
-    case SFIT_PAIR_REASON_NONE:
-    default: return "none";
-    }
-}
-
 static PyObject *result_dict(const sfit_pair_result_t *r)
 {
     PyObject *d = PyDict_New();
@@ -163,7 +150,7 @@ static PyObject *result_dict(const sfit_pair_result_t *r)
         || put(d, "flags", flags_list(r->flags))
         || put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r->flags))
         || put(d, "untrusted", PyBool_FromLong((r->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u))
-        || put(d, "reason", PyUnicode_FromString(reason_name(r->reason)))
+        || put(d, "reason", PyUnicode_FromString(cli_joint_pair_reason(r->reason)))
         || put(d, "mode", PyUnicode_FromString(r->mode == SFIT_PAIR_MODE_HINGE ? "planar"
                                                                                : "sphere"))) {
         Py_DECREF(d);
