@@ -188,51 +188,86 @@ def cmd_synth(args):
           % (d1, j1['sigma'], ang, d2, j2['sigma']))
 
 
-def _csv(path):
-    with open(path) as f:
-        head = f.readline().strip().split(',')
-        rows = [ln.strip().split(',') for ln in f if ln.strip()]
-    return head, rows
+def _kabsch(src, dst):
+    """R, t (double) with dst ~ R src + t, least squares (Kabsch / Horn, SVD)."""
+    import numpy as np
+    src, dst = np.asarray(src, float), np.asarray(dst, float)
+    cs, cd = src.mean(0), dst.mean(0)
+    u, _, vt = np.linalg.svd((dst - cd).T @ (src - cs))
+    d = np.sign(np.linalg.det(u @ vt))
+    r = u @ np.diag([1.0, 1.0, d]) @ vt
+    return r, cd - r @ cs
 
 
-def cmd_centres(args):
-    """centres SKEL.json CENTRES.csv START JOINT.json NAME MAX_SIGMAS: the
-    joint's centre from all trials together against `sfit joint --json` on
-    its own functional trial, in the lab at that joint's reference frame
-    (`sfit joint` gives its template frame the lab axes there), frame 0 of
-    the trial being frame START of the session. A ball: the distance between
-    the centres. A hinge: the distance, in the plane through this centre
-    across this axis, to the point where `sfit joint`'s axis crosses it (the
-    place along an axis is a convention), and the angle between the axes.
-    The distance is compared with this joint's 1-sigma radius."""
-    js = json.load(open(args[0]))
-    head, rows = _csv(args[1])
-    start = int(args[2])
-    jo = json.load(open(args[3]))
-    name, maxs = args[4], float(args[5])
-    j = [x for x in js['joints'] if x['name'] == name][0]
-    ci = head.index(name + '_X')
-    row = rows[start + jo['reference_frame']]
-    if row[ci] == '':
-        fail('%s: no pose of the parent at the reference frame' % name)
-    c = [float(row[ci + k]) for k in range(3)]
-    b = jo['center_lab_reference']
-    extra = ''
-    if j['type'] == 'hinge':
-        a = [float(row[ci + 3 + k]) for k in range(3)]
-        ax = jo['axis']
-        den = sum(ax[k] * a[k] for k in range(3))
-        t = sum((c[k] - b[k]) * a[k] for k in range(3)) / den
-        b = [b[k] + t * ax[k] for k in range(3)]
-        ang = math.degrees(math.acos(min(1.0, abs(den))))
-        extra = ', axes %.1f deg apart' % ang
-    d = math.dist(c, b)
-    print('%s (%s): %.2f %s from `sfit joint` (%s, %s) on its trial%s; 1 sigma %.2f: %.2f sigma'
-          % (name, j['type'], d, js['units'], jo.get('method'), jo['mode'], extra, j['sigma'],
-             d / j['sigma']))
-    if not d <= maxs * j['sigma']:
-        fail('%s: %.2f %s from sfit joint, more than %g sigma (%.2f)'
-             % (name, d, js['units'], maxs, j['sigma']))
+def cmd_calib(args):
+    """calib SKEL.json SESSION.json: every joint of `sfit skeleton` (all trials
+    together) against `sfit calibrate` (each joint on its own trial): the tree
+    edge, the type, and the centre within its uncertainty. Both centres are
+    compared in the calibrate parent template frame: the skeleton's parent
+    template is put onto calibrate's by a rigid least-squares fit of the two
+    templates (same markers; an independent SVD here). A ball: the 3-D
+    difference; a hinge: its part across calibrate's axis (the place along an
+    axis is a convention), and the angle between the axes. Mahalanobis value
+    m = sqrt(d^T C^-1 d) with C = the skeleton's covariance as it reports it
+    (the pair module's, inflated for the slow residual) + calibrate's
+    (the pair module's on the one trial); passes when m is inside the 95 %
+    region (chi-square, 3 or 2 degrees of freedom). Also printed: m with the
+    two modules' covariances as they come (no inflation)."""
+    import numpy as np
+    sk = json.load(open(args[0]))
+    ca = json.load(open(args[1]))
+    q95 = {3: math.sqrt(7.8147), 2: math.sqrt(5.9915)}
+    segs = {g['name']: g for g in sk['segments']}
+    skj = {(j['parent'], j['child']): j for j in sk['joints']}
+    if len(ca['joints']) != len(sk['joints']):
+        fail('%d joints calibrated, %d in the skeleton' % (len(ca['joints']), len(sk['joints'])))
+    bad = []
+    for c in ca['joints']:
+        key = (c['parent'], c['child'])
+        if key not in skj:
+            fail('%s: %s - %s is not an edge of the tree found (%s)'
+                 % (c['name'], key[0], key[1], tree_edges(sk)))
+        j = skj[key]
+        if j['type'] != c['type']:
+            fail('%s: the skeleton says %s, calibrate %s' % (c['name'], j['type'], c['type']))
+        g = segs[c['parent']]
+        if g['markers'][:len(g['template'])] != c['parent_markers'][:len(g['template'])]:
+            fail('%s: parent markers differ' % c['name'])
+        n = min(len(g['template']), len(c['template']))
+        r, t = _kabsch(g['template'][:n], c['template'][:n])
+        fitres = np.sqrt(np.mean(np.sum((np.asarray(g['template'][:n]) @ r.T + t
+                                         - np.asarray(c['template'][:n])) ** 2, 1)))
+        xs = r @ np.asarray(j['center_parent']) + t
+        xc = np.asarray(c['center'], float)
+        cs = r @ np.asarray(j['cov_parent']).reshape(3, 3) @ r.T
+        cs_raw = r @ np.asarray(j['center_cov']) @ r.T
+        cc = np.asarray(c['center_cov'], float)
+        d = xs - xc
+        extra = ''
+        if c['type'] == 'hinge':
+            ax = np.asarray(c['axis'], float)
+            ax /= np.linalg.norm(ax)
+            axs = r @ np.asarray(j['axis_parent'])
+            extra = ', axes %.1f deg apart' % math.degrees(math.acos(min(1.0, abs(ax @ axs))))
+            e1 = np.cross(ax, [1.0, 0.0, 0.0] if abs(ax[0]) < 0.9 else [0.0, 1.0, 0.0])
+            e1 /= np.linalg.norm(e1)
+            b = np.vstack([e1, np.cross(ax, e1)])  # the plane across the axis
+            d, cs, cs_raw, cc = b @ d, b @ cs @ b.T, b @ cs_raw @ b.T, b @ cc @ b.T
+        dof = len(d)
+        m = math.sqrt(d @ np.linalg.solve(cs + cc, d))
+        m_raw = math.sqrt(d @ np.linalg.solve(cs_raw + cc, d))
+        m_sk = math.sqrt(d @ np.linalg.solve(cs, d))
+        print('%-8s %s - %s, %s (skeleton: %s, calibrate: %s): %.2f %s %s%s; Mahalanobis %.2f '
+              '(skeleton %s + calibrate covariance; 95 %% limit %.2f), %.2f with the skeleton\'s '
+              'alone, %.1f with both modules\' uninflated; templates fitted to %.2f %s rms'
+              % (c['name'], c['parent'], c['child'], c['type'], ','.join(j['pair_flags']) or 'trusted',
+                 ','.join(c['flags']) or 'trusted', float(np.linalg.norm(d)), sk['units'],
+                 'across the axis' if dof == 2 else 'apart', extra, m,
+                 '(variance inflated x%.3g)' % j['inflation'], q95[dof], m_sk, m_raw, fitres, sk['units']))
+        if not m <= q95[dof]:
+            bad.append('%s: Mahalanobis %.2f > %.2f' % (c['name'], m, q95[dof]))
+    if bad:
+        fail('; '.join(bad))
 
 
 def _state(path):
@@ -289,5 +324,5 @@ def cmd_screens(args):
 
 
 if __name__ == '__main__':
-    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'centres': cmd_centres, 'session': cmd_session, 'tree': cmd_tree, 'norigid': cmd_norigid,
-     'bvh': cmd_bvh, 'screens': cmd_screens}[sys.argv[1]](sys.argv[2:])
+    {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'session': cmd_session, 'tree': cmd_tree, 'norigid': cmd_norigid,
+     'bvh': cmd_bvh, 'screens': cmd_screens, 'calib': cmd_calib}[sys.argv[1]](sys.argv[2:])

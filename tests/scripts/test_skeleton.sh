@@ -6,8 +6,9 @@
 #     (listed) and a chain of two joints, without a map;
 #  2. the lower-limb session, all four functional trials together, segments
 #     given: the tree pelvis - thigh - shank - foot and pelvis - trunk, the
-#     knee a hinge; two segments that never move relative to each other are
-#     no joint;
+#     knee a hinge, each joint centre within its uncertainty of the one
+#     `sfit calibrate` gives; two segments that never move relative to each
+#     other are no joint;
 #  3. the BVH re-read by an independent parser (tests/scripts/bvh_ref.py):
 #     its forward kinematics gives the TRC's joint centres in every frame
 #     within 0.1 mm;
@@ -36,11 +37,6 @@ chk bvh "$tmp/syn0.bvh" "$tmp/syn0.trc" "$tmp/syn0.out" || fail "BVH of the synt
 synth "$tmp/syn1.c3d" "$tmp/syn1.json" 0.3
 "$sfit" skeleton "$tmp/syn1.c3d" --frame 300 --json > "$tmp/syn1.out"
 chk synth "$tmp/syn1.out" "$tmp/syn1.json" 0 4 1.0 || fail "noisy synthetic chain"
-# the same with the library's pair module (sfit_pair.h, --pair lib)
-"$sfit" skeleton "$tmp/syn0.c3d" --pair lib --json > "$tmp/syn0.lib"
-chk synth "$tmp/syn0.lib" "$tmp/syn0.json" 0.01 0 0.01 || fail "noise-free synthetic chain, --pair lib"
-"$sfit" skeleton "$tmp/syn1.c3d" --pair lib --json > "$tmp/syn1.lib"
-chk synth "$tmp/syn1.lib" "$tmp/syn1.json" 0 4 1.0 || fail "noisy synthetic chain, --pair lib"
 
 # 1. Unlabeled: groups and a chain of two joints.
 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --json > "$tmp/a444.json"
@@ -74,34 +70,45 @@ EOF
   --bvh "$tmp/s.bvh" --trc "$tmp/s.trc" --svg "$tmp/s.svg" --html "$tmp/s.html" --frame 700 \
   > "$tmp/session.json"
 chk session "$tmp/session.json" || fail "lower-limb tree"
-# the library's pair module finds the same tree (its hinge test is stricter:
-# the knee comes out a ball flagged borderline, docs/skeleton.md)
-"$sfit" skeleton "${trials[@]}" --segments "$tmp/session.txt" --pair lib --json > "$tmp/session_lib.json"
-chk tree "$tmp/session_lib.json" || fail "lower-limb tree, --pair lib"
-# Each joint's centre against `sfit joint` on that joint's own functional
-# trial (the i29 `sfit calibrate` is not on this branch yet), with its
-# default method (the pair module, SCoRE / SARA with the bias removed) and
-# with the chapter's sphere route (mgdk): the ball joints within 3 sigma of
-# their centre; the knee's distance is printed (docs/skeleton.md, open).
-"$sfit" skeleton "${trials[@]}" --segments "$tmp/session.txt" --json --centres "$tmp/cen.csv" \
-  > "$tmp/session2.json"
-declare -A mk=([pelvis]=RASI,LASI,RPSI,LPSI [r_thigh]=RTHI,RTHIB,RTHID,RKNE,RKNEM
-  [r_shank]=RTIB,RTIBF,RTIBD,RANK,RANKM [r_foot]=RHEE,RTOE,RNAV,RTOE5
-  [trunk]=C7,T1,T6,T10,CLAV,STRN,RBAK)
-for meth in default mgdk; do
-  k=0
-  for spec in "r_ankle r_shank r_foot 3 sphere" "r_hip pelvis r_thigh 3 sphere" \
-              "r_knee r_thigh r_shank 1000 planar" "trunk pelvis trunk 3 sphere"; do
-    set -- $spec
-    "$sfit" joint "${trials[$k]}" --parent "${mk[$2]}" --child "${mk[$3]}" --mode "$5" \
-      --method "$meth" --json > "$tmp/joint_$1.json" 2> /dev/null
-    start=$(py 'import json,sys; print(json.load(open(sys.argv[1]))["trial_start"][int(sys.argv[2])])' \
-      "$tmp/session2.json" "$k")
-    chk centres "$tmp/session2.json" "$tmp/cen.csv" "$start" "$tmp/joint_$1.json" "$1" "$4" \
-      || fail "centre of $1 against sfit joint --method $meth"
-    k=$((k + 1))
-  done
+# 2b. Against `sfit calibrate` (docs/session.md) with the shared session model
+# (docs/lower_limb_session.txt: knee hinge, each joint on its own functional
+# trial), the same four trials, the same segments: every joint an edge of the
+# tree, the same type, the centre inside the 95 % region of the two results'
+# covariances (tests/scripts/skeleton_check.py calib: distance and
+# Mahalanobis value per joint printed). Twice: with the model's types, and
+# with every type left to the data (docs/skeleton_session.txt).
+"$sfit" calibrate "$cli_src/docs/lower_limb_session.txt" "${trials[@]}" -o "$tmp/calib.json" \
+  > /dev/null 2>&1 || fail "sfit calibrate of the session"
+for model in lower_limb_session.txt skeleton_session.txt; do
+  "$sfit" skeleton "${trials[@]}" --segments "$cli_src/docs/$model" --json > "$tmp/sk_$model.json" \
+    2> /dev/null
+  echo "skeleton --segments docs/$model against sfit calibrate:"
+  chk calib "$tmp/sk_$model.json" "$tmp/calib.json" || fail "against sfit calibrate ($model)"
 done
+# the knee is a hinge from the data alone (no trial pattern in the model:
+# its functional trial found as the one where it turns most)
+sed 's/ \*func_[a-z]*\*$//' "$tmp/session.txt" > "$tmp/nopattern.txt"
+"$sfit" skeleton "${trials[@]}" --segments "$tmp/nopattern.txt" --json > "$tmp/nopattern.json"
+chk session "$tmp/nopattern.json" || fail "lower-limb tree without trial patterns"
+# the pair module's members in --json, as `sfit joint --json` writes them
+py '
+import json, sys
+d = json.load(open(sys.argv[1]))
+names = {"none", "few_frames", "small_motion", "axis_free", "ambiguous", "misfit", "no_noise"}
+for j in d["joints"]:
+    assert len(j["center_cov"]) == 3 and all(len(r) == 3 for r in j["center_cov"]), j["name"]
+    assert ("axis_cov" in j) == (j["type"] == "hinge"), j["name"]
+    assert j["reason"] in names, j["reason"]
+    assert j["untrusted"] == (j["reason"] != "none"), j["name"]
+    assert j["marker_noise"]["source"] == "registration_residuals" and j["marker_noise"]["var"] > 0
+    assert all(isinstance(f, str) for f in j["pair_flags"]), j["pair_flags"]
+    assert j["type_rule"] in ("map", "all_trials", "functional_trial"), j["type_rule"]
+knee = [j for j in d["joints"] if j["name"] == "r_knee"][0]
+assert knee["type_rule"] == "functional_trial" and knee["type_trial"].endswith("Test_func_rknee.c3d"), knee
+assert knee["trials_used"] == [knee["type_trial"]], knee["trials_used"]
+print("json: per joint center_cov, axis_cov (hinge), marker_noise, reason, pair_flags; knee: type from",
+      knee["type_trial"].split("/")[-1])
+' "$tmp/sk_skeleton_session.txt.json" || fail "the pair module's members in --json"
 # without the root line the root is the segment that moves least: the pelvis
 grep -v '^root' "$tmp/session.txt" > "$tmp/noroot.txt"
 "$sfit" skeleton "${trials[@]}" --segments "$tmp/noroot.txt" --json > "$tmp/noroot.json"
@@ -165,7 +172,6 @@ printf 'segment a RASI,LASI,RPSI\nsegment b NOPE1,NOPE2,NOPE3\n' > "$tmp/absent.
 expect_rc 3 "$sfit" skeleton "$L/Test_func_rhip.c3d" --segments "$tmp/absent.txt"
 grep -q "marker NOPE1 is in none of the files" "$tmp/stderr" || fail "absent marker: $(cat "$tmp/stderr")"
 expect_rc 2 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --frame 99999
-expect_rc 2 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --pair other
 expect_rc 3 "$sfit" skeleton "$U/arm-4-4-4_clean_30fps.c3d" --bvh "$tmp/no/such/dir.bvh"
 # Hostile recordings (written with skeleton_synth.write_c3d): a marker at
 # 1e30 (beyond the library's range: unseen, counted), one at +Inf, no motion

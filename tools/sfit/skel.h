@@ -4,7 +4,7 @@
  * @brief The skeleton found in a recording (`sfit skeleton FILE...`): host
  * side of issue 31. Segments (given by a map, or grouped from the data),
  * their poses (library: sfit_cluster.h), the joint cost of every pair of
- * segments (skel_pair_*), the tree (minimum spanning tree of the costs),
+ * segments (the library's pair module, sfit_pair.h), the tree (minimum spanning tree of the costs),
  * the skeleton's joint centres per frame, and the BVH / TRC / SVG / HTML
  * writers. Host only: it allocates; computations in double.
  *
@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "sfit/sfit_cluster.h"
+#include "sfit/sfit_pair.h"
 
 #define SKEL_MAX_SEG 32   /* segments */
 #define SKEL_MAX_MARK 256 /* markers of a recording */
@@ -83,6 +84,7 @@ typedef struct skel_map {
     int njoint;
     char jname[SKEL_MAX_SEG][SKEL_NAME], jpar[SKEL_MAX_SEG][SKEL_NAME],
         jchi[SKEL_MAX_SEG][SKEL_NAME], jtype[SKEL_MAX_SEG][16];
+    char jtrial[SKEL_MAX_SEG][SKEL_NAME]; /**< the joint's trial pattern ("" if none) */
 } skel_map_t;
 
 /** Parse a session model (segment / joint / root lines). 0, -1 open, -2 malformed (why). */
@@ -127,45 +129,55 @@ typedef enum skel_jtype { SKEL_NONE = 0, SKEL_BALL = 1, SKEL_HINGE = 2 } skel_jt
 #define SKEL_F_NO_MOTION 1u    /**< the two segments did not move relative to each other */
 #define SKEL_F_SMALL_RANGE 2u  /**< relative rotation spread below SKEL_SMALL_RANGE */
 #define SKEL_F_FEW_FRAMES 4u   /**< fewer than SKEL_MIN_FRAMES common frames */
-#define SKEL_F_BORDERLINE 8u   /**< hinge/ball decision within a factor 1.5 of its threshold */
+#define SKEL_F_BORDERLINE 8u   /**< the pair module calls ball / hinge ambiguous (its AMBIGUOUS
+                                    flag, all trials together) */
 #define SKEL_F_FORCED 16u      /**< type forced by the map */
+#define SKEL_F_TYPE_TRIAL 32u  /**< type decided on the joint's functional trial (all trials
+                                    together were ambiguous; docs/skeleton.md) */
+#define SKEL_F_ONE_TRIAL 64u   /**< a hinge estimated on its functional trial alone (all
+                                    trials together do not fix its axis) */
 
-/** Accumulators of one pair (segment a, segment b): O(1), per frame. */
-typedef struct skel_pair_acc {
-    double n;
-    double m[9];    /**< sum R_a^T R_b */
-    double u[3];    /**< sum R_a^T (t_b - t_a) */
-    double v[3];    /**< sum R_b^T (t_b - t_a) */
-    double e;       /**< sum |t_b - t_a|^2 */
-} skel_pair_acc_t;
-
-/** Solution of one pair. */
+/** Solution of one pair: the library's pair module (sfit_pair.h), the same
+ * module and options `sfit calibrate` and `sfit joint` use. */
 typedef struct skel_pair_res {
     skel_jtype_t type;
-    double ca[3], cb[3];  /**< centre in a's and b's segment frames */
-    double axis_a[3];     /**< hinge axis in a's frame (unit) */
-    double rms;           /**< joint cost: RMS distance between the two sides' centres */
-    double s[3];          /**< spread of the relative rotation (ascending eigenvalues / n) */
-    double cov_a[9];      /**< covariance of ca (hinge: across the axis only) */
+    double ca[3], cb[3];  /**< centre in a's and b's segment frames (lib.center_p / _c) */
+    double axis_a[3];     /**< hinge axis in a's frame (unit; lib.axis_p) */
+    double rms;           /**< joint cost: the module's model residual per frame (lib.rms) */
+    double s[3];          /**< spread of the relative rotation (lib.eigenvalues, >= 0) */
+    double cov_a[9];      /**< covariance of ca: lib.center_cov, for a joint of the tree
+                               times the inflation of its slow residual (skel_joint_t) */
     double sigma;         /**< 1-sigma radius: sqrt(largest eigenvalue of cov_a) */
-    double n;
-    unsigned flags;
-    unsigned lib_flags;   /**< --pair lib: the pair module's flags (sfit_pair_flag, sfit_flag) */
-    int lib_reason;       /**< --pair lib: its sfit_pair_reason_t */
+    double n;             /**< frames the module accepted */
+    long rejected;        /**< frames with both poses that the module rejected */
+    unsigned flags;       /**< SKEL_F_* */
+    sfit_pair_result_t lib; /**< the module's result as it gave it (covariances, noise,
+                               flags, reason) */
+    int trial;            /**< trials used: -1 all, else that trial only (SKEL_F_ONE_TRIAL) */
+    int type_trial;       /**< -1, or the trial whose auto decision gave the type */
+    const char *type_rule; /**< "map", "all_trials", "functional_trial" (docs/skeleton.md) */
 } skel_pair_res_t;
 
 /** Symmetric 3x3 eigen-decomposition (double, Jacobi): ascending w, vectors in v's columns. */
 int skel_eig3(const double a[9], double w[3], double v[9]);
-void skel_pair_reset(skel_pair_acc_t *a);
-/** Add one frame: poses of a and b (R row-major segment->lab, t lab). */
-void skel_pair_add(skel_pair_acc_t *a, const double ra[9], const double ta[3],
-                   const double rb[9], const double tb[3]);
+
+struct skel;
 /**
- * Solve: the centre, the type (force: SKEL_NONE = decide), the cost. The one
- * switch point for the pair module (sfit_pair, issue 28). 0, or -1 if too few
- * frames or the eigen-solver failed.
+ * The pair (a, b) by the library's pair module (sfit_pair_init / _add /
+ * _solve, default options as `sfit calibrate`) on the frames of trial
+ * `trial` (-1: all) where both have a pose; mode SKEL_NONE = auto. 0, or
+ * -1 (too few frames, or the module failed).
  */
-int skel_pair_solve(const skel_pair_acc_t *a, skel_jtype_t force, skel_pair_res_t *res);
+int skel_pair_run(const struct skel *s, int a, int b, skel_jtype_t mode, int trial,
+                  skel_pair_res_t *res);
+/**
+ * A joint of the tree (a parent, b child): its type (force from the map, else
+ * the rule of docs/skeleton.md: all trials together, or the functional trial
+ * when they are ambiguous; `pattern` the map's trial pattern or NULL) and its
+ * estimate over all trials with that type. 0, or -1.
+ */
+int skel_pair_joint(const struct skel *s, int a, int b, skel_jtype_t force, const char *pattern,
+                    skel_pair_res_t *res);
 
 /* ------------------------------------------------------------ skeleton */
 
@@ -192,10 +204,11 @@ typedef struct skel {
     skel_joint_t joint[SKEL_MAX_SEG];
     int order[SKEL_MAX_SEG];        /**< segments, parents before children */
     /* per frame */
-    int use_lib;                    /**< 1: the library's pair module (sfit_pair.h) */
     unsigned char *pose_ok;         /**< nframes * nseg */
     float *fit_rms;                 /**< nframes * nseg: registration residual (RMS) */
     unsigned char *fit_used;        /**< nframes * nseg: markers used */
+    sfit_pose_t *fpose;             /**< nframes * nseg: the registration's pose as it
+                                         came (what sfit_pair_add_markers would add) */
     double *pose;                   /**< nframes * nseg * 12: R (9) then t (3) */
     double *rel;                    /**< nframes * nseg * 9: rotation written in the BVH
                                          (root: R_root; others: R_parent^T R_child) */

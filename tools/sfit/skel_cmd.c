@@ -11,6 +11,7 @@
 
 #include "c3d.h"
 #include "cli.h"
+#include "cli_joint.h"
 #include "skel.h"
 
 typedef struct sk2_opts {
@@ -19,14 +20,13 @@ typedef struct sk2_opts {
     char *segments, *root, *bvh, *trc, *svg, *html, *centres;
     long frame, step;
     int json;
-    char *pair;
 } sk2_opts_t;
 
 static void sk2_usage(FILE *f)
 {
     fputs("usage: sfit skeleton FILE... [--segments MAP] [--root SEGMENT] [--step K]\n"
           "                     [--bvh OUT.bvh] [--trc OUT.trc] [--svg OUT.svg]\n"
-          "                     [--html OUT.html] [--centres OUT.csv] [--pair host|lib]\n"
+          "                     [--html OUT.html] [--centres OUT.csv]\n"
           "                     [--frame K] [--json]\n"
           "  FILE...          C3D trials of one session, used together (each joint may\n"
           "                   move in its own functional trial)\n"
@@ -41,8 +41,6 @@ static void sk2_usage(FILE *f)
           "  --svg OUT.svg    a picture at frame --frame K (default 0; frames counted over\n"
           "                   the trials in order, after --step)\n"
           "  --html OUT.html  a page that plays the skeleton over the markers\n"
-          "  --pair host|lib  the joint cost of a pair: the host stand-in in double\n"
-          "                   (default) or the library's pair module (sfit_pair.h)\n"
           "  --centres OUT.csv  each joint's centre (and hinge axis) as its parent\n"
           "                   segment carries it, per frame (lab frame)\n"
           "  --json           one JSON object on stdout\n"
@@ -56,7 +54,7 @@ static void sk2_usage(FILE *f)
 int skel_cmd_wanted(int argc, char **argv)
 {
     static const char *const own[] = {"--segments", "--root", "--step", "--bvh", "--trc",
-                                      "--html", "--centres", "--pair"};
+                                      "--html", "--centres"};
     int i, k;
     for (i = 1; i < argc; i++) {
         for (k = 0; k < (int)(sizeof own / sizeof own[0]); k++) {
@@ -114,7 +112,6 @@ static int sk2_parse(int argc, char **argv, sk2_opts_t *o)
         {.name = "--svg", .kind = CLI_OPT_STRING, .dst = &o->svg, .needs = 1},
         {.name = "--html", .kind = CLI_OPT_STRING, .dst = &o->html, .needs = 1},
         {.name = "--centres", .kind = CLI_OPT_STRING, .dst = &o->centres, .needs = 1},
-        {.name = "--pair", .kind = CLI_OPT_STRING, .dst = &o->pair, .needs = 1},
         {.name = "--step", .kind = CLI_OPT_FN, .dst = &o->step, .fn = step_opt, .needs = 1},
         {.name = "--frame", .kind = CLI_OPT_INDEX, .dst = &o->frame, .needs = 1,
          .err = "--frame needs a whole number >= 0"},
@@ -139,10 +136,10 @@ static const char *type_name(skel_jtype_t t)
 static void print_flags_json(unsigned fl)
 {
     static const char *const nm[] = {"no_motion", "small_range", "few_frames", "borderline",
-                                     "forced"};
+                                     "forced",    "type_from_trial", "one_trial"};
     int k, first = 1;
     printf("[");
-    for (k = 0; k < 5; k++) {
+    for (k = 0; k < 7; k++) {
         if (fl & (1u << k)) {
             printf("%s\"%s\"", first ? "" : ",", nm[k]);
             first = 0;
@@ -154,13 +151,28 @@ static void print_flags_json(unsigned fl)
 static void print_flags(unsigned fl)
 {
     static const char *const nm[] = {"no-motion", "small-range", "few-frames", "borderline",
-                                     "forced"};
+                                     "forced",    "type-from-trial", "one-trial"};
     int k;
-    for (k = 0; k < 5; k++) {
+    for (k = 0; k < 7; k++) {
         if (fl & (1u << k)) {
             printf(" [%s]", nm[k]);
         }
     }
+}
+
+/* The pair module's members of `sfit joint --json` (cli_joint.c): flags by
+ * name, center_cov, axis_cov (hinge), the noise figure and its source, the
+ * reason by name, misfit. */
+static void pair_json(const skel_pair_res_t *p)
+{
+    static cli_joint_out_t jo;
+    memset(&jo, 0, sizeof jo);
+    jo.pair_used = 1;
+    jo.pair = p->lib;
+    jo.pair_rejected = p->rejected;
+    printf(",\"pair_flags\":");
+    cli_joint_print_flags_json(&jo);
+    cli_joint_print_pair_json(&jo);
 }
 
 static void jvec(const double *v, int n)
@@ -246,13 +258,6 @@ int skel_cmd(int argc, char **argv)
         goto done;
     }
     s->rec = &rec;
-    if (o.pair != NULL && strcmp(o.pair, "lib") != 0 && strcmp(o.pair, "host") != 0) {
-        fprintf(stderr, "sfit: --pair is host or lib\n");
-        sk2_usage(stderr);
-        rc = CLI_USAGE;
-        goto done;
-    }
-    s->use_lib = o.pair != NULL && strcmp(o.pair, "lib") == 0;
     if (map != NULL) {
         s->nseg = map->nseg;
         for (k = 0; k < map->nseg; k++) {
@@ -373,6 +378,14 @@ int skel_cmd(int argc, char **argv)
                 printf("%s", i ? "," : "");
                 cli_print_json_string(s->seg[k].mk[i] < rec.nmark ? rec.label[s->seg[k].mk[i]] : "?");
             }
+            /* the template (segment frame) its poses come from: the first npose
+             * markers (a 2-marker group's third point is its joint centre) */
+            printf("],\"template\":[");
+            for (i = 0; s->seg[k].tpl_ok && i < s->seg[k].npose; i++) {
+                const float *v = s->seg[k].tpl.pos[i].v;
+                printf("%s[%.9g,%.9g,%.9g]", i ? "," : "", (double)v[0], (double)v[1],
+                       (double)v[2]);
+            }
             printf("]}");
         }
         printf("],\"root\":");
@@ -392,10 +405,10 @@ int skel_cmd(int argc, char **argv)
                     printf(",\"b\":");
                     cli_print_json_string(s->seg[b].name);
                     printf(",\"type\":\"%s\",\"cost\":%.6g,\"rotation_spread_deg\":[%.4g,%.4g,%.4g],"
-                           "\"frames\":%.0f,\"flags\":",
+                           "\"frames\":%.0f,\"reason\":\"%s\",\"flags\":",
                            type_name(p->type), p->rms, sqrt(p->s[0]) * 57.29577951308232,
                            sqrt(p->s[1]) * 57.29577951308232, sqrt(p->s[2]) * 57.29577951308232,
-                           p->n);
+                           p->n, cli_joint_pair_reason(p->lib.reason));
                     print_flags_json(p->flags);
                     printf("}");
                 }
@@ -412,8 +425,6 @@ int skel_cmd(int argc, char **argv)
             cli_print_json_string(s->seg[j->child].name);
             printf(",\"type\":\"%s\",\"center_parent\":", type_name(j->pr.type));
             jvec(j->pr.ca, 3);
-            printf(",\"center_child\":");
-            jvec(j->pr.cb, 3);
             if (j->pr.type == SKEL_HINGE) {
                 printf(",\"axis_parent\":");
                 jvec(j->pr.axis_a, 3);
@@ -463,8 +474,21 @@ int skel_cmd(int argc, char **argv)
                     printf("null");
                 }
             }
-            if (s->use_lib) {
-                printf(",\"pair_flags\":%u,\"pair_reason\":%d", j->pr.lib_flags, j->pr.lib_reason);
+            /* the pair module's result, written as `sfit joint --json` writes it */
+            pair_json(&j->pr);
+            printf(",\"type_rule\":\"%s\",\"type_trial\":", j->pr.type_rule);
+            if (j->pr.type_trial >= 0) {
+                cli_print_json_string(rec.file[j->pr.type_trial]);
+            } else {
+                printf("null");
+            }
+            printf(",\"trials_used\":");
+            if (j->pr.trial >= 0) {
+                printf("[");
+                cli_print_json_string(rec.file[j->pr.trial]);
+                printf("]");
+            } else {
+                printf("\"all\"");
             }
             printf(",\"lag1\":%.4g,\"inflation\":%.4g,\"frames\":%.0f,\"flags\":", j->lag1,
                    j->infl, j->pr.n);
@@ -541,6 +565,22 @@ int skel_cmd(int argc, char **argv)
                 printf("  axis         %.5f %.5f %.5f\n", j->pr.axis_a[0], j->pr.axis_a[1],
                        j->pr.axis_a[2]);
             }
+            if (j->pr.type_trial >= 0) {
+                printf("  type         %s: all trials together are ambiguous; decided on %s\n",
+                       type_name(j->pr.type), rec.file[j->pr.type_trial]);
+            }
+            if (j->pr.trial >= 0) {
+                printf("  estimated on %s alone (all trials together do not fix the hinge axis)\n",
+                       rec.file[j->pr.trial]);
+            }
+            printf("  pair module  marker noise sigma %.3g %s (from the registration residuals), "
+                   "misfit %.3g, 1 sigma %.3g before x%.3g for the slow residual (lag-1 %.3f)%s%s\n",
+                   sqrt((double)j->pr.lib.marker_var), rec.units, (double)j->pr.lib.misfit,
+                   j->pr.sigma / sqrt(j->infl), sqrt(j->infl), j->lag1,
+                   (j->pr.lib.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? ", untrusted: " : "",
+                   (j->pr.lib.flags & (uint32_t)SFIT_FLAG_UNTRUSTED)
+                       ? cli_joint_pair_reason(j->pr.lib.reason)
+                       : "");
         }
         for (k = 0; k < s->nseg; k++) {
             if (k != s->root && s->parent_joint[k] < 0) {

@@ -240,6 +240,7 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             (void)snprintf(m->jpar[k], SKEL_NAME, "%s", tok[2]);
             (void)snprintf(m->jchi[k], SKEL_NAME, "%s", tok[3]);
             (void)snprintf(m->jtype[k], sizeof m->jtype[k], "%s", tok[4]);
+            (void)snprintf(m->jtrial[k], SKEL_NAME, "%s", nt == 7 ? tok[6] : "");
         } else {
             (void)snprintf(why, SKEL_ERR,
                            "%s:%lu: expected `segment NAME M1,M2,M3[,...]`, `joint NAME PARENT "

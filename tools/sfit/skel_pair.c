@@ -1,59 +1,24 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file skel_pair.c
- * @brief The joint cost of a pair of segments from their poses (SCoRE /
- * SARA, DESIGN.md section 5), in double on the host.
- *
- * This is the host stand-in for the library's pair module (sfit_pair,
- * issue 28); skel_pair_solve() is the one place to switch over. The
- * accumulators are what a firmware would keep per pair and frame.
- *
- * Cost J(ca, cb) = sum_f |R_a ca + t_a - R_b cb - t_b|^2, d = t_b - t_a:
- *   J = n|ca|^2 + n|cb|^2 - 2 ca^T M cb - 2 ca^T u + 2 cb^T v + e,
- *   M = sum R_a^T R_b, u = sum R_a^T d, v = sum R_b^T d, e = sum |d|^2.
- * Minimum: cb = (M^T ca - v) / n and S ca = u - M v / n with the Schur
- * complement S = n I - M M^T / n. The eigenvalues of S / n lie in [0, 1]
- * and measure the spread of the relative rotation: about a hinge axis
- * w, S w = 0; with no relative motion S = 0.
+ * @brief The pair of segments of `sfit skeleton`: the library's pair module
+ * (sfit_pair.h: SCoRE / SARA with the errors-in-variables bias removed, the
+ * marker variance from the registration residuals, its covariances, its
+ * ball / hinge test and flags) on the skeleton's poses, with the default
+ * options `sfit calibrate` uses; and the rule that gives a joint its type
+ * when all trials together are ambiguous (docs/skeleton.md).
  */
+#include <fnmatch.h>
 #include <math.h>
 #include <string.h>
 
 #include "skel.h"
 
-/* Decision thresholds (docs/skeleton.md). */
+/* Thresholds of the skeleton's own flags (docs/skeleton.md). */
 #define SKEL_NO_MOTION_RAD 0.087  /* largest rotation spread below this (5 deg): no joint */
 #define SKEL_SMALL_RANGE_RAD 0.17 /* largest rotation spread below this (10 deg): flagged */
-#define SKEL_HINGE_RATIO 0.3      /* sqrt(s0 / s1) below this: a hinge */
-#define SKEL_MIN_FRAMES 30
-
-void skel_pair_reset(skel_pair_acc_t *a)
-{
-    memset(a, 0, sizeof *a);
-}
-
-void skel_pair_add(skel_pair_acc_t *a, const double ra[9], const double ta[3],
-                   const double rb[9], const double tb[3])
-{
-    int i, j, k;
-    double d[3];
-    for (i = 0; i < 3; i++) {
-        d[i] = tb[i] - ta[i];
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            double s = 0.0;
-            for (k = 0; k < 3; k++) {
-                s += ra[k * 3 + i] * rb[k * 3 + j];
-            }
-            a->m[i * 3 + j] += s;
-        }
-        a->u[i] += ra[0 * 3 + i] * d[0] + ra[1 * 3 + i] * d[1] + ra[2 * 3 + i] * d[2];
-        a->v[i] += rb[0 * 3 + i] * d[0] + rb[1 * 3 + i] * d[1] + rb[2 * 3 + i] * d[2];
-    }
-    a->e += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    a->n += 1.0;
-}
+#define SKEL_MIN_FRAMES 30        /* the pair module's own min_frames default */
+#define SKEL_PAIR_MIN_FRAMES 10   /* pairs seen together in fewer frames: no edge */
 
 /* Cyclic Jacobi for a symmetric 3x3 (double): a = v diag(w) v^T,
  * eigenvalues ascending, eigenvectors in the columns of v. 0, or -1. */
@@ -123,135 +88,187 @@ int skel_eig3(const double a_in[9], double w[3], double v[9])
     return 0;
 }
 
-static double pair_cost(const skel_pair_acc_t *a, const double ca[3], const double cb[3])
+int skel_pair_run(const skel_t *s, int a, int b, skel_jtype_t mode, int trial,
+                  skel_pair_res_t *out)
 {
-    double j = a->e;
-    int i, k;
-    for (i = 0; i < 3; i++) {
-        double mcb = 0.0;
-        for (k = 0; k < 3; k++) {
-            mcb += a->m[i * 3 + k] * cb[k];
-        }
-        j += a->n * (ca[i] * ca[i] + cb[i] * cb[i]) - 2.0 * ca[i] * mcb - 2.0 * ca[i] * a->u[i]
-             + 2.0 * cb[i] * a->v[i];
+    const skel_rec_t *r = s->rec;
+    const long f0 = trial < 0 ? 0 : r->start[trial], f1 = trial < 0 ? r->nframes : r->start[trial + 1];
+    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
+    sfit_pair_t st;
+    sfit_pair_result_t res;
+    skel_pair_res_t o;
+    sfit_status_t rc;
+    long f, rejected = 0;
+    int i;
+    cfg.mode = mode == SKEL_BALL ? SFIT_PAIR_MODE_BALL
+                                 : (mode == SKEL_HINGE ? SFIT_PAIR_MODE_HINGE : SFIT_PAIR_MODE_AUTO);
+    if (sfit_pair_init(&st, &s->seg[a].tpl, &s->seg[b].tpl, &cfg) != SFIT_OK) {
+        return -1;
     }
-    return j > 0.0 ? j : 0.0;
+    for (f = f0; f < f1; f++) {
+        const size_t ia = (size_t)f * (size_t)s->nseg + (size_t)a;
+        const size_t ib = (size_t)f * (size_t)s->nseg + (size_t)b;
+        sfit_cluster_fit_t fa, fb;
+        if (!s->pose_ok[ia] || !s->pose_ok[ib]) {
+            continue;
+        }
+        fa.rms = s->fit_rms[ia];
+        fa.used = s->fit_used[ia];
+        fb.rms = s->fit_rms[ib];
+        fb.used = s->fit_used[ib];
+        if (sfit_pair_add(&st, &s->fpose[ia], &fa, &s->fpose[ib], &fb) != SFIT_OK) {
+            rejected++;
+        }
+    }
+    if (st.frames < SKEL_PAIR_MIN_FRAMES) {
+        return -1;
+    }
+    memset(&o, 0, sizeof o);
+    o.n = (double)st.frames;
+    o.rejected = rejected;
+    o.trial = trial;
+    o.type_trial = -1;
+    o.type_rule = mode == SKEL_NONE ? "all_trials" : "map";
+    rc = sfit_pair_solve(&st, &res);
+    if (rc == SFIT_E_DEGENERATE && mode == SKEL_NONE) { /* no relative rotation at all */
+        o.type = SKEL_NONE;
+        o.flags = SKEL_F_NO_MOTION;
+        *out = o;
+        return 0;
+    }
+    if (rc != SFIT_OK) {
+        return -1;
+    }
+    o.lib = res;
+    for (i = 0; i < 3; i++) {
+        o.ca[i] = (double)res.center_p.v[i];
+        o.cb[i] = (double)res.center_c.v[i];
+        o.axis_a[i] = (double)res.axis_p.v[i];
+        o.s[i] = (double)res.eigenvalues.v[i] > 0.0 ? (double)res.eigenvalues.v[i] : 0.0;
+    }
+    for (i = 0; i < 9; i++) {
+        o.cov_a[i] = (double)res.center_cov.m[i];
+    }
+    o.rms = (double)res.rms;
+    o.type = res.mode == SFIT_PAIR_MODE_HINGE ? SKEL_HINGE : SKEL_BALL;
+    if (mode != SKEL_NONE) {
+        o.flags |= SKEL_F_FORCED;
+    }
+    if (sqrt(o.s[2]) < SKEL_NO_MOTION_RAD) {
+        o.flags |= SKEL_F_NO_MOTION;
+        if (mode == SKEL_NONE) {
+            o.type = SKEL_NONE;
+        }
+    }
+    if (sqrt(o.s[2]) < SKEL_SMALL_RANGE_RAD) {
+        o.flags |= SKEL_F_SMALL_RANGE;
+    }
+    if (res.frames < SKEL_MIN_FRAMES) {
+        o.flags |= SKEL_F_FEW_FRAMES;
+    }
+    if ((res.flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
+        o.flags |= SKEL_F_BORDERLINE;
+    }
+    {
+        double w[3], v[9];
+        o.sigma = skel_eig3(o.cov_a, w, v) == 0 && w[2] > 0.0 ? sqrt(w[2]) : 0.0;
+    }
+    *out = o;
+    return 0;
 }
 
-int skel_pair_solve(const skel_pair_acc_t *a, skel_jtype_t force, skel_pair_res_t *res)
+static const char *base_name(const char *p)
 {
-    double s[9], w[3], vec[9], rhs[3], y[3], ca[3], cb[3];
-    const double n = a->n;
-    int i, j, k, nfree;
-    skel_pair_res_t r;
-    memset(&r, 0, sizeof r);
-    if (!(n >= 3.0)) {
-        return -1;
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            double mm = 0.0;
-            for (k = 0; k < 3; k++) {
-                mm += a->m[i * 3 + k] * a->m[j * 3 + k];
+    const char *q = strrchr(p, '/');
+    return q != NULL ? q + 1 : p;
+}
+
+/* The joint's functional trial: the one trial the map's pattern matches,
+ * else the trial where the pair turns most in its second direction
+ * (frames x lambda_2: a hinge's flexion shows in lambda_2 and lambda_3, a
+ * ball's in all three). -1 if none. */
+static int functional_trial(const skel_t *s, int a, int b, const char *pattern)
+{
+    const skel_rec_t *r = s->rec;
+    int t, best = -1, hits = 0;
+    double most = 0.0;
+    if (pattern != NULL && pattern[0] != '\0') {
+        for (t = 0; t < r->nfiles; t++) {
+            if (fnmatch(pattern, base_name(r->file[t]), 0) == 0) {
+                best = t;
+                hits++;
             }
-            s[i * 3 + j] = (i == j ? n : 0.0) - mm / n;
         }
-        rhs[i] = a->u[i];
-        for (k = 0; k < 3; k++) {
-            rhs[i] -= a->m[i * 3 + k] * a->v[k] / n;
+        if (hits == 1) {
+            return best;
+        }
+        best = -1;
+    }
+    for (t = 0; t < r->nfiles; t++) {
+        skel_pair_res_t p;
+        if (skel_pair_run(s, a, b, SKEL_NONE, t, &p) == 0 && p.type != SKEL_NONE
+            && p.n * p.s[1] > most) {
+            most = p.n * p.s[1];
+            best = t;
         }
     }
-    if (skel_eig3(s, w, vec) != 0) {
-        return -1;
-    }
-    for (i = 0; i < 3; i++) {
-        r.s[i] = w[i] / n > 0.0 ? w[i] / n : 0.0;
-    }
-    r.n = n;
-    if (n < SKEL_MIN_FRAMES) {
-        r.flags |= SKEL_F_FEW_FRAMES;
-    }
-    if (sqrt(r.s[2]) < SKEL_SMALL_RANGE_RAD) {
-        r.flags |= SKEL_F_SMALL_RANGE;
-    }
-    {
-        const double ratio = sqrt(r.s[0] / (r.s[1] > 0.0 ? r.s[1] : 1e-300));
-        if (force == SKEL_NONE) {
-            if (sqrt(r.s[2]) < SKEL_NO_MOTION_RAD) {
-                r.type = SKEL_NONE;
-                r.flags |= SKEL_F_NO_MOTION;
+    return best;
+}
+
+int skel_pair_joint(const skel_t *s, int a, int b, skel_jtype_t force, const char *pattern,
+                    skel_pair_res_t *res)
+{
+    skel_pair_res_t all, one;
+    skel_jtype_t type = force;
+    int t = -2; /* not looked for yet */
+    const char *rule = "map";
+    if (force == SKEL_NONE) {
+        /* 1. the type: all trials together, unless the module calls them ambiguous */
+        if (skel_pair_run(s, a, b, SKEL_NONE, -1, &all) != 0) {
+            return -1;
+        }
+        type = all.type;
+        rule = "all_trials";
+        if ((all.flags & SKEL_F_BORDERLINE) && all.type != SKEL_NONE && s->rec->nfiles > 1) {
+            /* then the joint's functional trial decides, when it can */
+            t = functional_trial(s, a, b, pattern);
+            if (t >= 0 && skel_pair_run(s, a, b, SKEL_NONE, t, &one) == 0
+                && one.type != SKEL_NONE && !(one.flags & SKEL_F_BORDERLINE)) {
+                type = one.type;
+                rule = "functional_trial";
             } else {
-                r.type = ratio < SKEL_HINGE_RATIO ? SKEL_HINGE : SKEL_BALL;
-                if (ratio > SKEL_HINGE_RATIO / 1.5 && ratio < SKEL_HINGE_RATIO * 1.5) {
-                    r.flags |= SKEL_F_BORDERLINE;
-                }
-            }
-        } else {
-            r.type = force;
-            r.flags |= SKEL_F_FORCED;
-            if (sqrt(r.s[2]) < SKEL_NO_MOTION_RAD) {
-                r.flags |= SKEL_F_NO_MOTION;
+                t = -1;
             }
         }
-    }
-    /* y = V^T rhs, solved over the eigen-directions kept */
-    nfree = (r.type == SKEL_HINGE) ? 1 : (r.type == SKEL_NONE ? 3 : 0);
-    for (i = 0; i < 3; i++) {
-        y[i] = 0.0;
-        for (k = 0; k < 3; k++) {
-            y[i] += vec[k * 3 + i] * rhs[k];
-        }
-        y[i] = (i < nfree || !(w[i] > 0.0)) ? 0.0 : y[i] / w[i];
-    }
-    for (i = 0; i < 3; i++) {
-        ca[i] = vec[i * 3 + 0] * y[0] + vec[i * 3 + 1] * y[1] + vec[i * 3 + 2] * y[2];
-    }
-    if (r.type == SKEL_HINGE) {
-        /* along the axis: the point nearest the midpoint of the two template
-         * origins (0 and the mean of b's origin in a's frame, u / n) */
-        double along = 0.0;
-        for (i = 0; i < 3; i++) {
-            r.axis_a[i] = vec[i * 3 + 0];
-            along += (0.5 * a->u[i] / n - ca[i]) * r.axis_a[i];
-        }
-        for (i = 0; i < 3; i++) {
-            ca[i] += along * r.axis_a[i];
+        if (type == SKEL_NONE || (strcmp(rule, "all_trials") == 0 && type != SKEL_HINGE)) {
+            *res = all; /* decided over all trials, estimated over all trials */
+            return 0;
         }
     }
-    for (i = 0; i < 3; i++) {
-        cb[i] = -a->v[i];
-        for (k = 0; k < 3; k++) {
-            cb[i] += a->m[k * 3 + i] * ca[k];
-        }
-        cb[i] /= n;
+    /* 2. the estimate over all trials with that type */
+    if (skel_pair_run(s, a, b, type, -1, res) != 0) {
+        return -1;
     }
-    r.rms = sqrt(pair_cost(a, ca, cb) / n);
-    /* covariance of ca: sigma^2 S^-1 over the kept directions,
-     * sigma^2 = J / (3n - unknowns) per coordinate */
-    {
-        const double dof = 3.0 * n - (r.type == SKEL_HINGE ? 4.0 : 6.0);
-        const double sig2 = dof > 0.0 ? r.rms * r.rms * n / dof : 0.0;
-        double big = 0.0;
-        for (i = 0; i < 3; i++) {
-            for (j = 0; j < 3; j++) {
-                double c = 0.0;
-                for (k = nfree; k < 3; k++) {
-                    if (w[k] > 0.0) {
-                        c += vec[i * 3 + k] * vec[j * 3 + k] / w[k];
-                    }
-                }
-                r.cov_a[i * 3 + j] = sig2 * c;
-            }
+    /* 3. a hinge whose axis all trials together do not fix (the pair module's
+     * AXIS_FREE: out-of-axis motion in the other trials) is estimated on its
+     * functional trial alone, where it is a hinge */
+    if (type == SKEL_HINGE && (res->lib.flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u
+        && s->rec->nfiles > 1) {
+        if (t == -2) {
+            t = functional_trial(s, a, b, pattern);
         }
-        for (k = nfree; k < 3; k++) {
-            if (w[k] > 0.0 && sig2 / w[k] > big) {
-                big = sig2 / w[k];
-            }
+        if (t >= 0 && skel_pair_run(s, a, b, SKEL_HINGE, t, &one) == 0) {
+            *res = one;
+            res->flags |= SKEL_F_ONE_TRIAL;
         }
-        r.sigma = sqrt(big);
     }
-    memcpy(r.ca, ca, sizeof ca);
-    memcpy(r.cb, cb, sizeof cb);
-    *res = r;
+    if (force == SKEL_NONE) {
+        res->flags &= ~(unsigned)SKEL_F_FORCED;
+    }
+    if (strcmp(rule, "functional_trial") == 0) {
+        res->flags |= SKEL_F_BORDERLINE | SKEL_F_TYPE_TRIAL;
+        res->type_trial = t;
+    }
+    res->type_rule = rule;
     return 0;
 }

@@ -9,10 +9,7 @@
 #include <string.h>
 
 #include "sfit/sfit_joint.h"
-#include "sfit/sfit_pair.h"
 #include "skel.h"
-
-#define SKEL_PAIR_MIN_FRAMES 10 /* pairs seen together in fewer frames: no edge */
 
 /* ------------------------------------------------------------ 3x3 help */
 
@@ -79,6 +76,8 @@ void skel_free(skel_t *s)
     free(s->ends);
     free(s->fit_rms);
     free(s->fit_used);
+    free(s->fpose);
+    s->fpose = NULL;
     s->fit_rms = NULL;
     s->fit_used = NULL;
     s->pose_ok = NULL;
@@ -97,9 +96,10 @@ int skel_poses(skel_t *s, char *why)
     s->pose = calloc((size_t)nf * (size_t)s->nseg * 12u, sizeof *s->pose);
     s->fit_rms = calloc((size_t)nf * (size_t)s->nseg, sizeof *s->fit_rms);
     s->fit_used = calloc((size_t)nf * (size_t)s->nseg, 1u);
+    s->fpose = calloc((size_t)nf * (size_t)s->nseg, sizeof *s->fpose);
     fr = malloc((size_t)nf * SFIT_CLUSTER_MAX_MARKERS * sizeof *fr);
     if (s->pose_ok == NULL || s->pose == NULL || s->fit_rms == NULL || s->fit_used == NULL
-        || fr == NULL) {
+        || s->fpose == NULL || fr == NULL) {
         free(fr);
         (void)snprintf(why, SKEL_ERR, "out of memory");
         return -1;
@@ -143,6 +143,7 @@ int skel_poses(skel_t *s, char *why)
             if (sfit_cluster_register(&g->tpl, &fr[f * np], (size_t)np, &po, &fit) == SFIT_OK) {
                 s->fit_rms[(size_t)f * (size_t)s->nseg + (size_t)k] = fit.rms;
                 s->fit_used[(size_t)f * (size_t)s->nseg + (size_t)k] = (unsigned char)fit.used;
+                s->fpose[(size_t)f * (size_t)s->nseg + (size_t)k] = po;
                 double *q = &s->pose[((size_t)f * (size_t)s->nseg + (size_t)k) * 12u];
                 for (i = 0; i < 9; i++) {
                     q[i] = (double)po.r.m[i];
@@ -320,119 +321,6 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
 
 /* ---------------------------------------------------------------- tree */
 
-static void acc_pair(const skel_t *s, int a, int b, skel_pair_acc_t *acc)
-{
-    long f;
-    skel_pair_reset(acc);
-    for (f = 0; f < s->rec->nframes; f++) {
-        const double *pa = pose_at(s, f, a), *pb = pose_at(s, f, b);
-        if (pa != NULL && pb != NULL) {
-            skel_pair_add(acc, pa, pa + 9, pb, pb + 9);
-        }
-    }
-}
-
-/* The library's pair module (sfit_pair.h) on the same poses. */
-static int lib_pair(const skel_t *s, int a, int b, skel_jtype_t force, skel_pair_res_t *out)
-{
-    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
-    sfit_pair_t st;
-    sfit_pair_result_t r;
-    skel_pair_res_t o;
-    sfit_status_t rc;
-    long f;
-    int i;
-    cfg.mode = force == SKEL_BALL ? SFIT_PAIR_MODE_BALL
-                                  : (force == SKEL_HINGE ? SFIT_PAIR_MODE_HINGE : SFIT_PAIR_MODE_AUTO);
-    if (sfit_pair_init(&st, &s->seg[a].tpl, &s->seg[b].tpl, &cfg) != SFIT_OK) {
-        return -1;
-    }
-    for (f = 0; f < s->rec->nframes; f++) {
-        const double *pa = pose_at(s, f, a), *pb = pose_at(s, f, b);
-        sfit_pose_t qa, qb;
-        sfit_cluster_fit_t fa, fb;
-        if (pa == NULL || pb == NULL) {
-            continue;
-        }
-        for (i = 0; i < 9; i++) {
-            qa.r.m[i] = (float)pa[i];
-            qb.r.m[i] = (float)pb[i];
-        }
-        for (i = 0; i < 3; i++) {
-            qa.t.v[i] = (float)pa[9 + i];
-            qb.t.v[i] = (float)pb[9 + i];
-        }
-        fa.rms = s->fit_rms[(size_t)f * (size_t)s->nseg + (size_t)a];
-        fa.used = s->fit_used[(size_t)f * (size_t)s->nseg + (size_t)a];
-        fb.rms = s->fit_rms[(size_t)f * (size_t)s->nseg + (size_t)b];
-        fb.used = s->fit_used[(size_t)f * (size_t)s->nseg + (size_t)b];
-        (void)sfit_pair_add(&st, &qa, &fa, &qb, &fb);
-    }
-    memset(&o, 0, sizeof o);
-    o.n = (double)st.frames;
-    rc = sfit_pair_solve(&st, &r);
-    if (rc == SFIT_E_DEGENERATE && force == SKEL_NONE) { /* no relative rotation at all */
-        o.type = SKEL_NONE;
-        o.flags = SKEL_F_NO_MOTION;
-        *out = o;
-        return 0;
-    }
-    if (rc != SFIT_OK) {
-        return -1;
-    }
-    for (i = 0; i < 3; i++) {
-        o.ca[i] = (double)r.center_p.v[i];
-        o.cb[i] = (double)r.center_c.v[i];
-        o.axis_a[i] = (double)r.axis_p.v[i];
-        o.s[i] = (double)r.eigenvalues.v[i] > 0.0 ? (double)r.eigenvalues.v[i] : 0.0;
-    }
-    for (i = 0; i < 9; i++) {
-        o.cov_a[i] = (double)r.center_cov.m[i];
-    }
-    o.rms = (double)r.rms;
-    o.type = r.mode == SFIT_PAIR_MODE_HINGE ? SKEL_HINGE : SKEL_BALL;
-    o.lib_flags = r.flags;
-    o.lib_reason = (int)r.reason;
-    if (force != SKEL_NONE) {
-        o.flags |= SKEL_F_FORCED;
-    }
-    if (sqrt(o.s[2]) < 0.087) { /* the stand-in's no-motion rule (5 degrees) */
-        o.flags |= SKEL_F_NO_MOTION;
-        if (force == SKEL_NONE) {
-            o.type = SKEL_NONE;
-        }
-    }
-    if (sqrt(o.s[2]) < 0.17) {
-        o.flags |= SKEL_F_SMALL_RANGE;
-    }
-    if (r.frames < 30u) {
-        o.flags |= SKEL_F_FEW_FRAMES;
-    }
-    if ((r.flags & (uint32_t)SFIT_PAIR_FLAG_AMBIGUOUS) != 0u) {
-        o.flags |= SKEL_F_BORDERLINE;
-    }
-    {
-        double w[3], v[9];
-        o.sigma = skel_eig3(o.cov_a, w, v) == 0 && w[2] > 0.0 ? sqrt(w[2]) : 0.0;
-    }
-    *out = o;
-    return 0;
-}
-
-/* The joint cost of a pair: the host stand-in or the library's module. */
-static int pair_cost(const skel_t *s, int a, int b, skel_jtype_t force, skel_pair_res_t *res)
-{
-    skel_pair_acc_t acc;
-    if (s->use_lib) {
-        return lib_pair(s, a, b, force, res);
-    }
-    acc_pair(s, a, b, &acc);
-    if (acc.n < SKEL_PAIR_MIN_FRAMES) {
-        return -1;
-    }
-    return skel_pair_solve(&acc, force, res);
-}
-
 static int find_seg(const skel_t *s, const char *name)
 {
     int k;
@@ -462,6 +350,9 @@ static void joint_inflation(skel_t *s, skel_joint_t *j)
     for (pass = 0; pass < 2; pass++) {
         for (t = 0; t < r->nfiles; t++) {
             double prev[3];
+            if (j->pr.trial >= 0 && t != j->pr.trial) { /* the trials the joint used */
+                continue;
+            }
             int have = 0;
             long f;
             for (f = r->start[t]; f < r->start[t + 1]; f++) {
@@ -528,7 +419,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             if (!s->seg[a].tpl_ok || !s->seg[b].tpl_ok) {
                 continue;
             }
-            if (pair_cost(s, a, b, SKEL_NONE, &s->pair[a][b]) != 0) {
+            if (skel_pair_run(s, a, b, SKEL_NONE, -1, &s->pair[a][b]) != 0) {
                 continue;
             }
             s->pair_ok[a][b] = 1;
@@ -601,6 +492,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             if (adj[p][b] && !seen[b]) {
                 skel_joint_t *j = &s->joint[s->njoint];
                 skel_jtype_t force = SKEL_NONE;
+                const char *pattern = NULL;
                 memset(j, 0, sizeof *j);
                 j->parent = p;
                 j->child = b;
@@ -612,6 +504,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
                             || (strcmp(map->jpar[k], s->seg[b].name) == 0
                                 && strcmp(map->jchi[k], s->seg[p].name) == 0)) {
                             (void)snprintf(j->name, sizeof j->name, "%s", map->jname[k]);
+                            pattern = map->jtrial[k];
                             force = strcmp(map->jtype[k], "ball") == 0
                                         ? SKEL_BALL
                                         : (strcmp(map->jtype[k], "hinge") == 0 ? SKEL_HINGE
@@ -619,7 +512,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
                         }
                     }
                 }
-                if (pair_cost(s, p, b, force, &j->pr) != 0) {
+                if (skel_pair_joint(s, p, b, force, pattern, &j->pr) != 0) {
                     (void)snprintf(why, SKEL_ERR, "joint %s: cannot solve", j->name);
                     return -1;
                 }
