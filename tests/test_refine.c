@@ -89,11 +89,11 @@ static void test_recipe(void **state)
     assert_memory_equal(&f.geometric, &r, sizeof r);
     /* the recipe's covariance is the sandwich plus b b^T, b = geometric -
      * self-calibrated centre (its bias estimate), times the widening of
-     * docs/coverage.md rule 7, 1 + 2 (v / r^2) sqrt(96 / (N - 4)) with the
+     * docs/coverage.md rule 7, 1 + K (v / r^2) sqrt(96 / (N - 4)) with the
      * self-calibrated v and r; the rest is the sandwich */
     {
         static const int rw[6] = {0, 1, 2, 0, 0, 1}, cl[6] = {0, 1, 2, 1, 2, 2};
-        const double wf = 1.0 + 2.0 * ((double)s.noise_var
+        const double wf = 1.0 + REF_COV_WIDEN_K * ((double)s.noise_var
                                        / ((double)s.fit.radius * (double)s.fit.radius))
                                     * sqrt(96.0 / 996.0);
         int k;

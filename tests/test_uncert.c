@@ -380,19 +380,30 @@ static void test_selfcal_vs_oracle(void **state)
  * the Monte Carlo covariance trace of the unflagged results, including
  * sigma / r = 0.38, N = 100 (the moments formula gave 1.23 there). The MC
  * trace's own relative SE is about sqrt(2/(3 T)) (< 3 % here), so the 20 %
- * band is more than 4 SE wide. Measured (seeds below): 0.911 (sigma/r 0.38,
- * N 100, 550 unflagged), 1.112, 1.040, 0.993. */
+ * band is more than 4 SE wide.
+ *
+ * Since issue 28 the reported covariance is the sandwich widened by
+ * f = 1 + K (v / r^2) sqrt(96 / (N - 4)) (docs/coverage.md rule 7, K =
+ * REF_COV_WIDEN_K), and issue 28 sets the bound for it: "where the
+ * covariance is widened it may be up to 1.5 times the Monte Carlo
+ * covariance (never below 0.9 times anywhere)". So both are checked: the
+ * sandwich before the widening (reported / f, f computed here from the
+ * fit's v and r) within 20 % (issue 14), and the reported, widened one in
+ * 0.9-1.5 (issue 28). Measured (seeds below; K = 3.5), unwidened /
+ * widened: 0.911 / 1.287 (sigma/r 0.38, N 100, 550 unflagged), 1.112 /
+ * 1.152, 1.040 / 1.042, 0.993 / 0.995. */
 static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_t seed)
 {
     mc_acc_t a;
     tu_rng_t g;
     int t, flagged = 0;
-    double q;
+    double q, q0, rep0 = 0.0;
     memset(&a, 0, sizeof a);
     tu_rng_seed(&g, seed);
     for (t = 0; t < trials; t++) {
         sfit_selfcal_result_t sc;
         sfit_uncert_t u;
+        double f;
         gen(&g, theta_deg * TU_PI / 180.0, sr * K_R, n);
         assert_int_equal(sfit_selfcal_points(g_pf, (size_t)n, NULL, &sc), SFIT_OK);
         if (sc.fit.flags & SFIT_FLAG_UNTRUSTED) {
@@ -403,16 +414,23 @@ static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_
                                              sc.fit.radius, sc.noise_var, &u),
                          SFIT_OK);
         mc_add(&a, &sc.fit.center, &u);
+        f = 1.0 + REF_COV_WIDEN_K * ((double)sc.noise_var
+                                     / ((double)sc.fit.radius * (double)sc.fit.radius))
+                      * sqrt(96.0 / (double)((n > 14) ? n - 4 : 10));
+        assert_true(f >= 1.0);
+        rep0 += trace6(u.center_cov) / f;
     }
     q = mc_ratio(&a);
+    q0 = q * rep0 / a.rep; /* the same MC trace, the unwidened sandwich */
     print_message("selfcal sandwich: cap %.0f sigma/r %.3f N %d: %d unflagged of %d, "
-                  "reported/MC trace %.3f\n",
-                  theta_deg, sr, n, a.n, trials, q);
+                  "reported/MC trace %.3f (before the widening of rule 7: %.3f)\n",
+                  theta_deg, sr, n, a.n, trials, q, q0);
     /* enough unflagged results for the MC trace (relative SE <= 5 %); at
      * sigma / r = 0.38, N = 100 the trust rule flags ~63 % (the reported
      * trust ratio scatters around 0.37 against SFIT_COV_MAX_TRUST) */
     assert_true(a.n >= 300);
-    assert_near(q, 1.0, 0.2, "selfcal sandwich trace / MC");
+    assert_near(q0, 1.0, 0.2, "selfcal sandwich (unwidened) trace / MC");
+    assert_true(q >= 0.9 && q <= 1.5); /* issue 28: widened, 0.9-1.5 x MC */
     return q;
 }
 

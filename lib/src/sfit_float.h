@@ -174,8 +174,12 @@ SFIT_INLINE float sfit_i_curvature_var(float s2, float r)
     return 2.0f * s2 / (1.0f + SFIT_SQRTF((q < 1.0f) ? (1.0f - q) : 0.0f));
 }
 
-/** Constant K of the widening below (docs/coverage.md, rule 7). */
-#define SFIT_I_COV_WIDEN_K 2.0f
+/** Constant K of the widening below (docs/coverage.md, rule 7; a build may
+ * set another for a study, e.g. -DSFIT_I_COV_WIDEN_K=2.5f, as
+ * SFIT_COV_MAX_TRUST). */
+#ifndef SFIT_I_COV_WIDEN_K
+#define SFIT_I_COV_WIDEN_K 3.5f
+#endif
 
 /**
  * @brief Factor by which a centre covariance resting on an estimated noise

@@ -963,9 +963,9 @@ int ref_sandwich_selfcal(const double (*x)[3], size_t n, const double c[3], doub
                          double v, double cov[3][3])
 {
     ref_ld th[5], a[25], ainv[25], b[25], col[5], tp[5], tm[5];
-    /* the widening of docs/coverage.md rule 7: 1 + 2 (v / r^2) s / s(100),
+    /* the widening of docs/coverage.md rule 7: 1 + K (v / r^2) s / s(100),
      * s = sqrt(2 / (n - 4)), n - 4 taken at least 10 */
-    const ref_ld widen = 1.0L + 2.0L * (LD(v) / (LD(r) * LD(r)))
+    const ref_ld widen = 1.0L + LD(REF_COV_WIDEN_K) * (LD(v) / (LD(r) * LD(r)))
                                     * sqrtl(96.0L / ((n > 14u) ? (ref_ld)(n - 4u) : 10.0L));
     int j, k, l, m;
     if (n < 14u) {

@@ -71,4 +71,18 @@ static double cov_tally_ratio(const cov_tally_t *a)
     return (a->rep / (double)t) / tr;
 }
 
+/* reported trace / Monte Carlo mean squared error (about the true centre,
+ * bias included) of the unflagged results (0 when none): the comparison
+ * for a covariance that reports a mean squared error (the refined recipe,
+ * docs/coverage.md rule 5) */
+static inline double cov_tally_mse_ratio(const cov_tally_t *a)
+{
+    const long t = cov_tally_unflagged(a);
+    const double mse = a->ss[0] + a->ss[1] + a->ss[2];
+    if (t < 1 || !(mse > 0.0)) {
+        return 0.0;
+    }
+    return a->rep / mse;
+}
+
 #endif /* SFIT_MC_COV_TALLY_H */

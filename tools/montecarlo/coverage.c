@@ -163,7 +163,12 @@ int main(int argc, char **argv)
     int e, idx = 0, quick = (argc > 2 && strcmp(argv[2], "quick") == 0);
     long rows = 0, outside = 0, trials_total = 0, few_rows = 0, few_n = 0, few_cov = 0;
     double flmax = 0.0, qmin = 1e30, qmax = 0.0;
+    double rmin[EST_COUNT], rmax[EST_COUNT], mmin[EST_COUNT], mmax[EST_COUNT];
     const long assess = quick ? 20 : 200; /* unflagged results for an assessed row */
+    for (e = 0; e < EST_COUNT; e++) {
+        rmin[e] = mmin[e] = 1e30;
+        rmax[e] = mmax[e] = 0.0;
+    }
     if (argc > 3 && strcmp(argv[2], "dump") == 0) {
         /* OUTFILE dump SCENFILE: per-trial records of the listed scenarios */
         FILE *in = fopen(argv[3], "r");
@@ -219,10 +224,10 @@ int main(int argc, char **argv)
         for (e = 0; e < EST_COUNT; e++) {
             const long u = cov_tally_unflagged(&acc[e]);
             printf("cap %.0f sigma/r %.3f N %d trust %.3f %-8s unflagged %ld coverage %.4f "
-                   "flagged %ld failed %ld cov/MC %.3f\n",
+                   "flagged %ld failed %ld cov/MC %.3f cov/MSE %.3f\n",
                    sc.theta_deg, sc.sr, sc.n, tt, k_est_name[e], u,
                    (u > 0) ? (double)acc[e].covered / (double)u : -1.0, acc[e].flagged,
-                   acc[e].failed, cov_tally_ratio(&acc[e]));
+                   acc[e].failed, cov_tally_ratio(&acc[e]), cov_tally_mse_ratio(&acc[e]));
         }
         return 0;
     }
@@ -236,7 +241,7 @@ int main(int argc, char **argv)
         return 1;
     }
     fprintf(csv, "cap,sigma_r,n,trials,true_trust,estimator,mean_trust,ok,flagged,failed,"
-                 "unflagged,coverage,cov_ratio\n");
+                 "unflagged,coverage,cov_ratio,mse_ratio\n");
     fprintf(f, "Coverage of the unflagged OK results (fraction whose true centre is inside "
                "the reported 95 %% ellipsoid), flagged fraction of the OK results, and for "
                "the self-calibrated fit the reported / Monte Carlo covariance trace. A "
@@ -264,11 +269,11 @@ int main(int argc, char **argv)
                     const double cv = (u > 0) ? (double)acc[e].covered / (double)u : -1.0;
                     const double fl =
                         (acc[e].ok > 0) ? (double)acc[e].flagged / (double)acc[e].ok : 0.0;
-                    fprintf(csv, "%.0f,%.3f,%d,%d,%.5g,%s,%.5g,%ld,%ld,%ld,%ld,%.4f,%.4f\n",
+                    fprintf(csv, "%.0f,%.3f,%d,%d,%.5g,%s,%.5g,%ld,%ld,%ld,%ld,%.4f,%.4f,%.4f\n",
                             sc.theta_deg, sc.sr, sc.n, sc.trials, tt, k_est_name[e],
                             (acc[e].ok > 0) ? acc[e].trust / (double)acc[e].ok : 0.0,
                             acc[e].ok, acc[e].flagged, acc[e].failed, u, cv,
-                            cov_tally_ratio(&acc[e]));
+                            cov_tally_ratio(&acc[e]), cov_tally_mse_ratio(&acc[e]));
                     if (u >= assess) {
                         fprintf(f, " %.3f |", cv);
                         rows++;
@@ -282,6 +287,14 @@ int main(int argc, char **argv)
                             const double q = cov_tally_ratio(&acc[e]);
                             qmin = (q < qmin) ? q : qmin;
                             qmax = (q > qmax) ? q : qmax;
+                        }
+                        {
+                            const double q = cov_tally_ratio(&acc[e]);
+                            const double m = cov_tally_mse_ratio(&acc[e]);
+                            rmin[e] = (q < rmin[e]) ? q : rmin[e];
+                            rmax[e] = (q > rmax[e]) ? q : rmax[e];
+                            mmin[e] = (m < mmin[e]) ? m : mmin[e];
+                            mmax[e] = (m > mmax[e]) ? m : mmax[e];
                         }
                     } else if (u > 0) {
                         fprintf(f, " (%.2f, %ld) |", cv, u);
@@ -326,6 +339,13 @@ int main(int argc, char **argv)
             k_trials[4] / (quick ? 10 : 1), 3 * trials_total, assess, rows, outside, assess - 1,
             few_rows, few_n, (few_n > 0) ? (double)few_cov / (double)few_n : 0.0, flmax, qmin,
             qmax);
+    fprintf(f, "- Reported trace / MC covariance trace (CSV cov_ratio) and / MC mean squared "
+               "error about the true centre (mse_ratio), assessed rows:");
+    for (e = 0; e < EST_COUNT; e++) {
+        fprintf(f, "%s %s %.3f-%.3f and %.3f-%.3f", (e > 0) ? ";" : "", k_est_name[e],
+                rmin[e], rmax[e], mmin[e], mmax[e]);
+    }
+    fprintf(f, ".\n");
     fclose(f);
     fclose(csv);
     return 0;

@@ -4,16 +4,18 @@
 (docs/coverage.md, "Where it still falls short").
 
 The records come from `sfit_mc_coverage OUTFILE dump SCENFILE` built
-against a library compiled with -DSFIT_COV_MAX_TRUST=0.5f, so that rule 3
-of docs/coverage.md does not pre-empt the rule under study (rules 1, 2 and
-4 stay in force: a record with SFIT_FLAG_UNTRUSTED stays flagged).
+against a library compiled with -DSFIT_COV_MAX_TRUST=0.5f
+-DSFIT_I_COV_WIDEN_K=0.0f, so that rules 3 and 7 of docs/coverage.md do
+not pre-empt the rule under study (rules 1, 2 and 4 stay in force: a
+record with SFIT_FLAG_UNTRUSTED stays flagged; --widen-sr 3.5 --decay
+applies today's rule 7).
 Scenario lists: cut_grid.txt (the N >= 100 scenarios of the coverage table
 with 1000 trials each, as the table ran until 10^4 trials at N <= 100;
 same seeds), cut_scan.txt (true trust ratios 0.10-0.46 in steps of 0.03
 on 30-180 degree caps, N = 100, 300, 1000).
 
     cmake -S tools/montecarlo -B build-cut -DCMAKE_BUILD_TYPE=Release \\
-          -DCMAKE_C_FLAGS=-DSFIT_COV_MAX_TRUST=0.5f
+          -DCMAKE_C_FLAGS="-DSFIT_COV_MAX_TRUST=0.5f -DSFIT_I_COV_WIDEN_K=0.0f"
     cmake --build build-cut --target sfit_mc_coverage
     build-cut/sfit_mc_coverage /tmp/grid.dump dump tools/montecarlo/cut_grid.txt
     tools/montecarlo/cut_study.py /tmp/grid.dump --cut 0.35
@@ -109,11 +111,12 @@ def main():
                 cov += 0.0 <= d2 <= CHI2_3_95 * w
             u = ok - fl
             mc = sum((ess[k] - es[k] ** 2 / u) / (u - 1) for k in range(3)) if u > 1 else 0.0
+            mse = sum(ess) / u if u > 0 else 0.0  # about the true centre, bias included
             rows.append((cap, sr, n, tt, est, ntr, ok, u, cov / u if u else -1.0,
-                         rep / u / mc if mc > 0 else 0.0))
+                         rep / u / mc if mc > 0 else 0.0, rep / u / mse if mse > 0 else 0.0))
     assessed = [r for r in rows if r[7] >= o.assess * r[5]]
     bad = bad_cov = bad_trace = 0
-    for cap, sr, n, tt, est, ntr, ok, u, cv, q in assessed:
+    for cap, sr, n, tt, est, ntr, ok, u, cv, q, qm in assessed:
         bad_cov += not (0.92 <= cv <= 0.98)
         bad_trace += est == 1 and not (0.8 <= q <= 1.2)
         out = not (0.92 <= cv <= 0.98) or (est == 1 and not (0.8 <= q <= 1.2))
@@ -121,7 +124,7 @@ def main():
         if out or o.all:
             print(f"{'OUT' if out else '   '} cap {cap:3.0f} sigma/r {sr:.4f} N {n:5d} "
                   f"true trust {tt:.3f} {EST[est]:8s} unflagged {u:4d}/{ntr} "
-                  f"coverage {cv:.3f} cov/MC {q:.3f}")
+                  f"coverage {cv:.3f} cov/MC {q:.3f} cov/MSE {qm:.3f}")
     small = [r for r in rows if r[3] <= 0.1 and r[2] >= 100 and r[6] > 0]
     flmax = max([(r[6] - r[7]) / r[6] for r in small] + [0.0])
     q = [r[9] for r in assessed if r[4] == 1]
@@ -130,6 +133,12 @@ def main():
           f"{min(r[8] for r in assessed):.3f}-{max(r[8] for r in assessed):.3f}; "
           f"selfcal cov/MC {min(q):.3f}-{max(q):.3f}; "
           f"largest flagged fraction at true trust <= 0.1, N >= 100: {flmax:.3f}")
+    for e in (1, 2):
+        a = [r for r in assessed if r[4] == e]
+        if a:
+            print(f"{EST[e]}: reported trace / MC covariance trace "
+                  f"{min(r[9] for r in a):.3f}-{max(r[9] for r in a):.3f}, / MC mean squared "
+                  f"error {min(r[10] for r in a):.3f}-{max(r[10] for r in a):.3f}")
 
 
 if __name__ == "__main__":

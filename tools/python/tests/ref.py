@@ -239,11 +239,16 @@ def uncert_geometric(x, c):
     return s2 * core, s2 * (1.0 / n + ub @ core @ ub), -s2 * core @ ub, s2
 
 
+# K of the widening of docs/coverage.md rule 7 (issue 28); the library's
+# SFIT_I_COV_WIDEN_K, written here independently (tests/ref REF_COV_WIDEN_K)
+COV_WIDEN_K = 3.5
+
+
 def uncert_selfcal(x, c, r, v):
     """Sandwich of the self-calibrated UGDK (sfit_uncert_selfcal):
     the 5 x 5 stacked estimating equations in (c, rho = r^2, v), analytic
     Jacobian, B = sum psi psi^T, n/(n-13) [A^-1 B A^-T]_cc, times
-    1 + 2 (v / r^2) sqrt(96 / (n - 4)) (docs/coverage.md rule 7)."""
+    1 + K (v / r^2) sqrt(96 / (n - 4)), K = COV_WIDEN_K (docs/coverage.md rule 7)."""
     x = np.asarray(x, dtype=np.float64)
     c = np.asarray(c, dtype=np.float64)
     n = len(x)
@@ -267,8 +272,8 @@ def uncert_selfcal(x, c, r, v):
     a[4, 3] = -(n - 4) * v * v / rho ** 2
     a[4, 4] = -(n - 4) * (1 - 2 * v / rho)
     ai = np.linalg.inv(a)
-    # times the widening of docs/coverage.md rule 7
-    widen = 1 + 2 * (v / (r * r)) * np.sqrt(96 / max(n - 4, 10))
+    # times the widening of docs/coverage.md rule 7 (K = COV_WIDEN_K)
+    widen = 1 + COV_WIDEN_K * (v / (r * r)) * np.sqrt(96 / max(n - 4, 10))
     return (ai @ (psi.T @ psi) @ ai.T)[:3, :3] * n / (n - 13) * widen
 
 
