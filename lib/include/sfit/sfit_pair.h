@@ -43,10 +43,15 @@ extern "C" {
 
 /** @brief Which estimator sfit_pair_solve() gives. */
 typedef enum sfit_pair_method {
-    SFIT_PAIR_METHOD_DEFAULT = 0, /**< SCoRE / SARA with the errors-in-variables bias
-                                       removed using the marker variance (default). */
-    SFIT_PAIR_METHOD_SCORE = 1    /**< Plain SCoRE (ball) / SARA (hinge), as published:
-                                       biased at small range of motion. */
+    SFIT_PAIR_METHOD_DEFAULT = 0,   /**< SCoRE / SARA with the errors-in-variables bias
+                                         removed using the marker variance; a ball centre
+                                         weighted by the inverse noise covariance of the
+                                         residual at a first estimate (default). */
+    SFIT_PAIR_METHOD_SCORE = 1,     /**< Plain SCoRE (ball) / SARA (hinge), as published:
+                                         biased at small range of motion. */
+    SFIT_PAIR_METHOD_UNWEIGHTED = 2 /**< The default without the weighting (bias removed,
+                                         every frame's residual weighted alike): the
+                                         default of sfit 0.3. */
 } sfit_pair_method_t;
 
 /** @brief Ball or hinge. */
@@ -124,7 +129,7 @@ typedef struct sfit_pair_cfg {
 extern const sfit_pair_cfg_t sfit_pair_cfg_default;
 
 /** @brief Quantities of the two-level sums of a pair (see sfit_pair.c). */
-#define SFIT_PAIR_NSUM 68
+#define SFIT_PAIR_NSUM 92
 
 /**
  * @brief Streaming pair state. Caller-owned; members are private.
