@@ -856,7 +856,7 @@ static void prv_resid_cov(const prv_sys_t *y, const sfit_mat3_t *pm, const sfit_
  * X = Abar V Abar^T, Y = Abar W' Abar^T, is formed from the 9x9 and 9x3
  * moments (docs/pair.md#weighting). cpp, scinv and w are replaced when it
  * is positive definite; 0 (nothing changed) otherwise. */
-static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c)
+static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c, float mm)
 {
     prv_sys_t *y = &c->y;
     sfit_mat3_t pm, cm, sig, w, l, sgp, sgc, v, vw, t1, t2, m, e;
@@ -867,6 +867,18 @@ static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c)
                 + y->abar.m[6 + i] * c->cpp[2] - y->gbar[i];
     }
     prv_point_noise(y, s, c->cpp, xc, &pm, &cm);
+    /* The weights are the marker noise's: when the joint model's residual at
+     * the first estimate is far above what that noise explains (the MISFIT
+     * test of prv_scale), the residual is not noise and the frames are not
+     * weighted. */
+    {
+        const float cost = prv_quad(&y->s, c->cpp) - 2.0f * sfit_i_dot3(c->cpp, y->r) + y->hh;
+        const float expect = (y->n - 2.0f)
+                             * (pm.m[0] + pm.m[4] + pm.m[8] + cm.m[0] + cm.m[4] + cm.m[8]);
+        if (!(expect > 0.0f) || !(cost <= mm * expect)) {
+            return 0;
+        }
+    }
     prv_resid_cov(y, &pm, &cm, &sig);
     tr = sig.m[0] + sig.m[4] + sig.m[8];
     if (!(tr > 0.0f) || !sfit_i_isfinite(tr)) {
@@ -1286,7 +1298,7 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     }
     if (st == SFIT_OK && c.corrected && c.mode == SFIT_PAIR_MODE_BALL
         && s->cfg.method == SFIT_PAIR_METHOD_DEFAULT) {
-        (void)prv_weighted(s, &c);
+        (void)prv_weighted(s, &c, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
     }
     if (st != SFIT_OK) {
         return st;
