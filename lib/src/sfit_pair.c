@@ -10,12 +10,16 @@
  * The sums are shifted by the first frame (B = A - A_ref, h = g - g_ref,
  * e = d - d_ref) and kept in two levels (inner blocks of SFIT_SUM_BLOCK
  * frames), so the centred second moments never come from a difference of
- * large raw sums. Layout of the sums (SFIT_PAIR_NSUM = 68):
+ * large raw sums. Layout of the sums (SFIT_PAIR_NSUM = 92):
  *   0..8    sum B (row-major)        9..11  sum h
  *   12..56  sum vec(B) vec(B)^T, packed upper triangle of the 9x9 (45)
- *   57..59  sum B h                  60     sum |h|^2
- *   61..63  sum e                    64, 65 parent sum |res|^2, sum (3 used - 6)
- *   66, 67  child sum |res|^2, sum (3 used - 6)
+ *   57..83  sum vec(B) h^T (9x3, row 3i+j, column k: B_ij h_k)
+ *   84      sum |h|^2                85..87 sum e
+ *   88, 89  parent sum |res|^2, sum (3 used - 6)
+ *   90, 91  child sum |res|^2, sum (3 used - 6)
+ * The 9x3 moment gives sum B W h for any constant weight W at solve time
+ * (the weighted default, docs/pair.md#weighting); its contraction with I is
+ * SCoRE's right-hand side sum B h.
  * The 9x9 moment T gives the Schur complement S = sum B B^T (centred) and
  * the contractions sum B X B^T and sum B^T Y B of the covariance.
  *
@@ -56,10 +60,10 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 #define PRV_SH 9
 #define PRV_T 12
 #define PRV_SBH 57
-#define PRV_SHH 60
-#define PRV_SE 61
-#define PRV_RP 64
-#define PRV_RC 66
+#define PRV_SHH 84
+#define PRV_SE 85
+#define PRV_RP 88
+#define PRV_RC 90
 
 /* Index of (a, b) in the packed upper triangle of a 9x9 symmetric matrix. */
 static int prv_tidx(int a, int b)
@@ -74,7 +78,7 @@ static int prv_tidx(int a, int b)
 
 static int prv_cfg_ok(const sfit_pair_cfg_t *c)
 {
-    if ((uint32_t)c->method > (uint32_t)SFIT_PAIR_METHOD_SCORE
+    if ((uint32_t)c->method > (uint32_t)SFIT_PAIR_METHOD_UNWEIGHTED
         || (uint32_t)c->mode > (uint32_t)SFIT_PAIR_MODE_HINGE
         || (uint32_t)c->noise > (uint32_t)SFIT_PAIR_NOISE_GIVEN) {
         return 0;
@@ -319,7 +323,11 @@ sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
         for (k = 0; k < 3; k++) {
             v[PRV_SH + k] = h[k];
             v[PRV_SE + k] = d[k] - s->d_ref[k];
-            v[PRV_SBH + k] = b[3 * k] * h[0] + b[3 * k + 1] * h[1] + b[3 * k + 2] * h[2];
+        }
+        for (i = 0; i < 9; i++) {
+            for (j = 0; j < 3; j++) {
+                v[PRV_SBH + 3 * i + j] = b[i] * h[j];
+            }
         }
         k = PRV_T;
         for (i = 0; i < 9; i++) {
@@ -411,6 +419,7 @@ static void prv_sandwich(const sfit_mat3_t *a, const sfit_mat3_t *m, sfit_mat3_t
 /* The centred moments and the pose-noise model the solve works with. */
 typedef struct prv_sys {
     float tc[45];       /* centred 9x9 moment of B */
+    float xh[27];       /* centred 9x3 moment sum vec(B) h^T (raw h, not centroid coordinates) */
     sfit_mat3_t s;      /* S = sum (A - Abar)(A - Abar)^T */
     sfit_mat3_t abar;   /* mean A */
     float r[3];         /* sum (A - Abar)(g' - gbar'), centroid coordinates */
@@ -529,11 +538,13 @@ static int prv_build(const sfit_pair_t *s, prv_sys_t *y, float *dof_p, float *do
     for (k = 0; k < 9; k++) {
         y->abar.m[k] = s->a_ref[k] + q[k] / y->n;
     }
-    for (i = 0; i < 3; i++) {
-        r0[i] = q[PRV_SBH + i];
+    for (i = 0; i < 9; i++) {
         for (j = 0; j < 3; j++) {
-            r0[i] -= q[3 * i + j] * q[PRV_SH + j] / y->n;
+            y->xh[3 * i + j] = q[PRV_SBH + 3 * i + j] - q[i] * q[PRV_SH + j] / y->n;
         }
+    }
+    for (i = 0; i < 3; i++) {
+        r0[i] = y->xh[9 * i] + y->xh[9 * i + 4] + y->xh[9 * i + 8];
     }
     /* Centroid coordinates: g' = g + cen_c - A^T cen_p, so
      * r' = r - S cen_p and sum |h' - mean|^2 = hh - 2 cen_p.r + cen_p.S cen_p. */
@@ -615,6 +626,8 @@ typedef struct prv_ctx {
     uint32_t flags;
     sfit_pair_mode_t mode;
     int corrected;
+    int weighted;       /* the ball centre is the weighted one (prv_weighted) */
+    sfit_mat3_t w;      /* its weight (child frame, normalised to trace 3 of W^-1) */
 } prv_ctx_t;
 
 /* Status of an eigen-decomposition as the solve reports it. */
@@ -773,6 +786,217 @@ static sfit_status_t prv_solve_ball(prv_ctx_t *c, float mt)
     return SFIT_OK;
 }
 
+/* E[[w]x M [w]x^T] for w ~ (0, sig), M symmetric:
+ * (tr sig tr M - tr(sig M)) I - tr M sig - tr sig M + sig M + M sig. */
+static void prv_emat(const sfit_mat3_t *sig, const sfit_mat3_t *m, sfit_mat3_t *out)
+{
+    sfit_mat3_t sm;
+    const float ts = sig->m[0] + sig->m[4] + sig->m[8], tm = m->m[0] + m->m[4] + m->m[8];
+    float tsm;
+    int i, j;
+    sfit_i_mat3_mul(sig, m, &sm);
+    tsm = sm.m[0] + sm.m[4] + sm.m[8];
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            out->m[3 * i + j] = ((i == j) ? ts * tm - tsm : 0.0f) - tm * sig->m[3 * i + j]
+                                - ts * m->m[3 * i + j] + sm.m[3 * i + j] + sm.m[3 * j + i];
+        }
+    }
+}
+
+/* Z - X for Z = D^-1(X), D(Z) = E[exp([w]x) Z exp([w]x)^T]
+ * = Z - (K Z + Z K) / 2 + E[[w]x Z [w]x^T] (K = tr sig I - sig): two
+ * fixed-point steps Z <- X + Z - D(Z) from Z = X; only small terms are
+ * formed. */
+static void prv_dinv_delta(const sfit_mat3_t *k, const sfit_mat3_t *sig, const sfit_mat3_t *x,
+                           sfit_mat3_t *out)
+{
+    sfit_mat3_t z, kz, e;
+    int it, i;
+    z = *x;
+    memset(out, 0, sizeof *out);
+    for (it = 0; it < 2; it++) {
+        sfit_i_mat3_mul(k, &z, &kz);
+        prv_emat(sig, &z, &e);
+        for (i = 0; i < 9; i++) {
+            const int t = 3 * (i % 3) + i / 3;
+            out->m[i] = 0.5f * (kz.m[i] + kz.m[t]) - e.m[i];
+        }
+        for (i = 0; i < 9; i++) {
+            z.m[i] = x->m[i] + out->m[i];
+        }
+    }
+}
+
+/* Noise covariance (child frame) of the joint model's residual of one frame
+ * at the point (xp, xc), averaged over the frames:
+ * Abar^T P Abar + (sum B^T P B) / N + C (docs/pair.md#weighting). */
+static void prv_resid_cov(const prv_sys_t *y, const sfit_mat3_t *pm, const sfit_mat3_t *cm,
+                          sfit_mat3_t *out)
+{
+    sfit_mat3_t at, t;
+    int i;
+    for (i = 0; i < 9; i++) {
+        at.m[i] = y->abar.m[3 * (i % 3) + i / 3];
+    }
+    prv_sandwich(&at, pm, out);
+    prv_contract_left(y->tc, pm, &t);
+    for (i = 0; i < 9; i++) {
+        out->m[i] += t.m[i] / y->n + cm->m[i];
+    }
+    prv_symmetrise(out);
+}
+
+/* The weighted ball centre (the default): the first estimate's residual
+ * covariance, averaged over the frames (child frame), gives a constant
+ * weight W; the corrected weighted Schur system
+ *   [D_p^-1(sum B V B^T) + N (D_p^-1(X) - X + Abar (V - W') Abar^T - (P^-1 Y P^-1 - Y))] c_p
+ *     = P^-1 [sum B V h' + N Abar (V - W') gbar'],
+ * V = D_c^-1(W), W' = C^-1 W C^-1, P = I - K_p/2, C = I - K_c/2,
+ * X = Abar V Abar^T, Y = Abar W' Abar^T, is formed from the 9x9 and 9x3
+ * moments (docs/pair.md#weighting). cpp, scinv and w are replaced when it
+ * is positive definite; 0 (nothing changed) otherwise. */
+static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c, float mm)
+{
+    prv_sys_t *y = &c->y;
+    sfit_mat3_t pm, cm, sig, w, l, sgp, sgc, v, vw, t1, t2, m, e;
+    float xc[3], rv[3], rhs[3], cp[3], tr;
+    int i, j, k;
+    for (i = 0; i < 3; i++) {
+        xc[i] = y->abar.m[i] * c->cpp[0] + y->abar.m[3 + i] * c->cpp[1]
+                + y->abar.m[6 + i] * c->cpp[2] - y->gbar[i];
+    }
+    prv_point_noise(y, s, c->cpp, xc, &pm, &cm);
+    /* The weights are the marker noise's: when the joint model's residual at
+     * the first estimate is far above what that noise explains (the MISFIT
+     * test of prv_scale), the residual is not noise and the frames are not
+     * weighted. */
+    {
+        const float cost = prv_quad(&y->s, c->cpp) - 2.0f * sfit_i_dot3(c->cpp, y->r) + y->hh;
+        const float expect = (y->n - 2.0f)
+                             * (pm.m[0] + pm.m[4] + pm.m[8] + cm.m[0] + cm.m[4] + cm.m[8]);
+        if (!(expect > 0.0f) || !(cost <= mm * expect)) {
+            return 0;
+        }
+    }
+    prv_resid_cov(y, &pm, &cm, &sig);
+    tr = sig.m[0] + sig.m[4] + sig.m[8];
+    if (!(tr > 0.0f) || !sfit_i_isfinite(tr)) {
+        return 0;
+    }
+    for (i = 0; i < 9; i++) {
+        sig.m[i] *= 3.0f / tr;
+    }
+    if (sfit_mat3_chol(&sig, &l) != SFIT_OK) {
+        return 0;
+    }
+    sfit_i_chol_inverse(&l, &w);
+    prv_symmetrise(&w);
+    for (i = 0; i < 9; i++) {
+        sgp.m[i] = y->var_p * y->jp.m[i];
+        sgc.m[i] = y->var_c * y->jc.m[i];
+    }
+    /* V - W' = (D_c^-1(W) - W) - (F W + W F + F W F), F = C^-1 K_c / 2. */
+    prv_dinv_delta(&y->kc, &sgc, &w, &vw);
+    for (i = 0; i < 9; i++) {
+        v.m[i] = w.m[i] + vw.m[i];
+        t1.m[i] = ((i % 4 == 0) ? 1.0f : 0.0f) - 0.5f * y->kc.m[i];
+    }
+    if (sfit_mat3_chol(&t1, &l) != SFIT_OK) {
+        return 0;
+    }
+    sfit_i_chol_inverse(&l, &t2);
+    for (i = 0; i < 9; i++) {
+        t1.m[i] = 0.5f * y->kc.m[i];
+    }
+    sfit_i_mat3_mul(&t2, &t1, &e); /* F */
+    sfit_i_mat3_mul(&e, &w, &t1);  /* F W */
+    sfit_i_mat3_mul(&t1, &e, &t2); /* F W F^T (F W F, K_c and C commute) */
+    for (i = 0; i < 9; i++) {
+        const int t = 3 * (i % 3) + i / 3;
+        vw.m[i] -= t1.m[i] + t1.m[t] + t2.m[i];
+    }
+    prv_symmetrise(&vw);
+    /* Matrix: sum B V B^T and D_p^-1 of it; the N-terms. */
+    prv_contract_right(y->tc, &v, &m);
+    prv_symmetrise(&m);
+    prv_dinv_delta(&y->kp, &sgp, &m, &t1);
+    for (i = 0; i < 9; i++) {
+        m.m[i] += t1.m[i];
+    }
+    {
+        sfit_mat3_t x, dy;
+        prv_sandwich(&y->abar, &v, &x);
+        prv_dinv_delta(&y->kp, &sgp, &x, &t1); /* D_p^-1(X) - X */
+        prv_sandwich(&y->abar, &vw, &t2);      /* X - Y */
+        for (i = 0; i < 9; i++) {
+            x.m[i] -= t2.m[i]; /* Y */
+        }
+        /* P^-1 Y P^-1 - Y = E Y + Y E^T + E Y E^T, E = P^-1 K_p / 2. */
+        for (i = 0; i < 9; i++) {
+            l.m[i] = ((i % 4 == 0) ? 1.0f : 0.0f) - 0.5f * y->kp.m[i];
+        }
+        {
+            sfit_mat3_t lc, pinv, kh;
+            if (sfit_mat3_chol(&l, &lc) != SFIT_OK) {
+                return 0;
+            }
+            sfit_i_chol_inverse(&lc, &pinv);
+            for (i = 0; i < 9; i++) {
+                kh.m[i] = 0.5f * y->kp.m[i];
+            }
+            sfit_i_mat3_mul(&pinv, &kh, &e);
+        }
+        sfit_i_mat3_mul(&e, &x, &l);
+        prv_sandwich(&e, &x, &dy);
+        for (i = 0; i < 9; i++) {
+            const int t = 3 * (i % 3) + i / 3;
+            dy.m[i] += l.m[i] + l.m[t];
+        }
+        for (i = 0; i < 9; i++) {
+            m.m[i] += y->n * (t1.m[i] + t2.m[i] - dy.m[i]);
+        }
+    }
+    prv_symmetrise(&m);
+    /* Right-hand side: sum B V h (centred) - (sum B V B^T) cen_p + N Abar (V - W') gbar'. */
+    for (i = 0; i < 3; i++) {
+        float sum = 0.0f;
+        for (j = 0; j < 3; j++) {
+            for (k = 0; k < 3; k++) {
+                sum += v.m[3 * j + k] * y->xh[3 * (3 * i + j) + k];
+            }
+        }
+        rv[i] = sum;
+    }
+    prv_contract_right(y->tc, &v, &t1);
+    sfit_i_mat3_vec(&t1, s->cen_p.v, cp);
+    sfit_i_mat3_vec(&vw, y->gbar, xc);
+    for (i = 0; i < 3; i++) {
+        rv[i] += y->n * sfit_i_dot3(&y->abar.m[3 * i], xc) - cp[i];
+    }
+    sfit_i_mat3_vec(&e, rv, rhs); /* P^-1 = I + E */
+    for (i = 0; i < 3; i++) {
+        rhs[i] += rv[i];
+    }
+    if (sfit_mat3_chol(&m, &l) != SFIT_OK) {
+        return 0;
+    }
+    sfit_i_chol_solve(&l, rhs, cp);
+    /* back to the unknown of the plain pipeline: u = P^-1 c_p */
+    sfit_i_mat3_vec(&e, cp, xc);
+    for (i = 0; i < 3; i++) {
+        xc[i] += cp[i];
+    }
+    if (!sfit_i_finite3(xc)) {
+        return 0;
+    }
+    memcpy(c->cpp, xc, sizeof xc);
+    sfit_i_chol_inverse(&l, &c->scinv);
+    c->w = w;
+    c->weighted = 1;
+    return 1;
+}
+
 /* Hinge: the pseudo-inverse over eigenvalues 2 and 3 (plain SARA's
  * subspace when the corrected second eigenvalue is not positive). */
 static sfit_status_t prv_solve_hinge(prv_ctx_t *c, float mt)
@@ -861,6 +1085,29 @@ static void prv_points(prv_ctx_t *c)
     }
 }
 
+/* The weighted centre's right-hand side covariance, sum B W (A^T P A + C) W B^T:
+ * the isotropic part p I of P exactly (A^T A = I: p sum B W W B^T), the rest
+ * at the mean rotation (Abar^T P' Abar + sum B^T P' B / N, P' = P - p I). */
+static void prv_gmat_weighted(const prv_sys_t *y, const sfit_mat3_t *w, const sfit_mat3_t *p,
+                              const sfit_mat3_t *cm, sfit_mat3_t *out)
+{
+    sfit_mat3_t pa, sig, t;
+    const float piso = (p->m[0] + p->m[4] + p->m[8]) / 3.0f;
+    int i;
+    pa = *p;
+    for (i = 0; i < 3; i++) {
+        pa.m[4 * i] -= piso;
+    }
+    prv_resid_cov(y, &pa, cm, &sig);
+    for (i = 0; i < 3; i++) {
+        sig.m[4 * i] += piso;
+    }
+    prv_sandwich(w, &sig, &t);
+    prv_symmetrise(&t);
+    prv_contract_right(y->tc, &t, out);
+    prv_symmetrise(out);
+}
+
 /* Covariances of the centre and the axis (docs/pair.md#covariance), the
  * expected cost; then the corrected centre's (I - K_p/2). */
 static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
@@ -871,7 +1118,11 @@ static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
     prv_point_noise(y, s, c->cpp, c->ccc, &pmat, &cmat);
     c->expect = (y->n - 2.0f)
                 * (pmat.m[0] + pmat.m[4] + pmat.m[8] + cmat.m[0] + cmat.m[4] + cmat.m[8]);
-    prv_gmat(y, &pmat, &cmat, &g);
+    if (c->weighted) {
+        prv_gmat_weighted(y, &c->w, &pmat, &cmat, &g);
+    } else {
+        prv_gmat(y, &pmat, &cmat, &g);
+    }
     prv_sandwich(&c->scinv, &g, &c->res.center_cov);
     /* Axis: d n = -S^+ (d S) n, (d S) n = sum B xi, xi the noise of B^T n:
      * the same sandwich with P = var_p [n]J_p^-1[n]^T. */
@@ -986,7 +1237,7 @@ static int prv_fill(const sfit_pair_t *s, prv_ctx_t *c, uint32_t mf)
         r->axis_c.v[i] = c->axc[i];
         r->eigenvalues.v[i] = c->lam.v[i] / c->y.n;
     }
-    r->method = c->corrected ? SFIT_PAIR_METHOD_DEFAULT : SFIT_PAIR_METHOD_SCORE;
+    r->method = c->corrected ? s->cfg.method : SFIT_PAIR_METHOD_SCORE;
     r->mode = c->mode;
     r->rms = SFIT_SQRTF(c->cost / c->y.n);
     r->marker_var_p = c->y.var_p;
@@ -1036,7 +1287,7 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         return SFIT_E_RANGE;
     }
     prv_noise(s, &c, ssr_p, dof_p, ssr_c, dof_c);
-    c.corrected = (s->cfg.method == SFIT_PAIR_METHOD_DEFAULT);
+    c.corrected = (s->cfg.method != SFIT_PAIR_METHOD_SCORE);
     st = prv_system(&c);
     if (st == SFIT_OK) {
         st = prv_decide(s, &c, prv_or(s->cfg.hinge_ratio, PRV_HINGE_RATIO));
@@ -1044,6 +1295,10 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     if (st == SFIT_OK) {
         const float mt = prv_or(s->cfg.max_trust, PRV_MAX_TRUST);
         st = (c.mode == SFIT_PAIR_MODE_BALL) ? prv_solve_ball(&c, mt) : prv_solve_hinge(&c, mt);
+    }
+    if (st == SFIT_OK && c.corrected && c.mode == SFIT_PAIR_MODE_BALL
+        && s->cfg.method == SFIT_PAIR_METHOD_DEFAULT) {
+        (void)prv_weighted(s, &c, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
     }
     if (st != SFIT_OK) {
         return st;

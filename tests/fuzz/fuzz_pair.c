@@ -145,7 +145,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         case POP_INIT: {
             sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
             const uint8_t sel = fz_u8(&in);
-            cfg.method = (sfit_pair_method_t)(fz_u8(&in) % 3u);
+            cfg.method = (sfit_pair_method_t)(fz_u8(&in) % 4u);
             cfg.mode = (sfit_pair_mode_t)(fz_u8(&in) % 4u);
             cfg.noise = (sfit_pair_noise_t)(fz_u8(&in) % 3u);
             if ((sel & 1u) != 0u) {

@@ -505,3 +505,286 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
     }
     return 0;
 }
+
+/* ---------------------------------------------------------------------------
+ * The weighted default (docs/pair.md#weighting), independently: per-frame
+ * 6x6 normal equations with a constant child-frame weight, the noise maps
+ * D(Z) = Z - (K Z + Z K) / 2 + sum_pq Sigma_pq [e_p] Z [e_q]^T inverted
+ * exactly as 9x9 linear operators. */
+
+/* [e_p] Z [e_q]^T accumulated with weight c into o. */
+static void rp_skew_acc(int p, int q, const double z[9], double c, double o[9])
+{
+    double ep[9] = {0}, eq[9] = {0}, t[9];
+    int i, j, k;
+    static const int a1[3] = {7, 2, 3}, a2[3] = {5, 6, 1}; /* +1 and -1 entries of [e_p] */
+    ep[a1[p]] = 1.0;
+    ep[a2[p]] = -1.0;
+    eq[a1[q]] = 1.0;
+    eq[a2[q]] = -1.0;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            for (k = 0; k < 3; k++) {
+                s += ep[3 * i + k] * z[3 * k + j];
+            }
+            t[3 * i + j] = s;
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            for (k = 0; k < 3; k++) {
+                s += t[3 * i + k] * eq[3 * j + k];
+            }
+            o[3 * i + j] += c * s;
+        }
+    }
+}
+
+/* D(Z) for the rotation noise Sigma = var J^-1 of a template. */
+static void rp_dmap(const ref_pair_tpl_t *t, double var, const double z[9], double o[9])
+{
+    double k[9], sig[9];
+    int i, j, l, p, q;
+    for (i = 0; i < 9; i++) {
+        sig[i] = var * t->jinv[i];
+    }
+    rp_k(t, var, k);
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            for (l = 0; l < 3; l++) {
+                s += k[3 * i + l] * z[3 * l + j] + z[3 * i + l] * k[3 * l + j];
+            }
+            o[3 * i + j] = z[3 * i + j] - 0.5 * s;
+        }
+    }
+    for (p = 0; p < 3; p++) {
+        for (q = 0; q < 3; q++) {
+            rp_skew_acc(p, q, z, sig[3 * p + q], o);
+        }
+    }
+}
+
+/* o = D^-1(y), the 9x9 operator built column by column and solved. */
+static int rp_dinv(const ref_pair_tpl_t *t, double var, const double y[9], double o[9])
+{
+    double a[81], b[9];
+    int i, c;
+    for (c = 0; c < 9; c++) {
+        double z[9] = {0}, d[9];
+        z[c] = 1.0;
+        rp_dmap(t, var, z, d);
+        for (i = 0; i < 9; i++) {
+            a[9 * i + c] = d[i];
+        }
+    }
+    memcpy(b, y, sizeof b);
+    return rp_gauss(a, b, 9, o);
+}
+
+/* c = a b (3x3) */
+static void rp_mm(const double a[9], const double b[9], double c[9])
+{
+    int i, j, k;
+    double t[9];
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            for (k = 0; k < 3; k++) {
+                s += a[3 * i + k] * b[3 * k + j];
+            }
+            t[3 * i + j] = s;
+        }
+    }
+    memcpy(c, t, sizeof t);
+}
+
+/* Frame quantities in centroid coordinates: A, g' = R_c^T (cg_c - cg_p). */
+static void rp_frame(const ref_pair_frame_t *fr, const ref_pair_tpl_t *tp,
+                     const ref_pair_tpl_t *tc, double a[9], double g[3])
+{
+    double cgp[3], cgc[3], dt[3];
+    int i;
+    rp_mtm(fr->rp, fr->rc, a);
+    rp_mv(fr->rp, tp->cen, cgp);
+    rp_mv(fr->rc, tc->cen, cgc);
+    for (i = 0; i < 3; i++) {
+        dt[i] = (fr->tc[i] + cgc[i]) - (fr->tp[i] + cgp[i]);
+    }
+    rp_mtv(fr->rc, dt, g);
+}
+
+int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
+                       const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp0[3],
+                       const double cc0[3], double cp[3], double cc[3], double cov[9])
+{
+    double pm[9], cm[9], xp[3], xc[3], sig[9], w[9], v[9], pinv[9], cinv[9], t[9];
+    double sav[9] = {0}, sa[9] = {0}, sg[3] = {0}, savg[3] = {0}, h[36], rhs[6], x[6];
+    double mid[36], hi[36];
+    const double N = (double)n;
+    size_t fi;
+    int i, j, k;
+    for (i = 0; i < 3; i++) {
+        xp[i] = cp0[i] - tp->cen[i];
+        xc[i] = cc0[i] - tc->cen[i];
+    }
+    rp_point_noise(tp, var_p, xp, pm);
+    rp_point_noise(tc, var_c, xc, cm);
+    /* Sigma = mean A^T P A + C, W = Sigma^-1 */
+    memcpy(sig, cm, sizeof sig);
+    for (fi = 0; fi < n; fi++) {
+        double a[9], g[3], at[9];
+        rp_frame(&f[fi], tp, tc, a, g);
+        for (i = 0; i < 9; i++) {
+            at[i] = a[3 * (i % 3) + i / 3];
+        }
+        rp_mm(at, pm, t);
+        rp_mm(t, a, t);
+        for (i = 0; i < 9; i++) {
+            sig[i] += t[i] / N;
+        }
+    }
+    if (rp_inv3(sig, w) != 0 || rp_dinv(tc, var_c, w, v) != 0) {
+        return 1;
+    }
+    /* P^-1, C^-1 (P = I - K_p / 2) */
+    rp_k(tp, var_p, t);
+    for (i = 0; i < 9; i++) {
+        t[i] = (i % 4 == 0 ? 1.0 : 0.0) - 0.5 * t[i];
+    }
+    if (rp_inv3(t, pinv) != 0) {
+        return 1;
+    }
+    rp_k(tc, var_c, t);
+    for (i = 0; i < 9; i++) {
+        t[i] = (i % 4 == 0 ? 1.0 : 0.0) - 0.5 * t[i];
+    }
+    if (rp_inv3(t, cinv) != 0) {
+        return 1;
+    }
+    for (fi = 0; fi < n; fi++) {
+        double a[9], g[3], at[9], vg[3], avg[3], av[9];
+        rp_frame(&f[fi], tp, tc, a, g);
+        for (i = 0; i < 9; i++) {
+            at[i] = a[3 * (i % 3) + i / 3];
+        }
+        rp_mm(a, v, av);
+        rp_mm(av, at, t);
+        rp_mv(v, g, vg);
+        rp_mv(a, vg, avg);
+        for (i = 0; i < 9; i++) {
+            sav[i] += t[i];
+            sa[i] += a[i];
+        }
+        for (i = 0; i < 3; i++) {
+            sg[i] += g[i];
+            savg[i] += avg[i];
+        }
+    }
+    /* H = [[D_p^-1(sum A V A^T), -P^-1 (sum A) C^-1 W], [., N W]],
+     * rhs = (P^-1 sum A V g', -W C^-1 sum g'). */
+    {
+        double hpp[9], hpc[9], bp[3], bc[3];
+        if (rp_dinv(tp, var_p, sav, hpp) != 0) {
+            return 1;
+        }
+        rp_mm(pinv, sa, hpc);
+        rp_mm(hpc, cinv, hpc);
+        rp_mm(hpc, w, hpc);
+        rp_mv(pinv, savg, bp);
+        rp_mv(cinv, sg, t);
+        rp_mv(w, t, bc);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                h[6 * i + j] = hpp[3 * i + j];
+                h[6 * i + 3 + j] = -hpc[3 * i + j];
+                h[6 * (3 + j) + i] = -hpc[3 * i + j];
+                h[6 * (3 + i) + 3 + j] = N * w[3 * i + j];
+            }
+            rhs[i] = bp[i];
+            rhs[3 + i] = -bc[i];
+        }
+    }
+    {
+        double hh[36], bb[6];
+        memcpy(hh, h, sizeof hh);
+        memcpy(bb, rhs, sizeof bb);
+        if (rp_gauss(hh, bb, 6, x) != 0) {
+            return 1;
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        cp[i] = tp->cen[i] + x[i];
+        cc[i] = tc->cen[i] + x[3 + i];
+    }
+    if (cov == NULL) {
+        return 0;
+    }
+    /* First-order sandwich at the solution: psi_f = [A; -I] W eps_f, eps_f
+     * = A^T u - v - g' (child frame), Cov(eps_f) = A^T P A + C. */
+    for (i = 0; i < 3; i++) {
+        xp[i] = x[i];
+        xc[i] = x[3 + i];
+    }
+    rp_point_noise(tp, var_p, xp, pm);
+    rp_point_noise(tc, var_c, xc, cm);
+    memset(mid, 0, sizeof mid);
+    for (fi = 0; fi < n; fi++) {
+        double a[9], g[3], at[9], e[9], jw[18];
+        rp_frame(&f[fi], tp, tc, a, g);
+        for (i = 0; i < 9; i++) {
+            at[i] = a[3 * (i % 3) + i / 3];
+        }
+        rp_mm(at, pm, e);
+        rp_mm(e, a, e);
+        for (i = 0; i < 9; i++) {
+            e[i] += cm[i];
+        }
+        /* jw = [A W; -W] (6x3) */
+        rp_mm(a, w, t);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                jw[3 * i + j] = t[3 * i + j];
+                jw[3 * (3 + i) + j] = -w[3 * i + j];
+            }
+        }
+        for (i = 0; i < 6; i++) {
+            for (j = 0; j < 6; j++) {
+                double s = 0.0;
+                int p, q;
+                for (p = 0; p < 3; p++) {
+                    for (q = 0; q < 3; q++) {
+                        s += jw[3 * i + p] * e[3 * p + q] * jw[3 * j + q];
+                    }
+                }
+                mid[6 * i + j] += s;
+            }
+        }
+    }
+    for (k = 0; k < 6; k++) {
+        double hh[36], b[6] = {0, 0, 0, 0, 0, 0}, y[6];
+        memcpy(hh, h, sizeof hh);
+        b[k] = 1.0;
+        if (rp_gauss(hh, b, 6, y) != 0) {
+            return 1;
+        }
+        for (i = 0; i < 6; i++) {
+            hi[6 * i + k] = y[i];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            int p, q;
+            for (p = 0; p < 6; p++) {
+                for (q = 0; q < 6; q++) {
+                    s += hi[6 * i + p] * mid[6 * p + q] * hi[6 * j + q];
+                }
+            }
+            cov[3 * i + j] = s;
+        }
+    }
+    return 0;
+}

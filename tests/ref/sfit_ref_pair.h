@@ -81,6 +81,24 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                  const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp[3],
                  const double cc[3], double cov[9], double *cost, double *expect);
 
+/**
+ * The weighted default of a ball (SFIT_PAIR_METHOD_DEFAULT,
+ * docs/pair.md#weighting), by the full 6x6 normal equations frame by frame:
+ * the residual eps_f = A_f^T c_p - c_c - g_f (child frame) weighted by the
+ * constant W = (mean_f A_f^T P A_f + C)^-1, P and C the point noises at the
+ * first estimate (cp0, cc0); errors-in-variables corrected exactly in the
+ * second-order noise model: with D(Z) = E[exp([w]x) Z exp([w]x)^T]
+ * (a 9x9 operator, inverted), V = D_c^-1(W), P = I - K_p / 2, C = I - K_c / 2,
+ * H = [[D_p^-1(sum A V A^T), -P^-1 (sum A) C^-1 W], [., N W]],
+ * rhs = (P^-1 sum A V g', -W C^-1 sum g') in centroid coordinates.
+ * cov (may be NULL): the first-order sandwich of c_p with each frame's
+ * exact residual covariance A_f^T P A_f + C at the solution.
+ * Returns 0 or nonzero.
+ */
+int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
+                       const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp0[3],
+                       const double cc0[3], double cp[3], double cc[3], double cov[9]);
+
 #ifdef __cplusplus
 }
 #endif

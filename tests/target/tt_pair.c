@@ -133,15 +133,26 @@ void tt_pair(void)
     TT_EQ_INT(ref_pair_tpl((const double(*)[3])tpd, TT_PP, &rtp), 0);
     TT_EQ_INT(ref_pair_tpl((const double(*)[3])tcd, TT_PC, &rtc), 0);
 
-    for (m = 0; m < 2; m++) {
+    for (m = 0; m < 3; m++) {
         double cp[3], cc[3], vp, vc;
-        tt_case(m == 0 ? "pair: ball, default vs 6x6 reference" : "pair: ball, SCoRE vs 6x6 reference");
+        tt_case(m == 0   ? "pair: ball, default (weighted) vs 6x6 reference"
+                : m == 1 ? "pair: ball, SCoRE vs 6x6 reference"
+                         : "pair: ball, unweighted vs 6x6 reference");
         TT_EQ_INT(tt_trial(0, 0.5, 71u, (sfit_pair_method_t)m), 0);
         TT_EQ_INT(sfit_pair_solve(&tt_s, &r), SFIT_OK);
         TT_EQ_INT(r.mode, SFIT_PAIR_MODE_BALL);
-        vp = (m == 0) ? (double)r.marker_var_p : 0.0;
-        vc = (m == 0) ? (double)r.marker_var_c : 0.0;
+        vp = (m != 1) ? (double)r.marker_var_p : 0.0;
+        vc = (m != 1) ? (double)r.marker_var_c : 0.0;
         TT_EQ_INT(ref_pair_score(tt_fr, TT_PF, &rtp, &rtc, vp, vc, cp, cc), 0);
+        if (m == 0) {
+            double c0[3], k0[3];
+            for (i = 0; i < 3; i++) {
+                c0[i] = cp[i];
+                k0[i] = cc[i];
+            }
+            TT_EQ_INT(ref_pair_score_wls(tt_fr, TT_PF, &rtp, &rtc, vp, vc, c0, k0, cp, cc, NULL),
+                      0);
+        }
         for (i = 0; i < 3; i++) {
             TT_NEAR(r.center_p.v[i], cp[i], 5e-3);
             TT_NEAR(r.center_c.v[i], cc[i], 5e-3);

@@ -228,6 +228,69 @@ static sfit_status_t run_pair(const cli_frames_t *fr, int np, int nc, long first
     return SFIT_OK;
 }
 
+sfit_status_t cli_joint_mgdk_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                 const sfit_vec3_t *parent, const sfit_vec3_t *child, size_t nf,
+                                 float var_given, sfit_mat3_t *cov, float *var)
+{
+    double ssr = 0.0, dof = 0.0;
+    const size_t np = (size_t)j->parent.count;
+    size_t f;
+    if (var_given >= 0.0f) {
+        *var = var_given;
+    } else {
+        for (f = 0; f < nf; f++) {
+            sfit_pose_t pose;
+            sfit_cluster_fit_t fit;
+            if (sfit_cluster_register(&j->parent, parent + f * np, np, &pose, &fit) == SFIT_OK
+                && fit.used > 2u) {
+                ssr += (double)fit.rms * (double)fit.rms * (double)fit.used;
+                dof += 3.0 * (double)fit.used - 6.0;
+            }
+        }
+        if (!(dof > 0.0)) {
+            *var = 0.0f;
+            return SFIT_E_TOO_FEW;
+        }
+        *var = (float)(ssr / dof);
+    }
+    return sfit_joint_center_cov(j, res, parent, child, nf, *var, cov);
+}
+
+/* The multi-marker fit's centre covariance over the frames it was fed
+ * (cli_joint_mgdk_cov). */
+static void mgdk_cov(const cli_frames_t *fr, int np, int nc, long first, long last,
+                     const cli_joint_opts_t *o, cli_joint_out_t *out)
+{
+    const size_t nf = (size_t)(last - first + 1);
+    sfit_vec3_t *pb = malloc(nf * (size_t)np * sizeof *pb);
+    sfit_vec3_t *cb = malloc(nf * (size_t)nc * sizeof *cb);
+    long f;
+    int k;
+    out->mgdk_cov_ok = 0;
+    out->mgdk_var_given = (o->noise == 1);
+    out->mgdk_var = out->mgdk_var_given ? o->noise_var : 0.0f;
+    if (pb == NULL || cb == NULL) {
+        free(pb);
+        free(cb);
+        return;
+    }
+    for (f = first; f <= last; f++) {
+        const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
+        for (k = 0; k < np; k++) {
+            pb[(size_t)(f - first) * (size_t)np + (size_t)k] = row[k];
+        }
+        for (k = 0; k < nc; k++) {
+            cb[(size_t)(f - first) * (size_t)nc + (size_t)k] = row[np + k];
+        }
+    }
+    out->mgdk_cov_ok = cli_joint_mgdk_cov(&out->j, &out->res, pb, cb, nf,
+                                          out->mgdk_var_given ? o->noise_var : -1.0f,
+                                          &out->mgdk_cov, &out->mgdk_var)
+                       == SFIT_OK;
+    free(pb);
+    free(cb);
+}
+
 const char *cli_joint_pair_reason(sfit_pair_reason_t r)
 {
     switch (r) {
@@ -288,6 +351,18 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
         cli_print_json_string(out->note);
     }
     if (!out->pair_used) {
+        /* the multi-marker fit: its covariance (null when it has none) */
+        const int untrusted = (out->res.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u;
+        printf(",\"center_cov\":");
+        if (out->mgdk_cov_ok) {
+            print_mat_json(&out->mgdk_cov);
+        } else {
+            printf("null");
+        }
+        printf(",\"center_cov_bias\":\"not_included\",\"untrusted\":%s,\"reason\":\"%s\","
+               "\"marker_noise\":{\"var\":%.9g,\"source\":\"%s\"}",
+               untrusted ? "true" : "false", untrusted ? "leontief_ratio" : "none",
+               (double)out->mgdk_var, out->mgdk_var_given ? "given" : "registration_residuals");
         return;
     }
     printf(",\"center_cov\":");
@@ -315,6 +390,15 @@ void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, co
         printf("%snote         %s\n", indent, out->note);
     }
     if (!out->pair_used) {
+        if (out->mgdk_cov_ok && sfit_mat3_eig_sym(&out->mgdk_cov, &w, NULL) == SFIT_OK) {
+            printf("%s95%% ellipse  semi-axes %.3g %.3g %.3g %s (centre; MGDK's bias at a small\n"
+                   "%s             range of motion is not in it)\n",
+                   indent, sqrt(7.8147 * (double)(w.v[2] > 0.0f ? w.v[2] : 0.0f)),
+                   sqrt(7.8147 * (double)(w.v[1] > 0.0f ? w.v[1] : 0.0f)),
+                   sqrt(7.8147 * (double)(w.v[0] > 0.0f ? w.v[0] : 0.0f)), units, indent);
+        }
+        printf("%smarker noise sigma %.4g %s (%s)\n", indent, sqrt((double)out->mgdk_var), units,
+               out->mgdk_var_given ? "given" : "from the parent's registration residuals");
         return;
     }
     if (sfit_mat3_eig_sym(&p->center_cov, &w, NULL) == SFIT_OK) {
@@ -423,6 +507,9 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
     st = sfit_joint_fit(&out->j, &out->res, out->radii);
     out->method_name = "mgdk";
     if (o->method == CLI_JOINT_MGDK) {
+        if (st == SFIT_OK) {
+            mgdk_cov(fr, np, nc, first, last, o, out);
+        }
         return out->st = st;
     }
     if (nc < 3) {
@@ -431,6 +518,9 @@ sfit_status_t cli_joint_run(const cli_frames_t *fr, int np, int nc, const cli_jo
             return out->st = SFIT_E_TOO_FEW;
         }
         out->note = "fewer than 3 child markers: no child cluster, the multi-marker fit (mgdk)";
+        if (st == SFIT_OK) {
+            mgdk_cov(fr, np, nc, first, last, o, out);
+        }
         return out->st = st;
     }
     {

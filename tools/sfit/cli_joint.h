@@ -56,6 +56,12 @@ typedef struct cli_joint_out {
     const char *note;                   /**< NULL, or why the method differs from the asked */
     sfit_pair_result_t pair;            /**< pair_used: centre, covariances, flags */
     long pair_rejected;                 /**< frames the pair rejected (child not registrable) */
+    int mgdk_cov_ok;                    /**< !pair_used: 1 when mgdk_cov holds the centre's
+                                             covariance (sfit_joint_center_cov) */
+    sfit_mat3_t mgdk_cov;               /**< !pair_used: centre covariance, parent frame */
+    float mgdk_var;                     /**< !pair_used: the marker variance it used */
+    int mgdk_var_given;                 /**< 1: --noise-var V; 0: the parent cluster's
+                                             registration residuals */
     sfit_status_t st;                   /**< SFIT_OK or the failure */
     const char *stage;                  /**< where it failed: "template", "frames", "solve" */
 } cli_joint_out_t;
@@ -84,16 +90,31 @@ const char *cli_joint_frames_opt(void *dst, const char *v);
 /** --method default|score|sara|mgdk into a cli_joint_opts_t (a cli_opt_fn_t). */
 const char *cli_joint_method_opt(void *dst, const char *v);
 
+/**
+ * The multi-marker fit's (mgdk) centre covariance, as `sfit joint --method
+ * mgdk` and Python's joint_center(method="mgdk") report it:
+ * sfit_joint_center_cov() over the nf frames of parent (nf x parent count)
+ * and child (nf x n_child) that were fed to j, with var_given (>= 0), or
+ * (var_given < 0) the marker variance of the parent cluster's registration
+ * residuals (sum rms^2 used / sum (3 used - 6) over the frames it
+ * registers). *var receives the variance used. MGDK's own bias at a small
+ * range of motion is not in the covariance. Returns the status.
+ */
+sfit_status_t cli_joint_mgdk_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
+                                 const sfit_vec3_t *parent, const sfit_vec3_t *child, size_t nf,
+                                 float var_given, sfit_mat3_t *cov, float *var);
+
 /** The name of a pair result's reason (JSON and Python: "none", "misfit", ...). */
 const char *cli_joint_pair_reason(sfit_pair_reason_t r);
 
-/** The pair's JSON members (after "center"...): center_cov, axis_cov, noise, reason. */
+/** The JSON members after "center"...: the pair's center_cov, axis_cov, noise, reason;
+ *  for the multi-marker fit (mgdk) its center_cov, the marker noise used, reason. */
 void cli_joint_print_pair_json(const cli_joint_out_t *out);
 
 /** The result's flags as a JSON array (the pair's, or the multi-marker fit's). */
 void cli_joint_print_flags_json(const cli_joint_out_t *out);
 
-/** Text lines of the pair: 95 % semi-axes (mm), noise figure and source, flags. */
+/** Text lines: 95 % semi-axes (mm), noise figure and source, flags (pair or mgdk). */
 void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, const char *indent);
 
 /** --noise-var V|auto into a cli_joint_opts_t (a cli_opt_fn_t). */

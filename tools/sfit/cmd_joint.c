@@ -125,11 +125,12 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     int k;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frame\":\"parent_template\","
            "\"reference_frame\":%ld,\"first\":%ld,\"last\":%ld,\"frames_used\":%ld,"
-           "\"frames_rejected\":%ld,\"bad_rows\":%ld,\"template_frames\":%lu,\"n\":%lu,"
-           "\"center\":",
+           "\"frames_rejected\":%ld,\"bad_rows\":%ld,\"zero_missing\":%ld,"
+           "\"template_frames\":%lu,\"n\":%lu,\"center\":",
            jo->pair_used ? jo->method_name : method_name(r),
            r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", jo->ref_frame,
-           o->j.first, last, jo->used, jo->rejected, fr->bad_rows, jo->template_frames,
+           o->j.first, last, jo->used, jo->rejected, fr->bad_rows, fr->zero_missing,
+           jo->template_frames,
            (unsigned long)r->n_total);
     cli_print_vec(r->center.v);
     printf(",\"center_lab_reference\":");
@@ -192,6 +193,10 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
     if (fr->bad_rows > 0) {
         printf("warning      %ld table rows did not parse (read as missing markers)\n",
                fr->bad_rows);
+    }
+    if (fr->zero_missing > 0) {
+        printf("missing      %ld marker samples at exactly (0, 0, 0) taken as missing\n",
+               fr->zero_missing);
     }
     printf("parent       ");
     for (k = 0; k < o->np; k++) {

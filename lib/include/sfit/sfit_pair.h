@@ -24,6 +24,15 @@
  * the centre (ball), or the axis (eigenvector of the smallest eigenvalue,
  * SARA) and a point on it (hinge), with their covariance and flags.
  *
+ * The default ball centre is then weighted, in the same solve: the noise
+ * covariance of each frame's residual at that first estimate (from the
+ * templates' spreads and the marker variance), averaged over the frames,
+ * is a constant weight W in the child frame; the 9x9 moment of A and the
+ * 9x3 moment of (A, g) give the weighted, bias-corrected normal equations
+ * for any W after the frames (one pass: no frame is kept). Not when the
+ * first estimate fails the misfit test (its residual is not that noise).
+ * SFIT_PAIR_METHOD_UNWEIGHTED gives the first estimate. docs/pair.md#weighting
+ *
  * A rejected frame leaves the state bit for bit unchanged. Maths, the
  * default and why, flags: docs/pair.md
  */
@@ -43,10 +52,15 @@ extern "C" {
 
 /** @brief Which estimator sfit_pair_solve() gives. */
 typedef enum sfit_pair_method {
-    SFIT_PAIR_METHOD_DEFAULT = 0, /**< SCoRE / SARA with the errors-in-variables bias
-                                       removed using the marker variance (default). */
-    SFIT_PAIR_METHOD_SCORE = 1    /**< Plain SCoRE (ball) / SARA (hinge), as published:
-                                       biased at small range of motion. */
+    SFIT_PAIR_METHOD_DEFAULT = 0,   /**< SCoRE / SARA with the errors-in-variables bias
+                                         removed using the marker variance; a ball centre
+                                         weighted by the inverse noise covariance of the
+                                         residual at a first estimate (default). */
+    SFIT_PAIR_METHOD_SCORE = 1,     /**< Plain SCoRE (ball) / SARA (hinge), as published:
+                                         biased at small range of motion. */
+    SFIT_PAIR_METHOD_UNWEIGHTED = 2 /**< The default without the weighting (bias removed,
+                                         every frame's residual weighted alike): the
+                                         default of sfit 0.3. */
 } sfit_pair_method_t;
 
 /** @brief Ball or hinge. */
@@ -102,7 +116,8 @@ typedef struct sfit_pair_cfg {
     float max_trust;            /**< Untrusted (SMALL_MOTION) when trust_ratio is above
                                      this (0 = default 0.25). */
     float max_misfit;           /**< Untrusted (MISFIT) when the residual ratio is above
-                                     this (0 = default 2.0). */
+                                     this (0 = default 2.0); the default method weights a
+                                     ball's frames only when its first estimate is below. */
     float axis_tol;             /**< Hinge: untrusted (AXIS_FREE) when the axis may be
                                      further off than this angle (rad; 0 = default 10
                                      degrees): its 95 % noise cone, the out-of-axis
@@ -124,7 +139,7 @@ typedef struct sfit_pair_cfg {
 extern const sfit_pair_cfg_t sfit_pair_cfg_default;
 
 /** @brief Quantities of the two-level sums of a pair (see sfit_pair.c). */
-#define SFIT_PAIR_NSUM 68
+#define SFIT_PAIR_NSUM 92
 
 /**
  * @brief Streaming pair state. Caller-owned; members are private.
@@ -195,7 +210,7 @@ typedef struct sfit_pair_result {
  *                            (enum out of range, marker_var < 0 or not finite, a
  *                            threshold negative or not finite)
  * @retval SFIT_E_DEGENERATE  a template's markers are collinear (spread not invertible)
- * @par Cost O(markers) + two 3x3 Cholesky inverses. State: 724 B (sfit_pair_t, M4F).
+ * @par Cost O(markers) + two 3x3 Cholesky inverses. State: 916 B (sfit_pair_t, M4F).
  */
 sfit_status_t sfit_pair_init(sfit_pair_t *s, const sfit_cluster_t *parent,
                              const sfit_cluster_t *child, const sfit_pair_cfg_t *cfg);
@@ -225,8 +240,8 @@ sfit_status_t sfit_pair_reset(sfit_pair_t *s);
  * @retval SFIT_E_NONFINITE   a pose or rms entry is NaN or Inf
  * @retval SFIT_E_RANGE       a translation >= 2^SFIT_COORD_MAX_EXP, a rotation entry
  *                            beyond 1 + 1e-3 in magnitude, or the frame counter full
- * @par Cost 235.06 FLOPs, 1727.1 M4F instructions per frame, amortised over a block of
- * SFIT_SUM_BLOCK frames (tools/flopcount "pair_add"); stack 456 B.
+ * @par Cost 271.44 FLOPs, 1921.7 M4F instructions per frame, amortised over a block of
+ * SFIT_SUM_BLOCK frames (tools/flopcount "pair_add"); stack 544 B.
  */
 sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
                             const sfit_cluster_fit_t *fit_p, const sfit_pose_t *pose_c,
@@ -246,8 +261,8 @@ sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
  * @retval any status of sfit_cluster_register() (for either cluster) or of
  *         sfit_pair_add(); SFIT_E_ARG also when a template's count differs from
  *         the one given to sfit_pair_init(). The state is unchanged on any error.
- * @par Cost 4 parent + 5 child markers: 2335.06 FLOPs, 12553.1 M4F instructions per
- * frame (tools/flopcount "pair_add_markers"); stack 832 B.
+ * @par Cost 4 parent + 5 child markers: 2265.44 FLOPs, 9718.7 M4F instructions per
+ * frame (tools/flopcount "pair_add_markers"); stack 848 B.
  */
 sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent,
                                     const sfit_vec3_t *pm, size_t n_pm,
@@ -255,7 +270,10 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
                                     size_t n_cm);
 
 /**
- * @brief Solve from the frames so far (the state is not modified).
+ * @brief Solve from the frames so far (the state is not modified). Default
+ * method, ball: the bias-corrected SCoRE centre, then the centre weighted by
+ * the inverse noise covariance of the residual at it (see the file's
+ * description; flags and trust_ratio come from the first estimate).
  * @param[in]  s    State.
  * @param[out] out  Result; written only on SFIT_OK.
  * @retval SFIT_OK            success (check out->flags)
@@ -266,9 +284,9 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method: 3820 FLOPs, 25070 M4F instructions (tools/flopcount
- * "pair_solve"); plain SCoRE 3716 FLOPs, 24741 instructions ("pair_solve_score");
- * stack 1928 B (-O2). Independent of the number of frames.
+ * @par Cost ball, default method (weighted): 7195 FLOPs, 43500 M4F instructions
+ * (tools/flopcount "pair_solve"); plain SCoRE 3800 FLOPs, 25130 instructions
+ * ("pair_solve_score"); stack 2604 B (-O2). Independent of the number of frames.
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 

@@ -502,6 +502,13 @@ class JointResult(_Record):
     reason, misfit, model_rms, child_cluster; flags is then the pair's list
     of names ("untrusted", "few_frames", "small_motion", "axis_free",
     "ambiguous", "misfit", "no_noise"); radii, marker_n, n, markers are None.
+    With method "mgdk" from :func:`joint_center`: center_cov (3, 3; None
+    when it cannot be computed; MGDK's own bias at a small range of motion
+    is not in it), marker_noise_var and noise_source ("given" or
+    "registration_residuals" of the parent cluster), untrusted, reason
+    ("none" or "leontief_ratio"), as `sfit joint --method mgdk --json`.
+    zero_missing: marker samples at exactly (0, 0, 0) taken as missing;
+    note: why the method differs from the one asked (else None).
     """
 
     __slots__ = ("center", "axis", "eigenvalues", "radii", "marker_n", "n", "markers",
@@ -510,7 +517,8 @@ class JointResult(_Record):
                  "center_global", "axis_global", "valid", "cluster", "label_swaps", "_raw",
                  "center_cov", "axis_cov", "center_child", "axis_child", "marker_noise_var",
                  "marker_noise_var_parent", "marker_noise_var_child", "noise_source",
-                 "untrusted", "reason", "misfit", "model_rms", "child_cluster")
+                 "untrusted", "reason", "misfit", "model_rms", "child_cluster", "zero_missing",
+                 "note")
     _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
 
 
@@ -757,7 +765,7 @@ if hasattr(_sfit, "Joint"):
                     -5: DegenerateError, -6: NonFiniteError, -7: RangeError}
 
     def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noise_var,
-                     label_swaps=None):
+                     label_swaps=None, zero_missing=0):
         """joint_center with the pair of segments (sfit_pair.h via _sfit._pair_solve)."""
         if mode not in ("auto", "sphere", "planar"):
             raise _arg_error("joint_center: mode must be auto, sphere or planar")
@@ -800,12 +808,37 @@ if hasattr(_sfit, "Joint"):
             ag[f] = pose.rotation @ d["axis"]
             valid[f] = True
         d.update(method=method, rejected_frames=rejected, center_global=cg, axis_global=ag,
-                 valid=valid, cluster=cl, child_cluster=ccl, label_swaps=label_swaps)
+                 valid=valid, cluster=cl, child_cluster=ccl, label_swaps=label_swaps,
+                 zero_missing=zero_missing, note=None)
         return JointResult(d)
 
+    def _zero_missing(frames):
+        """(frames with every sample at exactly (0, 0, 0) set to NaN, how many):
+        how some systems write "missing" (the CLI's C3D reader does the same).
+        Input that is not a real (F, M, 3) array is returned as it is."""
+        try:
+            a = _np.asarray(frames)
+        except Exception:  # the hostile object's error: the joint reports it
+            return frames, 0
+        if a.dtype.kind not in "fiu" or a.ndim != 3 or a.shape[-1] != 3 or a.shape[0] >= 2 ** 32:
+            return frames, 0  # the joint's own checks report it
+        try:
+            z = _np.asarray(a == 0)
+            if z.shape != a.shape:
+                return frames, 0
+            z = z.all(axis=2)
+        except Exception:  # the hostile object's error: the joint reports it
+            return frames, 0
+        n = int(z.sum())
+        if n == 0:
+            return frames, 0
+        b = _np.array(a, dtype=_np.float64)
+        b[z] = _np.nan
+        return b, n
+
     def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, mode="auto",
-                     weight="equal", marker_noise_var=None, method="mgdk",
-                     child_template=None, repair_swaps=True) -> JointResult:
+                     weight="equal", marker_noise_var=None, method="default",
+                     child_template=None, repair_swaps=True, zero_is_missing=True) -> JointResult:
         """Functional joint centre from trajectories.
 
         Args:
@@ -825,12 +858,18 @@ if hasattr(_sfit, "Joint"):
                 seen); False only reports them.
                 With a pair method: None or "auto" (default) = from the two
                 clusters' registration residuals, or the given variance.
-            method: "mgdk" (the multi-marker fit, this function's default so
-                far), or the pair of segments (docs/pair.md): "default"
-                (SCoRE / SARA with the bias removed, a covariance and flags:
-                the CLI's default), "score" (plain SCoRE; with mode="planar"
-                SARA), "sara" (plain SARA). noise_var / noise_cov / weight
-                belong to mgdk.
+            method: the pair of segments (docs/pair.md): "default" (the
+                default, as `sfit joint`'s: SCoRE / SARA with the bias
+                removed and, for a ball, each frame weighted by its
+                residual's noise covariance; a covariance and flags; with
+                fewer than 3 child markers the multi-marker fit, with a
+                note, as the CLI), "score" (plain SCoRE; with mode="planar"
+                SARA), "sara" (plain SARA); or "mgdk" (the multi-marker
+                fit, this function's default before 0.4). noise_var /
+                noise_cov / weight belong to mgdk.
+            zero_is_missing: True (default): marker samples at exactly
+                (0, 0, 0) are taken as missing and counted in zero_missing
+                (as `sfit joint` reads a C3D).
             child_template: pair methods: None (Cluster.from_frames of the
                 child), a Cluster or (Mc, 3) positions.
 
@@ -848,6 +887,11 @@ if hasattr(_sfit, "Joint"):
             pattern_change) and status (F,) per frame (-1 not checked, 0 as
             given, -2 no labelling fits, -3 ambiguous, > 0 a swap).
         """
+        nzero = 0
+        if zero_is_missing:
+            parent, n1 = _zero_missing(parent)
+            child, n2 = _zero_missing(child)
+            nzero = n1 + n2
         parent, swaps_p = _label_swaps(parent, repair_swaps)
         child, swaps_c = _label_swaps(child, repair_swaps)
         label_swaps = {"repair": bool(repair_swaps), "parent": swaps_p, "child": swaps_c}
@@ -866,19 +910,33 @@ if hasattr(_sfit, "Joint"):
             raise _arg_error("joint_center: child must be (frames, markers, 3)")
         if not isinstance(method, str) or method not in ("mgdk", "default", "score", "sara"):
             raise _arg_error("joint_center: method must be mgdk, default, score or sara")
+        note = None
         if method != "mgdk":
             if noise_var is not None or noise_cov is not None:
                 raise _arg_error("joint_center: noise_var / noise_cov are the mgdk noise of a "
                                  "child marker; give marker_noise_var with method %r" % method)
-            return _pair_center(parent, child_arr, cl, child_template, method, mode,
-                                marker_noise_var, label_swaps)
+            if method == "default" and k < 3:
+                note = "fewer than 3 child markers: no child cluster, the multi-marker fit (mgdk)"
+            else:
+                return _pair_center(parent, child_arr, cl, child_template, method, mode,
+                                    marker_noise_var, label_swaps, nzero)
+        if isinstance(marker_noise_var, str) and marker_noise_var == "auto":
+            marker_noise_var = None
         j = Joint(cl, k, noise_var=noise_var, noise_cov=noise_cov, mode=mode, weight=weight,
                   marker_noise_var=marker_noise_var)
         j.add(parent, child_arr)
         res = j.solve()
         c, a, v = j.center_at(res, parent)
         d = {k2: getattr(res, k2) for k2 in JointResult.__slots__}
-        d.update(center_global=c, axis_global=a, valid=v, cluster=cl, label_swaps=label_swaps)
+        d.update(center_global=c, axis_global=a, valid=v, cluster=cl, label_swaps=label_swaps,
+                 zero_missing=nzero, note=note)
+        # the centre's covariance as `sfit joint --method mgdk` reports it
+        vg = -1.0 if marker_noise_var is None else float(marker_noise_var)
+        code, cov, var = j._center_cov(res._raw, parent, child_arr, vg)
+        untrusted = "untrusted" in (res.flags or [])
+        d.update(center_cov=cov if code == 0 else None, marker_noise_var=var,
+                 noise_source="given" if vg >= 0.0 else "registration_residuals",
+                 untrusted=untrusted, reason="leontief_ratio" if untrusted else "none")
         return JointResult(d)
 
     __all__ += ["Cluster", "Joint", "Pose", "JointResult", "joint_center",

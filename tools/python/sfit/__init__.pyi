@@ -257,6 +257,8 @@ class JointResult:
     misfit: Optional[float]
     model_rms: Optional[float]
     child_cluster: Optional[Cluster]
+    zero_missing: Optional[int]
+    note: Optional[str]
     def to_dict(self) -> dict[str, Any]: ...
 
 class Joint:
@@ -280,9 +282,9 @@ def joint_center(parent: ArrayLike, child: ArrayLike, template: Union[None, Clus
                  noise_var: Optional[float] = None, noise_cov: Optional[ArrayLike] = None,
                  mode: Mode = "auto", weight: Literal["equal", "samples"] = "equal",
                  marker_noise_var: Union[None, float, Literal["auto"]] = None,
-                 method: Literal["mgdk", "default", "score", "sara"] = "mgdk",
+                 method: Literal["mgdk", "default", "score", "sara"] = "default",
                  child_template: Union[None, Cluster, ArrayLike] = None,
-                 repair_swaps: bool = True) -> JointResult: ...
+                 repair_swaps: bool = True, zero_is_missing: bool = True) -> JointResult: ...
 
 # A lab session (docs/session.md)
 def session_model(model: Union[str, bytes, "os.PathLike[str]"]) -> dict[str, Any]: ...

@@ -13,6 +13,8 @@
  *   cannot register are skipped and counted. code is the library's status
  *   (0 ok); the Python layer raises the matching sfit.Error. Every value of
  *   the result dict is the library's float32 value, exactly.
+ * _joint_center_cov (Joint._center_cov): the multi-marker fit's centre
+ *   covariance with the CLI's noise figure (cli_joint_mgdk_cov).
  * Kept apart from sfitmodule.c (issue 26: new bindings in new files); the
  * module's init calls sfit_py_pair_import() for numpy's C API here.
  */
@@ -246,5 +248,50 @@ done:
     Py_XDECREF(c);
     Py_XDECREF(pt);
     Py_XDECREF(ct);
+    return out;
+}
+
+PyObject *sfit_py_joint_center_cov(const sfit_joint_t *j, PyObject *args)
+{
+    const char *raw;
+    Py_ssize_t rawlen;
+    PyObject *po, *co, *out = NULL;
+    PyArrayObject *p = NULL, *c = NULL;
+    double var_given;
+    sfit_joint_result_t r;
+    sfit_mat3_t cov;
+    float var = 0.0f;
+    sfit_status_t st;
+    if (!PyArg_ParseTuple(args, "y#OOd", &raw, &rawlen, &po, &co, &var_given)) {
+        return NULL;
+    }
+    if (rawlen != (Py_ssize_t)sizeof r || !(var_given < 3.0e38)) {
+        return Py_BuildValue("(iOd)", (int)SFIT_E_ARG, Py_None, 0.0);
+    }
+    memcpy(&r, raw, sizeof r);
+    p = as_f32(po, 3, "parent");
+    c = (p != NULL) ? as_f32(co, 3, "child") : NULL;
+    if (c == NULL) {
+        goto done;
+    }
+    if (PyArray_DIM(p, 0) != PyArray_DIM(c, 0) || PyArray_DIM(p, 0) < 1
+        || PyArray_DIM(p, 1) != (npy_intp)j->parent.count
+        || PyArray_DIM(c, 1) != (npy_intp)j->cfg.n_child) {
+        out = Py_BuildValue("(iOd)", (int)SFIT_E_ARG, Py_None, 0.0);
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    st = cli_joint_mgdk_cov(j, &r, (const sfit_vec3_t *)PyArray_DATA(p),
+                            (const sfit_vec3_t *)PyArray_DATA(c), (size_t)PyArray_DIM(p, 0),
+                            (var_given >= 0.0) ? (float)var_given : -1.0f, &cov, &var);
+    Py_END_ALLOW_THREADS
+    if (st != SFIT_OK) {
+        out = Py_BuildValue("(iOd)", (int)st, Py_None, (double)var);
+    } else {
+        out = Py_BuildValue("(iNd)", 0, mat(&cov), (double)var);
+    }
+done:
+    Py_XDECREF(p);
+    Py_XDECREF(c);
     return out;
 }

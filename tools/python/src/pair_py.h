@@ -12,4 +12,12 @@ int sfit_py_pair_import(void);
 /** _sfit._pair_solve (see pair_py.c). */
 PyObject *sfit_py_pair_solve(PyObject *self, PyObject *args);
 
+#include "sfit/sfit_joint.h"
+
+/** Joint._center_cov(raw result, parent (F, Mp, 3), child (F, K, 3), var_given)
+ *  -> (code, cov (3, 3) or None, marker variance used): the mgdk centre's
+ *  covariance as the CLI reports it (cli_joint_mgdk_cov); var_given < 0 =
+ *  from the parent's registration residuals. */
+PyObject *sfit_py_joint_center_cov(const sfit_joint_t *j, PyObject *args);
+
 #endif /* SFIT_PAIR_PY_H */

@@ -2250,6 +2250,15 @@ static PyObject *Joint_center_at(JointObject *self, PyObject *args)
     return Py_BuildValue("(NNN)", ca, aa, va);
 }
 
+/* Joint._center_cov: see pair_py.c (sfit_py_joint_center_cov). */
+static PyObject *Joint_center_cov(JointObject *self, PyObject *args)
+{
+    if (!self->ready) {
+        return raise_arg("Joint: not initialised");
+    }
+    return sfit_py_joint_center_cov(&self->j, args);
+}
+
 /* Joint.noise_cov(marker_var) -> (3, 3): first-order noise covariance of a
  * child marker in the parent frame for isotropic marker noise. */
 static PyObject *Joint_noise_cov(JointObject *self, PyObject *arg)
@@ -2296,6 +2305,7 @@ static PyMethodDef Joint_methods[] = {
     {"_add", (PyCFunction)Joint_add, METH_VARARGS, "Internal: see Joint.add."},
     {"_solve", (PyCFunction)Joint_solve, METH_NOARGS, "Internal: see Joint.solve."},
     {"_center_at", (PyCFunction)Joint_center_at, METH_VARARGS, "Internal: see Joint.center_at."},
+    {"_center_cov", (PyCFunction)Joint_center_cov, METH_VARARGS, "Internal: see pair_py.c."},
     {"noise_cov", (PyCFunction)Joint_noise_cov, METH_O,
      "noise_cov(marker_var) -> ndarray (3, 3)\n\nFirst-order noise covariance of a child marker in\n"
      "the parent frame, for isotropic noise of variance marker_var on every coordinate of\n"

@@ -240,4 +240,51 @@ def test_joint_center_pair_methods(rng):
     with pytest.raises(sfit.ArgError):
         sfit.joint_center(parent, child, method="default", marker_noise_var=-1.0)
     with pytest.raises(sfit.ArgError):
-        sfit.joint_center(parent, child[:, :2], method="default")
+        sfit.joint_center(parent, child[:, :2], method="score")
+    # the default with fewer than 3 child markers: the multi-marker fit, with
+    # a note, as `sfit joint` does
+    two = sfit.joint_center(parent, child[:, :2])
+    assert two.note is not None and "mgdk" in two.note and two.radii is not None
+
+
+def test_joint_center_default_is_the_cli_default():
+    """joint_center's default method is the CLI's (the pair's "default"),
+    and the mgdk result carries a centre covariance, the noise figure and
+    its source, untrusted and reason (as `sfit joint --method mgdk`)."""
+    import inspect
+    assert inspect.signature(sfit.joint_center).parameters["method"].default == "default"
+    rng = np.random.default_rng(11)
+    tpl, centre, parent, child = simulate(rng, frames=400, sigma=0.3, occlude=0.0)
+    d = sfit.joint_center(parent, child)
+    assert d.method == "default" and d.center_cov is not None and d.note is None
+    m = sfit.joint_center(parent, child, method="mgdk")
+    assert m.center_cov.shape == (3, 3) and np.linalg.eigvalsh(m.center_cov).min() > 0
+    assert m.noise_source == "registration_residuals" and m.reason in ("none", "leontief_ratio")
+    assert abs(m.marker_noise_var - 0.09) < 0.015, m.marker_noise_var
+    g = sfit.joint_center(parent, child, method="mgdk", marker_noise_var=0.04)
+    assert g.noise_source == "given" and g.marker_noise_var == pytest.approx(0.04)
+    # the covariance scales with the variance given (to within the change of
+    # the fit itself: a given variance also selects the unbiased MGDK)
+    g9 = sfit.joint_center(parent, child, method="mgdk", marker_noise_var=0.09)
+    assert np.allclose(g.center_cov * (0.09 / 0.04), g9.center_cov, rtol=2e-2,
+                       atol=2e-2 * np.trace(g9.center_cov))
+
+
+def test_joint_center_zero_is_missing():
+    """Samples at exactly (0, 0, 0) are missing (how some systems write it),
+    counted in zero_missing: the same centre as with NaN there."""
+    rng = np.random.default_rng(12)
+    tpl, centre, parent, child = simulate(rng, frames=400, sigma=0.3, occlude=0.0)
+    p0, c0 = parent.copy(), child.copy()
+    pn, cn = parent.copy(), child.copy()
+    p0[5, 1] = 0.0
+    c0[[7, 9], 2] = 0.0
+    pn[5, 1] = np.nan
+    cn[[7, 9], 2] = np.nan
+    for method in ("default", "mgdk"):
+        a = sfit.joint_center(p0, c0, method=method)
+        b = sfit.joint_center(pn, cn, method=method)
+        assert a.zero_missing == 3 and b.zero_missing == 0
+        assert np.array_equal(a.center, b.center)
+        raw = sfit.joint_center(p0, c0, method=method, zero_is_missing=False)
+        assert raw.zero_missing == 0 and not np.array_equal(raw.center, b.center)

@@ -78,12 +78,19 @@ def test_biobuddy_hip_swap_repaired():
 
 @pytest.mark.skipif(not os.path.isfile(HIP) or not os.environ.get("SFIT_CLI"),
                     reason="the sfit CLI (SFIT_CLI) is needed")
-def test_biobuddy_same_as_cli():
-    out = subprocess.run([os.environ["SFIT_CLI"], "joint", HIP, "--parent", ",".join(PELVIS),
-                          "--child", ",".join(THIGH), "--method", "mgdk", "--json"], check=True,
-                         capture_output=True, text=True).stdout
-    cli = json.loads(out)
-    res = sfit.joint_center(read_markers(HIP, PELVIS), read_markers(HIP, THIGH))
+@pytest.mark.parametrize("method", ["mgdk", "default", None])
+def test_biobuddy_same_as_cli(method):
+    """Every front end says the same thing (issue 28, must-show 4): the
+    centre, center_cov, the marker noise figure and its source, untrusted,
+    reason and flags of `sfit joint --json` and of joint_center, per method;
+    None = each one's default (the same method)."""
+    args = [os.environ["SFIT_CLI"], "joint", HIP, "--parent", ",".join(PELVIS),
+            "--child", ",".join(THIGH), "--json"]
+    if method is not None:
+        args += ["--method", method]
+    cli = json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)
+    kw = {} if method is None else {"method": method}
+    res = sfit.joint_center(read_markers(HIP, PELVIS), read_markers(HIP, THIGH), **kw)
     for seg in ("parent", "child"):
         a, b = res.label_swaps[seg], cli["label_swaps"][seg]
         assert a["swapped_frames"] == b["swapped_frames"]
@@ -92,6 +99,19 @@ def test_biobuddy_same_as_cli():
         assert [list(r) for s in a["swaps"] for r in s["runs"]] == \
             [r for s in b["swaps"] for r in s["runs"]]
     assert np.linalg.norm(res.center - np.array(cli["center"])) <= 1e-3
+    cov = np.array(cli["center_cov"])
+    assert cov.shape == (3, 3) and res.center_cov is not None
+    assert np.abs(res.center_cov - cov).max() <= 1e-4 * np.trace(cov)
+    assert res.marker_noise_var == pytest.approx(cli["marker_noise"]["var"], rel=1e-5)
+    assert res.noise_source == cli["marker_noise"]["source"] == "registration_residuals"
+    assert res.untrusted == cli["untrusted"] and res.reason == cli["reason"]
+    assert res.zero_missing == cli["zero_missing"] == 0
+    if method != "mgdk":
+        assert cli["method"] == res.method == "default"
+        assert list(res.flags) == cli["flags"]
+        assert res.axis_cov is None and "axis_cov" not in cli  # a ball
+    else:
+        assert cli["center_cov_bias"] == "not_included"
 
 
 def test_synthetic_swaps_exact():
