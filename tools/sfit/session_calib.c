@@ -345,7 +345,7 @@ static double jack_ratio(double C[3][3], double J[3][3], int hinge, const float 
         return t / 3.0;
     }
     { /* a basis u0, u1 of the plane normal to the axis */
-        const double n[3] = {axis[0], axis[1], axis[2]};
+        const double n[3] = {(double)axis[0], (double)axis[1], (double)axis[2]};
         const int m = fabs(n[0]) < 0.6 ? 0 : (fabs(n[1]) < 0.6 ? 1 : 2);
         double e[3] = {0, 0, 0}, t, len;
         e[m] = 1.0;
