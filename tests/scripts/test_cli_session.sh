@@ -55,7 +55,30 @@ for j in J.values():
     assert j["verdict"].startswith(j["name"] + " ("), j["verdict"]
     assert max(j["semi_axes_95"]) < 10, (j["name"], j["semi_axes_95"])
 print("session: 4 joints, covariances symmetric, 95 % semi-axes = sqrt(chi2 eigenvalues)")
-' "$tmp/session.json" || fail "session JSON"
+# the knee verdict: the flexion range about the hinge axis, against a
+# reference (Kabsch poses of both clusters, the rotation vector of
+# R_rel(f) R_rel(0)^T projected on the axis)
+import c3d_ref
+k = J["r_knee"]; a = c3d_ref.read(sys.argv[2]); L = [l.split(":")[-1] for l in a["labels"]]
+P = a["xyz"][:, [L.index(m) for m in k["parent_markers"]]]
+Q = a["xyz"][:, [L.index(m) for m in ["RTIB", "RTIBF", "RTIBD", "RANK", "RANKM"]]]
+def kabsch(A, B):
+    ca, cb = A.mean(0), B.mean(0); U, _, Vt = np.linalg.svd((A - ca).T @ (B - cb))
+    D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))]); return Vt.T @ D @ U.T
+T = np.array(k["template"]); ok = ~(np.isnan(P).any((1, 2)) | np.isnan(Q).any((1, 2)))
+Qt = Q[ok][0] - Q[ok][0].mean(0); ang = []; r0 = None
+for f in np.flatnonzero(ok):
+    rel = kabsch(T, P[f]).T @ kabsch(Qt, Q[f])
+    r0 = rel if r0 is None else r0; d = rel @ r0.T
+    th = np.arccos(np.clip((np.trace(d) - 1) / 2, -1, 1))
+    w = np.array([d[2, 1] - d[1, 2], d[0, 2] - d[2, 0], d[1, 0] - d[0, 1]])
+    w = w * (th / (2 * np.sin(th)) if th > 1e-9 else 0.5)
+    ang.append(np.degrees(w @ np.array(k["axis"])))
+flex = max(ang) - min(ang)
+assert abs(k["flexion_range_deg"] - flex) < 1.0, (k["flexion_range_deg"], flex)
+assert "flexion range %.0f degrees about the axis" % k["flexion_range_deg"] in k["verdict"], k["verdict"]
+print("knee: flexion range %.1f degrees about the hinge axis (reference %.1f)" % (k["flexion_range_deg"], flex))
+' "$tmp/session.json" "$ses/Test_func_rknee.c3d" || fail "session JSON"
 
 # ------------------------------------------ 2. apply == joint --trajectory
 hip_p=RASI,LASI,RPSI,LPSI hip_c=RTHI,RTHIB,RTHID,RKNE,RKNEM

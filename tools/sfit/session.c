@@ -132,6 +132,9 @@ void session_write_json(FILE *f, const session_t *s)
         put_vecd(f, j->semi95_model);
         fprintf(f, ",\n  \"marker_sigma\":%.9g,\"rotation_range_deg\":", j->marker_sigma);
         put_vecd(f, j->range_deg);
+        if (j->hinge) {
+            fprintf(f, ",\"flexion_range_deg\":%.9g", j->flex_deg);
+        }
         fprintf(f, ",\"flags\":");
         {
             /* cli_print_flags_json prints to stdout: the names are few, do it here */
@@ -544,6 +547,8 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
                      "semi_axes_95_model") != 0)) {
         return -1;
     }
+    n = jget(jp, o, "flexion_range_deg");
+    j->flex_deg = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
     n = jget(jp, o, "misfit");
     j->misfit = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
     n = jget(jp, o, "model_rms");

@@ -33,6 +33,7 @@ typedef struct session_joint {
     double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
     double range_deg[3];              /**< rotation range of the child about lab x, y, z
                                            at the reference frame (degrees) */
+    double flex_deg;                  /**< hinge: rotation range about its axis (degrees) */
     double marker_sigma;              /**< marker noise used for cov (units) */
     double misfit;                    /**< the pair's misfit: the joint model's residual /
                                            the marker noise's expectation (0: not the pair's) */

@@ -82,8 +82,9 @@ static void rot_log(double r[3][3], double w[3])
  * frame's x, y, z (degrees): the spread (max - min) of the rotation vector
  * of R_rel(f) R_rel(ref)^T over the frames used. */
 static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
-                           double range[3])
+                           const float *axis, double range[3], double *flex)
 {
+    double flo = 1e9, fhi = -1e9;
     sfit_cluster_t child;
     sfit_vec3_t *blk;
     double rref[3][3], lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
@@ -92,6 +93,9 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
     size_t used = 0;
     int i, k, m;
     range[0] = range[1] = range[2] = 0.0;
+    if (flex != NULL) {
+        *flex = 0.0;
+    }
     if (nc < 3) {
         return;
     }
@@ -141,6 +145,12 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
             }
         }
         rot_log(d, w);
+        if (axis != NULL) { /* the rotation about the hinge axis (parent frame) */
+            const double deg = (w[0] * (double)axis[0] + w[1] * (double)axis[1]
+                                + w[2] * (double)axis[2]) * 57.29577951308232;
+            flo = deg < flo ? deg : flo;
+            fhi = deg > fhi ? deg : fhi;
+        }
         for (i = 0; i < 3; i++) {
             const double deg = w[i] * 57.29577951308232;
             lo[i] = deg < lo[i] ? deg : lo[i];
@@ -151,6 +161,9 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
     if (have_ref) {
         for (i = 0; i < 3; i++) {
             range[i] = hi[i] - lo[i];
+        }
+        if (axis != NULL && flex != NULL) {
+            *flex = fhi - flo;
         }
     }
 }
@@ -417,9 +430,9 @@ static void verdict(session_joint_t *j, const char *u)
     } else if (j->flags & SFIT_FLAG_UNTRUSTED) {
         (void)snprintf(advice, sizeof advice,
                        "untrusted fit (too little motion for the noise): record more motion");
-    } else if (j->hinge && j->range_deg[order[0]] < 30.0) {
+    } else if (j->hinge && j->flex_deg < 30.0) {
         (void)snprintf(advice, sizeof advice, "flexion range %.0f degrees: record more flexion",
-                       j->range_deg[order[0]]);
+                       j->flex_deg);
     } else if (!j->hinge && j->range_deg[order[1]] < 20.0) {
         (void)snprintf(advice, sizeof advice,
                        "only %.0f degrees about lab %s: record more motion about that axis",
@@ -431,10 +444,10 @@ static void verdict(session_joint_t *j, const char *u)
     }
     if (j->hinge) {
         (void)snprintf(j->verdict, sizeof j->verdict,
-                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; rotation "
-                       "range about lab x/y/z %.0f/%.0f/%.0f degrees: %s",
-                       j->name, j->semi95[0], j->semi95[1], u, j->range_deg[0], j->range_deg[1],
-                       j->range_deg[2], advice);
+                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; flexion "
+                       "range %.0f degrees about the axis (lab x/y/z %.0f/%.0f/%.0f): %s",
+                       j->name, j->semi95[0], j->semi95[1], u, j->flex_deg, j->range_deg[0],
+                       j->range_deg[1], j->range_deg[2], advice);
     } else {
         (void)snprintf(j->verdict, sizeof j->verdict,
                        "%s (ball): 95 %% ellipsoid %.1f x %.1f x %.1f %s; rotation range about "
@@ -544,7 +557,7 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
         j->cov_model[i / 3][i % 3] *= j->model_scale;
     }
     session_semi_axes(j->cov_model, j->hinge ? CHI2_2_95 : CHI2_3_95, j->semi95_model);
-    rotation_range(fr, np, nc, &jo, j->range_deg);
+    rotation_range(fr, np, nc, &jo, j->hinge ? j->axis : NULL, j->range_deg, &j->flex_deg);
     verdict(j, fr->units[0] != '\0' ? fr->units : "units");
     cli_joint_free(&jo);
     cli_swaps_joint_free(&sw);
