@@ -43,6 +43,7 @@ typedef struct apply_joint {
     long placed, missing;
     int loaded;           /* 0: a parent marker is not in the trial */
     sfit_mat3_t *rot;     /* per frame: the parent's rotation (for the ellipsoid) */
+    session_place_cov_t pc; /* what the placement adds to the centre's uncertainty */
 } apply_joint_t;
 
 /* Place joint j in every frame; pts (nframes x npoints_total x 3) from column col. */
@@ -68,7 +69,7 @@ static int place_joint(const char *trial, const session_joint_t *j, float d, lon
         return -1;
     }
     aj->loaded = 1;
-    placed = session_place_frames(j, &fr, d, pts + (size_t)col * 3u, ntot, aj->rot);
+    placed = session_place_frames(j, &fr, d, pts + (size_t)col * 3u, ntot, aj->rot, &aj->pc);
     cli_frames_free(&fr);
     if (placed < 0) {
         fprintf(stderr, "sfit: %s: the session's template is degenerate\n", j->name);
@@ -347,7 +348,7 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
             for (t = 0; t < 3; t++) {
                 double sum = 0.0;
                 for (u = 0; u < 9; u++) {
-                    sum += (double)aj[k].rot[f].m[r * 3 + u / 3] * j->cov[u / 3][u % 3]
+                    sum += (double)aj[k].rot[f].m[r * 3 + u / 3] * aj[k].pc.total[u / 3][u % 3]
                            * (double)aj[k].rot[f].m[t * 3 + u % 3];
                 }
                 lab[r][t] = sum;
@@ -533,15 +534,28 @@ int cli_cmd_apply(int argc, char **argv)
         for (i = 0; i < s.njoint; i++) {
             printf("%s{\"name\":", i > 0 ? "," : "");
             cli_print_json_string(s.joint[i].name);
-            printf(",\"placed\":%ld,\"invalid\":%ld,\"parent_in_trial\":%s}", aj[i].placed,
+            printf(",\"placed\":%ld,\"invalid\":%ld,\"parent_in_trial\":%s", aj[i].placed,
                    aj[i].missing, aj[i].loaded ? "true" : "false");
+            printf(",\"placement\":");
+            fflush(stdout);
+            session_place_json(stdout, &aj[i].pc, s.joint[i].nmarkers);
+            printf("}");
         }
         printf("],\"svg_frame\":%ld}\n", svg != NULL ? frame : -1L);
     } else {
         printf("trial      %s (%ld frames, %s)\n", pos[1], c.nframes, c.units);
         for (i = 0; i < s.njoint; i++) {
-            printf("%-10s %s: placed in %ld frames, %ld invalid (parent not registrable)\n",
+            printf("%-10s %s: placed in %ld frames, %ld invalid (parent not registrable)",
                    s.joint[i].name, s.joint[i].points[0], aj[i].placed, aj[i].missing);
+            if (aj[i].placed > 0) {
+                printf("; 95 %% %.1f x %.1f x %.1f %s (calibration %.1f x %.1f x %.1f, "
+                       "placement %.1f x %.1f x %.1f)",
+                       aj[i].pc.semi_total[0], aj[i].pc.semi_total[1], aj[i].pc.semi_total[2], c.units,
+                       s.joint[i].semi95_model[0], s.joint[i].semi95_model[1],
+                       s.joint[i].semi95_model[2], aj[i].pc.semi_frame[0], aj[i].pc.semi_frame[1],
+                       aj[i].pc.semi_frame[2]);
+            }
+            printf("\n");
         }
         printf("written    %s%s%s%s%s", out, trc != NULL ? ", " : "", trc != NULL ? trc : "",
                svg != NULL ? ", " : "", svg != NULL ? svg : "");

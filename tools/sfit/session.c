@@ -38,6 +38,19 @@ static void put_vecd(FILE *f, const double *v)
     fprintf(f, "[%.9g,%.9g,%.9g]", v[0], v[1], v[2]);
 }
 
+static void put_mat(FILE *f, const double m[3][3])
+{
+    int k;
+    fputc('[', f);
+    for (k = 0; k < 3; k++) {
+        if (k > 0) {
+            fputc(',', f);
+        }
+        put_vecd(f, m[k]);
+    }
+    fputc(']', f);
+}
+
 void session_write_json(FILE *f, const session_t *s)
 {
     int i, k;
@@ -109,8 +122,19 @@ void session_write_json(FILE *f, const session_t *s)
         }
         fprintf(f, "],\"semi_axes_95\":");
         put_vecd(f, j->semi95);
-        fprintf(f, ",\"marker_sigma\":%.9g,\"rotation_range_deg\":", j->marker_sigma);
+        fprintf(f, ",\n  \"misfit\":%.9g,\"model_rms\":%.9g,\"jackknife_ratio\":%.9g,"
+                   "\"model_scale\":%.9g,\"center_cov_jackknife\":",
+                j->misfit, j->model_rms, j->jack_ratio, j->model_scale);
+        put_mat(f, j->cov_jack);
+        fprintf(f, ",\n  \"center_cov_model\":");
+        put_mat(f, j->cov_model);
+        fprintf(f, ",\"semi_axes_95_model\":");
+        put_vecd(f, j->semi95_model);
+        fprintf(f, ",\n  \"marker_sigma\":%.9g,\"rotation_range_deg\":", j->marker_sigma);
         put_vecd(f, j->range_deg);
+        if (j->hinge) {
+            fprintf(f, ",\"flexion_range_deg\":%.9g", j->flex_deg);
+        }
         fprintf(f, ",\"flags\":");
         {
             /* cli_print_flags_json prints to stdout: the names are few, do it here */
@@ -406,6 +430,25 @@ static int jnames(jparser_t *jp, const jnode_t *a, char (*names)[SM_NAME_MAX], i
     return k;
 }
 
+/* An optional 3x3 member (absent: m unchanged); 0 or -1. */
+static int jread_mat(jparser_t *jp, const jnode_t *n, double m[3][3], const char *joint,
+                     const char *what)
+{
+    int c, k;
+    if (n == NULL) {
+        return 0;
+    }
+    if (n->type != J_ARR || n->count != 3) {
+        return jfail(jp, "joint %s: \"%s\" must be 3 rows", joint, what);
+    }
+    for (c = n->first, k = 0; c >= 0; c = jp->n[c].next, k++) {
+        if (jnums(jp, &jp->n[c], m[k], 3, what) != 0) {
+            return -1;
+        }
+    }
+    return 0;
+}
+
 static int read_joint(jparser_t *jp, int o, session_joint_t *j)
 {
     const jnode_t *n;
@@ -480,6 +523,38 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
                != 0) {
         return -1;
     }
+    /* the model error (absent in sessions written before it: scale 1) */
+    j->model_scale = 1.0;
+    n = jget(jp, o, "model_scale");
+    if (n != NULL) {
+        if (n->type != J_NUM || !(n->num >= 1.0 && n->num < 1e12)) {
+            return jfail(jp, "joint %s: \"model_scale\" must be a number >= 1", j->name);
+        }
+        j->model_scale = n->num;
+    }
+    for (k = 0; k < 9; k++) { /* cov_model = model_scale cov, unless given */
+        j->cov_model[k / 3][k % 3] = j->model_scale * j->cov[k / 3][k % 3];
+    }
+    for (k = 0; k < 3; k++) {
+        j->semi95_model[k] = j->semi95[k] * sqrt(j->model_scale);
+    }
+    if (jread_mat(jp, jget(jp, o, "center_cov_model"), j->cov_model, j->name, "center_cov_model")
+            != 0
+        || jread_mat(jp, jget(jp, o, "center_cov_jackknife"), j->cov_jack, j->name,
+                     "center_cov_jackknife") != 0
+        || (jget(jp, o, "semi_axes_95_model") != NULL
+            && jnums(jp, jget(jp, o, "semi_axes_95_model"), j->semi95_model, 3,
+                     "semi_axes_95_model") != 0)) {
+        return -1;
+    }
+    n = jget(jp, o, "flexion_range_deg");
+    j->flex_deg = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "misfit");
+    j->misfit = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "model_rms");
+    j->model_rms = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "jackknife_ratio");
+    j->jack_ratio = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
     n = jget(jp, o, "flag_bits");
     if (n == NULL || n->type != J_NUM || !(n->num >= 0.0 && n->num < 4294967296.0)) {
         return jfail(jp, "joint %s: \"flag_bits\" missing or out of range", j->name);

@@ -33,7 +33,17 @@ typedef struct session_joint {
     double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
     double range_deg[3];              /**< rotation range of the child about lab x, y, z
                                            at the reference frame (degrees) */
+    double flex_deg;                  /**< hinge: rotation range about its axis (degrees) */
     double marker_sigma;              /**< marker noise used for cov (units) */
+    double misfit;                    /**< the pair's misfit: the joint model's residual /
+                                           the marker noise's expectation (0: not the pair's) */
+    double model_rms;                 /**< the pair's joint-model residual per frame (units) */
+    double cov_jack[3][3];            /**< block jackknife covariance of the centre (parent
+                                           frame; zero when not computed) */
+    double jack_ratio;                /**< tr(cov^-1 cov_jack) / p (0: not computed) */
+    double model_scale;               /**< cov_model = model_scale cov (1: the model holds) */
+    double cov_model[3][3];           /**< centre covariance with the model error */
+    double semi95_model[3];           /**< its 95 % semi-axes (units) */
     uint32_t flags;                   /**< sfit flags of the fit */
     long frames_used, frames_total;
     char verdict[SESSION_VERDICT_MAX];

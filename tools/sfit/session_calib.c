@@ -82,8 +82,9 @@ static void rot_log(double r[3][3], double w[3])
  * frame's x, y, z (degrees): the spread (max - min) of the rotation vector
  * of R_rel(f) R_rel(ref)^T over the frames used. */
 static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
-                           double range[3])
+                           const float *axis, double range[3], double *flex)
 {
+    double flo = 1e9, fhi = -1e9;
     sfit_cluster_t child;
     sfit_vec3_t *blk;
     double rref[3][3], lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
@@ -92,6 +93,9 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
     size_t used = 0;
     int i, k, m;
     range[0] = range[1] = range[2] = 0.0;
+    if (flex != NULL) {
+        *flex = 0.0;
+    }
     if (nc < 3) {
         return;
     }
@@ -141,6 +145,12 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
             }
         }
         rot_log(d, w);
+        if (axis != NULL) { /* the rotation about the hinge axis (parent frame) */
+            const double deg = (w[0] * (double)axis[0] + w[1] * (double)axis[1]
+                                + w[2] * (double)axis[2]) * 57.29577951308232;
+            flo = deg < flo ? deg : flo;
+            fhi = deg > fhi ? deg : fhi;
+        }
         for (i = 0; i < 3; i++) {
             const double deg = w[i] * 57.29577951308232;
             lo[i] = deg < lo[i] ? deg : lo[i];
@@ -151,6 +161,9 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
     if (have_ref) {
         for (i = 0; i < 3; i++) {
             range[i] = hi[i] - lo[i];
+        }
+        if (axis != NULL && flex != NULL) {
+            *flex = fhi - flo;
         }
     }
 }
@@ -208,12 +221,184 @@ static int center_cov(const cli_frames_t *fr, int np, int nc, const cli_joint_ou
     return rc;
 }
 
+/* inv = a^-1 (symmetric 3x3); 0, or -1 when singular. */
+static int inv3(double a[3][3], double inv[3][3])
+{
+    const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
+    const double c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2];
+    const double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+    const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
+    const double scale = fabs(a[0][0]) + fabs(a[1][1]) + fabs(a[2][2]);
+    if (!(fabs(det) > 1e-12 * scale * scale * scale)) {
+        return -1;
+    }
+    inv[0][0] = c00 / det;
+    inv[1][0] = c01 / det;
+    inv[2][0] = c02 / det;
+    inv[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
+    inv[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
+    inv[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
+    inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
+    inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
+    inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
+    return 0;
+}
+
+#define JACK_BLOCKS 10 /* contiguous blocks of the block jackknife */
+
+/* The block jackknife of the pair's centre: the joint solved again
+ * without each of JACK_BLOCKS contiguous blocks of the frames used (mode
+ * fixed to the result's), cov = (K - 1) / K sum (c_b - cbar)(c_b - cbar)^T;
+ * a hinge: the part normal to the axis. Residuals correlated over many
+ * frames (soft tissue moving with the joint angle) show in it, where the
+ * misfit scaling assumes independent frames. 0, or -1 (fewer than 3
+ * frames per block, or a solve failed). */
+static int jackknife_cov(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
+                         double cov[3][3])
+{
+    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
+    sfit_cluster_t child;
+    sfit_pair_t *pr;
+    sfit_pair_result_t r;
+    sfit_vec3_t *blk;
+    double c[JACK_BLOCKS][3], mean[3] = {0, 0, 0}, ax[3];
+    size_t used = 0;
+    long f, n = 0, i;
+    int b, k, q, rc = -1;
+    memset(cov, 0, 9 * sizeof cov[0][0]);
+    for (f = 0; f < fr->nframes; f++) {
+        n += jo->ok[f] != 0u;
+    }
+    if (!jo->pair_used || n < 3L * JACK_BLOCKS) {
+        return -1;
+    }
+    blk = malloc((size_t)fr->nframes * (size_t)nc * sizeof *blk);
+    pr = malloc(sizeof *pr);
+    if (blk == NULL || pr == NULL) {
+        goto out;
+    }
+    for (f = 0; f < fr->nframes; f++) {
+        for (k = 0; k < nc; k++) {
+            blk[(size_t)f * (size_t)nc + (size_t)k] = *cli_frames_at(fr, f, np + k);
+        }
+    }
+    if (sfit_cluster_from_frames(&child, blk, (size_t)fr->nframes, (size_t)nc, &used)
+        != SFIT_OK) {
+        goto out;
+    }
+    cfg.mode = jo->pair.mode;
+    for (b = 0; b < JACK_BLOCKS; b++) {
+        const long lo = n * b / JACK_BLOCKS, hi = n * (b + 1) / JACK_BLOCKS;
+        if (sfit_pair_init(pr, &jo->j.parent, &child, &cfg) != SFIT_OK) {
+            goto out;
+        }
+        for (f = 0, i = 0; f < fr->nframes; f++) {
+            const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
+            if (jo->ok[f] == 0u) {
+                continue;
+            }
+            if (i < lo || i >= hi) {
+                (void)sfit_pair_add_markers(pr, &jo->j.parent, row, (size_t)np, &child,
+                                            row + np, (size_t)nc);
+            }
+            i++;
+        }
+        if (sfit_pair_solve(pr, &r) != SFIT_OK) {
+            goto out;
+        }
+        for (k = 0; k < 3; k++) {
+            c[b][k] = (double)r.center_p.v[k];
+            mean[k] += c[b][k] / JACK_BLOCKS;
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        ax[k] = (double)jo->pair.axis_p.v[k];
+    }
+    for (b = 0; b < JACK_BLOCKS; b++) {
+        double d[3], t;
+        for (k = 0; k < 3; k++) {
+            d[k] = c[b][k] - mean[k];
+        }
+        if (jo->pair.mode == SFIT_PAIR_MODE_HINGE) { /* normal to the axis */
+            t = d[0] * ax[0] + d[1] * ax[1] + d[2] * ax[2];
+            for (k = 0; k < 3; k++) {
+                d[k] -= t * ax[k];
+            }
+        }
+        for (k = 0; k < 3; k++) {
+            for (q = 0; q < 3; q++) {
+                cov[k][q] += (JACK_BLOCKS - 1.0) / JACK_BLOCKS * d[k] * d[q];
+            }
+        }
+    }
+    rc = 0;
+out:
+    free(blk);
+    free(pr);
+    return rc;
+}
+
+/* tr(C^-1 J) / p: the jackknife's spread against the covariance C, per
+ * dimension (p = 3; a hinge: 2, in the plane normal to the axis); about 1
+ * when C describes the error. -1 when C is singular there. */
+static double jack_ratio(double C[3][3], double J[3][3], int hinge, const float *axis)
+{
+    double u[2][3], c2[2][2], j2[2][2], det, ci[3][3];
+    int a, b, k, q;
+    if (!hinge) {
+        double t = 0.0;
+        if (inv3(C, ci) != 0) {
+            return -1.0;
+        }
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                t += ci[a][b] * J[b][a];
+            }
+        }
+        return t / 3.0;
+    }
+    { /* a basis u0, u1 of the plane normal to the axis */
+        const double n[3] = {(double)axis[0], (double)axis[1], (double)axis[2]};
+        const int m = fabs(n[0]) < 0.6 ? 0 : (fabs(n[1]) < 0.6 ? 1 : 2);
+        double e[3] = {0, 0, 0}, t, len;
+        e[m] = 1.0;
+        t = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+        for (k = 0; k < 3; k++) {
+            u[0][k] = e[k] - t * n[k];
+        }
+        len = sqrt(u[0][0] * u[0][0] + u[0][1] * u[0][1] + u[0][2] * u[0][2]);
+        for (k = 0; k < 3; k++) {
+            u[0][k] /= len;
+        }
+        u[1][0] = n[1] * u[0][2] - n[2] * u[0][1];
+        u[1][1] = n[2] * u[0][0] - n[0] * u[0][2];
+        u[1][2] = n[0] * u[0][1] - n[1] * u[0][0];
+    }
+    for (a = 0; a < 2; a++) {
+        for (b = 0; b < 2; b++) {
+            c2[a][b] = j2[a][b] = 0.0;
+            for (k = 0; k < 3; k++) {
+                for (q = 0; q < 3; q++) {
+                    c2[a][b] += u[a][k] * C[k][q] * u[b][q];
+                    j2[a][b] += u[a][k] * J[k][q] * u[b][q];
+                }
+            }
+        }
+    }
+    det = c2[0][0] * c2[1][1] - c2[0][1] * c2[1][0];
+    if (!(det > 0.0)) {
+        return -1.0;
+    }
+    return (c2[1][1] * j2[0][0] - c2[0][1] * j2[1][0] - c2[1][0] * j2[0][1]
+            + c2[0][0] * j2[1][1]) / det / 2.0;
+}
+
 /* A verdict in plain words. */
 static void verdict(session_joint_t *j, const char *u)
 {
     static const char *ax[3] = {"x", "y", "z"};
     const double big = j->semi95[0];
-    char advice[128];
+    char advice[200], model[64];
     int order[3] = {0, 1, 2}, a, b;
     for (a = 0; a < 2; a++) { /* order: ranges descending */
         for (b = a + 1; b < 3; b++) {
@@ -225,9 +410,17 @@ static void verdict(session_joint_t *j, const char *u)
         }
     }
     if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_MISFIT)) {
+        if (j->hinge) {
+            (void)snprintf(model, sizeof model, "%.1f x %.1f", j->semi95_model[0],
+                           j->semi95_model[1]);
+        } else {
+            (void)snprintf(model, sizeof model, "%.1f x %.1f x %.1f", j->semi95_model[0],
+                           j->semi95_model[1], j->semi95_model[2]);
+        }
         (void)snprintf(advice, sizeof advice,
-                       "untrusted: soft-tissue motion far above the marker noise, not in the "
-                       "ellipsoid");
+                       "untrusted: soft-tissue motion far above the marker noise (misfit %.1f); "
+                       "95 %% with it %s %s",
+                       j->misfit, model, u);
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)) {
         (void)snprintf(advice, sizeof advice,
                        "untrusted: the motion does not fix the hinge axis: record more flexion");
@@ -237,9 +430,9 @@ static void verdict(session_joint_t *j, const char *u)
     } else if (j->flags & SFIT_FLAG_UNTRUSTED) {
         (void)snprintf(advice, sizeof advice,
                        "untrusted fit (too little motion for the noise): record more motion");
-    } else if (j->hinge && j->range_deg[order[0]] < 30.0) {
+    } else if (j->hinge && j->flex_deg < 30.0) {
         (void)snprintf(advice, sizeof advice, "flexion range %.0f degrees: record more flexion",
-                       j->range_deg[order[0]]);
+                       j->flex_deg);
     } else if (!j->hinge && j->range_deg[order[1]] < 20.0) {
         (void)snprintf(advice, sizeof advice,
                        "only %.0f degrees about lab %s: record more motion about that axis",
@@ -251,10 +444,10 @@ static void verdict(session_joint_t *j, const char *u)
     }
     if (j->hinge) {
         (void)snprintf(j->verdict, sizeof j->verdict,
-                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; rotation "
-                       "range about lab x/y/z %.0f/%.0f/%.0f degrees: %s",
-                       j->name, j->semi95[0], j->semi95[1], u, j->range_deg[0], j->range_deg[1],
-                       j->range_deg[2], advice);
+                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; flexion "
+                       "range %.0f degrees about the axis (lab x/y/z %.0f/%.0f/%.0f): %s",
+                       j->name, j->semi95[0], j->semi95[1], u, j->flex_deg, j->range_deg[0],
+                       j->range_deg[1], j->range_deg[2], advice);
     } else {
         (void)snprintf(j->verdict, sizeof j->verdict,
                        "%s (ball): 95 %% ellipsoid %.1f x %.1f x %.1f %s; rotation range about "
@@ -344,24 +537,126 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
         const double q = j->hinge ? CHI2_2_95 : CHI2_3_95;
         j->semi95[i] = ev[i] > 0.0 ? sqrt(q * ev[i]) : 0.0;
     }
-    rotation_range(fr, np, nc, &jo, j->range_deg);
+    /* the model error: when the misfit test says the joint model does not
+     * hold, the covariance scaled so that it covers the block jackknife's
+     * spread (docs/session.md) */
+    j->model_scale = 1.0;
+    if (jo.pair_used) {
+        j->misfit = (double)jo.pair.misfit;
+        j->model_rms = (double)jo.pair.rms;
+        if (jackknife_cov(fr, np, nc, &jo, j->cov_jack) == 0) {
+            const double r = jack_ratio(j->cov, j->cov_jack, j->hinge, j->axis);
+            j->jack_ratio = r > 0.0 ? r : 0.0;
+            if ((j->flags & SFIT_PAIR_FLAG_MISFIT) && r > 1.0) {
+                j->model_scale = r;
+            }
+        }
+    }
+    memcpy(j->cov_model, j->cov, sizeof j->cov_model);
+    for (i = 0; i < 9; i++) {
+        j->cov_model[i / 3][i % 3] *= j->model_scale;
+    }
+    session_semi_axes(j->cov_model, j->hinge ? CHI2_2_95 : CHI2_3_95, j->semi95_model);
+    rotation_range(fr, np, nc, &jo, j->hinge ? j->axis : NULL, j->range_deg, &j->flex_deg);
     verdict(j, fr->units[0] != '\0' ? fr->units : "units");
     cli_joint_free(&jo);
     cli_swaps_joint_free(&sw);
     return 0;
 }
 
+void session_semi_axes(double cov[3][3], double q, double semi[3])
+{
+    double ev[3];
+    int i;
+    sym3_eig(cov, ev);
+    for (i = 0; i < 3; i++) {
+        semi[i] = ev[i] > 0.0 ? sqrt(q * ev[i]) : 0.0;
+    }
+}
+
+/* The registration's error at point c (template frame) per unit marker
+ * variance, from the markers seen (seen[i]): I / M + [x]x J^-1 [x]x^T with
+ * x = c - centroid and J = sum (|y|^2 I - y y^T), y = tpl - centroid (the
+ * centroid's translation noise and the rotation noise times the lever
+ * arm). Added to g; 0, or -1 (fewer than 3 markers, or collinear). */
+static int place_gain(const session_joint_t *j, const int *seen, double g[3][3])
+{
+    double cen[3] = {0, 0, 0}, J[3][3] = {{0}}, Ji[3][3], x[3], X[3][3], T[3][3];
+    int i, a, b, m = 0;
+    for (i = 0; i < j->nmarkers; i++) {
+        if (seen[i]) {
+            for (a = 0; a < 3; a++) {
+                cen[a] += (double)j->tpl[i][a];
+            }
+            m++;
+        }
+    }
+    if (m < 3) {
+        return -1;
+    }
+    for (a = 0; a < 3; a++) {
+        cen[a] /= m;
+    }
+    for (i = 0; i < j->nmarkers; i++) {
+        double y[3], yy;
+        if (!seen[i]) {
+            continue;
+        }
+        for (a = 0; a < 3; a++) {
+            y[a] = (double)j->tpl[i][a] - cen[a];
+        }
+        yy = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                J[a][b] += (a == b ? yy : 0.0) - y[a] * y[b];
+            }
+        }
+    }
+    if (inv3(J, Ji) != 0) {
+        return -1;
+    }
+    for (a = 0; a < 3; a++) {
+        x[a] = (double)j->center[a] - cen[a];
+    }
+    X[0][0] = X[1][1] = X[2][2] = 0.0; /* [x]x */
+    X[0][1] = -x[2];
+    X[0][2] = x[1];
+    X[1][0] = x[2];
+    X[1][2] = -x[0];
+    X[2][0] = -x[1];
+    X[2][1] = x[0];
+    for (a = 0; a < 3; a++) { /* T = X Ji */
+        for (b = 0; b < 3; b++) {
+            T[a][b] = X[a][0] * Ji[0][b] + X[a][1] * Ji[1][b] + X[a][2] * Ji[2][b];
+        }
+    }
+    for (a = 0; a < 3; a++) { /* g += I / m + T X^T */
+        for (b = 0; b < 3; b++) {
+            g[a][b] += (a == b ? 1.0 / m : 0.0) + T[a][0] * X[b][0] + T[a][1] * X[b][1]
+                       + T[a][2] * X[b][2];
+        }
+    }
+    return 0;
+}
+
 long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, float *pts,
-                          int stride, sfit_mat3_t *rot)
+                          int stride, sfit_mat3_t *rot, session_place_cov_t *pc)
 {
     sfit_cluster_t cl;
     sfit_vec3_t tpl[SM_MARKERS_MAX];
     cli_swaps_t sw;
-    long f, placed = 0;
+    long f, placed = 0, ngain = 0;
     int i, k;
+    double rsum[SM_MARKERS_MAX][3], num = 0.0, den = 0.0, gsum[3][3] = {{0}};
+    long rn[SM_MARKERS_MAX];
+    if (pc != NULL) {
+        memset(pc, 0, sizeof *pc);
+    }
     if (fr->nmarkers != j->nmarkers || j->nmarkers < 3 || j->nmarkers > SM_MARKERS_MAX) {
         return -1;
     }
+    memset(rsum, 0, sizeof rsum);
+    memset(rn, 0, sizeof rn);
     for (i = 0; i < j->nmarkers; i++) {
         for (k = 0; k < 3; k++) {
             tpl[i].v[k] = j->tpl[i][k];
@@ -378,9 +673,10 @@ long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, f
     for (f = 0; f < fr->nframes; f++) {
         sfit_pose_t pose;
         sfit_vec3_t c, a;
+        const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
         float *p = pts + (size_t)f * (size_t)stride * 3u;
-        if (sfit_cluster_register(&cl, cli_frames_at(fr, f, 0), (size_t)j->nmarkers, &pose, NULL)
-                != SFIT_OK
+        int seen[SM_MARKERS_MAX], m = 0;
+        if (sfit_cluster_register(&cl, row, (size_t)j->nmarkers, &pose, NULL) != SFIT_OK
             || sfit_cluster_to_global(&pose, (const sfit_vec3_t *)j->center, &c) != SFIT_OK) {
             continue;
         }
@@ -401,6 +697,115 @@ long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, f
             }
         }
         placed++;
+        /* the residuals in the template frame, R^T (x - t) - tpl */
+        for (i = 0; i < j->nmarkers; i++) {
+            double r[3];
+            int q;
+            seen[i] = isfinite(row[i].v[0]) && isfinite(row[i].v[1]) && isfinite(row[i].v[2]);
+            if (!seen[i]) {
+                continue;
+            }
+            m++;
+            for (k = 0; k < 3; k++) {
+                r[k] = -(double)j->tpl[i][k];
+                for (q = 0; q < 3; q++) {
+                    r[k] += (double)pose.r.m[q * 3 + k]
+                            * ((double)row[i].v[q] - (double)pose.t.v[q]);
+                }
+                rsum[i][k] += r[k];
+                num += r[k] * r[k];
+            }
+            rn[i]++;
+        }
+        den += 3.0 * m - 6.0;
+        ngain += place_gain(j, seen, gsum) == 0;
+    }
+    if (pc != NULL && placed > 0) {
+        double sys = 0.0;
+        pc->frames = placed;
+        pc->var = den > 0.0 ? num / den : 0.0;
+        for (i = 0; i < j->nmarkers; i++) {
+            if (rn[i] > 0) {
+                sys += (rsum[i][0] * rsum[i][0] + rsum[i][1] * rsum[i][1]
+                        + rsum[i][2] * rsum[i][2]) / (double)rn[i];
+            }
+        }
+        /* sum |mean r|^2 / dof estimates var_sys + var_rand / frames, the
+         * rest of the residual var_rand (1 - 1 / frames) */
+        sys = den > 0.0 ? sys / den : 0.0;
+        if (sys > pc->var) {
+            sys = pc->var;
+        }
+        pc->var_rand = placed > 1 ? (pc->var - sys) * (double)placed / (double)(placed - 1) : 0.0;
+        pc->var_sys = sys - pc->var_rand / (double)placed;
+        if (pc->var_sys < 0.0) {
+            pc->var_sys = 0.0;
+        }
+        pc->var_rand = pc->var - pc->var_sys;
+        pc->var_mean = pc->var_sys + pc->var_rand / (double)placed;
+        for (i = 0; i < j->nmarkers; i++) {
+            for (k = 0; k < 3 && rn[i] > 0; k++) {
+                pc->mean_res[i][k] = rsum[i][k] / (double)rn[i];
+            }
+        }
+        for (i = 0; i < 3 && ngain > 0; i++) {
+            for (k = 0; k < 3; k++) {
+                const double g = gsum[i][k] / (double)ngain;
+                pc->gain[i][k] = g;
+                pc->cov_frame[i][k] = pc->var * g;
+                pc->cov_mean[i][k] = pc->var_mean * g;
+            }
+        }
+        for (i = 0; i < 9; i++) {
+            pc->total[i / 3][i % 3] = j->cov_model[i / 3][i % 3] + pc->cov_frame[i / 3][i % 3];
+        }
+        session_semi_axes(pc->cov_frame, CHI2_3_95, pc->semi_frame);
+        session_semi_axes(pc->cov_mean, CHI2_3_95, pc->semi_mean);
+        session_semi_axes(pc->total, CHI2_3_95, pc->semi_total);
     }
     return placed;
+}
+
+static void json_vec(FILE *f, const double v[3])
+{
+    fprintf(f, "[%.9g,%.9g,%.9g]", v[0], v[1], v[2]);
+}
+
+static void json_mat(FILE *f, const char *key, double m[3][3])
+{
+    fprintf(f, ",\"%s\":[", key);
+    json_vec(f, m[0]);
+    fputc(',', f);
+    json_vec(f, m[1]);
+    fputc(',', f);
+    json_vec(f, m[2]);
+    fputc(']', f);
+}
+
+void session_place_json(FILE *f, const session_place_cov_t *pc, int nmarkers)
+{
+    session_place_cov_t c = *pc;
+    int q;
+    fprintf(f, "{\"frames\":%ld,\"marker_sigma\":%.9g,\"var_systematic\":%.9g,"
+               "\"var_frame_to_frame\":%.9g,\"var_mean\":%.9g,\"systematic_fraction\":%.9g",
+            c.frames, sqrt(c.var), c.var_sys, c.var_rand, c.var_mean,
+            c.var > 0.0 ? c.var_sys / c.var : 0.0);
+    json_mat(f, "gain", c.gain);
+    json_mat(f, "cov_frame", c.cov_frame);
+    json_mat(f, "cov_mean", c.cov_mean);
+    json_mat(f, "total_cov_frame", c.total);
+    fprintf(f, ",\"semi_axes_95_frame\":");
+    json_vec(f, c.semi_frame);
+    fprintf(f, ",\"semi_axes_95_mean\":");
+    json_vec(f, c.semi_mean);
+    fprintf(f, ",\"semi_axes_95_total\":");
+    json_vec(f, c.semi_total);
+    fprintf(f, ",\"mean_residual\":[");
+    for (q = 0; q < nmarkers && q < SM_MARKERS_MAX; q++) {
+        if (q > 0) {
+            fputc(',', f);
+        }
+        json_vec(f, c.mean_res[q]);
+    }
+    fprintf(f, "]}");
 }

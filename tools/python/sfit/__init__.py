@@ -1079,9 +1079,13 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
             (:func:`write_c3d`) and / or a TRC file.
 
     Returns a dict point label -> (frames, 3) array (NaN where the parent
-    shows fewer than 3 markers), and "invalid": {joint name: frames not
-    placed}. A hinge gives its centre and two axis points 100 mm (in the
-    trial's units) either side.
+    shows fewer than 3 markers), "invalid": {joint name: frames not
+    placed} and "placement": {joint name: what the placement adds to the
+    centre's uncertainty, the "placement" object of ``sfit apply --json``:
+    cov_frame, cov_mean, total_cov_frame (with the calibration's
+    center_cov_model), their 95 % semi-axes, marker_sigma, ...}. A hinge
+    gives its centre and two axis points 100 mm (in the trial's units)
+    either side.
     """
     import json as _json
     if isinstance(session, _Mapping):
@@ -1099,12 +1103,14 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
         raise _arg_error("apply_session: not an sfit session")
     res = {}
     invalid = {}
+    placement = {}
     for k, j in enumerate(s["joints"]):
         if not isinstance(j, dict) or not isinstance(j.get("parent_markers"), list):
             raise _arg_error("apply_session: joint %d is malformed" % k)
         xyz, units = _trial_markers(trial, [str(n) for n in j["parent_markers"]], "apply_session")
         d = {"m": 0.1, "cm": 10.0}.get(units, 100.0)
-        raw = _sfit._session_place(text, k, xyz, xyz.shape[0], d)
+        raw, pc = _sfit._session_place(text, k, xyz, xyz.shape[0], d)
+        placement[j["name"]] = _json.loads(pc)
         pts = _np.frombuffer(raw, dtype=_np.float32).reshape(xyz.shape[0], -1, 3).astype(_np.float64)
         for i, name in enumerate(j["points"]):
             res[name] = pts[:, i, :]
@@ -1117,6 +1123,7 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
         if trc is not None:
             write_trc(trial, trc, res)
     res["invalid"] = invalid
+    res["placement"] = placement
     return res
 
 

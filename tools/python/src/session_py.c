@@ -13,9 +13,11 @@
  *       buf: writable float32 frames x (parent + child markers) x 3 in the
  *       model's order (label swaps repaired in place); a session JSON with
  *       that one joint
- *   _session_place(session_text, joint, buf, frames, d) -> bytes
+ *   _session_place(session_text, joint, buf, frames, d) -> (bytes, str)
  *       buf: writable float32 frames x parent markers x 3; float32 frames x
- *       points x 3, NaN where the parent does not register
+ *       points x 3, NaN where the parent does not register, and the
+ *       placement's covariance as JSON (the "placement" of `sfit apply
+ *       --json`)
  *
  * A bad model or session raises ValueError with the parser's message; a
  * joint that cannot be calibrated raises ValueError with the reason.
@@ -252,6 +254,10 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     float *pts;
     size_t i, n;
     long placed;
+    session_place_cov_t pc;
+    PyObject *js;
+    FILE *f;
+    int nm;
     (void)self;
     if (!PyArg_ParseTuple(args, "s#iOnf:_session_place", &text, &len, &k, &bo, &frames, &d)) {
         return NULL;
@@ -289,14 +295,26 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     fr.nmarkers = s->joint[k].nmarkers;
     fr.nframes = (long)frames;
     fr.xyz = (sfit_vec3_t *)b.buf;
-    placed = session_place_frames(&s->joint[k], &fr, d, pts, s->joint[k].npoints, NULL);
+    placed = session_place_frames(&s->joint[k], &fr, d, pts, s->joint[k].npoints, NULL, &pc);
     PyBuffer_Release(&b);
+    nm = s->joint[k].nmarkers;
     free(s);
     if (placed < 0) {
         free(pts);
         return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate", k);
     }
-    out = PyBytes_FromStringAndSize((const char *)pts, (Py_ssize_t)(n * sizeof *pts));
+    f = tmpfile();
+    if (f == NULL) {
+        free(pts);
+        return PyErr_SetFromErrno(PyExc_OSError);
+    }
+    session_place_json(f, &pc, nm);
+    js = file_text(f);
+    if (js == NULL) {
+        free(pts);
+        return NULL;
+    }
+    out = Py_BuildValue("(y#N)", (const char *)pts, (Py_ssize_t)(n * sizeof *pts), js);
     free(pts);
     return out;
 }
