@@ -61,7 +61,7 @@ static void test_matches_oracle_far(void **state)
         s2 += e * e;
     }
     assert_near(r.rms, sqrt(s2 / 1000.0), 1e-4, "rms vs oracle");
-    assert_true(r.converged == 1u && r.iterations >= 1u && r.iterations <= 10u);
+    assert_true(r.converged && r.iterations >= 1u && r.iterations <= 10u);
     assert_int_equal(r.n, 1000);
 }
 
@@ -92,18 +92,19 @@ static void test_recipe(void **state)
      * docs/coverage.md rule 7, 1 + 2 (v / r^2) sqrt(96 / (N - 4)) with the
      * self-calibrated v and r; the rest is the sandwich */
     {
-        static const int rw[6] = {0, 1, 2, 0, 0, 1}, cl[6] = {0, 1, 2, 1, 2, 2};
         const double wf = 1.0 + 2.0 * ((double)s.noise_var
                                        / ((double)s.fit.radius * (double)s.fit.radius))
                                     * sqrt(96.0 / 996.0);
         int k;
-        for (k = 0; k < 6; k++) {
-            const double b0 = (double)r.center.v[rw[k]] - (double)s.fit.center.v[rw[k]];
-            const double b1 = (double)r.center.v[cl[k]] - (double)s.fit.center.v[cl[k]];
-            assert_near(f.uncert.center_cov[k], ((double)u.center_cov[k] + b0 * b1) * wf,
-                        1e-5 * ((double)u.center_cov[0] + (double)u.center_cov[1]
-                                + (double)u.center_cov[2]),
+        for (k = 0; k < 9; k++) {
+            const double b0 = (double)r.center.v[k / 3] - (double)s.fit.center.v[k / 3];
+            const double b1 = (double)r.center.v[k % 3] - (double)s.fit.center.v[k % 3];
+            assert_near(f.uncert.center_cov.m[k], ((double)u.center_cov.m[k] + b0 * b1) * wf,
+                        1e-5 * ((double)u.center_cov.m[0] + (double)u.center_cov.m[4]
+                                + (double)u.center_cov.m[8]),
                         "recipe cov = sandwich + b b^T");
+            /* symmetric, as every covariance of the API */
+            assert_true(f.uncert.center_cov.m[k] == f.uncert.center_cov.m[3 * (k % 3) + k / 3]);
         }
         assert_true(f.uncert.radius_var == u.radius_var);
         assert_memory_equal(f.uncert.center_radius_cov, u.center_radius_cov,
@@ -114,7 +115,7 @@ static void test_recipe(void **state)
     assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
     assert_true(tc_dist(&f.geometric.center, cg) < 2e-3);
     assert_near(f.geometric.radius, rg, 2e-3, "recipe radius vs oracle");
-    assert_true(f.geometric.converged == 1u);
+    assert_true(f.geometric.converged);
     /* contract */
     memset(&sentinel, 0x6B, sizeof sentinel);
     f = sentinel;
@@ -276,11 +277,11 @@ static void test_bounds_and_contract(void **state)
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
     assert_memory_equal(&r, &sentinel, sizeof r);
     /* the same with accept_unconverged: the last accepted centre, converged 0 */
-    cfg.accept_unconverged = 1u;
+    cfg.accept_unconverged = true;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
-    assert_true(r.converged == 0u && r.iterations == 1u);
+    assert_true(!r.converged && r.iterations == 1u);
     assert_true(tc_dist(&r.center, c) < 50.0 && isfinite(r.radius) && isfinite(r.noise_var));
-    cfg.accept_unconverged = 0u;
+    cfg.accept_unconverged = false;
     r = sentinel;
     cfg.max_iters = 0u;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
@@ -289,11 +290,14 @@ static void test_bounds_and_contract(void **state)
     r = sentinel;
     cfg.tol = 0.5f;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
-    /* accept_unconverged is 0 or 1 (as sfit_fit_cfg_t::eigen): 2 was taken for 1 */
+    /* accept_unconverged is a bool: a byte other than 0/1 in it (garbage RAM)
+     * is refused, read as a byte (sfit_types.h, "Yes/no"); 2 was taken for 1 */
     cfg.tol = 0.0f;
-    cfg.accept_unconverged = 2u;
+    tu_set_byte(&cfg.accept_unconverged, 2u);
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
-    cfg.accept_unconverged = 0u;
+    tu_set_byte(&cfg.accept_unconverged, 0xFFu);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    cfg.accept_unconverged = false;
     assert_int_equal(sfit_refine_points(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_points(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_points(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);

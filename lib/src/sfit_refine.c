@@ -20,7 +20,7 @@
  * of the summed cost and a strict comparison would stall the iteration. */
 #define SFIT_REFINE_COST_ULPS 32.0f
 
-const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u};
+const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = false};
 
 /* What pass A yields: mean direction, mean distance, cost. */
 typedef struct prv_stats {
@@ -86,7 +86,7 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
 {
     if (!sfit_i_isfinite(cfg->tol)
         || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))
-        || cfg->accept_unconverged > 1u) {
+        || sfit_i_bool_byte(&cfg->accept_unconverged) > 1u) {
         return SFIT_E_ARG;
     }
     *tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
@@ -101,7 +101,7 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
 
 /* The converged result from the offset p of the centre from c0. */
 static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const prv_stats_t *cur,
-                                size_t n, uint32_t it, uint32_t converged,
+                                size_t n, uint32_t it, bool converged,
                                 sfit_refine_result_t *out)
 {
     sfit_refine_result_t res;
@@ -221,11 +221,11 @@ sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
             return (sfit_status_t)rc;
         }
         if (rc == 1) {
-            return prv_finish(c0, p, &cur, n, it, 1u, out);
+            return prv_finish(c0, p, &cur, n, it, true, out);
         }
     }
-    if (cfg->accept_unconverged != 0u) {
-        return prv_finish(c0, p, &cur, n, maxit, 0u, out);
+    if (cfg->accept_unconverged) {
+        return prv_finish(c0, p, &cur, n, maxit, false, out);
     }
     return SFIT_E_NO_CONVERGENCE;
 }
@@ -234,7 +234,7 @@ sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
  * sandwich covariance plus the bias estimate. */
 const sfit_refined_cfg_t sfit_refined_cfg_default = {
     .selfcal = {.planar_ratio = 0.0f},
-    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u}};
+    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = false}};
 
 sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
                               const sfit_refined_cfg_t *cfg, sfit_refined_t *out)
@@ -255,23 +255,20 @@ sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
          * cap axis) that does not shrink with N; the self-calibrated centre
          * has none to that order, so b = geometric - start estimates it.
          * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
-        sfit_mat3_t cov;
+        float *const cov = r.uncert.center_cov.m; /* symmetric: stays so */
         float b[3], f;
         int i, j;
         for (i = 0; i < 3; i++) {
             b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
         }
         f = sfit_i_cov_widen(r.start.noise_var, r.start.fit.radius, n);
-        sfit_i_sym_unpack(r.uncert.center_cov, &cov);
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
                 /* times the widening of docs/coverage.md rule 7 */
-                cov.m[3 * i + j] = (cov.m[3 * i + j] + b[i] * b[j]) * f;
+                cov[3 * i + j] = (cov[3 * i + j] + b[i] * b[j]) * f;
             }
         }
-        sfit_i_sym_pack(&cov, r.uncert.center_cov);
-        if (!sfit_i_isfinite(r.uncert.center_cov[0] + r.uncert.center_cov[1]
-                             + r.uncert.center_cov[2])) {
+        if (!sfit_i_isfinite(cov[0] + cov[4] + cov[8])) {
             st = SFIT_E_RANGE;
         }
     }

@@ -9,7 +9,7 @@
  *            [--json] FILE [FILE ...]
  *
  * One FILE: the JSON also carries "noise_var" (given or estimated, null
- * without a noise model), "center_cov" [xx,yy,zz,xy,xz,yz] and
+ * without a noise model), "center_cov" (3x3, rows, as `sfit joint`'s) and
  * "radius_var" (null without an isotropic noise variance or for a circle),
  * "iterations" (self-calibration or refinement; 0 for a direct solve) and
  * "outliers" (samples rejected by --gate). --noise-var auto and --refine
@@ -161,7 +161,7 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->nfiles = 0;
     o->json = 0;
     o->cfg = sfit_fit_cfg_default;
-    o->cfg.eigen = 1; /* the tool reports eigenvalues and the exact trust ratio */
+    o->cfg.eigen = true; /* the tool reports eigenvalues and the exact trust ratio */
     o->weight = SFIT_MULTI_WEIGHT_EQUAL;
     o->auto_noise = 0;
     o->refine = 0;
@@ -219,7 +219,6 @@ static void print_solution_json(const sfit_vec3_t *eig, float trust, float leont
 
 static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
 {
-    int i;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"n\":%lu,\"rejected\":%lu,"
            "\"missing\":%lu,\"center\":",
            method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
@@ -230,11 +229,9 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
                         r->flags);
     cli_print_noise_json(x->has_noise, x->noise_var, x->noise_estimated);
     if (x->has_uncert) {
-        printf(",\"center_cov\":[");
-        for (i = 0; i < 6; i++) {
-            printf("%s%.9g", i > 0 ? "," : "", (double)x->u.center_cov[i]);
-        }
-        printf("],\"radius_var\":%.9g", (double)x->u.radius_var);
+        printf(",\"center_cov\":");
+        cli_print_mat(&x->u.center_cov);
+        printf(",\"radius_var\":%.9g", (double)x->u.radius_var);
     } else {
         printf(",\"center_cov\":null,\"radius_var\":null");
     }
@@ -314,8 +311,8 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
                sqrt((double)x->noise_var), x->noise_estimated ? "estimated" : "given");
     }
     if (x->has_uncert) {
-        printf("centre SD    %.4g %.4g %.4g (radius SD %.4g)\n", sqrt((double)x->u.center_cov[0]),
-               sqrt((double)x->u.center_cov[1]), sqrt((double)x->u.center_cov[2]),
+        printf("centre SD    %.4g %.4g %.4g (radius SD %.4g)\n", sqrt((double)x->u.center_cov.m[0]),
+               sqrt((double)x->u.center_cov.m[4]), sqrt((double)x->u.center_cov.m[8]),
                sqrt((double)x->u.radius_var));
     }
     if (x->iterations > 0u) {

@@ -11,6 +11,7 @@
 #ifndef SFIT_REFINE_H
 #define SFIT_REFINE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -26,9 +27,10 @@ extern "C" {
 typedef struct sfit_refine_cfg {
     uint32_t max_iters; /**< 0 = SFIT_REFINE_MAX_ITERS; larger values are clamped to it. */
     float tol;          /**< 0 = SFIT_REFINE_TOL; else in [1e-7, 1e-2]. */
-    uint32_t accept_unconverged; /**< 1: at the iteration bound return the last
-                                      accepted centre with converged = 0 (SFIT_OK);
-                                      0: SFIT_E_NO_CONVERGENCE there. */
+    bool accept_unconverged; /**< true: at the iteration bound return the last
+                                  accepted centre with converged false (SFIT_OK);
+                                  false: SFIT_E_NO_CONVERGENCE there. A byte
+                                  other than 0/1: SFIT_E_ARG. */
 } sfit_refine_cfg_t;
 
 /** @brief Defaults (compile-time bound and tolerance). */
@@ -43,7 +45,7 @@ typedef struct sfit_refine_result {
                               corrected for curvature (as sfit_selfcal.h). */
     uint32_t n;          /**< Samples used. */
     uint32_t iterations; /**< Linearisations done (>= 1). */
-    uint32_t converged;  /**< 1 when the last step was below tol * r; 0 only with
+    bool converged;      /**< true when the last step was below tol * r; false only with
                               sfit_refine_cfg_t::accept_unconverged at the bound. */
 } sfit_refine_result_t;
 
@@ -56,7 +58,7 @@ typedef struct sfit_refine_result {
  * @param[out] out     Written only on SFIT_OK.
  * @retval SFIT_OK                converged
  * @retval SFIT_E_ARG             NULL pointer, invalid cfg (tol outside its range or
- *                                not finite, accept_unconverged not 0 or 1)
+ *                                not finite, accept_unconverged's byte not 0 or 1)
  * @retval SFIT_E_TOO_FEW         n < 5 or n < SFIT_MIN_SAMPLES
  * @retval SFIT_E_NONFINITE       a sample or c0 holds NaN or Inf
  * @retval SFIT_E_RANGE           n > UINT32_MAX, a sample out of range, or a value

@@ -367,21 +367,6 @@ static PyObject *vec3_out(const float *v)
     return a;
 }
 
-/* Packed XX,YY,ZZ,XY,XZ,YZ -> symmetric 3x3 float64 array. */
-static PyObject *sym6_out(const float *p)
-{
-    npy_intp dim[2] = {3, 3};
-    PyObject *a = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
-    if (a != NULL) {
-        double *d = (double *)PyArray_DATA((PyArrayObject *)a);
-        d[0] = (double)p[0]; d[4] = (double)p[1]; d[8] = (double)p[2];
-        d[1] = d[3] = (double)p[3];
-        d[2] = d[6] = (double)p[4];
-        d[5] = d[7] = (double)p[5];
-    }
-    return a;
-}
-
 static PyObject *mat3_out(const sfit_mat3_t *m)
 {
     npy_intp dim[2] = {3, 3};
@@ -499,7 +484,7 @@ static int multi_into(PyObject *d, const sfit_multi_result_t *r)
 
 static int uncert_into(PyObject *d, const sfit_uncert_t *u)
 {
-    if (put(d, "center_cov", sym6_out(u->center_cov)) < 0
+    if (put(d, "center_cov", mat3_out(&u->center_cov)) < 0
         || put(d, "radius_var", flt(u->radius_var)) < 0
         || put(d, "center_radius_cov", vec3_out(u->center_radius_cov)) < 0
         || put(d, "uncert_noise_var", flt(u->noise_var)) < 0) {
@@ -603,7 +588,7 @@ static int cfg_get(PyObject *noise_var, PyObject *noise_cov, PyObject *mode, dou
                    sfit_fit_cfg_t *cfg)
 {
     *cfg = sfit_fit_cfg_default;
-    cfg->eigen = 1; /* fit() reports eigenvalues, axis and the exact trust ratio */
+    cfg->eigen = true; /* fit() reports eigenvalues, axis and the exact trust ratio */
     if (mode != NULL && mode_get(mode, &cfg->mode) < 0) {
         return -1;
     }
