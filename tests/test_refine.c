@@ -65,16 +65,20 @@ static void test_matches_oracle_far(void **state)
     assert_int_equal(r.n, 1000);
 }
 
-/* The combined recipe (sfit_refine_fit): each part equals the step
- * that makes it, bit for bit, and the geometric centre agrees with the
- * double oracle as in test_matches_oracle_far; failures write nothing. */
+/* The combined recipe (sfit_refine_fit): one flat result whose every field
+ * equals the step that makes it, bit for bit (the geometric fit, the
+ * sandwich's radius terms, the start's summary and verdict), the
+ * covariance the sandwich plus b b^T, widened; the geometric centre agrees
+ * with the double oracle as in test_matches_oracle_far; failures write
+ * nothing. sfit_refine_points() writes the same type with the recipe's
+ * fields zero. */
 static void test_recipe(void **state)
 {
     const double c[3] = {2500.0, -900.0, 450.0};
     sfit_selfcal_result_t s;
     sfit_refine_result_t r;
     sfit_uncert_t u;
-    sfit_refined_t f, sentinel;
+    sfit_refine_result_t f, sentinel;
     double ci[3], cg[3], rg;
     int it;
     tu_rng_t g;
@@ -85,8 +89,26 @@ static void test_recipe(void **state)
     assert_int_equal(sfit_selfcal_points(g_pf, 1000, NULL, &s), SFIT_OK);
     assert_int_equal(sfit_refine_points(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
     assert_int_equal(sfit_uncert_geometric(g_pf, 1000, &r.center, &u), SFIT_OK);
-    assert_memory_equal(&f.start, &s, sizeof s);
-    assert_memory_equal(&f.geometric, &r, sizeof r);
+    /* the geometric fit */
+    assert_memory_equal(&f.center, &r.center, sizeof r.center);
+    assert_true(f.radius == r.radius && f.rms == r.rms && f.noise_var == r.noise_var);
+    assert_true(f.n == r.n && f.iterations == r.iterations && f.converged == r.converged);
+    /* the start's summary and verdict */
+    assert_memory_equal(&f.eigenvalues, &s.fit.eigenvalues, sizeof s.fit.eigenvalues);
+    assert_memory_equal(&f.axis, &s.fit.axis, sizeof s.fit.axis);
+    assert_true(f.trust_ratio == s.fit.trust_ratio && f.leontief_ratio == s.fit.leontief_ratio);
+    assert_int_equal(f.flags, s.fit.flags);
+    /* sfit_refine_points leaves the recipe's fields zero */
+    {
+        sfit_refine_result_t z;
+        memset(&z, 0, sizeof z);
+        assert_memory_equal(&r.center_cov, &z.center_cov, sizeof z.center_cov);
+        assert_true(r.radius_var == 0.0f && r.cov_noise_var == 0.0f && r.flags == 0u);
+        assert_memory_equal(r.center_radius_cov, z.center_radius_cov, sizeof z.center_radius_cov);
+        assert_memory_equal(&r.eigenvalues, &z.eigenvalues, sizeof z.eigenvalues);
+        assert_memory_equal(&r.axis, &z.axis, sizeof z.axis);
+        assert_true(r.trust_ratio == 0.0f && r.leontief_ratio == 0.0f);
+    }
     /* the recipe's covariance is the sandwich plus b b^T, b = geometric -
      * self-calibrated centre (its bias estimate), times the widening of
      * docs/coverage.md rule 7, 1 + 2 (v / r^2) sqrt(96 / (N - 4)) with the
@@ -99,23 +121,23 @@ static void test_recipe(void **state)
         for (k = 0; k < 9; k++) {
             const double b0 = (double)r.center.v[k / 3] - (double)s.fit.center.v[k / 3];
             const double b1 = (double)r.center.v[k % 3] - (double)s.fit.center.v[k % 3];
-            assert_near(f.uncert.center_cov.m[k], ((double)u.center_cov.m[k] + b0 * b1) * wf,
+            assert_near(f.center_cov.m[k], ((double)u.center_cov.m[k] + b0 * b1) * wf,
                         1e-5 * ((double)u.center_cov.m[0] + (double)u.center_cov.m[4]
                                 + (double)u.center_cov.m[8]),
                         "recipe cov = sandwich + b b^T");
             /* symmetric, as every covariance of the API */
-            assert_true(f.uncert.center_cov.m[k] == f.uncert.center_cov.m[3 * (k % 3) + k / 3]);
+            assert_true(f.center_cov.m[k] == f.center_cov.m[3 * (k % 3) + k / 3]);
         }
-        assert_true(f.uncert.radius_var == u.radius_var);
-        assert_memory_equal(f.uncert.center_radius_cov, u.center_radius_cov,
+        assert_true(f.radius_var == u.radius_var);
+        assert_memory_equal(f.center_radius_cov, u.center_radius_cov,
                             sizeof u.center_radius_cov);
-        assert_true(f.uncert.noise_var == u.noise_var);
+        assert_true(f.cov_noise_var == u.noise_var);
     }
     tc_to_double3(&s.fit.center, ci);
     assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
-    assert_true(tc_dist(&f.geometric.center, cg) < 2e-3);
-    assert_near(f.geometric.radius, rg, 2e-3, "recipe radius vs oracle");
-    assert_true(f.geometric.converged);
+    assert_true(tc_dist(&f.center, cg) < 2e-3);
+    assert_near(f.radius, rg, 2e-3, "recipe radius vs oracle");
+    assert_true(f.converged);
     /* contract */
     memset(&sentinel, 0x6B, sizeof sentinel);
     f = sentinel;

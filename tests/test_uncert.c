@@ -494,7 +494,7 @@ static void coverage_subset(double theta_deg, double sr, int n, int trials, uint
         sfit_moments_t m;
         sfit_result_t k;
         sfit_selfcal_result_t sc;
-        sfit_refined_t rf;
+        sfit_refine_result_t rf;
         sfit_uncert_t u;
         gen(&g, theta_deg * TU_PI / 180.0, sr * K_R, n);
         (void)sfit_moments_init(&m);
@@ -514,8 +514,8 @@ static void coverage_subset(double theta_deg, double sr, int n, int trials, uint
             cover_add(&in[1], &tot[1], &sc.fit.center, &u.center_cov);
         }
         assert_int_equal(sfit_refine_fit(g_pf, (size_t)n, NULL, &rf), SFIT_OK);
-        if (!(rf.start.fit.flags & SFIT_FLAG_UNTRUSTED)) {
-            cover_add(&in[2], &tot[2], &rf.geometric.center, &rf.uncert.center_cov);
+        if (!(rf.flags & SFIT_FLAG_UNTRUSTED)) {
+            cover_add(&in[2], &tot[2], &rf.center, &rf.center_cov);
         }
     }
     for (e = 0; e < 3; e++) {

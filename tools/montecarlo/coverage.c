@@ -94,7 +94,7 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         sfit_fit_cfg_t fc = sfit_fit_cfg_default;
         sfit_result_t r;
         sfit_selfcal_result_t s;
-        sfit_refined_t rf;
+        sfit_refine_result_t rf;
         sfit_uncert_t u;
         sfit_status_t st;
         memset(&u, 0, sizeof u);
@@ -135,10 +135,10 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         dump_trial(EST_SELFCAL, st, s.fit.flags, s.fit.trust_ratio, &s.fit.center, &u.center_cov,
                    s.noise_var);
         st = sfit_refine_fit(g_pf, (size_t)sc->n, NULL, &rf);
-        cov_tally_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
-                      &rf.geometric.center, &rf.uncert.center_cov, k_c);
-        dump_trial(EST_REFINED, st, rf.start.fit.flags, rf.start.fit.trust_ratio,
-                   &rf.geometric.center, &rf.uncert.center_cov, rf.start.noise_var);
+        cov_tally_add(&acc[EST_REFINED], st, rf.flags, rf.trust_ratio, &rf.center,
+                      &rf.center_cov, k_c);
+        dump_trial(EST_REFINED, st, rf.flags, rf.trust_ratio, &rf.center, &rf.center_cov,
+                   rf.noise_var);
     }
     return sig * sig / (lmin + sig * sig); /* true trust ratio: sigma^2 / lambda_min(C) */
 }

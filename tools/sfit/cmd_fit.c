@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "table.h"
 #include "sfit/sfit_gate.h"
 #include "sfit/sfit_multi.h"
@@ -535,27 +536,23 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->outliers = gs.outliers;
         acc = sfit_gate_moments(k->gate);
     } else if (o->refine) {
-        /* the library's recipe: self-calibrated start, geometric fit, its
-         * sandwich covariance; the printed sphere is the geometric one, the
-         * eigenvalues and trust those of the self-calibrated start */
-        sfit_refined_t rf;
+        /* the library's recipe, one call and one flat result: the
+         * geometric sphere, its covariance, the start's summary and verdict */
+        sfit_refine_result_t rf;
         sfit_refined_cfg_t rc = sfit_refined_cfg_default;
         rc.selfcal.planar_ratio = o->cfg.planar_ratio;
         st = sfit_refine_fit(k->pts, k->n, &rc, &rf);
         if (st != SFIT_OK) {
             return st;
         }
-        *r = rf.start.fit;
-        r->center = rf.geometric.center;
-        r->radius = rf.geometric.radius;
+        cli_refine_parts(&rf, r, &x->u);
         x->refined = 1;
         x->has_noise = 1;
-        x->noise_var = rf.geometric.noise_var;
+        x->noise_var = rf.noise_var;
         x->noise_estimated = 1;
-        x->iterations = rf.geometric.iterations;
-        x->capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+        x->iterations = rf.iterations;
+        x->capped = (rf.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
         x->has_uncert = 1;
-        x->u = rf.uncert;
         return SFIT_OK;
     } else if (o->auto_noise) {
         sfit_selfcal_result_t sc;

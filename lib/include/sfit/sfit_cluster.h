@@ -191,9 +191,9 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
  * @retval SFIT_E_ARG  also for a corrupted @p tr (valid's byte not 0 or 1, or a
  *                     quaternion not finite or not of unit length)
  * @par Cost 4 markers, 1 degree between the frames (two Newton steps): 533
- * FLOPs, 1116 M4F instructions for the pose (fit NULL, "cluster_track_pose");
- * 679 FLOPs, 1363 instructions with the RMS residual ("cluster_track");
- * both budgeted at <= 1500 instructions in CI (tools/flopcount/budget.txt).
+ * FLOPs for the pose (fit NULL, tools/flopcount "cluster_track_pose"); 679
+ * FLOPs with the RMS residual ("cluster_track"); instructions (budgeted in
+ * tools/flopcount/budget.txt) and stack: docs/cost.md.
  */
 sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t *tr,
                                  const sfit_vec3_t *meas, size_t count, sfit_pose_t *pose,

@@ -212,8 +212,9 @@
 /**
  * @brief Newton steps sfit_cluster_track() takes from the previous frame's
  * rotation before it gives up and runs the full solve
- * (sfit_cluster_register()). Each step costs about 250 M4F instructions;
- * a step's convergence test is in docs/tracking.md. At 200 Hz two steps
+ * (sfit_cluster_register()). Each step costs a fraction of the full solve
+ * (per call: docs/cost.md, "cluster_track" and "cluster_track_first"); a
+ * step's convergence test is in docs/tracking.md. At 200 Hz two steps
  * converge for rotations up to several degrees per frame. Range 1..8.
  */
 #ifndef SFIT_CLUSTER_TRACK_STEPS

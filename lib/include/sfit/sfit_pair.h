@@ -225,8 +225,8 @@ sfit_status_t sfit_pair_reset(sfit_pair_t *s);
  * @retval SFIT_E_NONFINITE   a pose or rms entry is NaN or Inf
  * @retval SFIT_E_RANGE       a translation >= 2^SFIT_COORD_MAX_EXP, a rotation entry
  *                            beyond 1 + 1e-3 in magnitude, or the frame counter full
- * @par Cost 235.06 FLOPs, 1727.1 M4F instructions per frame, amortised over a block of
- * SFIT_SUM_BLOCK frames (tools/flopcount "pair_add"); stack 456 B.
+ * @par Cost 235.06 FLOPs per frame, amortised over a block of SFIT_SUM_BLOCK
+ * frames (tools/flopcount "pair_add"; instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
                             const sfit_cluster_fit_t *fit_p, const sfit_pose_t *pose_c,
@@ -246,8 +246,8 @@ sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
  * @retval any status of sfit_cluster_register() (for either cluster) or of
  *         sfit_pair_add(); SFIT_E_ARG also when a template's count differs from
  *         the one given to sfit_pair_init(). The state is unchanged on any error.
- * @par Cost 4 parent + 5 child markers: 2335.06 FLOPs, 12553.1 M4F instructions per
- * frame (tools/flopcount "pair_add_markers"); stack 832 B.
+ * @par Cost 4 parent + 5 child markers: 2335.06 FLOPs per frame (tools/flopcount
+ * "pair_add_markers"; instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent,
                                     const sfit_vec3_t *pm, size_t n_pm,
@@ -266,9 +266,9 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method: 3820 FLOPs, 25070 M4F instructions (tools/flopcount
- * "pair_solve"); plain SCoRE 3716 FLOPs, 24741 instructions ("pair_solve_score");
- * stack 1928 B (-O2). Independent of the number of frames.
+ * @par Cost ball, default method: 3820 FLOPs (tools/flopcount "pair_solve"); plain
+ * SCoRE 3716 FLOPs ("pair_solve_score"); independent of the number of frames
+ * (instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 

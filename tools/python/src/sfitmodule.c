@@ -33,6 +33,7 @@
 #include "sfit/sfit.h"
 #include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
 #include "pair_py.h" /* the pair of segments: pair_py.c */
+#include "cli_refine.h" /* the recipe's flat result as the CLI prints it: tools/sfit */
 
 /* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
  * library has it. */
@@ -795,26 +796,22 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
             }
         }
         if (st == SFIT_OK && refine) {
-            /* the library's recipe (sfit_refine_fit): self-calibrated
-             * start, geometric fit, its sandwich covariance; the sphere is
-             * the geometric one, eigenvalues and trust those of the start */
-            sfit_refined_t rf;
+            /* the library's recipe (sfit_refine_fit), one call and one flat
+             * result, printed as the CLI prints it (cli_refine.h) */
+            sfit_refine_result_t rf;
             sfit_refined_cfg_t rc = sfit_refined_cfg_default;
             rc.selfcal.planar_ratio = cfg.planar_ratio;
             st = sfit_refine_fit(v, nv, &rc, &rf);
             if (st == SFIT_OK) {
-                r = rf.start.fit;
-                r.center = rf.geometric.center;
-                r.radius = rf.geometric.radius;
+                cli_refine_parts(&rf, &r, &u);
                 refined = 1;
                 has_noise = 1;
-                nvar = rf.geometric.noise_var;
+                nvar = rf.noise_var;
                 noise_est = 1;
-                iters = rf.geometric.iterations;
-                rms = rf.geometric.rms;
-                capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+                iters = rf.iterations;
+                rms = rf.rms;
+                capped = (rf.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
                 has_u = 1;
-                u = rf.uncert;
             }
         } else if (st == SFIT_OK && has_noise && r.mode == SFIT_MODE_SPHERE) {
             /* self-calibrated: its own sandwich (as sfit fit --noise-var auto) */
