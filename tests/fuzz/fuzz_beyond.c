@@ -765,13 +765,13 @@ static void fz_gate_check(const fz_state_t *s)
     FZ_CHECK(sfit_gate_stats(&s->gate, &gs) == SFIT_OK, "sfit_gate_stats");
     FZ_CHECK((uint64_t)gs.accepted + gs.outliers == s->gate_offered,
              "gate: accepted + outliers != samples judged");
-    FZ_CHECK(gs.gated <= 1u, "gate: gated flag");
+    FZ_CHECK(fz_byte(&gs.gated) <= 1u, "gate: gated flag"); /* a bool the library wrote: 0 or 1 */
     FZ_CHECK(fz_finite(gs.noise_var) && gs.noise_var >= 0.0f, "gate: noise_var not finite / negative");
     m = sfit_gate_moments(&s->gate);
     if (m != NULL) {
         FZ_CHECK(sfit_moments_count(m) == gs.accepted, "gate: moments count != accepted");
     } else {
-        FZ_CHECK(gs.accepted <= (uint32_t)SFIT_GATE_WARMUP && gs.gated == 0u,
+        FZ_CHECK(gs.accepted <= (uint32_t)SFIT_GATE_WARMUP && !gs.gated,
                  "gate: no moments outside the warm-up");
     }
 }

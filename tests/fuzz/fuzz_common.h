@@ -44,18 +44,10 @@ typedef struct fz_in {
 } fz_in_t;
 
 /* The byte of a bool without loading it as a bool (a sentinel or a garbage
- * byte: sfit_types.h, "Yes/no"); fz_set_byte stores one. */
+ * byte: sfit_types.h, "Yes/no"). */
 static inline unsigned fz_byte(const void *p)
 {
-    unsigned char c;
-    memcpy(&c, p, sizeof c);
-    return c;
-}
-
-static inline void fz_set_byte(void *p, unsigned b)
-{
-    const unsigned char c = (unsigned char)b;
-    memcpy(p, &c, sizeof c);
+    return *(const unsigned char *)p;
 }
 
 static inline int fz_more(const fz_in_t *in)

@@ -325,7 +325,7 @@ static inline void fz_g_gate(fz_in_t *in, uint8_t fill)
             sfit_vec3_t x;
             bool acc;
             sfit_status_t st;
-            fz_set_byte(&acc, 7u); /* a sentinel: written only on SFIT_OK */
+            memset(&acc, 7, sizeof acc); /* a sentinel byte: written only on SFIT_OK */
             fz_g_sample(in, &x);
             st = sfit_gate_add(&g, &x, &acc);
             FZ_CHECK(fz_status_defined(st), "garbage: gate add");

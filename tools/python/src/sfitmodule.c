@@ -34,19 +34,8 @@
 #include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
 #include "pair_py.h" /* the pair of segments: pair_py.c */
 #include "cli_refine.h" /* the recipe's flat result as the CLI prints it: tools/sfit */
-
-/* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
- * library has it. */
-#if defined(__has_include)
-#if __has_include("sfit/sfit_joint.h")
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
-#define SFIT_PY_HAVE_JOINT 1
-#endif
-#endif
-#ifndef SFIT_PY_HAVE_JOINT
-#define SFIT_PY_HAVE_JOINT 0
-#endif
 
 /* ------------------------------------------------------------------------ */
 /* Exceptions                                                               */
@@ -1740,9 +1729,8 @@ static PyObject *py_status_name(PyObject *self, PyObject *arg)
 }
 
 /* ------------------------------------------------------------------------ */
-/* Joint centre: Cluster and Joint (when the library has sfit_joint.h)      */
+/* Joint centre: Cluster and Joint                                          */
 /* ------------------------------------------------------------------------ */
-#if SFIT_PY_HAVE_JOINT
 
 /* A frame-major (F, M, 3) float32 view (or (M, 3) as one frame). */
 typedef struct frames {
@@ -2303,8 +2291,6 @@ static PyTypeObject JointType = {
     .tp_getset = Joint_getset,
 };
 
-#endif /* SFIT_PY_HAVE_JOINT */
-
 /* ------------------------------------------------------------------------ */
 /* Module                                                                   */
 /* ------------------------------------------------------------------------ */
@@ -2393,7 +2379,6 @@ PyMODINIT_FUNC PyInit__sfit(void)
             return NULL;
         }
     }
-#if SFIT_PY_HAVE_JOINT
     if (g_cluster_shell == NULL) {
         g_cluster_shell = PyObject_CallNoArgs((PyObject *)&PyBaseObject_Type);
         if (g_cluster_shell == NULL) {
@@ -2409,7 +2394,6 @@ PyMODINIT_FUNC PyInit__sfit(void)
         Py_DECREF(m);
         return NULL;
     }
-#endif
     if (PyModule_AddObjectRef(m, "Moments", (PyObject *)&MomentsType) < 0
         || PyModule_AddObjectRef(m, "Incremental", (PyObject *)&IncrType) < 0
         || PyModule_AddIntConstant(m, "VERSION_MAJOR", SFIT_VERSION_MAJOR) < 0
