@@ -1044,7 +1044,7 @@ static void test_track_fallback_and_state(void **state)
         assert_int_equal(sfit_cluster_track(&cl, &tr, mv, 4u, &pose, NULL), SFIT_OK);
         before = tr;
         if (k == 0) {
-            tr.valid = 2u;
+            tu_set_byte(&tr.valid, 2u); /* a garbage byte in the bool */
         } else if (k == 1) {
             tr.q[2] = NAN;
         } else if (k == 2) {

@@ -252,7 +252,7 @@ static void test_estimate_from_sampled_fit(void **state)
             float th_raw, th;
             int i;
             cfg.mode = arc ? SFIT_MODE_PLANAR : SFIT_MODE_SPHERE;
-            cfg.eigen = 1; /* the coverage estimate needs the eigenvalues */
+            cfg.eigen = true; /* the coverage estimate needs the eigenvalues */
             make_pts(&g, arc, n, 100.0, grid[k] * DEG, 1.0);
             assert_int_equal(sfit_fit_points(g_fpts, n, &cfg, &r), SFIT_OK);
             assert_int_equal(sfit_coverage_estimate_theta(kd, &r.eigenvalues, &th_raw),
@@ -310,7 +310,7 @@ static void test_real_hip_coverage(void **state)
     size_t k;
     (void)state;
     sfit_fit_cfg_t fc = sfit_fit_cfg_default;
-    fc.eigen = 1; /* the coverage estimate needs the eigenvalues */
+    fc.eigen = true; /* the coverage estimate needs the eigenvalues */
     for (k = 0; k < sizeof names / sizeof names[0]; k++) {
         char path[512];
         size_t n = 0, i;

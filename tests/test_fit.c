@@ -240,7 +240,7 @@ static void test_ugdk_full_covariance(void **state)
                 1e-4 * ref.trust_ratio, "trust ratio");
     /* Isotropic special case: rho(C^-1 sigma^2 I) = sigma^2 / lambda_min(C). */
     cfg = cfg_iso(2.0f, SFIT_MODE_SPHERE);
-    cfg.eigen = 1; /* eigenvalues and the exact trust ratio */
+    cfg.eigen = true; /* eigenvalues and the exact trust ratio */
     assert_int_equal(fit_array(3000, &cfg, &r), SFIT_OK);
     assert_near(r.trust_ratio, 2.0 / (double)r.eigenvalues.v[0], 1e-5, "iso trust");
 }
@@ -293,7 +293,7 @@ static void test_monte_carlo_cap_bias(void **state)
         sfit_result_t rg, ru;
         sfit_fit_cfg_t cu = cfg_iso((float)sigma2, SFIT_MODE_SPHERE);
         double eg[3], eu[3], a;
-        cu.eigen = 1; /* the exact trust ratio */
+        cu.eigen = true; /* the exact trust ratio */
         make_cap(&g, N, r0, theta, sqrt(sigma2));
         assert_int_equal(fit_array(N, NULL, &rg), SFIT_OK);
         assert_int_equal(fit_array(N, &cu, &ru), SFIT_OK);

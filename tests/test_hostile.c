@@ -47,7 +47,7 @@ static void circumcircle(const double a[3], const double b[3], const double c[3]
     }
 }
 
-static void gate_add_finite(sfit_gate_t *g, const double p[3], int *acc)
+static void gate_add_finite(sfit_gate_t *g, const double p[3], bool *acc)
 {
     sfit_vec3_t v;
     sfit_gate_stats_t gs;
@@ -73,7 +73,8 @@ static void gate_sequence(int kind)
     sfit_result_t fit;
     double ctr[3], r, n[3], e1[3], e2[3];
     tu_rng_t rng;
-    int i, acc, late = 0;
+    int i, late = 0;
+    bool acc;
     const int good = 3000, tail = 1000;
 
     cfg.k = 2.0f;
@@ -104,7 +105,7 @@ static void gate_sequence(int kind)
         }
         gate_add_finite(&g, p, &acc);
         if (i >= good - tail) {
-            late += acc;
+            late += acc ? 1 : 0;
         }
     }
     /* Every good sample of the last thousand is accepted. */
@@ -138,7 +139,8 @@ static void test_f1_gate_tiny_cap(void **state)
     sfit_gate_cfg_t cfg = sfit_gate_cfg_default;
     sfit_gate_t g;
     tu_rng_t rng;
-    int i, acc, late = 0;
+    int i, late = 0;
+    bool acc;
     (void)state;
     cfg.k = 2.0f;
     cfg.noise_var = 1e-6f;
@@ -154,7 +156,7 @@ static void test_f1_gate_tiny_cap(void **state)
         double p[3];
         tu_sample_cap(&rng, c1, 50.0, ax, TU_PI, 0.0, p);
         gate_add_finite(&g, p, &acc);
-        late += (i >= 2000) ? acc : 0;
+        late += (i >= 2000 && acc) ? 1 : 0;
     }
     assert_int_equal(late, 1000);
 }
@@ -176,7 +178,8 @@ static void hinge_gate(sfit_mode_t mode, double p_out)
     sfit_gate_stats_t gs;
     sfit_result_t fit;
     tu_rng_t rng;
-    int i, k, acc, inl = 0, inl_ok = 0, out = 0, out_rej = 0;
+    int i, k, inl = 0, inl_ok = 0, out = 0, out_rej = 0;
+    bool acc;
     cfg.fit.mode = mode;
     assert_int_equal(sfit_gate_init(&g, &cfg), SFIT_OK);
     tu_rng_seed(&rng, 11u);
@@ -194,10 +197,10 @@ static void hinge_gate(sfit_mode_t mode, double p_out)
             const double e = fabs(tu_dist3(p, c) - 100.0);
             if (bad && e > 10.0) {
                 out++;
-                out_rej += !acc;
+                out_rej += acc ? 0 : 1;
             } else if (!bad) {
                 inl++;
-                inl_ok += acc;
+                inl_ok += acc ? 1 : 0;
             }
         }
     }
@@ -233,8 +236,9 @@ static void test_f2_gate_garbage_index(void **state)
     sfit_gate_stats_t gs;
     sfit_result_t fit;
     size_t i;
-    int acc = 5;
+    bool acc;
     (void)state;
+    tu_set_byte(&acc, 5u); /* a sentinel: written only on SFIT_OK */
     for (i = 0; i < sizeof bad_nwarm / sizeof bad_nwarm[0]; i++) {
         assert_int_equal(sfit_gate_init(&g, NULL), SFIT_OK);
         g.nwarm = bad_nwarm[i];
@@ -242,7 +246,7 @@ static void test_f2_gate_garbage_index(void **state)
         /* main: writes warm[nwarm] outside the array */
         assert_int_equal(sfit_gate_add(&g, &x, &acc), SFIT_E_ARG);
         assert_memory_equal(&g, &before, sizeof g);
-        assert_int_equal(acc, 5);
+        assert_int_equal(tu_byte(&acc), 5);
         assert_int_equal(sfit_gate_refresh(&g), SFIT_E_ARG);
         assert_int_equal(sfit_gate_fit(&g, &fit), SFIT_E_ARG);
         assert_int_equal(sfit_gate_stats(&g, &gs), SFIT_E_ARG);

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_lean.c
- * @brief The screened solve (the default, cfg.eigen = 0) against the full
- * solver (cfg.eigen = 1) and the double reference: random cases and sweeps
+ * @brief The screened solve (the default, cfg.eigen = false) against the full
+ * solver (cfg.eigen = true) and the double reference: random cases and sweeps
  * across each threshold of the screen (planar ratio, trust, collinear,
  * coincident). Wherever the screen passes, the result must be the full
  * solver's sphere bit for bit with the same status, flags, mode and method,
@@ -59,8 +59,8 @@ static int compare(size_t n, const sfit_fit_cfg_t *cfg)
     sfit_fit_cfg_t cs = *cfg, ce = *cfg;
     sfit_result_t rs, re;
     sfit_status_t ss, se;
-    cs.eigen = 0;
-    ce.eigen = 1;
+    cs.eigen = false;
+    ce.eigen = true;
     memset(&rs, 0, sizeof rs);
     memset(&re, 0, sizeof re);
     ss = sfit_fit_points(g_fpts, n, &cs, &rs);
@@ -139,9 +139,16 @@ static void test_default_is_screened(void **state)
         assert_int_equal(compare(500, &c), 1);
     }
     {
-        sfit_fit_cfg_t c = sfit_fit_cfg_default;
-        c.eigen = 2;
-        assert_int_equal(sfit_fit_points(g_fpts, 500, &c, &r), SFIT_E_ARG);
+        /* eigen is a bool: a byte other than 0/1 in it (garbage RAM) is
+         * refused, read as a byte (sfit_types.h, "Yes/no") */
+        static const unsigned bytes[] = {2u, 0x80u, 0xFFu};
+        size_t k;
+        assert_int_equal(sizeof(bool), 1); /* the byte sfit_i_bool_byte reads is all of it */
+        for (k = 0; k < sizeof bytes / sizeof bytes[0]; k++) {
+            sfit_fit_cfg_t c = sfit_fit_cfg_default;
+            tu_set_byte(&c.eigen, bytes[k]);
+            assert_int_equal(sfit_fit_points(g_fpts, 500, &c, &r), SFIT_E_ARG);
+        }
     }
 }
 

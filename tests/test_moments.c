@@ -279,7 +279,7 @@ static void check_usable(const sfit_moments_t *m)
     }
     assert_true(sfit_fit_moments(m, NULL, &r) != SFIT_E_RANGE);
     cfg.mode = SFIT_MODE_SPHERE;
-    cfg.eigen = 1;
+    cfg.eigen = true;
     assert_true(sfit_fit_moments(m, &cfg, &r) != SFIT_E_RANGE);
 }
 

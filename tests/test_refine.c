@@ -61,20 +61,24 @@ static void test_matches_oracle_far(void **state)
         s2 += e * e;
     }
     assert_near(r.rms, sqrt(s2 / 1000.0), 1e-4, "rms vs oracle");
-    assert_true(r.converged == 1u && r.iterations >= 1u && r.iterations <= 10u);
+    assert_true(r.converged && r.iterations >= 1u && r.iterations <= 10u);
     assert_int_equal(r.n, 1000);
 }
 
-/* The combined recipe (sfit_refine_fit): each part equals the step
- * that makes it, bit for bit, and the geometric centre agrees with the
- * double oracle as in test_matches_oracle_far; failures write nothing. */
+/* The combined recipe (sfit_refine_fit): one flat result whose every field
+ * equals the step that makes it, bit for bit (the geometric fit, the
+ * sandwich's radius terms, the start's summary and verdict), the
+ * covariance the sandwich plus b b^T, widened; the geometric centre agrees
+ * with the double oracle as in test_matches_oracle_far; failures write
+ * nothing. sfit_refine_points() writes the same type with the recipe's
+ * fields zero. */
 static void test_recipe(void **state)
 {
     const double c[3] = {2500.0, -900.0, 450.0};
     sfit_selfcal_result_t s;
     sfit_refine_result_t r;
     sfit_uncert_t u;
-    sfit_refined_t f, sentinel;
+    sfit_refine_result_t f, sentinel;
     double ci[3], cg[3], rg;
     int it;
     tu_rng_t g;
@@ -85,36 +89,55 @@ static void test_recipe(void **state)
     assert_int_equal(sfit_selfcal_points(g_pf, 1000, NULL, &s), SFIT_OK);
     assert_int_equal(sfit_refine_points(g_pf, 1000, &s.fit.center, NULL, &r), SFIT_OK);
     assert_int_equal(sfit_uncert_geometric(g_pf, 1000, &r.center, &u), SFIT_OK);
-    assert_memory_equal(&f.start, &s, sizeof s);
-    assert_memory_equal(&f.geometric, &r, sizeof r);
+    /* the geometric fit */
+    assert_memory_equal(&f.center, &r.center, sizeof r.center);
+    assert_true(f.radius == r.radius && f.rms == r.rms && f.noise_var == r.noise_var);
+    assert_true(f.n == r.n && f.iterations == r.iterations && f.converged == r.converged);
+    /* the start's summary and verdict */
+    assert_memory_equal(&f.eigenvalues, &s.fit.eigenvalues, sizeof s.fit.eigenvalues);
+    assert_memory_equal(&f.axis, &s.fit.axis, sizeof s.fit.axis);
+    assert_true(f.trust_ratio == s.fit.trust_ratio && f.leontief_ratio == s.fit.leontief_ratio);
+    assert_int_equal(f.flags, s.fit.flags);
+    /* sfit_refine_points leaves the recipe's fields zero */
+    {
+        sfit_refine_result_t z;
+        memset(&z, 0, sizeof z);
+        assert_memory_equal(&r.center_cov, &z.center_cov, sizeof z.center_cov);
+        assert_true(r.radius_var == 0.0f && r.cov_noise_var == 0.0f && r.flags == 0u);
+        assert_memory_equal(r.center_radius_cov, z.center_radius_cov, sizeof z.center_radius_cov);
+        assert_memory_equal(&r.eigenvalues, &z.eigenvalues, sizeof z.eigenvalues);
+        assert_memory_equal(&r.axis, &z.axis, sizeof z.axis);
+        assert_true(r.trust_ratio == 0.0f && r.leontief_ratio == 0.0f);
+    }
     /* the recipe's covariance is the sandwich plus b b^T, b = geometric -
      * self-calibrated centre (its bias estimate), times the widening of
      * docs/coverage.md rule 7, 1 + K (v / r^2) sqrt(96 / (N - 4)) with the
      * self-calibrated v and r; the rest is the sandwich */
     {
-        static const int rw[6] = {0, 1, 2, 0, 0, 1}, cl[6] = {0, 1, 2, 1, 2, 2};
         const double wf = 1.0 + REF_COV_WIDEN_K * ((double)s.noise_var
                                        / ((double)s.fit.radius * (double)s.fit.radius))
                                     * sqrt(96.0 / 996.0);
         int k;
-        for (k = 0; k < 6; k++) {
-            const double b0 = (double)r.center.v[rw[k]] - (double)s.fit.center.v[rw[k]];
-            const double b1 = (double)r.center.v[cl[k]] - (double)s.fit.center.v[cl[k]];
-            assert_near(f.uncert.center_cov[k], ((double)u.center_cov[k] + b0 * b1) * wf,
-                        1e-5 * ((double)u.center_cov[0] + (double)u.center_cov[1]
-                                + (double)u.center_cov[2]),
+        for (k = 0; k < 9; k++) {
+            const double b0 = (double)r.center.v[k / 3] - (double)s.fit.center.v[k / 3];
+            const double b1 = (double)r.center.v[k % 3] - (double)s.fit.center.v[k % 3];
+            assert_near(f.center_cov.m[k], ((double)u.center_cov.m[k] + b0 * b1) * wf,
+                        1e-5 * ((double)u.center_cov.m[0] + (double)u.center_cov.m[4]
+                                + (double)u.center_cov.m[8]),
                         "recipe cov = sandwich + b b^T");
+            /* symmetric, as every covariance of the API */
+            assert_true(f.center_cov.m[k] == f.center_cov.m[3 * (k % 3) + k / 3]);
         }
-        assert_true(f.uncert.radius_var == u.radius_var);
-        assert_memory_equal(f.uncert.center_radius_cov, u.center_radius_cov,
+        assert_true(f.radius_var == u.radius_var);
+        assert_memory_equal(f.center_radius_cov, u.center_radius_cov,
                             sizeof u.center_radius_cov);
-        assert_true(f.uncert.noise_var == u.noise_var);
+        assert_true(f.cov_noise_var == u.noise_var);
     }
     tc_to_double3(&s.fit.center, ci);
     assert_int_equal(ref_fit_geometric(REF_C3(g_xn), 1000, ci, (double)s.fit.radius, cg, &rg, &it), 0);
-    assert_true(tc_dist(&f.geometric.center, cg) < 2e-3);
-    assert_near(f.geometric.radius, rg, 2e-3, "recipe radius vs oracle");
-    assert_true(f.geometric.converged == 1u);
+    assert_true(tc_dist(&f.center, cg) < 2e-3);
+    assert_near(f.radius, rg, 2e-3, "recipe radius vs oracle");
+    assert_true(f.converged);
     /* contract */
     memset(&sentinel, 0x6B, sizeof sentinel);
     f = sentinel;
@@ -276,11 +299,11 @@ static void test_bounds_and_contract(void **state)
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_NO_CONVERGENCE);
     assert_memory_equal(&r, &sentinel, sizeof r);
     /* the same with accept_unconverged: the last accepted centre, converged 0 */
-    cfg.accept_unconverged = 1u;
+    cfg.accept_unconverged = true;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
-    assert_true(r.converged == 0u && r.iterations == 1u);
+    assert_true(!r.converged && r.iterations == 1u);
     assert_true(tc_dist(&r.center, c) < 50.0 && isfinite(r.radius) && isfinite(r.noise_var));
-    cfg.accept_unconverged = 0u;
+    cfg.accept_unconverged = false;
     r = sentinel;
     cfg.max_iters = 0u;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_OK);
@@ -289,11 +312,14 @@ static void test_bounds_and_contract(void **state)
     r = sentinel;
     cfg.tol = 0.5f;
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
-    /* accept_unconverged is 0 or 1 (as sfit_fit_cfg_t::eigen): 2 was taken for 1 */
+    /* accept_unconverged is a bool: a byte other than 0/1 in it (garbage RAM)
+     * is refused, read as a byte (sfit_types.h, "Yes/no"); 2 was taken for 1 */
     cfg.tol = 0.0f;
-    cfg.accept_unconverged = 2u;
+    tu_set_byte(&cfg.accept_unconverged, 2u);
     assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
-    cfg.accept_unconverged = 0u;
+    tu_set_byte(&cfg.accept_unconverged, 0xFFu);
+    assert_int_equal(sfit_refine_points(g_pf, 200, &far_start, &cfg, &r), SFIT_E_ARG);
+    cfg.accept_unconverged = false;
     assert_int_equal(sfit_refine_points(NULL, 200, &far_start, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_points(g_pf, 200, NULL, NULL, &r), SFIT_E_ARG);
     assert_int_equal(sfit_refine_points(g_pf, 200, &bad, NULL, &r), SFIT_E_NONFINITE);

@@ -260,7 +260,7 @@ static void test_cap30_flagged(void **state)
 {
     static const double c30[3] = {1000.0, -2000.0, 1500.0};
     sfit_selfcal_result_t r;
-    sfit_refined_t rf;
+    sfit_refine_result_t rf;
     sfit_fit_cfg_t fc = sfit_fit_cfg_default;
     sfit_result_t k;
     tu_rng_t g;
@@ -278,7 +278,7 @@ static void test_cap30_flagged(void **state)
     assert_true((r.fit.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u);
     /* the refined recipe starts from it and carries the same verdict */
     assert_int_equal(sfit_refine_fit(g_pf, 1000, NULL, &rf), SFIT_OK);
-    assert_true((rf.start.fit.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+    assert_true((rf.flags & SFIT_FLAG_UNTRUSTED) != 0u);
     /* the true sigma^2: Leontief ratio >= 1, untrusted */
     fc.mode = SFIT_MODE_SPHERE;
     fc.noise = SFIT_NOISE_ISO;

@@ -132,7 +132,7 @@ static void test_ok(void **state)
     ts_check_result(&r);
     cfg.noise = SFIT_NOISE_ISO;
     cfg.noise_var = 0.01f;
-    cfg.eigen = 1; /* r.eigenvalues are used below */
+    cfg.eigen = true; /* r.eigenvalues are used below */
     assert_status(sfit_fit_moments(&m[1], &cfg, &r), SFIT_OK);
     assert_status(sfit_multi_fit(m, 2u, NULL, &mr, NULL), SFIT_OK);
     assert_status(sfit_moments_merge(&m[0], &m[1]), SFIT_OK);

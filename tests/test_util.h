@@ -29,6 +29,23 @@ typedef struct {
     double spare;   /**< the cached deviate */
 } tu_rng_t;
 
+/* The byte of a bool (or any object) without loading it as a bool: for a
+ * bool that holds a sentinel byte (an output written only on SFIT_OK) or a
+ * garbage byte given to the library (sfit_types.h, "Yes/no"). */
+static inline unsigned tu_byte(const void *p)
+{
+    unsigned char c;
+    memcpy(&c, p, sizeof c);
+    return c;
+}
+
+/* Store byte b into a bool (or any object): a value C cannot assign to a bool. */
+static inline void tu_set_byte(void *p, unsigned b)
+{
+    const unsigned char c = (unsigned char)b;
+    memcpy(p, &c, sizeof c);
+}
+
 static inline void tu_rng_seed(tu_rng_t *g, uint64_t seed)
 {
     g->s = seed;
@@ -80,16 +97,15 @@ static inline double tu_norm3(const double a[3])
     return sqrt(tu_dot3(a, a));
 }
 
-/** e^T P^-1 e for a packed symmetric 3x3 P (XX, YY, ZZ, XY, XZ, YZ, the
- *  order of sfit_uncert_t::center_cov), by a double Cholesky factor; -1 when
- *  P is not positive definite. */
-static inline double tu_mahal_packed(const float p[6], const double e[3])
+/** e^T P^-1 e for a symmetric 3x3 P, row-major (sfit_mat3_t::m: every
+ *  covariance of the API; the lower triangle is read), by a double Cholesky
+ *  factor; -1 when P is not positive definite. */
+static inline double tu_mahal(const float p[9], const double e[3])
 {
-    static const int idx[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
     double l[3][3] = {{0.0}}, y[3], d2 = 0.0;
     int i, j, k;
     for (j = 0; j < 3; ++j) {
-        double s = (double)p[idx[j][j]];
+        double s = (double)p[3 * j + j];
         for (k = 0; k < j; ++k) {
             s -= l[j][k] * l[j][k];
         }
@@ -98,7 +114,7 @@ static inline double tu_mahal_packed(const float p[6], const double e[3])
         }
         l[j][j] = sqrt(s);
         for (i = j + 1; i < 3; ++i) {
-            double t = (double)p[idx[i][j]];
+            double t = (double)p[3 * i + j];
             for (k = 0; k < j; ++k) {
                 t -= l[i][k] * l[j][k];
             }

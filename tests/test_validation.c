@@ -243,7 +243,7 @@ static void test_gdke_cap_bias(void **state)
         tu_rng_t g;
         int t;
         cu.noise_var = (float)(sg * sg);
-        cu.eigen = 1; /* the exact trust ratio */
+        cu.eigen = true; /* the exact trust ratio */
         tu_rng_seed(&g, UINT64_C(7300) + i);
         for (t = 0; t < sc[i].T; t++) {
             sfit_result_t rg, ru;

@@ -766,15 +766,17 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr)
     return SFIT_OK;
 }
 
-/* A state the library wrote: valid 0 or 1; with 1, a finite q with
- * | |q|^2 - 1 | <= 2^-16 (the library keeps it within a few epsilon). */
+/* A state the library wrote: valid's byte 0 or 1 (read as a byte:
+ * sfit_i_bool_byte); with 1, a finite q with | |q|^2 - 1 | <= 2^-16 (the
+ * library keeps it within a few epsilon). */
 static int prv_track_ok(const sfit_cluster_track_t *tr)
 {
+    const unsigned v = sfit_i_bool_byte(&tr->valid);
     float n2;
-    if (tr->valid == 0u) {
+    if (v == 0u) {
         return 1;
     }
-    if (tr->valid != 1u) {
+    if (v != 1u) {
         return 0;
     }
     n2 = tr->q[0] * tr->q[0] + tr->q[1] * tr->q[1] + tr->q[2] * tr->q[2] + tr->q[3] * tr->q[3];
@@ -797,7 +799,7 @@ sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t 
     }
     st = prv_prepare(cl, meas, count, &fr, h);
     if (st == SFIT_E_TOO_FEW) {
-        tr->valid = 0u; /* a gap: the next frame starts from nothing */
+        tr->valid = false; /* a gap: the next frame starts from nothing */
     }
     if (st != SFIT_OK) {
         return st;
@@ -805,7 +807,7 @@ sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t 
     for (i = 0; i < 4; i++) {
         q[i] = tr->q[i];
     }
-    if (tr->valid == 1u) {
+    if (tr->valid) {
         steps = prv_track(h, q, &r);
     }
     if (steps == 0u) {
@@ -827,7 +829,7 @@ sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t 
             tr->q[i] = q[i] * n;
         }
     }
-    tr->valid = 1u;
+    tr->valid = true;
     tr->steps = steps;
     return SFIT_OK;
 }

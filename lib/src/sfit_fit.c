@@ -28,7 +28,7 @@ static float prv_lmin(const sfit_i_solution_t *sol, const sfit_fit_cfg_t *cfg)
 
 const sfit_fit_cfg_t sfit_fit_cfg_default = {
     .mode = SFIT_MODE_AUTO, .noise = SFIT_NOISE_NONE, .noise_var = 0.0f, .planar_ratio = 0.0f,
-    .eigen = 0};
+    .eigen = false};
 
 sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
                                 const sfit_fit_cfg_t *cfg, sfit_result_t *out)
@@ -70,7 +70,7 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
      * or when the screen's bounds cannot prove the rounding flag clear
      * (second pass). */
     st = SFIT_I_SCREEN_TRIPPED;
-    if (cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
+    if (!cfg->eigen && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
         st = sfit_i_solve_lean(&sys, n,
                                (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
                                &sol);
@@ -135,7 +135,8 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     out->flags = (uint32_t)sol.flags | sfit_i_cov_limit(out->trust_ratio, n);
     out->method = sys.noisy ? SFIT_METHOD_UGDK : SFIT_METHOD_GDKE;
     out->mode = sol.mode;
-    out->exact = exact;
+    out->exact = (st == SFIT_OK) && exact; /* st is SFIT_OK here; this form
+                                                 keeps exact out of a saved register (-Os) */
     return SFIT_OK;
 }
 

@@ -14,6 +14,7 @@
 #ifndef SFIT_FLOAT_H
 #define SFIT_FLOAT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -33,6 +34,20 @@
 #else
 #define SFIT_I_NOINLINE
 #endif
+
+/**
+ * @brief The byte that holds a caller's bool (sfit_types.h, "Yes/no"): read
+ * as an unsigned char, never as a bool, so that a garbage byte in a caller's
+ * options or state (uninitialised RAM, a fuzzer's bytes) is a value to
+ * refuse (> 1) and not undefined behaviour. The ABIs the library targets
+ * store bool in one byte (tests/test_lean.c asserts it).
+ */
+SFIT_INLINE unsigned sfit_i_bool_byte(const bool *b)
+{
+    unsigned char c;
+    memcpy(&c, b, sizeof c);
+    return c;
+}
 
 /** @brief 1 when x is neither NaN nor Inf (bit test; no FP operation). */
 SFIT_INLINE int sfit_i_isfinite(float x)

@@ -449,7 +449,7 @@ sfit_status_t sfit_gate_refresh(sfit_gate_t *g)
 }
 
 /* A sample was judged: count it, refresh when due, report the verdict. */
-static sfit_status_t prv_judged(sfit_gate_t *g, int *accepted, int verdict)
+static sfit_status_t prv_judged(sfit_gate_t *g, bool *accepted, bool verdict)
 {
     g->since++;
     if (g->cfg.refresh != 0u && g->since >= g->cfg.refresh) {
@@ -461,7 +461,7 @@ static sfit_status_t prv_judged(sfit_gate_t *g, int *accepted, int verdict)
     return SFIT_OK;
 }
 
-sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
+sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, bool *accepted)
 {
     float e = 0.0f, h1 = 1.0f;
     sfit_status_t st = sfit_i_check_add(g, x);
@@ -474,7 +474,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
             (void)prv_warm_start(g);
         }
         if (accepted != NULL) {
-            *accepted = 1;
+            *accepted = true;
         }
         return SFIT_OK;
     }
@@ -487,7 +487,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
             }
             g->outliers++;
             g->wrej++;
-            return prv_judged(g, accepted, 0);
+            return prv_judged(g, accepted, false);
         }
     }
     st = sfit_moments_add(&g->acc, x);
@@ -501,7 +501,7 @@ sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted)
             g->wn++;
         }
     }
-    return prv_judged(g, accepted, 1);
+    return prv_judged(g, accepted, true);
 }
 
 sfit_status_t sfit_gate_fit(const sfit_gate_t *g, sfit_result_t *out)
@@ -524,7 +524,7 @@ sfit_status_t sfit_gate_stats(const sfit_gate_t *g, sfit_gate_stats_t *out)
     }
     out->accepted = (g->phase == 0u) ? g->nwarm : sfit_moments_count(&g->acc);
     out->outliers = g->outliers;
-    out->gated = (g->phase == 2u && g->var > 0.0f) ? 1u : 0u;
+    out->gated = (g->phase == 2u && g->var > 0.0f);
     out->noise_var = (g->phase == 2u) ? g->var : 0.0f;
     return SFIT_OK;
 }

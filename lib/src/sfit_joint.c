@@ -226,7 +226,7 @@ static sfit_status_t prv_pose_noise(const sfit_cluster_t *cl, prv_pose_noise_t *
     sfit_mat3_t jm, l;
     const float np = (float)cl->count;
     uint32_t i;
-    int a, b;
+    int a;
     for (a = 0; a < 3; a++) {
         pn->pb[a] = 0.0f;
     }
@@ -241,19 +241,7 @@ static sfit_status_t prv_pose_noise(const sfit_cluster_t *cl, prv_pose_noise_t *
     for (a = 0; a < 3; a++) {
         pn->pb[a] += cl->pos[0].v[a];
     }
-    memset(&jm, 0, sizeof jm);
-    for (i = 0; i < cl->count; i++) {
-        float p[3], p2;
-        for (a = 0; a < 3; a++) {
-            p[a] = cl->pos[i].v[a] - pn->pb[a];
-        }
-        p2 = sfit_i_dot3(p, p);
-        for (a = 0; a < 3; a++) {
-            for (b = 0; b < 3; b++) {
-                jm.m[3 * a + b] += ((a == b) ? p2 : 0.0f) - p[a] * p[b];
-            }
-        }
-    }
+    sfit_i_spread(cl->pos, cl->count, pn->pb, &jm);
     if (prv_chol(&jm, &l) != SFIT_OK) {
         return SFIT_E_ARG;
     }
@@ -266,19 +254,17 @@ static sfit_status_t prv_pose_noise(const sfit_cluster_t *cl, prv_pose_noise_t *
  * only c with eps != 0 is 3 - r - i. Symmetrised. */
 static void prv_cross_sandwich(const sfit_mat3_t *q, const sfit_mat3_t *a, sfit_mat3_t *out)
 {
-    int r, s, i, k;
+    int r, s, ik;
     for (r = 0; r < 3; r++) {
         for (s = 0; s < 3; s++) {
             float sum = 0.0f;
-            for (i = 0; i < 3; i++) {
-                for (k = 0; k < 3; k++) {
-                    if (i != r && k != s) {
-                        const int c = 3 - r - i, d = 3 - s - k;
-                        const float e = (((i - r + 3) % 3 == 1) == ((k - s + 3) % 3 == 1))
-                                            ? 1.0f
-                                            : -1.0f;
-                        sum += e * q->m[3 * i + k] * a->m[3 * c + d];
-                    }
+            for (ik = 0; ik < 9; ik++) { /* ik = 3 i + k */
+                const int i = ik / 3, k = ik % 3;
+                if (i != r && k != s) {
+                    const int c = 3 - r - i, d = 3 - s - k;
+                    const float e = (((i - r + 3) % 3 == 1) == ((k - s + 3) % 3 == 1)) ? 1.0f
+                                                                                       : -1.0f;
+                    sum += e * q->m[ik] * a->m[3 * c + d];
                 }
             }
             out->m[3 * r + s] = sum;

@@ -73,3 +73,22 @@ void sfit_i_mat3_mul(const sfit_mat3_t *a, const sfit_mat3_t *b, sfit_mat3_t *p)
         }
     }
 }
+
+void sfit_i_spread(const sfit_vec3_t *p, uint32_t count, const float c[3], sfit_mat3_t *j)
+{
+    uint32_t i;
+    int a, b;
+    memset(j, 0, sizeof *j);
+    for (i = 0; i < count; i++) {
+        float q[3], q2;
+        for (a = 0; a < 3; a++) {
+            q[a] = p[i].v[a] - c[a];
+        }
+        q2 = sfit_i_dot3(q, q);
+        for (a = 0; a < 3; a++) {
+            for (b = 0; b < 3; b++) {
+                j->m[3 * a + b] += ((a == b) ? q2 : 0.0f) - q[a] * q[b];
+            }
+        }
+    }
+}

@@ -44,4 +44,9 @@ void sfit_i_mat3_mul(const sfit_mat3_t *a, const sfit_mat3_t *b, sfit_mat3_t *p)
 /** @brief y = a x (full 3x3). */
 void sfit_i_mat3_vec(const sfit_mat3_t *a, const float x[3], float y[3]);
 
+/** @brief j = sum_i (|q_i|^2 I - q_i q_i^T), q_i = p_i - c: the spread of
+ * count points about c (the inertia tensor of unit masses; a cluster
+ * template's, sfit_joint.c and sfit_pair.c). */
+void sfit_i_spread(const sfit_vec3_t *p, uint32_t count, const float c[3], sfit_mat3_t *j);
+
 #endif /* SFIT_MAT3_I_H */

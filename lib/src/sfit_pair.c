@@ -119,7 +119,7 @@ static sfit_status_t prv_template(const sfit_cluster_t *cl, sfit_vec3_t *cen, fl
     sfit_mat3_t jm, l, inv;
     float tr;
     uint32_t i;
-    int a, b;
+    int a;
 
     if (cl->count < 3u || cl->count > (uint32_t)SFIT_CLUSTER_MAX_MARKERS) {
         return SFIT_E_ARG;
@@ -136,19 +136,7 @@ static sfit_status_t prv_template(const sfit_cluster_t *cl, sfit_vec3_t *cen, fl
         }
         cen->v[a] = cl->pos[0].v[a] + m / (float)cl->count;
     }
-    memset(&jm, 0, sizeof jm);
-    for (i = 0; i < cl->count; i++) {
-        float q[3], q2;
-        for (a = 0; a < 3; a++) {
-            q[a] = cl->pos[i].v[a] - cen->v[a];
-        }
-        q2 = sfit_i_dot3(q, q);
-        for (a = 0; a < 3; a++) {
-            for (b = 0; b < 3; b++) {
-                jm.m[3 * a + b] += ((a == b) ? q2 : 0.0f) - q[a] * q[b];
-            }
-        }
-    }
+    sfit_i_spread(cl->pos, cl->count, cen->v, &jm);
     if (sfit_mat3_chol(&jm, &l) != SFIT_OK) {
         return SFIT_E_DEGENERATE;
     }
@@ -432,36 +420,21 @@ typedef struct prv_sys {
     sfit_mat3_t kp, kc; /* var (tr J^-1 I - J^-1) */
 } prv_sys_t;
 
-/* sum B X B^T (i, k) = sum_jl X_jl T(3i+j, 3k+l). */
-static void prv_contract_right(const float tc[45], const sfit_mat3_t *x, sfit_mat3_t *out)
+/* out(a, b) = sum_cd X_cd T(r a + s c, r b + s d), r s = 3: (r, s) = (3, 1)
+ * gives sum B X B^T (a, b), (1, 3) gives sum B^T X B (a, b). */
+static void prv_contract(const float tc[45], const sfit_mat3_t *x, int r, int s,
+                         sfit_mat3_t *out)
 {
-    int i, k, j, l;
-    for (i = 0; i < 3; i++) {
-        for (k = 0; k < 3; k++) {
+    int a, b, c, d;
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < 3; b++) {
             float sum = 0.0f;
-            for (j = 0; j < 3; j++) {
-                for (l = 0; l < 3; l++) {
-                    sum += x->m[3 * j + l] * tc[prv_tidx(3 * i + j, 3 * k + l)];
+            for (c = 0; c < 3; c++) {
+                for (d = 0; d < 3; d++) {
+                    sum += x->m[3 * c + d] * tc[prv_tidx(r * a + s * c, r * b + s * d)];
                 }
             }
-            out->m[3 * i + k] = sum;
-        }
-    }
-}
-
-/* sum B^T Y B (j, l) = sum_ik Y_ik T(3i+j, 3k+l). */
-static void prv_contract_left(const float tc[45], const sfit_mat3_t *y, sfit_mat3_t *out)
-{
-    int i, k, j, l;
-    for (j = 0; j < 3; j++) {
-        for (l = 0; l < 3; l++) {
-            float sum = 0.0f;
-            for (i = 0; i < 3; i++) {
-                for (k = 0; k < 3; k++) {
-                    sum += y->m[3 * i + k] * tc[prv_tidx(3 * i + j, 3 * k + l)];
-                }
-            }
-            out->m[3 * j + l] = sum;
+            out->m[3 * a + b] = sum;
         }
     }
 }
@@ -475,9 +448,9 @@ static void prv_gmat(const prv_sys_t *y, const sfit_mat3_t *p, const sfit_mat3_t
     sfit_mat3_t t1, t2, t3;
     int k;
     prv_sandwich(&y->s, p, &t1);
-    prv_contract_left(y->tc, p, &t3);
+    prv_contract(y->tc, p, 1, 3, &t3); /* sum B^T P B */
     prv_sandwich(&y->abar, &t3, &t2);
-    prv_contract_right(y->tc, c, &t3);
+    prv_contract(y->tc, c, 3, 1, &t3); /* sum B C B^T */
     for (k = 0; k < 9; k++) {
         out->m[k] = t1.m[k] / y->n + t2.m[k] + t3.m[k];
     }
@@ -533,7 +506,7 @@ static int prv_build(const sfit_pair_t *s, prv_sys_t *y, float *dof_p, float *do
     }
     {
         const sfit_mat3_t eye = {{1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f}};
-        prv_contract_right(y->tc, &eye, &y->s);
+        prv_contract(y->tc, &eye, 3, 1, &y->s);
     }
     for (k = 0; k < 9; k++) {
         y->abar.m[k] = s->a_ref[k] + q[k] / y->n;

@@ -9,6 +9,7 @@
  * mean distance, so the one-pass variance formula does not cancel.
  */
 #include "sfit/sfit_refine.h"
+#include "sfit/sfit_uncert.h"
 
 #include <float.h>
 
@@ -20,7 +21,7 @@
  * of the summed cost and a strict comparison would stall the iteration. */
 #define SFIT_REFINE_COST_ULPS 32.0f
 
-const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u};
+const sfit_refine_cfg_t sfit_refine_cfg_default = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = false};
 
 /* What pass A yields: mean direction, mean distance, cost. */
 typedef struct prv_stats {
@@ -59,22 +60,15 @@ static sfit_status_t prv_pass_a(const sfit_vec3_t *pts, size_t n, const sfit_vec
     return SFIT_OK;
 }
 
-/* Pass B: A = sum (u - ubar)(u - ubar)^T (packed), g = sum (u - ubar)(d - dbar). */
+/* Pass B: A = sum (u - ubar)(u - ubar)^T (packed, s->tot[0..5]),
+ * g = sum (u - ubar)(d - dbar) (s->tot[6..8]). */
 static void prv_pass_b(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, const float p[3],
-                       const prv_stats_t *st, float a[6], float g[3])
+                       const prv_stats_t *st, sfit_i_sum_t *s)
 {
-    sfit_i_sum_t s;
     sfit_i_rows_t q;
-    int j;
 
     sfit_i_rows_init(&q, SFIT_I_ROWS_LM, 0.0f, st->ubar, st->dbar);
-    (void)sfit_i_pass(pts, n, c0->v, p, &q, 9, &s); /* pass A saw no zero distance */
-    for (j = 0; j < 6; j++) {
-        a[j] = s.tot[j];
-    }
-    for (j = 0; j < 3; j++) {
-        g[j] = s.tot[6 + j];
-    }
+    (void)sfit_i_pass(pts, n, c0->v, p, &q, 9, s); /* pass A saw no zero distance */
 }
 
 /* Fewest samples a refinement accepts: 4 parameters plus one residual. */
@@ -86,7 +80,7 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
 {
     if (!sfit_i_isfinite(cfg->tol)
         || (cfg->tol != 0.0f && !(cfg->tol >= 1e-7f && cfg->tol <= 1e-2f))
-        || cfg->accept_unconverged > 1u) {
+        || sfit_i_bool_byte(&cfg->accept_unconverged) > 1u) {
         return SFIT_E_ARG;
     }
     *tol = (cfg->tol != 0.0f) ? cfg->tol : SFIT_REFINE_TOL;
@@ -101,7 +95,7 @@ static sfit_status_t prv_check_args(const sfit_vec3_t *pts, size_t n, const sfit
 
 /* The converged result from the offset p of the centre from c0. */
 static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const prv_stats_t *cur,
-                                size_t n, uint32_t it, uint32_t converged,
+                                size_t n, uint32_t it, bool converged,
                                 sfit_refine_result_t *out)
 {
     sfit_refine_result_t res;
@@ -135,12 +129,13 @@ static sfit_status_t prv_finish(const sfit_vec3_t *c0, const float p[3], const p
 static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t *c0, float p[3],
                             prv_stats_t *cur, float *lambda, float tol)
 {
-    float a[6], g[3];
+    sfit_i_sum_t s;
+    const float *const g = &s.tot[6];
     sfit_mat3_t am, l;
     int trials, j;
 
-    prv_pass_b(pts, n, c0, p, cur, a, g);
-    sfit_i_sym_unpack(a, &am);
+    prv_pass_b(pts, n, c0, p, cur, &s);
+    sfit_i_sym_unpack(s.tot, &am);
     /* The undamped normal matrix itself must be regular: damping would make
      * a singular one (coincident samples) look solvable. */
     if (sfit_mat3_chol(&am, &l) != SFIT_OK) {
@@ -148,19 +143,18 @@ static int prv_lm_iteration(const sfit_vec3_t *pts, size_t n, const sfit_vec3_t 
     }
     for (trials = 0; trials < SFIT_REFINE_MAX_TRIALS; trials++) {
         sfit_mat3_t ad = am;
-        sfit_vec3_t gv, step = {{0.0f, 0.0f, 0.0f}};
+        sfit_vec3_t step = {{0.0f, 0.0f, 0.0f}};
         prv_stats_t trial;
         float pn[3], sn;
         int small;
         sfit_status_t st;
         for (j = 0; j < 3; j++) {
             ad.m[4 * j] += *lambda * am.m[4 * j];
-            gv.v[j] = g[j];
         }
         if (sfit_mat3_chol(&ad, &l) != SFIT_OK) {
             return (int)SFIT_E_DEGENERATE;
         }
-        sfit_i_chol_solve(&l, gv.v, step.v);
+        sfit_i_chol_solve(&l, g, step.v);
         sn = SFIT_SQRTF(step.v[0] * step.v[0] + step.v[1] * step.v[1] + step.v[2] * step.v[2]);
         if (!sfit_i_isfinite(sn)) {
             return (int)SFIT_E_RANGE;
@@ -221,11 +215,11 @@ sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
             return (sfit_status_t)rc;
         }
         if (rc == 1) {
-            return prv_finish(c0, p, &cur, n, it, 1u, out);
+            return prv_finish(c0, p, &cur, n, it, true, out);
         }
     }
-    if (cfg->accept_unconverged != 0u) {
-        return prv_finish(c0, p, &cur, n, maxit, 0u, out);
+    if (cfg->accept_unconverged) {
+        return prv_finish(c0, p, &cur, n, maxit, false, out);
     }
     return SFIT_E_NO_CONVERGENCE;
 }
@@ -234,48 +228,57 @@ sfit_status_t sfit_refine_points(const sfit_vec3_t *pts, size_t n, const sfit_ve
  * sandwich covariance plus the bias estimate. */
 const sfit_refined_cfg_t sfit_refined_cfg_default = {
     .selfcal = {.planar_ratio = 0.0f},
-    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = 0u}};
+    .refine = {.max_iters = 0u, .tol = 0.0f, .accept_unconverged = false}};
 
 sfit_status_t sfit_refine_fit(const sfit_vec3_t *pts, size_t n,
-                              const sfit_refined_cfg_t *cfg, sfit_refined_t *out)
+                              const sfit_refined_cfg_t *cfg, sfit_refine_result_t *out)
 {
-    sfit_refined_t r;
+    sfit_selfcal_result_t s;
+    sfit_refine_result_t r;
+    sfit_uncert_t u;
     sfit_status_t st;
 
     cfg = (cfg != NULL) ? cfg : &sfit_refined_cfg_default;
-    st = (out == NULL) ? SFIT_E_ARG : sfit_selfcal_points(pts, n, &cfg->selfcal, &r.start);
+    st = (out == NULL) ? SFIT_E_ARG : sfit_selfcal_points(pts, n, &cfg->selfcal, &s);
     if (st == SFIT_OK) {
-        st = sfit_refine_points(pts, n, &r.start.fit.center, &cfg->refine, &r.geometric);
+        st = sfit_refine_points(pts, n, &s.fit.center, &cfg->refine, &r);
     }
     if (st == SFIT_OK) {
-        st = sfit_uncert_geometric(pts, n, &r.geometric.center, &r.uncert);
+        st = sfit_uncert_geometric(pts, n, &r.center, &u);
     }
     if (st == SFIT_OK) {
         /* The geometric fit has a second-order bias (~ sigma^2 / r along the
          * cap axis) that does not shrink with N; the self-calibrated centre
          * has none to that order, so b = geometric - start estimates it.
          * Reported: the mean squared error Cov + b b^T (docs/coverage.md). */
-        sfit_mat3_t cov;
+        float *const cov = r.center_cov.m;
         float b[3], f;
         int i, j;
         for (i = 0; i < 3; i++) {
-            b[i] = r.geometric.center.v[i] - r.start.fit.center.v[i];
+            b[i] = r.center.v[i] - s.fit.center.v[i];
         }
-        f = sfit_i_cov_widen(r.start.noise_var, r.start.fit.radius, n);
-        sfit_i_sym_unpack(r.uncert.center_cov, &cov);
+        f = sfit_i_cov_widen(s.noise_var, s.fit.radius, n);
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
-                /* times the widening of docs/coverage.md rule 7 */
-                cov.m[3 * i + j] = (cov.m[3 * i + j] + b[i] * b[j]) * f;
+                /* times the widening of docs/coverage.md rule 7; symmetric */
+                cov[3 * i + j] = (u.center_cov.m[3 * i + j] + b[i] * b[j]) * f;
             }
+            r.center_radius_cov[i] = u.center_radius_cov[i];
         }
-        sfit_i_sym_pack(&cov, r.uncert.center_cov);
-        if (!sfit_i_isfinite(r.uncert.center_cov[0] + r.uncert.center_cov[1]
-                             + r.uncert.center_cov[2])) {
+        if (!sfit_i_isfinite(cov[0] + cov[4] + cov[8])) {
             st = SFIT_E_RANGE;
         }
     }
     if (st == SFIT_OK) {
+        /* the rest of the one flat record: the sandwich's radius terms, the
+         * start and its verdict */
+        r.radius_var = u.radius_var;
+        r.cov_noise_var = u.noise_var;
+        r.eigenvalues = s.fit.eigenvalues;
+        r.axis = s.fit.axis;
+        r.trust_ratio = s.fit.trust_ratio;
+        r.leontief_ratio = s.fit.leontief_ratio;
+        r.flags = s.fit.flags;
         *out = r;
     }
     return st;

@@ -73,7 +73,7 @@ sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_s
     fc.mode = SFIT_MODE_SPHERE;
     /* The cap below needs lambda_min(C): the full solver's eigenvalues, or
      * without it (SFIT_FULL_SOLVER 0) the screen's lower bound. */
-    fc.eigen = (SFIT_FULL_SOLVER != 0) ? 1 : 0;
+    fc.eigen = (SFIT_FULL_SOLVER != 0);
     fc.planar_ratio = (cfg != NULL) ? cfg->planar_ratio : 0.0f;
     if (sfit_i_check_cfg(&fc) != SFIT_OK) {
         return SFIT_E_ARG;

@@ -76,7 +76,7 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
         return SFIT_E_ARG;
     }
     if (!sfit_i_isfinite(cfg->planar_ratio) || cfg->planar_ratio < 0.0f
-        || cfg->planar_ratio >= 1.0f || (cfg->eigen != 0 && cfg->eigen != 1)) {
+        || cfg->planar_ratio >= 1.0f || sfit_i_bool_byte(&cfg->eigen) > 1u) {
         return SFIT_E_ARG;
     }
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);

@@ -14,15 +14,17 @@ static sfit_status_t prv_finish(const sfit_mat3_t *cov, float radius_var, const 
                                 float noise_var, sfit_uncert_t *out)
 {
     sfit_uncert_t u;
+    float p[6];
     int i;
-    sfit_i_sym_pack(cov, u.center_cov);
+    sfit_i_sym_pack(cov, p); /* exactly symmetric: the mean of the two triangles */
+    sfit_i_sym_unpack(p, &u.center_cov);
     u.radius_var = radius_var;
     u.noise_var = noise_var;
     for (i = 0; i < 3; i++) {
         u.center_radius_cov[i] = crc[i];
     }
     for (i = 0; i < 6; i++) {
-        if (!sfit_i_isfinite(u.center_cov[i])) {
+        if (!sfit_i_isfinite(p[i])) {
             return SFIT_E_RANGE;
         }
     }

@@ -604,7 +604,7 @@ static void fz_refine(fz_state_t *s, fz_in_t *in)
                      && fz_finite(r.noise_var),
                  "sfit_refine_points: non-finite result");
         FZ_CHECK(r.radius > 0.0f && r.rms >= 0.0f && r.noise_var >= 0.0f, "sfit_refine_points: signs");
-        FZ_CHECK((size_t)r.n == n && r.converged == 1u, "sfit_refine_points: n / converged");
+        FZ_CHECK((size_t)r.n == n && r.converged, "sfit_refine_points: n / converged");
         FZ_CHECK(r.iterations >= 1u && r.iterations <= maxit, "sfit_refine_points: iterations");
         fz_set_ctx(s, &r.center, r.radius, r.noise_var);
     }
@@ -614,7 +614,7 @@ static void fz_refine(fz_state_t *s, fz_in_t *in)
 
 static int fz_uncert_finite(const sfit_uncert_t *u)
 {
-    return fz_all_finite(u->center_cov, 6) && fz_finite(u->radius_var)
+    return fz_all_finite(u->center_cov.m, 9) && fz_finite(u->radius_var)
            && fz_all_finite(u->center_radius_cov, 3) && fz_finite(u->noise_var);
 }
 
@@ -765,13 +765,13 @@ static void fz_gate_check(const fz_state_t *s)
     FZ_CHECK(sfit_gate_stats(&s->gate, &gs) == SFIT_OK, "sfit_gate_stats");
     FZ_CHECK((uint64_t)gs.accepted + gs.outliers == s->gate_offered,
              "gate: accepted + outliers != samples judged");
-    FZ_CHECK(gs.gated <= 1u, "gate: gated flag");
+    FZ_CHECK(fz_byte(&gs.gated) <= 1u, "gate: gated flag"); /* a bool the library wrote: 0 or 1 */
     FZ_CHECK(fz_finite(gs.noise_var) && gs.noise_var >= 0.0f, "gate: noise_var not finite / negative");
     m = sfit_gate_moments(&s->gate);
     if (m != NULL) {
         FZ_CHECK(sfit_moments_count(m) == gs.accepted, "gate: moments count != accepted");
     } else {
-        FZ_CHECK(gs.accepted <= (uint32_t)SFIT_GATE_WARMUP && gs.gated == 0u,
+        FZ_CHECK(gs.accepted <= (uint32_t)SFIT_GATE_WARMUP && !gs.gated,
                  "gate: no moments outside the warm-up");
     }
 }
@@ -816,7 +816,7 @@ static void fz_gate_add1(fz_state_t *s, const sfit_vec3_t *x, int want_acc)
 {
     static sfit_gate_t before;
     sfit_status_t st;
-    int acc;
+    bool acc;
     const unsigned bad = fz_bad_kinds(x, 1u);
     if (bad != 0u) { /* a valid sample must be judged (status OK), checked below */
         memcpy(&before, &s->gate, sizeof before);
@@ -834,7 +834,7 @@ static void fz_gate_add1(fz_state_t *s, const sfit_vec3_t *x, int want_acc)
     } else {
         s->gate_offered++;
         if (want_acc) {
-            FZ_CHECK(acc == 0 || acc == 1, "sfit_gate_add: accepted flag");
+            FZ_CHECK(fz_byte(&acc) <= 1u, "sfit_gate_add: accepted flag");
         }
     }
 }
@@ -898,7 +898,7 @@ static void fz_nulls(fz_state_t *s)
     const size_t n = s->npts;
     const sfit_vec3_t *c = &s->ctx_center;
     float v;
-    int acc;
+    bool acc;
     (void)sfit_moments_init(&m);
     memset(&sr, FZ_SENTINEL, sizeof sr);
     memset(&rr, FZ_SENTINEL, sizeof rr);

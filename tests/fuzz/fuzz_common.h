@@ -43,6 +43,13 @@ typedef struct fz_in {
     size_t i;
 } fz_in_t;
 
+/* The byte of a bool without loading it as a bool (a sentinel or a garbage
+ * byte: sfit_types.h, "Yes/no"). */
+static inline unsigned fz_byte(const void *p)
+{
+    return *(const unsigned char *)p;
+}
+
 static inline int fz_more(const fz_in_t *in)
 {
     return in->i < in->n;

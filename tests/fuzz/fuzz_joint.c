@@ -265,9 +265,9 @@ static void fz_op_register(fz_in_t *in)
         FZ_CHECK(tst == st || st == SFIT_E_NO_CONVERGENCE, "track status differs from register");
         if (tst == SFIT_OK) {
             fz_check_pose(&tp);
-            FZ_CHECK(fz_trk.valid == 1u, "track state after OK");
+            FZ_CHECK(fz_byte(&fz_trk.valid) == 1u, "track state after OK");
         } else if (tst == SFIT_E_TOO_FEW) {
-            FZ_CHECK(fz_trk.valid == 0u, "track gap");
+            FZ_CHECK(fz_byte(&fz_trk.valid) == 0u, "track gap");
         } else {
             FZ_CHECK(memcmp(&tb, &fz_trk, sizeof tb) == 0, "track state changed by a rejected frame");
         }

@@ -152,7 +152,7 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
         sfit_fit_cfg_t ce = *cfg;
         sfit_result_t re;
         sfit_status_t se;
-        ce.eigen = 1;
+        ce.eigen = true;
         se = sfit_fit_moments(m, &ce, &re);
         FZ_CHECK(se == st, "screened and full solve: different status");
         if (st == SFIT_OK && se == SFIT_OK) {

@@ -157,7 +157,7 @@ static inline void fz_g_read_moments(fz_in_t *in, const sfit_moments_t *m, uint8
         st = sfit_uncert_moments(m, &c0, 100.0f, 1.0f, SFIT_UNCERT_NOISE_KNOWN, &u);
         FZ_CHECK_OUT(st, u, "garbage: uncert");
         if (st == SFIT_OK) {
-            FZ_CHECK(fz_all_finite(u.center_cov, 6) && fz_finite(u.radius_var),
+            FZ_CHECK(fz_all_finite(u.center_cov.m, 9) && fz_finite(u.radius_var),
                      "garbage: uncert OK with a non-finite output");
         }
         break;
@@ -323,12 +323,13 @@ static inline void fz_g_gate(fz_in_t *in, uint8_t fill)
         case 0:
         case 1: {
             sfit_vec3_t x;
-            int acc = 7;
+            bool acc;
             sfit_status_t st;
+            memset(&acc, 7, sizeof acc); /* a sentinel byte: written only on SFIT_OK */
             fz_g_sample(in, &x);
             st = sfit_gate_add(&g, &x, &acc);
             FZ_CHECK(fz_status_defined(st), "garbage: gate add");
-            FZ_CHECK((st == SFIT_OK) ? (acc == 0 || acc == 1) : (acc == 7),
+            FZ_CHECK((st == SFIT_OK) ? (fz_byte(&acc) <= 1u) : (fz_byte(&acc) == 7u),
                      "garbage: gate add verdict");
             break;
         }
@@ -410,10 +411,10 @@ static inline void fz_g_cluster(fz_in_t *in, uint8_t fill)
                 FZ_CHECK(fz_all_finite(p.r.m, 9) && fz_all_finite(p.t.v, 3) && fz_finite(f.rms),
                          "garbage: track OK with a non-finite output");
                 FZ_CHECK(det > 0.9f && det < 1.1f, "garbage: track OK with an improper rotation");
-                FZ_CHECK(trk.valid == 1u && fz_all_finite(trk.q, 4), "garbage: track state after OK");
+                FZ_CHECK(fz_byte(&trk.valid) == 1u && fz_all_finite(trk.q, 4), "garbage: track state after OK");
                 pose = p;
             } else if (st == SFIT_E_TOO_FEW) {
-                FZ_CHECK(trk.valid == 0u || memcmp(&trk, &before, sizeof trk) == 0,
+                FZ_CHECK(fz_byte(&trk.valid) == 0u || memcmp(&trk, &before, sizeof trk) == 0,
                          "garbage: track gap");
             } else {
                 FZ_CHECK(memcmp(&trk, &before, sizeof trk) == 0,

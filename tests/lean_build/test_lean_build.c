@@ -9,7 +9,7 @@
  * reference; below SFIT_COV_MIN_SAMPLES it is still fitted, flagged by the
  * count. Where the screen trips (near-planar, collinear, coincident, an
  * untrusted bound) and for the options only the full solver serves
- * (cfg.eigen = 1, planar mode, a full covariance), the status is
+ * (cfg.eigen = true, planar mode, a full covariance), the status is
  * SFIT_E_UNSUPPORTED and the output is untouched; invalid options and too
  * few samples keep their own statuses.
  */
@@ -185,7 +185,7 @@ static void test_options(void **state)
     (void)state;
     make_cap(1605, 500, 100.0, 60.0, 0.5);
     c = sfit_fit_cfg_default;
-    c.eigen = 1;
+    c.eigen = true;
     assert_int_equal(fit_both(500, &c, &r), SFIT_E_UNSUPPORTED);
     assert_untouched(&r);
     c = sfit_fit_cfg_default;
@@ -202,7 +202,7 @@ static void test_options(void **state)
     assert_int_equal(fit_both(500, &c, &r), SFIT_E_ARG);
     assert_untouched(&r);
     c = sfit_fit_cfg_default;
-    c.eigen = 2;
+    tu_set_byte(&c.eigen, 2u); /* a bool holding byte 2 (garbage): refused */
     assert_int_equal(fit_both(500, &c, &r), SFIT_E_ARG);
     assert_untouched(&r);
     assert_int_equal(fit_both(3, NULL, &r), SFIT_E_TOO_FEW);
@@ -221,7 +221,7 @@ static void test_inherited(void **state)
     sfit_incr_t inc;
     sfit_sphere_t sp, sentinel;
     size_t i;
-    int acc;
+    bool acc;
     (void)state;
     memset(&sentinel, SENTINEL, sizeof sentinel);
     make_circle(200, 80.0);

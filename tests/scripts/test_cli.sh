@@ -147,7 +147,9 @@ o = json.loads(sys.argv[1])
 assert o["status"] == "ok" and o["method"] == "geometric", o
 assert math.dist(o["center"], (-67.033, -88.814, 72.238)) <= 0.01, o["center"]
 assert abs(o["radius"] - 260.495) <= 0.01
-assert len(o["center_cov"]) == 6 and o["noise_estimated"] is True
+c = o["center_cov"]  # 3x3 rows, symmetric, positive diagonal
+assert len(c) == 3 and all(len(row) == 3 for row in c) and o["noise_estimated"] is True, c
+assert all(c[i][j] == c[j][i] for i in range(3) for j in range(3)) and min(c[i][i] for i in range(3)) > 0
 for k in ("noise_var", "iterations", "outliers"):
     assert k in o, k
 ' "$out" || fail "auto+refine: $out"

@@ -57,7 +57,7 @@ void tt_fit(void)
     (void)sfit_moments_init(&m);
     (void)sfit_moments_add_block(&m, tt_f, TT_N, NULL);
     cfg = sfit_fit_cfg_default;
-    cfg.eigen = 1; /* eigenvalues checked below */
+    cfg.eigen = true; /* eigenvalues checked below */
     if (TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res), SFIT_OK)
         && TT_EQ_INT(ref_fit_sphere(REF_C3(tt_d), TT_N, NULL, &rf), 0)) {
         tt_cmp(&res, &rf, tt_tol_centre(TT_N, r, tt_kappa(REF_C3(tt_d), TT_N)));
@@ -79,7 +79,7 @@ void tt_fit(void)
         cs.noise = (k == 0) ? SFIT_NOISE_NONE : SFIT_NOISE_ISO;
         cs.noise_var = (k == 0) ? 0.0f : 0.25f;
         cfg = cs;
-        cfg.eigen = 1;
+        cfg.eigen = true;
         if (TT_EQ_INT(sfit_fit_moments(&m, &cs, &res), SFIT_OK)
             && TT_EQ_INT(sfit_fit_moments(&m, &cfg, &res2), SFIT_OK)) {
             TT_EQ_INT(res.exact, 0);

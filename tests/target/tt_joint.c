@@ -224,7 +224,10 @@ static void tt_cluster(sfit_cluster_t *cl)
                 }
             }
         }
-        trk.valid = 7u;
+        {
+            const unsigned char b = 7u; /* a garbage byte in the bool */
+            memcpy(&trk.valid, &b, 1u);
+        }
         TT_EQ_INT(sfit_cluster_track(cl, &trk, tt_pf[0], TT_JP, &pose, NULL), SFIT_E_ARG);
     }
 }

@@ -92,7 +92,7 @@ static sfit_vec3_t fc_w;
 static sfit_result_t fc_res;
 static sfit_fit_cfg_t fc_cfg_ugdk;
 static sfit_fit_cfg_t fc_cfg_planar;
-static sfit_fit_cfg_t fc_cfg_gdke_eig; /* cfg.eigen = 1: the full solver */
+static sfit_fit_cfg_t fc_cfg_gdke_eig; /* cfg.eigen true: the full solver */
 static sfit_fit_cfg_t fc_cfg_ugdk_eig;
 static sfit_status_t fc_st;
 static sfit_selfcal_result_t fc_sc;      /* self-calibrated fit of fc_pts */
@@ -224,9 +224,9 @@ static void fc_setup(void)
     fc_cfg_planar = sfit_fit_cfg_default;
     fc_cfg_planar.mode = SFIT_MODE_PLANAR;
     fc_cfg_gdke_eig = sfit_fit_cfg_default;
-    fc_cfg_gdke_eig.eigen = 1;
+    fc_cfg_gdke_eig.eigen = true;
     fc_cfg_ugdk_eig = fc_cfg_ugdk;
-    fc_cfg_ugdk_eig.eigen = 1;
+    fc_cfg_ugdk_eig.eigen = true;
     {
         unsigned p;
         for (p = 0; p < FC_NMARK; p++) {
@@ -405,13 +405,13 @@ static void fc_uncert_selfcal_half(void)
 static void fc_solve_gdke(void)
 {
     fc_keep(sfit_fit_moments(&fc_mom_cap, NULL, &fc_res));
-    fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
+    fc_keep((!fc_res.exact) ? SFIT_OK : SFIT_E_RANGE);
 }
 
 static void fc_solve_ugdk(void)
 {
     fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_ugdk, &fc_res));
-    fc_keep((fc_res.exact == 0) ? SFIT_OK : SFIT_E_RANGE);
+    fc_keep((!fc_res.exact) ? SFIT_OK : SFIT_E_RANGE);
 }
 
 static void fc_solve_gdke_eigen(void)

@@ -70,9 +70,9 @@ static double acc_cov_ratio(const acc_t *a, int t)
     return (a->rep / t) / tr;
 }
 
-static double trace6(const float p[6])
+static double trace3(const sfit_mat3_t *p)
 {
-    return (double)p[0] + (double)p[1] + (double)p[2];
+    return (double)p->m[0] + (double)p->m[4] + (double)p->m[8];
 }
 
 int main(int argc, char **argv)
@@ -153,8 +153,8 @@ int main(int argc, char **argv)
                     continue;
                 }
             }
-            acc_add(&as, &s.fit.center, trace6(us.center_cov));
-            acc_add(&ar, &r.center, trace6(ur.center_cov));
+            acc_add(&as, &s.fit.center, trace3(&us.center_cov));
+            acc_add(&ar, &r.center, trace3(&ur.center_cov));
             noise += (double)s.noise_var / s2;
             ref_crlb_sphere((const double(*)[3])g_xt, (size_t)sc->n, k_c, K_R, s2, cr);
             crlb += cr[0][0] + cr[1][1] + cr[2][2];

@@ -21,10 +21,10 @@ typedef struct cov_tally {
     double s[3], ss[3], rep;    /* unflagged: centre errors, reported traces */
 } cov_tally_t;
 
-/* One trial: status, flags, reported trust, centre, packed covariance
- * (xx, yy, zz, xy, xz, yz) and the true centre. */
+/* One trial: status, flags, reported trust, centre, covariance and the
+ * true centre. */
 static void cov_tally_add(cov_tally_t *a, sfit_status_t st, uint32_t flags, float trust,
-                          const sfit_vec3_t *c, const float cov[6], const double truth[3])
+                          const sfit_vec3_t *c, const sfit_mat3_t *cov, const double truth[3])
 {
     double e[3], d2;
     int k;
@@ -43,8 +43,8 @@ static void cov_tally_add(cov_tally_t *a, sfit_status_t st, uint32_t flags, floa
         a->s[k] += e[k];
         a->ss[k] += e[k] * e[k];
     }
-    a->rep += (double)cov[0] + (double)cov[1] + (double)cov[2];
-    d2 = tu_mahal_packed(cov, e);
+    a->rep += (double)cov->m[0] + (double)cov->m[4] + (double)cov->m[8];
+    d2 = tu_mahal(cov->m, e);
     if (d2 >= 0.0 && d2 <= CHI2_3_95) {
         a->covered++;
     }

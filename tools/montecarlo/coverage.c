@@ -62,7 +62,7 @@ static int g_dump_idx;
  * trust ratio, e^T Cov^-1 e (-1 when flagged, failed or Cov not positive
  * definite), reported trace, centre error, noise variance the fit used. */
 static void dump_trial(int est, sfit_status_t st, uint32_t flags, float trust,
-                       const sfit_vec3_t *c, const float cov[6], float noise_var)
+                       const sfit_vec3_t *c, const sfit_mat3_t *cov, float noise_var)
 {
     double e[3], d2 = -1.0;
     int k;
@@ -73,10 +73,10 @@ static void dump_trial(int est, sfit_status_t st, uint32_t flags, float trust,
         e[k] = (double)c->v[k] - k_c[k];
     }
     if (st == SFIT_OK && (flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
-        d2 = tu_mahal_packed(cov, e);
+        d2 = tu_mahal(cov->m, e);
     }
     fprintf(g_dump, "%d %d %d %u %.6g %.6g %.6g %.6g %.6g %.6g %.6g\n", g_dump_idx, est, (int)st,
-            (unsigned)flags, (double)trust, d2, (double)cov[0] + (double)cov[1] + (double)cov[2],
+            (unsigned)flags, (double)trust, d2, (double)cov->m[0] + (double)cov->m[4] + (double)cov->m[8],
             e[0], e[1], e[2], (double)noise_var);
 }
 
@@ -94,7 +94,7 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         sfit_fit_cfg_t fc = sfit_fit_cfg_default;
         sfit_result_t r;
         sfit_selfcal_result_t s;
-        sfit_refined_t rf;
+        sfit_refine_result_t rf;
         sfit_uncert_t u;
         sfit_status_t st;
         memset(&u, 0, sizeof u);
@@ -113,7 +113,7 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
         fc.noise_var = (float)(sig * sig);
         /* dump mode: the exact trust ratio (a screened result reports an
          * upper bound of it, enough for the library's own cut only) */
-        fc.eigen = (g_dump != NULL) ? 1 : 0;
+        fc.eigen = (g_dump != NULL);
         st = sfit_fit_points(g_pf, (size_t)sc->n, &fc, &r);
         if (st == SFIT_OK) {
             sfit_moments_t m;
@@ -122,8 +122,8 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
             st = sfit_uncert_moments(&m, &r.center, r.radius, fc.noise_var,
                                      SFIT_UNCERT_NOISE_KNOWN, &u);
         }
-        cov_tally_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, u.center_cov, k_c);
-        dump_trial(EST_UGDK, st, r.flags, r.trust_ratio, &r.center, u.center_cov, fc.noise_var);
+        cov_tally_add(&acc[EST_UGDK], st, r.flags, r.trust_ratio, &r.center, &u.center_cov, k_c);
+        dump_trial(EST_UGDK, st, r.flags, r.trust_ratio, &r.center, &u.center_cov, fc.noise_var);
         memset(&u, 0, sizeof u);
         st = sfit_selfcal_points(g_pf, (size_t)sc->n, NULL, &s);
         if (st == SFIT_OK && (s.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u) {
@@ -131,14 +131,14 @@ static double run_scen(const scen_t *sc, uint64_t seed, cov_tally_t acc[EST_COUN
                                      s.noise_var, &u);
         }
         cov_tally_add(&acc[EST_SELFCAL], st, s.fit.flags, s.fit.trust_ratio, &s.fit.center,
-                      u.center_cov, k_c);
-        dump_trial(EST_SELFCAL, st, s.fit.flags, s.fit.trust_ratio, &s.fit.center, u.center_cov,
+                      &u.center_cov, k_c);
+        dump_trial(EST_SELFCAL, st, s.fit.flags, s.fit.trust_ratio, &s.fit.center, &u.center_cov,
                    s.noise_var);
         st = sfit_refine_fit(g_pf, (size_t)sc->n, NULL, &rf);
-        cov_tally_add(&acc[EST_REFINED], st, rf.start.fit.flags, rf.start.fit.trust_ratio,
-                      &rf.geometric.center, rf.uncert.center_cov, k_c);
-        dump_trial(EST_REFINED, st, rf.start.fit.flags, rf.start.fit.trust_ratio,
-                   &rf.geometric.center, rf.uncert.center_cov, rf.start.noise_var);
+        cov_tally_add(&acc[EST_REFINED], st, rf.flags, rf.trust_ratio, &rf.center,
+                      &rf.center_cov, k_c);
+        dump_trial(EST_REFINED, st, rf.flags, rf.trust_ratio, &rf.center, &rf.center_cov,
+                   rf.noise_var);
     }
     return sig * sig / (lmin + sig * sig); /* true trust ratio: sigma^2 / lambda_min(C) */
 }

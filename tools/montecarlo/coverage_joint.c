@@ -128,8 +128,7 @@ static const jscen_t k_jscen[] = {
 static void cacc_add(cov_tally_t *a, sfit_status_t st, uint32_t flags, float trust,
                      const sfit_vec3_t *c, const sfit_mat3_t *cov, const double truth[3])
 {
-    const float p6[6] = {cov->m[0], cov->m[4], cov->m[8], cov->m[1], cov->m[2], cov->m[5]};
-    cov_tally_add(a, st, flags, trust, c, p6, truth);
+    cov_tally_add(a, st, flags, trust, c, cov, truth);
 }
 
 /* The row's last columns: mean trust | trials | unflagged | coverage |

@@ -136,8 +136,8 @@ static void fit_trial(size_t n, double sigma, int with_geo, trial_t *t)
     cu.mode = SFIT_MODE_SPHERE;
     cu.noise = SFIT_NOISE_ISO;
     cu.noise_var = (float)(sigma * sigma);
-    cg.eigen = 1; /* the table reports the exact trust ratio */
-    cu.eigen = 1;
+    cg.eigen = true; /* the table reports the exact trust ratio */
+    cu.eigen = true;
     if (sfit_fit_points(g_f, n, &cg, &rg) == SFIT_OK) {
         t->ok[EST_GDKE] = 1;
         for (k = 0; k < 3; ++k) {

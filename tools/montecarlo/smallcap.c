@@ -140,7 +140,7 @@ static int run_small(long trials, unsigned long seed, double far)
                 unflagged++;
                 worst = (err > worst) ? err : worst;
                 /* the model's own cond(C'): the full solver's eigenvalues */
-                cfg.eigen = 1;
+                cfg.eigen = true;
                 if (sfit_fit_points(g_f, n, &cfg, &rx) == SFIT_OK) {
                     lmin = (double)((rx.mode == SFIT_MODE_PLANAR) ? rx.eigenvalues.v[1]
                                                                   : rx.eigenvalues.v[0])

@@ -91,6 +91,9 @@ void cli_print_noise_json(int has_noise, float noise_var, int estimated);
 /** Print a JSON array of 3 floats (round-trip precision). */
 void cli_print_vec(const float *v);
 
+/** Print a 3x3 matrix as a JSON array of its 3 rows (round-trip precision). */
+void cli_print_mat(const sfit_mat3_t *m);
+
 /** Print {"status":...,"message":...} for a failure and return CLI_FAIL. */
 int cli_json_error(const char *status, const char *message);
 

@@ -212,6 +212,17 @@ void cli_print_vec(const float *v)
     printf("[%.9g,%.9g,%.9g]", (double)v[0], (double)v[1], (double)v[2]);
 }
 
+void cli_print_mat(const sfit_mat3_t *m)
+{
+    int r;
+    printf("[");
+    for (r = 0; r < 3; r++) {
+        printf("%s", r > 0 ? "," : "");
+        cli_print_vec(&m->m[3 * r]);
+    }
+    printf("]");
+}
+
 int cli_json_error(const char *status, const char *message)
 {
     printf("{\"status\":\"%s\",\"message\":\"%s\"}\n", status, message);

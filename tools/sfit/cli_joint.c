@@ -305,17 +305,6 @@ const char *cli_joint_pair_reason(sfit_pair_reason_t r)
     }
 }
 
-static void print_mat_json(const sfit_mat3_t *m)
-{
-    int r;
-    printf("[");
-    for (r = 0; r < 3; r++) {
-        printf("%s", r > 0 ? "," : "");
-        cli_print_vec(&m->m[3 * r]);
-    }
-    printf("]");
-}
-
 void cli_joint_print_flags_json(const cli_joint_out_t *out)
 {
     static const struct {
@@ -366,10 +355,10 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
         return;
     }
     printf(",\"center_cov\":");
-    print_mat_json(&p->center_cov);
+    cli_print_mat(&p->center_cov);
     if (p->mode == SFIT_PAIR_MODE_HINGE) {
         printf(",\"axis_cov\":");
-        print_mat_json(&p->axis_cov);
+        cli_print_mat(&p->axis_cov);
     }
     printf(",\"center_child\":");
     cli_print_vec(p->center_c.v);

@@ -96,7 +96,7 @@ static int cov_parse(int argc, char **argv, cov_opts_t *o)
 static sfit_status_t cov_compute(const sfit_moments_t *acc, const cov_opts_t *o, cov_out_t *c)
 {
     sfit_fit_cfg_t cfg = sfit_fit_cfg_default;
-    cfg.eigen = 1; /* the coverage figures need the eigenvalues */
+    cfg.eigen = true; /* the coverage figures need the eigenvalues */
     sfit_vec3_t eig;
     sfit_status_t st;
     int i;

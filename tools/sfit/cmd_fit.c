@@ -9,7 +9,7 @@
  *            [--json] FILE [FILE ...]
  *
  * One FILE: the JSON also carries "noise_var" (given or estimated, null
- * without a noise model), "center_cov" [xx,yy,zz,xy,xz,yz] and
+ * without a noise model), "center_cov" (3x3, rows, as `sfit joint`'s) and
  * "radius_var" (null without an isotropic noise variance or for a circle),
  * "iterations" (self-calibration or refinement; 0 for a direct solve) and
  * "outliers" (samples rejected by --gate). --noise-var auto and --refine
@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "cli_refine.h"
 #include "table.h"
 #include "sfit/sfit_gate.h"
 #include "sfit/sfit_multi.h"
@@ -161,7 +162,7 @@ static int fit_parse(int argc, char **argv, fit_opts_t *o)
     o->nfiles = 0;
     o->json = 0;
     o->cfg = sfit_fit_cfg_default;
-    o->cfg.eigen = 1; /* the tool reports eigenvalues and the exact trust ratio */
+    o->cfg.eigen = true; /* the tool reports eigenvalues and the exact trust ratio */
     o->weight = SFIT_MULTI_WEIGHT_EQUAL;
     o->auto_noise = 0;
     o->refine = 0;
@@ -219,7 +220,6 @@ static void print_solution_json(const sfit_vec3_t *eig, float trust, float leont
 
 static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
 {
-    int i;
     printf("{\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"n\":%lu,\"rejected\":%lu,"
            "\"missing\":%lu,\"center\":",
            method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
@@ -230,11 +230,9 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
                         r->flags);
     cli_print_noise_json(x->has_noise, x->noise_var, x->noise_estimated);
     if (x->has_uncert) {
-        printf(",\"center_cov\":[");
-        for (i = 0; i < 6; i++) {
-            printf("%s%.9g", i > 0 ? "," : "", (double)x->u.center_cov[i]);
-        }
-        printf("],\"radius_var\":%.9g", (double)x->u.radius_var);
+        printf(",\"center_cov\":");
+        cli_print_mat(&x->u.center_cov);
+        printf(",\"radius_var\":%.9g", (double)x->u.radius_var);
     } else {
         printf(",\"center_cov\":null,\"radius_var\":null");
     }
@@ -314,8 +312,8 @@ static void print_human(const char *file, const sfit_result_t *r, const cli_inpu
                sqrt((double)x->noise_var), x->noise_estimated ? "estimated" : "given");
     }
     if (x->has_uncert) {
-        printf("centre SD    %.4g %.4g %.4g (radius SD %.4g)\n", sqrt((double)x->u.center_cov[0]),
-               sqrt((double)x->u.center_cov[1]), sqrt((double)x->u.center_cov[2]),
+        printf("centre SD    %.4g %.4g %.4g (radius SD %.4g)\n", sqrt((double)x->u.center_cov.m[0]),
+               sqrt((double)x->u.center_cov.m[4]), sqrt((double)x->u.center_cov.m[8]),
                sqrt((double)x->u.radius_var));
     }
     if (x->iterations > 0u) {
@@ -538,27 +536,23 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         x->outliers = gs.outliers;
         acc = sfit_gate_moments(k->gate);
     } else if (o->refine) {
-        /* the library's recipe: self-calibrated start, geometric fit, its
-         * sandwich covariance; the printed sphere is the geometric one, the
-         * eigenvalues and trust those of the self-calibrated start */
-        sfit_refined_t rf;
+        /* the library's recipe, one call and one flat result: the
+         * geometric sphere, its covariance, the start's summary and verdict */
+        sfit_refine_result_t rf;
         sfit_refined_cfg_t rc = sfit_refined_cfg_default;
         rc.selfcal.planar_ratio = o->cfg.planar_ratio;
         st = sfit_refine_fit(k->pts, k->n, &rc, &rf);
         if (st != SFIT_OK) {
             return st;
         }
-        *r = rf.start.fit;
-        r->center = rf.geometric.center;
-        r->radius = rf.geometric.radius;
+        cli_refine_parts(&rf, r, &x->u);
         x->refined = 1;
         x->has_noise = 1;
-        x->noise_var = rf.geometric.noise_var;
+        x->noise_var = rf.noise_var;
         x->noise_estimated = 1;
-        x->iterations = rf.geometric.iterations;
-        x->capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+        x->iterations = rf.iterations;
+        x->capped = (rf.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
         x->has_uncert = 1;
-        x->u = rf.uncert;
         return SFIT_OK;
     } else if (o->auto_noise) {
         sfit_selfcal_result_t sc;

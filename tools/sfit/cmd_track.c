@@ -66,7 +66,7 @@ static int track_parse(int argc, char **argv, track_opts_t *o)
     o->json = 0;
     o->every = 1ul;
     o->cfg = sfit_fit_cfg_default;
-    o->cfg.eigen = 1; /* the tool reports eigenvalues and the exact trust ratio */
+    o->cfg.eigen = true; /* the tool reports eigenvalues and the exact trust ratio */
     o->cfg.mode = SFIT_MODE_SPHERE;
     o->src.cols = NULL;
     rc = cli_parse(argc, argv, &args);

@@ -18,6 +18,7 @@
 #ifndef SFIT_CLUSTER_H
 #define SFIT_CLUSTER_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -59,7 +60,8 @@ typedef struct sfit_cluster_fit {
  */
 typedef struct sfit_cluster_track {
     float q[4];     /**< Unit quaternion (w, x, y, z) of the previous rotation. */
-    uint32_t valid; /**< 1: q holds a previous frame's rotation; 0: none (start, gap). */
+    bool valid;     /**< true: q holds a previous frame's rotation; false: none (start,
+                         gap). A byte other than 0/1 (a corrupted state): SFIT_E_ARG. */
     uint32_t steps; /**< Read-only: Newton steps the last successful call took from the
                          previous rotation; 0: it ran the full solve. */
 } sfit_cluster_track_t;
@@ -186,12 +188,12 @@ sfit_status_t sfit_cluster_track_reset(sfit_cluster_track_t *tr);
  * @param[in]     count  Must equal the template's marker count.
  * @param[out]    pose   Pose; written only on SFIT_OK.
  * @param[out]    fit    NULL, or residual and markers used; written only on SFIT_OK.
- * @retval SFIT_E_ARG  also for a corrupted @p tr (valid not 0 or 1, or a
+ * @retval SFIT_E_ARG  also for a corrupted @p tr (valid's byte not 0 or 1, or a
  *                     quaternion not finite or not of unit length)
  * @par Cost 4 markers, 1 degree between the frames (two Newton steps): 533
- * FLOPs, 1116 M4F instructions for the pose (fit NULL, "cluster_track_pose");
- * 679 FLOPs, 1363 instructions with the RMS residual ("cluster_track");
- * both budgeted at <= 1500 instructions in CI (tools/flopcount/budget.txt).
+ * FLOPs for the pose (fit NULL, tools/flopcount "cluster_track_pose"); 679
+ * FLOPs with the RMS residual ("cluster_track"); instructions (budgeted in
+ * tools/flopcount/budget.txt) and stack: docs/cost.md.
  */
 sfit_status_t sfit_cluster_track(const sfit_cluster_t *cl, sfit_cluster_track_t *tr,
                                  const sfit_vec3_t *meas, size_t count, sfit_pose_t *pose,

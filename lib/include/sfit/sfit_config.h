@@ -36,7 +36,7 @@
 /**
  * @brief 1 (default): sfit_fit_moments() and sfit_fit_points() fall back to
  * the full solver (the Jacobi eigen-decomposition) whenever the screened
- * solve cannot prove its answer, and serve cfg.eigen = 1, ::SFIT_MODE_PLANAR
+ * solve cannot prove its answer, and serve cfg.eigen = true, ::SFIT_MODE_PLANAR
  * and ::SFIT_NOISE_COV. 0: a firmware build without that fallback (an
  * application that only accumulates and fits then links about 2.6 KB less
  * code, tools/flopcount/footprint.sh record minimal_app_lean): the fit
@@ -53,7 +53,7 @@
  * reaches it, and, as any fit, where the screen cannot prove one of its fits
  * (e.g. a trust ratio above SFIT_COV_MAX_TRUST, which the default build
  * fits and flags UNTRUSTED | COV_LIMIT: a 30-degree cap, r = 100, sigma = 3,
- * N = 1000); elsewhere its result is the default build's (exact = 0). The
+ * N = 1000); elsewhere its result is the default build's (exact false). The
  * others (multi, joint) keep the full solver. Range 0..1.
  */
 #ifndef SFIT_FULL_SOLVER
@@ -212,8 +212,9 @@
 /**
  * @brief Newton steps sfit_cluster_track() takes from the previous frame's
  * rotation before it gives up and runs the full solve
- * (sfit_cluster_register()). Each step costs about 250 M4F instructions;
- * a step's convergence test is in docs/tracking.md. At 200 Hz two steps
+ * (sfit_cluster_register()). Each step costs a fraction of the full solve
+ * (per call: docs/cost.md, "cluster_track" and "cluster_track_first"); a
+ * step's convergence test is in docs/tracking.md. At 200 Hz two steps
  * converge for rotations up to several degrees per frame. Range 1..8.
  */
 #ifndef SFIT_CLUSTER_TRACK_STEPS

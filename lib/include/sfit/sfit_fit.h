@@ -10,6 +10,7 @@
 #ifndef SFIT_FIT_H
 #define SFIT_FIT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -38,6 +39,14 @@ typedef enum sfit_noise_kind {
 typedef struct sfit_fit_cfg {
     sfit_mode_t mode;            /**< Solution to compute. */
     sfit_noise_kind_t noise;     /**< Noise model. */
+    bool eigen;                  /**< false (default): the screened solve, which skips the
+                                      eigen-decomposition when a cheap bound proves the
+                                      sphere well conditioned, not near-planar,
+                                      trusted and inside the coverage limit
+                                      (SFIT_COV_MAX_TRUST, SFIT_COV_MIN_SAMPLES)
+                                      (result: exact false). true: always the full
+                                      solver (eigenvalues, axis, exact trust ratio).
+                                      A byte other than 0/1: SFIT_E_ARG. */
     float noise_var;             /**< sigma^2 for SFIT_NOISE_ISO (>= 0, finite). */
     sfit_mat3_t noise_cov;       /**< Sigma for SFIT_NOISE_COV: symmetric positive
                                       semi-definite; the lower triangle is read.
@@ -48,13 +57,6 @@ typedef struct sfit_fit_cfg {
                                       The ratio is taken on C' = C - Sigma_hat when a
                                       noise model is given (the noise-corrected
                                       covariance UGDK solves), on C otherwise. */
-    int eigen;                   /**< 0 (default): the screened solve, which skips the
-                                      eigen-decomposition when a cheap bound proves the
-                                      sphere well conditioned, not near-planar,
-                                      trusted and inside the coverage limit
-                                      (SFIT_COV_MAX_TRUST, SFIT_COV_MIN_SAMPLES)
-                                      (result: exact = 0). 1: always the full
-                                      solver (eigenvalues, axis, exact trust ratio). */
 } sfit_fit_cfg_t;
 
 /** @brief Defaults: auto mode, no noise compensation (GDKE), screened solve. */
@@ -71,12 +73,12 @@ typedef struct sfit_result {
     sfit_vec3_t center;      /**< Sphere centre, or circle centre in planar mode. */
     float radius;            /**< Sphere or circle radius. */
     uint32_t n;              /**< Samples used. */
-    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending (zero when exact is 0). */
-    sfit_vec3_t axis;        /**< (Zero when exact is 0.) Unit eigenvector of the dropped (planar) or smallest
+    sfit_vec3_t eigenvalues; /**< Eigenvalues of C, ascending (zero when exact is false). */
+    sfit_vec3_t axis;        /**< (Zero when exact is false.) Unit eigenvector of the dropped (planar) or smallest
                                   (sphere) eigenvalue: the hinge axis / cap axis line;
                                   sign: largest-magnitude component positive. */
     float trust_ratio;       /**< rho(C^-1 Sigma_hat), C the measured sample covariance
-                                  (0 for GDKE); when exact is 0, an upper bound of it
+                                  (0 for GDKE); when exact is false, an upper bound of it
                                   (below 1/2: the screen passed only for a trusted fit). It is also the factor by which
                                   GDKE shrinks the centre offset along the weakest
                                   direction: GDKE's cap bias ~ trust_ratio * |c - m|. */
@@ -88,8 +90,8 @@ typedef struct sfit_result {
     uint32_t flags;          /**< Bit mask of ::sfit_flag. */
     sfit_method_t method;    /**< GDKE or UGDK. */
     sfit_mode_t mode;        /**< Solution used: SFIT_MODE_SPHERE or SFIT_MODE_PLANAR. */
-    int exact;               /**< 1: the full solver ran (eigenvalues, axis, exact trust
-                                  ratios); 0: the screened solve (same centre, radius,
+    bool exact;              /**< true: the full solver ran (eigenvalues, axis, exact trust
+                                  ratios); false: the screened solve (same centre, radius,
                                   status and flags; eigenvalues and axis zero, trust
                                   ratios are upper bounds). */
 } sfit_result_t;
@@ -101,7 +103,7 @@ typedef struct sfit_result {
  * @param[in]  cfg  Options; NULL = ::sfit_fit_cfg_default.
  * @param[out] out  Result; written only on SFIT_OK.
  * @retval SFIT_OK            success
- * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind, eigen not 0/1,
+ * @retval SFIT_E_ARG         NULL m/out, or an invalid option (mode, noise kind, eigen's byte not 0/1,
  *                            negative/non-finite variance, a covariance that is not
  *                            finite or fails the semi-definiteness checks)
  * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
@@ -117,7 +119,7 @@ typedef struct sfit_result {
  *                            solve cannot prove this fit (or cfg asks for
  *                            eigen, planar mode or a full covariance)
  * @par Cost  114 FLOPs (GDKE), 116 (UGDK, sigma^2 I) when the screen passes
- *            (cfg.eigen = 0); 337 / 350 with the full solver (tools/flopcount:
+ *            (cfg.eigen false); 337 / 350 with the full solver (tools/flopcount:
  *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
  *             double-precision fit of the same samples, for a spread >=

@@ -12,6 +12,7 @@
 #ifndef SFIT_GATE_H
 #define SFIT_GATE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "sfit_fit.h"
@@ -67,7 +68,7 @@ typedef struct sfit_gate {
 typedef struct sfit_gate_stats {
     uint32_t accepted; /**< Samples in the accumulator (or buffered). */
     uint32_t outliers; /**< Samples rejected as outliers. */
-    uint32_t gated;    /**< 1 once a fit gates the samples. */
+    bool gated;        /**< true once a fit gates the samples. */
     float noise_var;   /**< Current gate sigma^2 (0 before gating). */
 } sfit_gate_stats_t;
 
@@ -92,7 +93,7 @@ sfit_status_t sfit_gate_reset(sfit_gate_t *g);
  * @brief Offer one sample.
  * @param[in,out] g         Gate.
  * @param[in]     x         Sample.
- * @param[out]    accepted  If not NULL: 1 if the sample was kept (or buffered), 0 if
+ * @param[out]    accepted  If not NULL: true if the sample was kept (or buffered), false if
  *                          rejected as an outlier. Written only on SFIT_OK.
  * @retval SFIT_OK           the sample was judged (kept or counted as outlier)
  * @retval SFIT_E_ARG        NULL g or x, or a corrupted gate whose phase or buffer
@@ -104,7 +105,7 @@ sfit_status_t sfit_gate_reset(sfit_gate_t *g);
  * @retval SFIT_E_NONFINITE  NaN / Inf coordinate: g unchanged (bit for bit)
  * @retval SFIT_E_RANGE      coordinate out of range or counter full: g unchanged
  */
-sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, int *accepted);
+sfit_status_t sfit_gate_add(sfit_gate_t *g, const sfit_vec3_t *x, bool *accepted);
 
 /**
  * @brief Re-solve the running fit now (also ends a warm-up early when at least

@@ -240,8 +240,8 @@ sfit_status_t sfit_pair_reset(sfit_pair_t *s);
  * @retval SFIT_E_NONFINITE   a pose or rms entry is NaN or Inf
  * @retval SFIT_E_RANGE       a translation >= 2^SFIT_COORD_MAX_EXP, a rotation entry
  *                            beyond 1 + 1e-3 in magnitude, or the frame counter full
- * @par Cost 271.44 FLOPs, 1921.7 M4F instructions per frame, amortised over a block of
- * SFIT_SUM_BLOCK frames (tools/flopcount "pair_add"); stack 544 B.
+ * @par Cost 271.44 FLOPs per frame, amortised over a block of SFIT_SUM_BLOCK
+ * frames (tools/flopcount "pair_add"; instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
                             const sfit_cluster_fit_t *fit_p, const sfit_pose_t *pose_c,
@@ -261,8 +261,8 @@ sfit_status_t sfit_pair_add(sfit_pair_t *s, const sfit_pose_t *pose_p,
  * @retval any status of sfit_cluster_register() (for either cluster) or of
  *         sfit_pair_add(); SFIT_E_ARG also when a template's count differs from
  *         the one given to sfit_pair_init(). The state is unchanged on any error.
- * @par Cost 4 parent + 5 child markers: 2265.44 FLOPs, 9718.7 M4F instructions per
- * frame (tools/flopcount "pair_add_markers"); stack 848 B.
+ * @par Cost 4 parent + 5 child markers: 2265.44 FLOPs per frame (tools/flopcount
+ * "pair_add_markers"; instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent,
                                     const sfit_vec3_t *pm, size_t n_pm,
@@ -284,9 +284,9 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method (weighted): 7195 FLOPs, 43500 M4F instructions
- * (tools/flopcount "pair_solve"); plain SCoRE 3800 FLOPs, 25130 instructions
- * ("pair_solve_score"); stack 2604 B (-O2). Independent of the number of frames.
+ * @par Cost ball, default method (weighted): 7195 FLOPs (tools/flopcount
+ * "pair_solve"); plain SCoRE 3800 FLOPs ("pair_solve_score"); independent of the
+ * number of frames (instructions and stack: docs/cost.md).
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 

@@ -7,6 +7,7 @@
 #ifndef SFIT_TYPES_H
 #define SFIT_TYPES_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "sfit_config.h"
@@ -15,6 +16,14 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/*
+ * Yes/no: every yes/no of the API is a C99 bool. A bool the library reads
+ * from a caller's options or state is read as its byte (never loaded as a
+ * bool): a byte other than 0 or 1 (uninitialised RAM, a corrupted state) is
+ * refused with SFIT_E_ARG, like any other field out of range; bools the
+ * library writes are always 0 or 1.
+ */
 
 /** @brief A 3-vector of floats (assignable value type). */
 typedef struct sfit_vec3 {

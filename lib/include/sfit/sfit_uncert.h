@@ -29,7 +29,7 @@ typedef enum sfit_uncert_noise {
 
 /** @brief Uncertainty of a sphere fit. Written only on SFIT_OK; always finite. */
 typedef struct sfit_uncert {
-    float center_cov[6];        /**< Cov(c), packed XX, YY, ZZ, XY, XZ, YZ (unit^2). */
+    sfit_mat3_t center_cov;     /**< Cov(c) (unit^2), symmetric, row-major. */
     float radius_var;           /**< Var(r) (unit^2), first order. */
     float center_radius_cov[3]; /**< Cov(c, r) (unit^2), first order. */
     float noise_var;            /**< The sigma^2 used. */

@@ -33,19 +33,9 @@
 #include "sfit/sfit.h"
 #include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
 #include "pair_py.h" /* the pair of segments: pair_py.c */
-
-/* The joint-centre API (sfit_cluster.h, sfit_joint.h) is bound when the
- * library has it. */
-#if defined(__has_include)
-#if __has_include("sfit/sfit_joint.h")
+#include "cli_refine.h" /* the recipe's flat result as the CLI prints it: tools/sfit */
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
-#define SFIT_PY_HAVE_JOINT 1
-#endif
-#endif
-#ifndef SFIT_PY_HAVE_JOINT
-#define SFIT_PY_HAVE_JOINT 0
-#endif
 
 /* ------------------------------------------------------------------------ */
 /* Exceptions                                                               */
@@ -367,21 +357,6 @@ static PyObject *vec3_out(const float *v)
     return a;
 }
 
-/* Packed XX,YY,ZZ,XY,XZ,YZ -> symmetric 3x3 float64 array. */
-static PyObject *sym6_out(const float *p)
-{
-    npy_intp dim[2] = {3, 3};
-    PyObject *a = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
-    if (a != NULL) {
-        double *d = (double *)PyArray_DATA((PyArrayObject *)a);
-        d[0] = (double)p[0]; d[4] = (double)p[1]; d[8] = (double)p[2];
-        d[1] = d[3] = (double)p[3];
-        d[2] = d[6] = (double)p[4];
-        d[5] = d[7] = (double)p[5];
-    }
-    return a;
-}
-
 static PyObject *mat3_out(const sfit_mat3_t *m)
 {
     npy_intp dim[2] = {3, 3};
@@ -499,7 +474,7 @@ static int multi_into(PyObject *d, const sfit_multi_result_t *r)
 
 static int uncert_into(PyObject *d, const sfit_uncert_t *u)
 {
-    if (put(d, "center_cov", sym6_out(u->center_cov)) < 0
+    if (put(d, "center_cov", mat3_out(&u->center_cov)) < 0
         || put(d, "radius_var", flt(u->radius_var)) < 0
         || put(d, "center_radius_cov", vec3_out(u->center_radius_cov)) < 0
         || put(d, "uncert_noise_var", flt(u->noise_var)) < 0) {
@@ -603,7 +578,7 @@ static int cfg_get(PyObject *noise_var, PyObject *noise_cov, PyObject *mode, dou
                    sfit_fit_cfg_t *cfg)
 {
     *cfg = sfit_fit_cfg_default;
-    cfg->eigen = 1; /* fit() reports eigenvalues, axis and the exact trust ratio */
+    cfg->eigen = true; /* fit() reports eigenvalues, axis and the exact trust ratio */
     if (mode != NULL && mode_get(mode, &cfg->mode) < 0) {
         return -1;
     }
@@ -810,26 +785,22 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
             }
         }
         if (st == SFIT_OK && refine) {
-            /* the library's recipe (sfit_refine_fit): self-calibrated
-             * start, geometric fit, its sandwich covariance; the sphere is
-             * the geometric one, eigenvalues and trust those of the start */
-            sfit_refined_t rf;
+            /* the library's recipe (sfit_refine_fit), one call and one flat
+             * result, printed as the CLI prints it (cli_refine.h) */
+            sfit_refine_result_t rf;
             sfit_refined_cfg_t rc = sfit_refined_cfg_default;
             rc.selfcal.planar_ratio = cfg.planar_ratio;
             st = sfit_refine_fit(v, nv, &rc, &rf);
             if (st == SFIT_OK) {
-                r = rf.start.fit;
-                r.center = rf.geometric.center;
-                r.radius = rf.geometric.radius;
+                cli_refine_parts(&rf, &r, &u);
                 refined = 1;
                 has_noise = 1;
-                nvar = rf.geometric.noise_var;
+                nvar = rf.noise_var;
                 noise_est = 1;
-                iters = rf.geometric.iterations;
-                rms = rf.geometric.rms;
-                capped = (rf.start.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
+                iters = rf.iterations;
+                rms = rf.rms;
+                capped = (rf.flags & SFIT_SELFCAL_FLAG_CAPPED) != 0u;
                 has_u = 1;
-                u = rf.uncert;
             }
         } else if (st == SFIT_OK && has_noise && r.mode == SFIT_MODE_SPHERE) {
             /* self-calibrated: its own sandwich (as sfit fit --noise-var auto) */
@@ -1758,9 +1729,8 @@ static PyObject *py_status_name(PyObject *self, PyObject *arg)
 }
 
 /* ------------------------------------------------------------------------ */
-/* Joint centre: Cluster and Joint (when the library has sfit_joint.h)      */
+/* Joint centre: Cluster and Joint                                          */
 /* ------------------------------------------------------------------------ */
-#if SFIT_PY_HAVE_JOINT
 
 /* A frame-major (F, M, 3) float32 view (or (M, 3) as one frame). */
 typedef struct frames {
@@ -2331,8 +2301,6 @@ static PyTypeObject JointType = {
     .tp_getset = Joint_getset,
 };
 
-#endif /* SFIT_PY_HAVE_JOINT */
-
 /* ------------------------------------------------------------------------ */
 /* Module                                                                   */
 /* ------------------------------------------------------------------------ */
@@ -2421,7 +2389,6 @@ PyMODINIT_FUNC PyInit__sfit(void)
             return NULL;
         }
     }
-#if SFIT_PY_HAVE_JOINT
     if (g_cluster_shell == NULL) {
         g_cluster_shell = PyObject_CallNoArgs((PyObject *)&PyBaseObject_Type);
         if (g_cluster_shell == NULL) {
@@ -2437,7 +2404,6 @@ PyMODINIT_FUNC PyInit__sfit(void)
         Py_DECREF(m);
         return NULL;
     }
-#endif
     if (PyModule_AddObjectRef(m, "Moments", (PyObject *)&MomentsType) < 0
         || PyModule_AddObjectRef(m, "Incremental", (PyObject *)&IncrType) < 0
         || PyModule_AddIntConstant(m, "VERSION_MAJOR", SFIT_VERSION_MAJOR) < 0

@@ -63,9 +63,7 @@ def assert_single_extra(j, r):
     if j["center_cov"] is None:
         assert r.center_cov is None and r.radius_var is None
     else:
-        c = r.center_cov
-        packed = [c[0, 0], c[1, 1], c[2, 2], c[0, 1], c[0, 2], c[1, 2]]
-        assert np.array_equal(np.array(packed, dtype=np.float32),
+        assert np.array_equal(np.asarray(r.center_cov, dtype=np.float32),
                               np.array(j["center_cov"], dtype=np.float32))
         assert f32(r.radius_var) == f32(j["radius_var"])
 

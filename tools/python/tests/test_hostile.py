@@ -624,13 +624,15 @@ def build_cases():
         + [("before __init__", lambda: bare_i().update(P), "ok"),
            ("after failed add", lambda: _after_error(fresh_i(), lambda s: s.add("x"),
                                                       lambda s: s.update(P[0])), "ok")])
-    T["Incremental.estimate"] = [("fresh", lambda: fresh_i().estimate(), "ok"),
-                                 ("empty", lambda: sfit.Incremental().estimate(), sfit.TooFewError),
-                                 ("bare", lambda: bare_i().estimate(), sfit.TooFewError),
-                                 ("coincident", lambda: _est_after(np.ones((20, 3))), sfit.Error),
-                                 ("collinear", lambda: _est_after(
-                                     np.outer(np.arange(20.0), [1.0, 2.0, 3.0])), sfit.Error),
-                                 ("circle", lambda: _est_after(circle()), None)]
+    for meth in ("fit", "estimate"):  # estimate: the 0.2 name of fit
+        T["Incremental." + meth] = [
+            ("fresh", lambda meth=meth: getattr(fresh_i(), meth)(), "ok"),
+            ("empty", lambda meth=meth: getattr(sfit.Incremental(), meth)(), sfit.TooFewError),
+            ("bare", lambda meth=meth: getattr(bare_i(), meth)(), sfit.TooFewError),
+            ("coincident", lambda meth=meth: _est_after(np.ones((20, 3)), meth), sfit.Error),
+            ("collinear", lambda meth=meth: _est_after(
+                np.outer(np.arange(20.0), [1.0, 2.0, 3.0]), meth), sfit.Error),
+            ("circle", lambda meth=meth: _est_after(circle(), meth), None)]
     T["Incremental.track"] = (
         [(lab, fn, None if _ok_like(exp) or exp in (sfit.TooFewError, sfit.Error) else exp)
          for lab, fn, exp in points_cases(lambda x: sfit.Incremental().track(x))]
@@ -1077,10 +1079,10 @@ def _after_error(obj, bad, good):
     return good(obj)
 
 
-def _est_after(x):
+def _est_after(x, meth="fit"):
     s = sfit.Incremental()
     s.add(x)
-    return s.estimate()
+    return getattr(s, meth)()
 
 
 def _after_failed_joint_init(c):

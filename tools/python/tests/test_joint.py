@@ -8,8 +8,6 @@ import pytest
 import ref
 import sfit
 
-pytestmark = pytest.mark.skipif(not hasattr(sfit, "Joint"),
-                                reason="the C library has no sfit_joint.h yet")
 
 
 def rot(axis, angle):
