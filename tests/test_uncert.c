@@ -411,7 +411,7 @@ static double selfcal_mc(double theta_deg, double sr, int n, int trials, uint64_
                                      / ((double)sc.fit.radius * (double)sc.fit.radius))
                       * sqrt(96.0 / (double)((n > 14) ? n - 4 : 10));
         assert_true(f >= 1.0);
-        rep0 += trace6(u.center_cov) / f;
+        rep0 += trace3(&u.center_cov) / f;
     }
     q = mc_ratio(&a);
     q0 = q * rep0 / a.rep; /* the same MC trace, the unwidened sandwich */

@@ -813,7 +813,7 @@ static void prv_resid_cov(const prv_sys_t *y, const sfit_mat3_t *pm, const sfit_
         at.m[i] = y->abar.m[3 * (i % 3) + i / 3];
     }
     prv_sandwich(&at, pm, out);
-    prv_contract_left(y->tc, pm, &t);
+    prv_contract(y->tc, pm, 1, 3, &t);
     for (i = 0; i < 9; i++) {
         out->m[i] += t.m[i] / y->n + cm->m[i];
     }
@@ -891,7 +891,7 @@ static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c, floa
     }
     prv_symmetrise(&vw);
     /* Matrix: sum B V B^T and D_p^-1 of it; the N-terms. */
-    prv_contract_right(y->tc, &v, &m);
+    prv_contract(y->tc, &v, 3, 1, &m);
     prv_symmetrise(&m);
     prv_dinv_delta(&y->kp, &sgp, &m, &t1);
     for (i = 0; i < 9; i++) {
@@ -941,7 +941,7 @@ static SFIT_I_NOINLINE int prv_weighted(const sfit_pair_t *s, prv_ctx_t *c, floa
         }
         rv[i] = sum;
     }
-    prv_contract_right(y->tc, &v, &t1);
+    prv_contract(y->tc, &v, 3, 1, &t1);
     sfit_i_mat3_vec(&t1, s->cen_p.v, cp);
     sfit_i_mat3_vec(&vw, y->gbar, xc);
     for (i = 0; i < 3; i++) {
@@ -1077,7 +1077,7 @@ static void prv_gmat_weighted(const prv_sys_t *y, const sfit_mat3_t *w, const sf
     }
     prv_sandwich(w, &sig, &t);
     prv_symmetrise(&t);
-    prv_contract_right(y->tc, &t, out);
+    prv_contract(y->tc, &t, 3, 1, out);
     prv_symmetrise(out);
 }
 

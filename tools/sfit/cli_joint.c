@@ -344,7 +344,7 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
         const int untrusted = (out->res.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u;
         printf(",\"center_cov\":");
         if (out->mgdk_cov_ok) {
-            print_mat_json(&out->mgdk_cov);
+            cli_print_mat(&out->mgdk_cov);
         } else {
             printf("null");
         }
