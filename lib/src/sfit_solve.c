@@ -29,8 +29,9 @@ static int prv_psd(const float *c)
         dmax = (c[i] > dmax) ? c[i] : dmax;
     }
     s = 1.0f / dmax;
-    for (i = 0; i < 9; i++) {
-        a.m[i] = c[i] * s + ((i % 4 == 0) ? (SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f) : 0.0f);
+    for (i = 0; i < 9; i++) { /* the lower triangle (what the factor reads) */
+        a.m[i] = (i % 4 == 0) ? c[i] * s + (SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f)
+                              : ((i % 3 < i / 3) ? c[i] * s : 0.0f);
     }
     return sfit_mat3_chol(&a, &a) == SFIT_OK;
 }
