@@ -148,6 +148,9 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
 
+
+
+
 /**
  * @brief The screened sphere solve of C' = C - var I (sfit_lean.c) of n
  * samples: SFIT_OK with w, trace and an upper bound of the Leontief ratio
@@ -171,5 +174,41 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
  * full solver (SFIT_FULL_SOLVER 0) needs lambda_min (self-calibration's cap).
  */
 float sfit_i_lmin_lower(const sfit_mat3_t *c); /* defined when SFIT_FULL_SOLVER is 0 */
+
+/** @brief sfit_i_solve_fit(): solved by the screen (out->eigenvalues hold
+ * its bounds, see sfit_i_solve_lean()); SFIT_OK: by the full solver. */
+#define SFIT_I_SCREENED ((sfit_status_t)1)
+
+/**
+ * @brief The solver's entry point for the fit of n samples: it hides the
+ * screened / full choice and the build without the full solver. The
+ * screened solve (sfit_i_solve_lean) when cfg allows it (sphere, no or
+ * isotropic noise, cfg->eigen 0) and full is 0, and its bounds prove the
+ * answer: SFIT_I_SCREENED. Otherwise the full solver (sfit_i_solve) and
+ * its status (SFIT_OK: solved); without it (SFIT_FULL_SOLVER 0)
+ * SFIT_E_UNSUPPORTED. full 1 skips the screen (the caller could not prove
+ * the rounding flag clear on the screen's bounds). sys as sfit_i_solve()
+ * (sys->ms.c is destroyed by the full solver only). Inline: no frame of
+ * its own on sfit_fit_moments' deepest path (stack trick 6 above).
+ */
+SFIT_INLINE sfit_status_t sfit_i_solve_fit(sfit_i_system_t *sys, uint32_t n,
+                                           const sfit_fit_cfg_t *cfg, int full,
+                                           sfit_i_solution_t *out)
+{
+    if (!full && cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR
+        && cfg->noise != SFIT_NOISE_COV
+        && sfit_i_solve_lean(sys, n,
+                             (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
+                             out) == SFIT_OK) {
+        return SFIT_I_SCREENED;
+    }
+#if SFIT_FULL_SOLVER
+    return sfit_i_solve(sys, cfg->mode, cfg->planar_ratio, out);
+#else
+    (void)sys;
+    (void)out;
+    return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
+#endif
+}
 
 #endif /* SFIT_SOLVE_H */
