@@ -211,4 +211,41 @@ SFIT_INLINE sfit_status_t sfit_i_solve_fit(sfit_i_system_t *sys, uint32_t n,
 #endif
 }
 
+/** @brief 1 when this build's fit serves the noise model kind exactly (the
+ * full solver is built, or kind is not a full covariance); 0: the fit of
+ * a full covariance returns SFIT_E_UNSUPPORTED (SFIT_FULL_SOLVER 0). */
+SFIT_INLINE int sfit_i_solve_serves(sfit_noise_kind_t kind)
+{
+    return SFIT_FULL_SOLVER || kind != SFIT_NOISE_COV;
+}
+
+/** @brief 1 when this build's fit reports C's eigenvalues (cfg.eigen 1:
+ * the full solver is built); 0 when only the screen's bounds exist. */
+SFIT_INLINE int sfit_i_solve_has_eigen(void)
+{
+    return SFIT_FULL_SOLVER != 0;
+}
+
+/**
+ * @brief lambda_min(C) of an accumulator acc fitted with cfg.eigen =
+ * sfit_i_solve_has_eigen() (result fit): the full solver's eigenvalue
+ * (*exact 1), or without it the screen's lower bound from C
+ * (sfit_i_lmin_lower, *exact 0; 0 when it proves nothing).
+ */
+SFIT_INLINE float sfit_i_solve_lmin(const sfit_moments_t *acc, const sfit_result_t *fit,
+                                    int *exact)
+{
+#if SFIT_FULL_SOLVER
+    (void)acc;
+    *exact = 1;
+    return fit->eigenvalues.v[0];
+#else
+    sfit_mat3_t c;
+    (void)fit;
+    (void)sfit_moments_stats(acc, NULL, &c, NULL); /* fitted: N >= 2, finite */
+    *exact = 0;
+    return sfit_i_lmin_lower(&c);
+#endif
+}
+
 #endif /* SFIT_SOLVE_H */
