@@ -67,7 +67,8 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
 
     /* The solver's entry point chooses the screened or the full solve;
      * a second pass asks for the full solver when the screen's bounds
-     * cannot prove the rounding flag clear. */
+     * cannot prove the rounding flag clear (one call site: stack trick 6,
+     * sfit_solve.h). */
     for (exact = 0;;) {
         st = sfit_i_solve_fit(&sys, n, cfg, exact, &sol);
         if (st < 0) {
@@ -134,7 +135,7 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
 }
 
 /* The accumulator and the solve never share a frame (sfit_i_points_total
- * keeps the one, sfit_i_fit_totals the other), which bounds the stack. */
+ * keeps the one, sfit_i_fit_totals the other; stack trick 5, sfit_solve.h). */
 sfit_status_t sfit_fit_points(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                               sfit_result_t *out)
 {

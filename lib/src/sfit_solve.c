@@ -390,19 +390,20 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
                            sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
-     * its factor); C itself is kept packed. */
+     * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
     sfit_mat3_t *const cp = &sys->ms.c;
     const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
     sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
-     * prv_planar): no frame of their own. */
+     * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
     sfit_vec3_t *const lamp = &out->w;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     int i, pt;
     sfit_status_t st = SFIT_OK;
 
     /* The planar threshold waits in out->trace (set last by prv_sphere /
-     * prv_planar), stored before any call: no float register to keep. */
+     * prv_planar), stored before any call: no float register to keep
+     * (stack trick 3, sfit_solve.h). */
     out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
     memset(out, 0, offsetof(sfit_i_solution_t, trace));
     out->rho = 0.0f;

@@ -2,7 +2,37 @@
 /**
  * @file sfit_solve.h
  * @brief Internal solver layer: the sphere / circle system (C - Sigma) w = b
- * shared by the single- and multi-marker fits (sfit_solve.c).
+ * shared by the single- and multi-marker fits: the full solver
+ * (sfit_solve.c), the screened solve and the rounding test (sfit_lean.c),
+ * the fit's body (sfit_fit.c), the solver's entry point and what a build
+ * serves (inline, below).
+ *
+ * Stack-saving tricks (the one list; sites say "stack trick N"). The fit's
+ * deepest path, sfit_fit_moments -> sfit_i_fit_totals -> sfit_i_solve ->
+ * Jacobi / trust ratio, is budgeted at 320 B on Cortex-M4F at -Os
+ * (tools/flopcount/footprint_budget.txt); each trick below was measured
+ * against it (giving up trick 2 and 3, a local lamp and threshold, costs
+ * 24 B on that path: 336 B).
+ *  1. The system's C (sys->ms.c) is the full solver's working matrix: the
+ *     Jacobi, then C' and its Cholesky factor; C itself is kept packed
+ *     (6 floats) in sfit_i_solve().
+ *  2. sfit_i_solve(): out->w holds the eigenvalues of C' (lamp) or the
+ *     trust ratio's scratch until the solution's w is written last
+ *     (prv_sphere, prv_planar).
+ *  3. sfit_i_solve(): out->trace holds the planar threshold, stored before
+ *     any call (no float register kept across calls) until prv_sphere /
+ *     prv_planar set the trace.
+ *  4. sfit_i_solution_t.flags is one byte beside mode (8 B less frame).
+ *  5. The totals of an accumulator stay in the frame of
+ *     sfit_i_moments_system() (sfit_moments.c), and the accumulator of a
+ *     caller's array in that of sfit_i_points_total(): neither shares a
+ *     frame with the solve (sfit_fit_points, sfit_fit_moments).
+ *  6. sfit_i_solve_fit() is inline: no frame of its own on the path, and
+ *     sfit_i_fit_totals calls it once in its loop (a second inlined copy
+ *     costs 16 B of frame).
+ *  7. prv_cmom_merge (sfit_moments.c) is written out, not looped: fewer
+ *     live registers on sfit_moments_add's deepest path (a looped merge
+ *     and centring measured 116 B against its budget of 64 B).
  */
 #ifndef SFIT_SOLVE_H
 #define SFIT_SOLVE_H
@@ -37,8 +67,7 @@ typedef struct sfit_i_solution {
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
     uint8_t flags;           /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED (and the fit's
                                   FEW_SAMPLES, ROUNDING: every flag a solution carries is
-                                  below 0x100): one byte beside mode keeps the fit's frame
-                                  8 bytes smaller on Cortex-M */
+                                  below 0x100): one byte beside mode (stack trick 4) */
 } sfit_i_solution_t;
 
 /** Square of the merge constant of the rounding model below (0.5^2;
@@ -130,9 +159,10 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. sys->ms.c is used as working storage (destroyed).
- * Statuses as sfit_fit_moments(); out is scratch
- * (partly written) on failure.
+ * trust ratio included. sys->ms.c is used as working storage (destroyed;
+ * stack trick 1), out->w and out->trace too until written last (stack
+ * tricks 2, 3). Statuses as sfit_fit_moments(); out is scratch (partly
+ * written) on failure.
  */
 sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
@@ -188,8 +218,8 @@ float sfit_i_lmin_lower(const sfit_mat3_t *c); /* defined when SFIT_FULL_SOLVER 
  * its status (SFIT_OK: solved); without it (SFIT_FULL_SOLVER 0)
  * SFIT_E_UNSUPPORTED. full 1 skips the screen (the caller could not prove
  * the rounding flag clear on the screen's bounds). sys as sfit_i_solve()
- * (sys->ms.c is destroyed by the full solver only). Inline: no frame of
- * its own on sfit_fit_moments' deepest path (stack trick 6 above).
+ * (sys->ms.c is destroyed by the full solver only). Inline (stack
+ * trick 6).
  */
 SFIT_INLINE sfit_status_t sfit_i_solve_fit(sfit_i_system_t *sys, uint32_t n,
                                            const sfit_fit_cfg_t *cfg, int full,
