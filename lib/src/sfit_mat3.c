@@ -151,13 +151,14 @@ sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
     }
     /* Cyclic sweeps over the planes (0,1), (0,2), (1,2); converged when
      * every off-diagonal entry is zero at a sweep's start (or at the end). */
-    for (k = 0; k <= 3 * SFIT_JACOBI_MAX_SWEEPS; k++) {
-        if (k % 3 == 0 && A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
+    for (k = 0; k <= SFIT_JACOBI_MAX_SWEEPS; k++) {
+        int j;
+        if (A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
             converged = 1;
             break;
         }
-        if (k < 3 * SFIT_JACOBI_MAX_SWEEPS) {
-            prv_rotate(A, V, k % 3);
+        for (j = 0; j < 3 && k < SFIT_JACOBI_MAX_SWEEPS; j++) {
+            prv_rotate(A, V, j);
         }
     }
     /* Entries near FLT_MAX can overflow inside a rotation. */
