@@ -69,9 +69,10 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
      * a second pass asks for the full solver when the screen's bounds
      * cannot prove the rounding flag clear (one call site: stack trick 6,
      * sfit_solve.h). */
-    for (exact = 0;;) {
+    exact = 0;
+    for (;;) {
         st = sfit_i_solve_fit(&sys, n, cfg, exact, &sol);
-        if (st < 0) {
+        if (st != SFIT_OK && st != SFIT_I_SCREENED) {
             return st;
         }
         exact = (st == SFIT_OK); /* SFIT_I_SCREENED: the screen's answer */

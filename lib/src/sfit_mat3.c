@@ -99,7 +99,7 @@ static void prv_rot2(float *x, float *y, float c, float s)
  * NULL). */
 static void prv_rotate(float a[9], float v[9], int j)
 {
-    const int p = j >> 1, q = 1 + ((j + 1) >> 1), r = 3 - p - q; /* r: the third index */
+    const int p = j / 2, q = 1 + (j + 1) / 2, r = 3 - p - q; /* r: the third index */
     float *const apq = &a[3 * p + q], *const aqp = &a[3 * q + p];
     float *const app = &a[4 * p], *const aqq = &a[4 * q];
     const float g = 100.0f * SFIT_FABSF(*apq);
@@ -175,7 +175,7 @@ sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
     A[1] = A[4];
     A[2] = A[8];
     for (k = 0; k < 3; k++) {
-        const int i = k & 1;
+        const int i = k % 2;
         if (A[i] > A[i + 1]) {
             int m;
             for (m = (V != NULL) ? 0 : 9; m < 12; m += 3) { /* V's rows, then A's diagonal */

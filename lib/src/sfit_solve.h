@@ -229,7 +229,7 @@ SFIT_INLINE sfit_status_t sfit_i_solve_fit(sfit_i_system_t *sys, uint32_t n,
         && cfg->noise != SFIT_NOISE_COV
         && sfit_i_solve_lean(sys, n,
                              (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
-                             out) == SFIT_OK) {
+                             out) != SFIT_I_SCREEN_TRIPPED) {
         return SFIT_I_SCREENED;
     }
 #if SFIT_FULL_SOLVER
