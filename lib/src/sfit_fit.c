@@ -65,30 +65,17 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     }
     sys.scale = sfit_i_coincident_scale(origin, d);
 
-    /* The screened solve first (sphere, no or isotropic noise); the full
-     * solver when it trips, when asked for, or for planar / full-covariance,
-     * or when the screen's bounds cannot prove the rounding flag clear
-     * (second pass). */
-    st = SFIT_I_SCREEN_TRIPPED;
-    if (!cfg->eigen && cfg->mode != SFIT_MODE_PLANAR && cfg->noise != SFIT_NOISE_COV) {
-        st = sfit_i_solve_lean(&sys, n,
-                               (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
-                               &sol);
-    }
+    /* The solver's entry point chooses the screened or the full solve;
+     * a second pass asks for the full solver when the screen's bounds
+     * cannot prove the rounding flag clear (one call site: stack trick 6,
+     * sfit_solve.h). */
+    exact = 0;
     for (;;) {
-        exact = (st != SFIT_OK);
-#if SFIT_FULL_SOLVER
-        if (exact) {
-            st = sfit_i_solve(&sys, cfg->mode, cfg->planar_ratio, &sol);
-        }
-#else
-        if (exact) {
-            return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
-        }
-#endif
-        if (st != SFIT_OK) {
+        st = sfit_i_solve_fit(&sys, n, cfg, exact, &sol);
+        if (st != SFIT_OK && st != SFIT_I_SCREENED) {
             return st;
         }
+        exact = (st == SFIT_OK); /* SFIT_I_SCREENED: the screen's answer */
         /* r^2 = (N-1)/N tr C' (over the directions used) + |w|^2 (eq. 176/218). */
         r2 = ((float)(n - 1u) / (float)n) * sol.trace + sfit_i_dot3(sol.w.v, sol.w.v);
         if (!(r2 > 0.0f)) {
@@ -112,8 +99,8 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
             break;
         }
         /* The bounds cannot prove the flag clear: the full solver after all
-         * (sys is intact: the screen only reads it). */
-        st = SFIT_I_SCREEN_TRIPPED;
+         * (sys is intact: the screen only reads it; exact is 0 here). */
+        exact = 1;
     }
     if (!exact) {
         memset(&sol.eigenvalues, 0, sizeof sol.eigenvalues); /* the screen's bounds */
@@ -150,7 +137,7 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
 }
 
 /* The accumulator and the solve never share a frame (sfit_i_points_total
- * keeps the one, sfit_i_fit_totals the other), which bounds the stack. */
+ * keeps the one, sfit_i_fit_totals the other; stack trick 5, sfit_solve.h). */
 sfit_status_t sfit_fit_points(const sfit_vec3_t *pts, size_t n, const sfit_fit_cfg_t *cfg,
                               sfit_result_t *out)
 {

@@ -249,12 +249,11 @@ sfit_status_t sfit_incr_start(sfit_incr_t *s, const sfit_vec3_t *pts, size_t n,
     prv_cfg(s, &cfg);
     cfg.noise = SFIT_NOISE_NONE;
     st = sfit_fit_moments(&acc, &cfg, &batch);
-    /* The check with the noise model. Without the full solver
-     * sfit_fit_moments() serves no full covariance (SFIT_E_UNSUPPORTED,
-     * always): C' = C - Sigma is then checked by the LDL^T of
-     * sfit_incr_fit() below (SFIT_E_NOT_POSDEF). */
-    if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE
-        && (SFIT_FULL_SOLVER || s->noise == SFIT_NOISE_ISO)) {
+    /* The check with the noise model, where the build's fit serves it (a
+     * build without the full solver serves no full covariance): else
+     * C' = C - Sigma is checked by the LDL^T of sfit_incr_fit() below
+     * (SFIT_E_NOT_POSDEF). */
+    if (st == SFIT_OK && s->noise != SFIT_NOISE_NONE && sfit_i_solve_serves(s->noise)) {
         prv_cfg(s, &cfg);
         st = sfit_fit_moments(&acc, &cfg, &batch);
     }

@@ -86,76 +86,60 @@ sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, s
     return SFIT_OK;
 }
 
-/* One Jacobi rotation in the (p,q) plane zeroing a[p][q] (full row-major
- * working copy a, accumulated eigenvectors v). Returns 1 if it rotated. */
-static int prv_rotate(float a[9], float v[9], int p, int q)
+/* (x, y) := (c x - s y, s x + c y): a plane rotation of one pair. */
+static void prv_rot2(float *x, float *y, float c, float s)
 {
-    const float apq = a[3 * p + q];
-    const float app = a[3 * p + p];
-    const float aqq = a[3 * q + q];
-    const float g = 100.0f * SFIT_FABSF(apq);
-    float theta, t, c, s;
-    int r, k;
+    const float a = *x, b = *y;
+    *x = c * a - s * b;
+    *y = s * a + c * b;
+}
 
-    if (apq == 0.0f) {
-        return 0;
+/* One Jacobi rotation in plane j (0: (0,1), 1: (0,2), 2: (1,2)) zeroing
+ * a[p][q] (full row-major working copy a, accumulated eigenvectors v or
+ * NULL). */
+static void prv_rotate(float a[9], float v[9], int j)
+{
+    const int p = j / 2, q = 1 + (j + 1) / 2, r = 3 - p - q; /* r: the third index */
+    float *const apq = &a[3 * p + q], *const aqp = &a[3 * q + p];
+    float *const app = &a[4 * p], *const aqq = &a[4 * q];
+    const float g = 100.0f * SFIT_FABSF(*apq);
+    float theta, t, c, s;
+    int k;
+
+    if (*apq == 0.0f) {
+        return;
     }
     /* Negligible against both diagonal entries: drop it (keeps the small
      * eigenvalue accurate to its own relative precision). */
-    if (SFIT_FABSF(app) + g == SFIT_FABSF(app) && SFIT_FABSF(aqq) + g == SFIT_FABSF(aqq)) {
-        a[3 * p + q] = 0.0f;
-        a[3 * q + p] = 0.0f;
-        return 0;
-    }
-    theta = (aqq - app) / (2.0f * apq);
-    if (SFIT_FABSF(theta) > 1.0e18f) {
-        t = 0.5f / theta; /* theta^2 would overflow; t ~ 1/(2 theta) */
-    } else {
-        t = 1.0f / (SFIT_FABSF(theta) + SFIT_SQRTF(theta * theta + 1.0f));
-        if (theta < 0.0f) {
-            t = -t;
+    if (SFIT_FABSF(*app) + g != SFIT_FABSF(*app) || SFIT_FABSF(*aqq) + g != SFIT_FABSF(*aqq)) {
+        theta = (*aqq - *app) / (2.0f * *apq);
+        if (SFIT_FABSF(theta) > 1.0e18f) {
+            t = 0.5f / theta; /* theta^2 would overflow; t ~ 1/(2 theta) */
+        } else {
+            t = 1.0f / (SFIT_FABSF(theta) + SFIT_SQRTF(theta * theta + 1.0f));
+            if (theta < 0.0f) {
+                t = -t;
+            }
+        }
+        c = 1.0f / SFIT_SQRTF(t * t + 1.0f);
+        s = t * c;
+        theta = t * *apq; /* one product for both (the stores may alias) */
+        *app -= theta;
+        *aqq += theta;
+        prv_rot2(&a[3 * r + p], &a[3 * r + q], c, s);
+        a[3 * p + r] = a[3 * r + p];
+        a[3 * q + r] = a[3 * r + q];
+        for (k = 0; (v != NULL) && k < 9; k += 3) {
+            prv_rot2(&v[k + p], &v[k + q], c, s);
         }
     }
-    c = 1.0f / SFIT_SQRTF(t * t + 1.0f);
-    s = t * c;
-    a[3 * p + p] = app - t * apq;
-    a[3 * q + q] = aqq + t * apq;
-    a[3 * p + q] = 0.0f;
-    a[3 * q + p] = 0.0f;
-    r = 3 - p - q; /* the third index */
-    {
-        const float arp = a[3 * r + p];
-        const float arq = a[3 * r + q];
-        const float nrp = c * arp - s * arq;
-        const float nrq = s * arp + c * arq;
-        a[3 * r + p] = nrp; a[3 * p + r] = nrp;
-        a[3 * r + q] = nrq; a[3 * q + r] = nrq;
-    }
-    for (k = 0; (v != NULL) && k < 3; k++) {
-        const float vkp = v[3 * k + p];
-        const float vkq = v[3 * k + q];
-        v[3 * k + p] = c * vkp - s * vkq;
-        v[3 * k + q] = s * vkp + c * vkq;
-    }
-    return 1;
-}
-
-static void prv_swap_cols(float w[3], float v[9], int i, int j)
-{
-    float t = w[i];
-    int k;
-    w[i] = w[j];
-    w[j] = t;
-    for (k = 0; (v != NULL) && k < 3; k++) {
-        t = v[3 * k + i];
-        v[3 * k + i] = v[3 * k + j];
-        v[3 * k + j] = t;
-    }
+    *apq = 0.0f;
+    *aqp = 0.0f;
 }
 
 sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
 {
-    int sweep, k, converged = 0;
+    int k, converged = 0;
 
     for (k = 0; k < 9; k++) {
         if (!sfit_i_isfinite(A[k])) {
@@ -165,17 +149,17 @@ sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
             V[k] = (k % 4 == 0) ? 1.0f : 0.0f;
         }
     }
-    for (sweep = 0; sweep < SFIT_JACOBI_MAX_SWEEPS; sweep++) {
+    /* Cyclic sweeps over the planes (0,1), (0,2), (1,2); converged when
+     * every off-diagonal entry is zero at a sweep's start (or at the end). */
+    for (k = 0; k <= SFIT_JACOBI_MAX_SWEEPS; k++) {
+        int j;
         if (A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
             converged = 1;
             break;
         }
-        (void)prv_rotate(A, V, 0, 1);
-        (void)prv_rotate(A, V, 0, 2);
-        (void)prv_rotate(A, V, 1, 2);
-    }
-    if (!converged && A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
-        converged = 1;
+        for (j = 0; j < 3 && k < SFIT_JACOBI_MAX_SWEEPS; j++) {
+            prv_rotate(A, V, j);
+        }
     }
     /* Entries near FLT_MAX can overflow inside a rotation. */
     for (k = 0; k < 9; k++) {
@@ -186,12 +170,22 @@ sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
     if (!converged) {
         return SFIT_E_NO_CONVERGENCE;
     }
-    /* The diagonal, sorted ascending (3-element network) in place. */
+    /* The diagonal, sorted ascending (3-element network: pairs (0,1),
+     * (1,2), (0,1)) in place, with V's columns. */
     A[1] = A[4];
     A[2] = A[8];
-    if (A[0] > A[1]) { prv_swap_cols(A, V, 0, 1); }
-    if (A[1] > A[2]) { prv_swap_cols(A, V, 1, 2); }
-    if (A[0] > A[1]) { prv_swap_cols(A, V, 0, 1); }
+    for (k = 0; k < 3; k++) {
+        const int i = k % 2;
+        if (A[i] > A[i + 1]) {
+            int m;
+            for (m = (V != NULL) ? 0 : 9; m < 12; m += 3) { /* V's rows, then A's diagonal */
+                float *const x = (m < 9) ? &V[m + i] : &A[i];
+                const float tmp = x[0];
+                x[0] = x[1];
+                x[1] = tmp;
+            }
+        }
+    }
     w->v[0] = A[0]; w->v[1] = A[1]; w->v[2] = A[2];
     return SFIT_OK;
 }

@@ -117,7 +117,7 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
         w = na * fb; /* n_A n_B / n */
     }
     /* Written out (no loop): fewer registers live, a smaller frame on
-     * sfit_moments_add's deepest path. */
+     * sfit_moments_add's deepest path (stack trick 7, sfit_solve.h). */
     delta[0] = b->d[0] - a->d[0];
     delta[1] = b->d[1] - a->d[1];
     delta[2] = b->d[2] - a->d[2];

@@ -38,7 +38,8 @@ typedef struct sfit_i_msys {
  * @brief The fit system s of the totals tot and open block blk (raw sums of
  * an accumulator; NULL when there is none) of >= 2 samples (C and b as
  * sfit_i_cmom_system()); returns the sample count (the totals stay in this
- * function's frame, off the solver's stack path).
+ * function's frame, off the solver's stack path: stack trick 5,
+ * sfit_solve.h).
  */
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s);
 

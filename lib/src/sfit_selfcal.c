@@ -64,7 +64,7 @@ sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_s
     sfit_result_t fit;
     sfit_selfcal_result_t res;
     float var = 0.0f, cap, lmin;
-    int it;
+    int it, exact;
     sfit_status_t st;
 
     if (pts == NULL || out == NULL) {
@@ -72,8 +72,8 @@ sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_s
     }
     fc.mode = SFIT_MODE_SPHERE;
     /* The cap below needs lambda_min(C): the full solver's eigenvalues, or
-     * without it (SFIT_FULL_SOLVER 0) the screen's lower bound. */
-    fc.eigen = (SFIT_FULL_SOLVER != 0);
+     * without it the screen's lower bound (sfit_i_solve_lmin). */
+    fc.eigen = sfit_i_solve_has_eigen();
     fc.planar_ratio = (cfg != NULL) ? cfg->planar_ratio : 0.0f;
     if (sfit_i_check_cfg(&fc) != SFIT_OK) {
         return SFIT_E_ARG;
@@ -87,18 +87,10 @@ sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_s
     if (st != SFIT_OK) {
         return st;
     }
-#if SFIT_FULL_SOLVER
-    lmin = fit.eigenvalues.v[0];
-#else
-    {
-        sfit_mat3_t c;
-        (void)sfit_moments_stats(&acc, NULL, &c, NULL); /* fitted: N >= 2, finite */
-        lmin = sfit_i_lmin_lower(&c);
-        if (!(lmin > 0.0f)) {
-            return SFIT_E_UNSUPPORTED; /* the bound proves nothing: the full solver would decide */
-        }
+    lmin = sfit_i_solve_lmin(&acc, &fit, &exact);
+    if (!exact && !(lmin > 0.0f)) {
+        return SFIT_E_UNSUPPORTED; /* the bound proves nothing: the full solver would decide */
     }
-#endif
     if (!(lmin > 0.0f)) {
         /* Rounding left C without a positive smallest eigenvalue: no noise
          * level can be compensated (the cap below would be negative). */
@@ -114,14 +106,13 @@ sfit_status_t sfit_selfcal_points(const sfit_vec3_t *pts, size_t n, const sfit_s
             return st;
         }
         if (v >= cap) {
-#if SFIT_FULL_SOLVER
+            if (!exact) {
+                /* cap from a lower bound: whether the exact cap binds, and
+                 * where, only the full solver's eigenvalue can tell */
+                return SFIT_E_UNSUPPORTED;
+            }
             v = cap;
             res.flags |= (uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
-#else
-            /* cap from a lower bound: whether the exact cap binds, and where,
-             * only the full solver's eigenvalue can tell */
-            return SFIT_E_UNSUPPORTED;
-#endif
         } else {
             res.flags &= ~(uint32_t)SFIT_SELFCAL_FLAG_CAPPED;
         }

@@ -10,42 +10,30 @@
 #include <float.h>
 #include <string.h>
 
-/** Rounding allowance (in ulps of the scaled terms) of the PSD test. */
-#define SFIT_PSD_ULPS 16.0f
-
-/* Positive semi-definite test of the lower triangle of a finite 3x3 c: all
- * seven principal minors >= 0 (for semi-definiteness the leading ones are
- * not enough). Done on c scaled by its largest diagonal entry (no overflow
- * or underflow of the products), with a rounding tolerance of a few ulps of
- * the largest term so that an exactly singular matrix (v v^T) passes. */
+/* Positive semi-definite test of the lower triangle of a finite 3x3 c by
+ * the Cholesky factor that every fit links anyway: c / max(diag) plus a
+ * shift of 2^-16 above the factor's pivot threshold must factor. A
+ * semi-definite c (v v^T, every scale) then passes, with its rounding; an
+ * indefinite one whose smallest eigenvalue is below -(2^-16 +
+ * SFIT_CHOL_PIVOT_EPS) max(diag) is refused (a larger |off-diagonal| than
+ * max(diag) overflows or fails a pivot). */
 static int prv_psd(const float *c)
 {
-    float a0 = c[0], a1 = c[4], a2 = c[8], a3 = c[3], a4 = c[6], a5 = c[7];
-    float dmax = a0, s, det, tol;
-    if (!(a0 >= 0.0f && a1 >= 0.0f && a2 >= 0.0f)) {
-        return 0;
-    }
-    dmax = (a1 > dmax) ? a1 : dmax;
-    dmax = (a2 > dmax) ? a2 : dmax;
-    if (dmax == 0.0f) {
-        return a3 == 0.0f && a4 == 0.0f && a5 == 0.0f;
-    }
-    if (dmax < 1e-30f) { /* a subnormal-sized matrix: make 1 / dmax finite */
-        a0 *= 1e30f; a1 *= 1e30f; a2 *= 1e30f; a3 *= 1e30f; a4 *= 1e30f; a5 *= 1e30f;
-        dmax *= 1e30f;
+    sfit_mat3_t a;
+    float dmax = FLT_MIN, s;
+    int i;
+    for (i = 0; i < 9; i += 4) {
+        if (!(c[i] >= 0.0f)) {
+            return 0;
+        }
+        dmax = (c[i] > dmax) ? c[i] : dmax;
     }
     s = 1.0f / dmax;
-    a0 *= s; a1 *= s; a2 *= s; a3 *= s; a4 *= s; a5 *= s;
-    /* 2x2 minors: |a_ij|^2 <= a_ii a_jj (rounding allowed); also bounds every
-     * off-diagonal entry by 1, so the determinant cannot overflow. */
-    tol = 1.0f + SFIT_PSD_ULPS * FLT_EPSILON;
-    if (!(a3 * a3 <= tol * a0 * a1) || !(a4 * a4 <= tol * a0 * a2)
-        || !(a5 * a5 <= tol * a1 * a2)) {
-        return 0;
+    for (i = 0; i < 9; i++) { /* the lower triangle (what the factor reads) */
+        a.m[i] = (i % 4 == 0) ? c[i] * s + (SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f)
+                              : ((i % 3 < i / 3) ? c[i] * s : 0.0f);
     }
-    det = a0 * (a1 * a2 - a5 * a5) - a3 * (a3 * a2 - a5 * a4) + a4 * (a3 * a5 - a1 * a4);
-    /* Every term of det is at most a0 a1 a2 in size (2x2 minors hold). */
-    return det >= -(SFIT_PSD_ULPS * FLT_EPSILON) * (a0 * a1 * a2) - FLT_MIN;
+    return sfit_mat3_chol(&a, &a) == SFIT_OK;
 }
 
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov)
@@ -402,19 +390,20 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
                            sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
-     * its factor); C itself is kept packed. */
+     * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
     sfit_mat3_t *const cp = &sys->ms.c;
     const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
     sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
-     * prv_planar): no frame of their own. */
+     * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
     sfit_vec3_t *const lamp = &out->w;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     int i, pt;
     sfit_status_t st = SFIT_OK;
 
     /* The planar threshold waits in out->trace (set last by prv_sphere /
-     * prv_planar), stored before any call: no float register to keep. */
+     * prv_planar), stored before any call: no float register to keep
+     * (stack trick 3, sfit_solve.h). */
     out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
     memset(out, 0, offsetof(sfit_i_solution_t, trace));
     out->rho = 0.0f;

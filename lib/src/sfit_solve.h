@@ -2,7 +2,37 @@
 /**
  * @file sfit_solve.h
  * @brief Internal solver layer: the sphere / circle system (C - Sigma) w = b
- * shared by the single- and multi-marker fits (sfit_solve.c).
+ * shared by the single- and multi-marker fits: the full solver
+ * (sfit_solve.c), the screened solve and the rounding test (sfit_lean.c),
+ * the fit's body (sfit_fit.c), the solver's entry point and what a build
+ * serves (inline, below).
+ *
+ * Stack-saving tricks (the one list; sites say "stack trick N"). The fit's
+ * deepest path, sfit_fit_moments -> sfit_i_fit_totals -> sfit_i_solve ->
+ * Jacobi / trust ratio, is budgeted at 320 B on Cortex-M4F at -Os
+ * (tools/flopcount/footprint_budget.txt); each trick below was measured
+ * against it (giving up trick 2 and 3, a local lamp and threshold, costs
+ * 24 B on that path: 336 B).
+ *  1. The system's C (sys->ms.c) is the full solver's working matrix: the
+ *     Jacobi, then C' and its Cholesky factor; C itself is kept packed
+ *     (6 floats) in sfit_i_solve().
+ *  2. sfit_i_solve(): out->w holds the eigenvalues of C' (lamp) or the
+ *     trust ratio's scratch until the solution's w is written last
+ *     (prv_sphere, prv_planar).
+ *  3. sfit_i_solve(): out->trace holds the planar threshold, stored before
+ *     any call (no float register kept across calls) until prv_sphere /
+ *     prv_planar set the trace.
+ *  4. sfit_i_solution_t.flags is one byte beside mode (8 B less frame).
+ *  5. The totals of an accumulator stay in the frame of
+ *     sfit_i_moments_system() (sfit_moments.c), and the accumulator of a
+ *     caller's array in that of sfit_i_points_total(): neither shares a
+ *     frame with the solve (sfit_fit_points, sfit_fit_moments).
+ *  6. sfit_i_solve_fit() is inline: no frame of its own on the path, and
+ *     sfit_i_fit_totals calls it once in its loop (a second inlined copy
+ *     costs 16 B of frame).
+ *  7. prv_cmom_merge (sfit_moments.c) is written out, not looped: fewer
+ *     live registers on sfit_moments_add's deepest path (a looped merge
+ *     and centring measured 116 B against its budget of 64 B).
  */
 #ifndef SFIT_SOLVE_H
 #define SFIT_SOLVE_H
@@ -37,8 +67,7 @@ typedef struct sfit_i_solution {
     sfit_mode_t mode;        /**< SFIT_MODE_SPHERE or SFIT_MODE_PLANAR */
     uint8_t flags;           /**< SFIT_FLAG_NEAR_PLANAR, SFIT_FLAG_UNTRUSTED (and the fit's
                                   FEW_SAMPLES, ROUNDING: every flag a solution carries is
-                                  below 0x100): one byte beside mode keeps the fit's frame
-                                  8 bytes smaller on Cortex-M */
+                                  below 0x100): one byte beside mode (stack trick 4) */
 } sfit_i_solution_t;
 
 /** Square of the merge constant of the rounding model below (0.5^2;
@@ -130,9 +159,10 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. sys->ms.c is used as working storage (destroyed).
- * Statuses as sfit_fit_moments(); out is scratch
- * (partly written) on failure.
+ * trust ratio included. sys->ms.c is used as working storage (destroyed;
+ * stack trick 1), out->w and out->trace too until written last (stack
+ * tricks 2, 3). Statuses as sfit_fit_moments(); out is scratch (partly
+ * written) on failure.
  */
 sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                            sfit_i_solution_t *out);
@@ -147,6 +177,9 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
 
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
+
+
+
 
 /**
  * @brief The screened sphere solve of C' = C - var I (sfit_lean.c) of n
@@ -171,5 +204,78 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
  * full solver (SFIT_FULL_SOLVER 0) needs lambda_min (self-calibration's cap).
  */
 float sfit_i_lmin_lower(const sfit_mat3_t *c); /* defined when SFIT_FULL_SOLVER is 0 */
+
+/** @brief sfit_i_solve_fit(): solved by the screen (out->eigenvalues hold
+ * its bounds, see sfit_i_solve_lean()); SFIT_OK: by the full solver. */
+#define SFIT_I_SCREENED ((sfit_status_t)1)
+
+/**
+ * @brief The solver's entry point for the fit of n samples: it hides the
+ * screened / full choice and the build without the full solver. The
+ * screened solve (sfit_i_solve_lean) when cfg allows it (sphere, no or
+ * isotropic noise, cfg->eigen 0) and full is 0, and its bounds prove the
+ * answer: SFIT_I_SCREENED. Otherwise the full solver (sfit_i_solve) and
+ * its status (SFIT_OK: solved); without it (SFIT_FULL_SOLVER 0)
+ * SFIT_E_UNSUPPORTED. full 1 skips the screen (the caller could not prove
+ * the rounding flag clear on the screen's bounds). sys as sfit_i_solve()
+ * (sys->ms.c is destroyed by the full solver only). Inline (stack
+ * trick 6).
+ */
+SFIT_INLINE sfit_status_t sfit_i_solve_fit(sfit_i_system_t *sys, uint32_t n,
+                                           const sfit_fit_cfg_t *cfg, int full,
+                                           sfit_i_solution_t *out)
+{
+    if (!full && cfg->eigen == 0 && cfg->mode != SFIT_MODE_PLANAR
+        && cfg->noise != SFIT_NOISE_COV
+        && sfit_i_solve_lean(sys, n,
+                             (cfg->planar_ratio > 0.0f) ? cfg->planar_ratio : SFIT_PLANAR_RATIO,
+                             out) != SFIT_I_SCREEN_TRIPPED) {
+        return SFIT_I_SCREENED;
+    }
+#if SFIT_FULL_SOLVER
+    return sfit_i_solve(sys, cfg->mode, cfg->planar_ratio, out);
+#else
+    (void)sys;
+    (void)out;
+    return SFIT_E_UNSUPPORTED; /* the screen cannot prove the fit: no fallback built */
+#endif
+}
+
+/** @brief 1 when this build's fit serves the noise model kind exactly (the
+ * full solver is built, or kind is not a full covariance); 0: the fit of
+ * a full covariance returns SFIT_E_UNSUPPORTED (SFIT_FULL_SOLVER 0). */
+SFIT_INLINE int sfit_i_solve_serves(sfit_noise_kind_t kind)
+{
+    return SFIT_FULL_SOLVER || kind != SFIT_NOISE_COV;
+}
+
+/** @brief 1 when this build's fit reports C's eigenvalues (cfg.eigen 1:
+ * the full solver is built); 0 when only the screen's bounds exist. */
+SFIT_INLINE int sfit_i_solve_has_eigen(void)
+{
+    return SFIT_FULL_SOLVER != 0;
+}
+
+/**
+ * @brief lambda_min(C) of an accumulator acc fitted with cfg.eigen =
+ * sfit_i_solve_has_eigen() (result fit): the full solver's eigenvalue
+ * (*exact 1), or without it the screen's lower bound from C
+ * (sfit_i_lmin_lower, *exact 0; 0 when it proves nothing).
+ */
+SFIT_INLINE float sfit_i_solve_lmin(const sfit_moments_t *acc, const sfit_result_t *fit,
+                                    int *exact)
+{
+#if SFIT_FULL_SOLVER
+    (void)acc;
+    *exact = 1;
+    return fit->eigenvalues.v[0];
+#else
+    sfit_mat3_t c;
+    (void)fit;
+    (void)sfit_moments_stats(acc, NULL, &c, NULL); /* fitted: N >= 2, finite */
+    *exact = 0;
+    return sfit_i_lmin_lower(&c);
+#endif
+}
 
 #endif /* SFIT_SOLVE_H */
