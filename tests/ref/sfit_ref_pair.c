@@ -142,6 +142,38 @@ static void rp_jacobi(const double *a_in, int n, double *w, double *v)
     }
 }
 
+/* cov := the parent block of H^-1 M H^-1 (H, M 6x6; H^-1 column by
+ * column by Gaussian elimination). 1 when H is singular. */
+static int rp_sandwich6(const double h[36], const double mid[36], double cov[9])
+{
+    double hi[36];
+    int i, j, k;
+    for (k = 0; k < 6; k++) {
+        double hh[36], b[6] = {0, 0, 0, 0, 0, 0}, x[6];
+        memcpy(hh, h, sizeof hh);
+        b[k] = 1.0;
+        if (rp_gauss(hh, b, 6, x) != 0) {
+            return 1;
+        }
+        for (i = 0; i < 6; i++) {
+            hi[6 * i + k] = x[i];
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 3; j++) {
+            double s = 0.0;
+            int p, q;
+            for (p = 0; p < 6; p++) {
+                for (q = 0; q < 6; q++) {
+                    s += hi[6 * i + p] * mid[6 * p + q] * hi[6 * j + q];
+                }
+            }
+            cov[3 * i + j] = s;
+        }
+    }
+    return 0;
+}
+
 static int rp_inv3(const double a[9], double inv[9])
 {
     const double det = a[0] * (a[4] * a[8] - a[5] * a[7]) - a[1] * (a[3] * a[8] - a[5] * a[6])
@@ -418,9 +450,9 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                  const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp[3],
                  const double cc[3], double cov[9], double *cost, double *expect)
 {
-    double h[36], rhs[6], kp[9], kc[9], pm[9], cm[9], xp[3], xc[3], mid[36], hi[36];
+    double h[36], rhs[6], kp[9], kc[9], pm[9], cm[9], xp[3], xc[3], mid[36];
     size_t fi;
-    int i, j, k;
+    int i, j;
     rp_system(f, n, tp, tc, var_p, var_c, h, rhs, kp, kc);
     for (i = 0; i < 3; i++) {
         xp[i] = cp[i] - tp->cen[i];
@@ -479,31 +511,7 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
         *cost += eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2];
     }
     *expect = ((double)n - 2.0) * (pm[0] + pm[4] + pm[8] + cm[0] + cm[4] + cm[8]);
-    /* H^-1 column by column */
-    for (k = 0; k < 6; k++) {
-        double hh[36], b[6] = {0, 0, 0, 0, 0, 0}, x[6];
-        memcpy(hh, h, sizeof hh);
-        b[k] = 1.0;
-        if (rp_gauss(hh, b, 6, x) != 0) {
-            return 1;
-        }
-        for (i = 0; i < 6; i++) {
-            hi[6 * i + k] = x[i];
-        }
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            double s = 0.0;
-            int p, q;
-            for (p = 0; p < 6; p++) {
-                for (q = 0; q < 6; q++) {
-                    s += hi[6 * i + p] * mid[6 * p + q] * hi[6 * j + q];
-                }
-            }
-            cov[3 * i + j] = s;
-        }
-    }
-    return 0;
+    return rp_sandwich6(h, mid, cov);
 }
 
 /* ---------------------------------------------------------------------------
@@ -622,10 +630,10 @@ int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t
 {
     double pm[9], cm[9], xp[3], xc[3], sig[9], w[9], v[9], pinv[9], cinv[9], t[9];
     double sav[9] = {0}, sa[9] = {0}, sg[3] = {0}, savg[3] = {0}, h[36], rhs[6], x[6];
-    double mid[36], hi[36];
+    double mid[36];
     const double N = (double)n;
     size_t fi;
-    int i, j, k;
+    int i, j;
     for (i = 0; i < 3; i++) {
         xp[i] = cp0[i] - tp->cen[i];
         xc[i] = cc0[i] - tc->cen[i];
@@ -763,28 +771,5 @@ int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t
             }
         }
     }
-    for (k = 0; k < 6; k++) {
-        double hh[36], b[6] = {0, 0, 0, 0, 0, 0}, y[6];
-        memcpy(hh, h, sizeof hh);
-        b[k] = 1.0;
-        if (rp_gauss(hh, b, 6, y) != 0) {
-            return 1;
-        }
-        for (i = 0; i < 6; i++) {
-            hi[6 * i + k] = y[i];
-        }
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < 3; j++) {
-            double s = 0.0;
-            int p, q;
-            for (p = 0; p < 6; p++) {
-                for (q = 0; q < 6; q++) {
-                    s += hi[6 * i + p] * mid[6 * p + q] * hi[6 * j + q];
-                }
-            }
-            cov[3 * i + j] = s;
-        }
-    }
-    return 0;
+    return rp_sandwich6(h, mid, cov);
 }
