@@ -1284,6 +1284,22 @@ static void claims_cell(claims_t *k, const cell_t *c, int ci, int trials)
 
 /* ------------------------------------------------------------ tables */
 
+/* One table cell: mean / p95, coverage among unflagged, flagged fraction. */
+static void stat_cell(FILE *f, const stat_t *s)
+{
+    if (s->ok == 0) {
+        fprintf(f, " - |");
+        return;
+    }
+    fprintf(f, " %.3g / %.3g", s->mean, s->p95);
+    if (s->cov_n > 0) {
+        fprintf(f, " / %.0f %%", 100.0 * (double)s->cov_in / (double)s->cov_n);
+    } else {
+        fprintf(f, " / -");
+    }
+    fprintf(f, " / %.0f %% |", 100.0 * (double)s->flagged / (double)s->n);
+}
+
 static void table_ball(FILE *f, int sta)
 {
     int ci, e;
@@ -1304,17 +1320,7 @@ static void table_ball(FILE *f, int sta)
         fprintf(f, "| %s | %g | %g |", c->still ? "still" : "moving", c->rom, c->sigma);
         for (e = 0; e < E_COUNT; e++) {
             const stat_t *s = &g_st[ci][e];
-            if (s->ok == 0) {
-                fprintf(f, " - |");
-                continue;
-            }
-            fprintf(f, " %.3g / %.3g", s->mean, s->p95);
-            if (s->cov_n > 0) {
-                fprintf(f, " / %.0f %%", 100.0 * (double)s->cov_in / (double)s->cov_n);
-            } else {
-                fprintf(f, " / -");
-            }
-            fprintf(f, " / %.0f %% |", 100.0 * (double)s->flagged / (double)s->n);
+            stat_cell(f, s);
         }
         fprintf(f, "\n");
     }
@@ -1348,17 +1354,7 @@ static void table_hinge(FILE *f)
             if (e == E_MGDK_SIG || e == E_SCORE_GLS) {
                 continue;
             }
-            if (s->ok == 0) {
-                fprintf(f, " - |");
-                continue;
-            }
-            fprintf(f, " %.3g / %.3g", s->mean, s->p95);
-            if (s->cov_n > 0) {
-                fprintf(f, " / %.0f %%", 100.0 * (double)s->cov_in / (double)s->cov_n);
-            } else {
-                fprintf(f, " / -");
-            }
-            fprintf(f, " / %.0f %% |", 100.0 * (double)s->flagged / (double)s->n);
+            stat_cell(f, s);
         }
         fprintf(f, "\n");
     }
