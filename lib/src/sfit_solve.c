@@ -171,16 +171,15 @@ static float prv_sg(const sfit_i_system_t *sys, int i, int j)
 /* Column k of V as a vector, sign chosen so the largest component is > 0. */
 static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 {
-    int i, imax = 0;
-    float big = -1.0f, sgn;
+    int i;
+    float big = -1.0f, sgn = 1.0f;
     for (i = 0; i < 3; i++) {
-        const float a = SFIT_FABSF(v->m[3 * i + k]);
-        if (a > big) {
-            big = a;
-            imax = i;
+        const float a = v->m[3 * i + k];
+        if (SFIT_FABSF(a) > big) {
+            big = SFIT_FABSF(a);
+            sgn = (a < 0.0f) ? -1.0f : 1.0f;
         }
     }
-    sgn = (v->m[3 * imax + k] < 0.0f) ? -1.0f : 1.0f;
     for (i = 0; i < 3; i++) {
         ax->v[i] = sgn * v->m[3 * i + k];
     }
@@ -338,14 +337,45 @@ static sfit_status_t prv_sphere(sfit_i_system_t *sys, int have_p, sfit_mat3_t *v
     return SFIT_OK;
 }
 
+/* Trust on the kept plane of a planar solution (noisy systems): the
+ * largest eigenvalue of the 2x2 B_ij = v_i^T Sigma v_j / sqrt(lambda_i
+ * lambda_j) over the two largest eigen-directions of C' (lamp, v). Before
+ * prv_planar(), which writes w over lamp (stack trick 2); when lamp[1] is
+ * not positive prv_planar() refuses the system and rho is not read. */
+static void prv_planar_trust(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
+                             const sfit_mat3_t *v, sfit_i_solution_t *out)
+{
+    const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
+    float b00 = 0.0f, b01 = 0.0f, b11 = 0.0f, h;
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
+        for (j = 0; j < 3; j++) {
+            const float g = prv_sg(sys, i, j);
+            s1 += g * e[3 * j + 1];
+            s2 += g * e[3 * j + 2];
+        }
+        b00 += e[3 * i + 1] * s1;
+        b11 += e[3 * i + 2] * s2;
+        b01 += e[3 * i + 1] * s2;
+    }
+    b00 /= lamp->v[1];
+    b11 /= lamp->v[2];
+    b01 /= SFIT_SQRTF(lamp->v[1] * lamp->v[2]);
+    /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
+    h = 0.5f * (b00 - b11);
+    out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
+}
+
 /* Planar (eq. 217): pseudo-inverse over the two largest eigen-directions of
- * C' (lamp, v); the trust ratio over the kept plane. */
+ * C' (lamp, v); a noisy system's trust ratio comes first
+ * (prv_planar_trust). lamp may be out->w (written last, stack trick 2). */
 SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, const sfit_vec3_t *lamp,
                                 const sfit_mat3_t *v, sfit_i_solution_t *out)
 {
     const float *const e = v->m; /* v1 = column 1, v2 = column 2 */
     float k0 = 0.0f, k1 = 0.0f;
-    int i, j;
+    int i;
     if (!(lamp->v[1] > SFIT_CHOL_PIVOT_EPS * lamp->v[2])) {
         return sys->noisy ? SFIT_E_NOT_POSDEF : SFIT_E_DEGENERATE;
     }
@@ -356,29 +386,7 @@ SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, cons
     k0 /= lamp->v[1];
     k1 /= lamp->v[2];
     out->trace = lamp->v[1] + lamp->v[2];
-    if (sys->noisy) {
-        /* Trust on the kept plane: largest eigenvalue of the 2x2
-         * B_ij = v_i^T Sigma v_j / sqrt(lambda_i lambda_j). */
-        float b00 = 0.0f, b01 = 0.0f, b11 = 0.0f, h;
-        for (i = 0; i < 3; i++) {
-            float s1 = 0.0f, s2 = 0.0f; /* row i of Sigma v1, Sigma v2 */
-            for (j = 0; j < 3; j++) {
-                const float g = prv_sg(sys, i, j);
-                s1 += g * e[3 * j + 1];
-                s2 += g * e[3 * j + 2];
-            }
-            b00 += e[3 * i + 1] * s1;
-            b11 += e[3 * i + 2] * s2;
-            b01 += e[3 * i + 1] * s2;
-        }
-        b00 /= lamp->v[1];
-        b11 /= lamp->v[2];
-        b01 /= SFIT_SQRTF(lamp->v[1] * lamp->v[2]);
-        /* Spectral radius of the symmetric 2x2: |mean| + half-gap. */
-        h = 0.5f * (b00 - b11);
-        out->rho = 0.5f * SFIT_FABSF(b00 + b11) + SFIT_SQRTF(h * h + b01 * b01);
-    }
-    for (i = 0; i < 3; i++) { /* last: lamp is out->w (sfit_i_solve) */
+    for (i = 0; i < 3; i++) { /* last: lamp may be out->w */
         out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
     }
     prv_axis(v, 0, &out->axis);
@@ -386,8 +394,98 @@ SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, cons
     return SFIT_OK;
 }
 
-sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
-                           sfit_i_solution_t *out)
+/* The start of both solvers: out initialised (the planar threshold waits
+ * in out->trace, stored before any call: no float register to keep, stack
+ * trick 3) and C's storage mirrored into the full symmetric working matrix
+ * of the Jacobi (stack trick 1). */
+static void prv_init(sfit_i_system_t *sys, float planar_ratio, sfit_i_solution_t *out)
+{
+    sfit_mat3_t *const cp = &sys->ms.c;
+    out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
+    memset(out, 0, offsetof(sfit_i_solution_t, trace));
+    out->rho = 0.0f;
+    out->flags = 0u;
+    out->mode = SFIT_MODE_AUTO; /* set by the sphere or planar solve */
+    sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
+}
+
+/* After C's eigen-decomposition (status st: eigenvalues in out, vectors in
+ * v): the geometry checks on C's eigenvalues and the sphere's cap axis. */
+static sfit_status_t prv_geometry(sfit_status_t st, const sfit_i_system_t *sys,
+                                  const sfit_mat3_t *v, sfit_i_solution_t *out)
+{
+    const sfit_vec3_t *const lam = &out->eigenvalues;
+    if (st != SFIT_OK) {
+        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+    }
+    if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
+        || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
+        return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
+    }
+    if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
+        return SFIT_E_DEGENERATE; /* collinear */
+    }
+    prv_axis(v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
+    return SFIT_OK;
+}
+
+/* w and the trace of a solution finite (SFIT_OK), else SFIT_E_RANGE. */
+static sfit_status_t prv_finite(const sfit_i_solution_t *out)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        if (!sfit_i_isfinite(out->w.v[i])) {
+            return SFIT_E_RANGE;
+        }
+    }
+    return sfit_i_isfinite(out->trace) ? SFIT_OK : SFIT_E_RANGE;
+}
+
+/* The end of the noisy solver: UNTRUSTED from rho, every output finite. */
+static sfit_status_t prv_end(sfit_i_solution_t *out)
+{
+    if (out->rho >= 1.0f) {
+        out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
+    }
+    return sfit_i_isfinite(out->rho) ? prv_finite(out) : SFIT_E_RANGE;
+}
+
+sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                                 sfit_i_solution_t *out)
+{
+    sfit_mat3_t *const cp = &sys->ms.c;
+    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    const sfit_vec3_t *const lam = &out->eigenvalues;
+    sfit_mat3_t v;
+    sfit_status_t st;
+
+    prv_init(sys, planar_ratio, out);
+    st = prv_geometry(sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m), sys, &v, out);
+    if (st != SFIT_OK) {
+        return st;
+    }
+    if (lam->v[0] < out->trace * lam->v[2]) { /* out->trace: the threshold */
+        out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
+        mode = (mode == SFIT_MODE_AUTO) ? SFIT_MODE_PLANAR : mode;
+    }
+    if (mode == SFIT_MODE_PLANAR) {
+        st = prv_planar(sys, lam, &v, out);
+    } else { /* C' = C: its Cholesky factor and w = C^-1 b */
+        sfit_i_sym_unpack(c6, cp);
+        out->trace = cp->m[0] + cp->m[4] + cp->m[8];
+        if (sfit_mat3_chol(cp, cp) != SFIT_OK) {
+            return SFIT_E_DEGENERATE;
+        }
+        sfit_i_chol_solve(cp, sys->ms.rhs.v, out->w.v);
+        out->mode = SFIT_MODE_SPHERE;
+    }
+    return (st == SFIT_OK) ? prv_finite(out) : st;
+}
+
+/* The solve of a system with a noise model (SFIT_NOISE_ISO, _COV); not
+ * inlined, so that sfit_i_solve() is a dispatch without a frame. */
+SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                                     sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
      * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
@@ -397,32 +495,14 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
      * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
     sfit_vec3_t *const lamp = &out->w;
-    const sfit_vec3_t *const lam = &out->eigenvalues;
-    int i, pt;
-    sfit_status_t st = SFIT_OK;
+    int pt;
+    sfit_status_t st;
 
-    /* The planar threshold waits in out->trace (set last by prv_sphere /
-     * prv_planar), stored before any call: no float register to keep
-     * (stack trick 3, sfit_solve.h). */
-    out->trace = (planar_ratio > 0.0f) ? planar_ratio : SFIT_PLANAR_RATIO;
-    memset(out, 0, offsetof(sfit_i_solution_t, trace));
-    out->rho = 0.0f;
-    out->flags = 0u;
-    out->mode = SFIT_MODE_AUTO; /* set by prv_sphere / prv_planar */
-    sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
-    st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
+    prv_init(sys, planar_ratio, out);
+    st = prv_geometry(sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m), sys, &v, out);
     if (st != SFIT_OK) {
-        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+        return st;
     }
-    /* Geometry checks on the eigenvalues of C. */
-    if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
-        || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
-        return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
-    }
-    if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
-        return SFIT_E_DEGENERATE; /* collinear */
-    }
-    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
     prv_cprime(c6, sys, cp);
     pt = prv_planar_test(sys, &v, out);
     if (pt < 0) {
@@ -435,28 +515,24 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         if (!PRV_IS_P(pt)) {
             st = prv_eig_cprime(cp, lamp, &v);
         }
-        st = (st == SFIT_OK) ? prv_planar(sys, lamp, &v, out) : st;
+        if (st == SFIT_OK) {
+            prv_planar_trust(sys, lamp, &v, out);
+            st = prv_planar(sys, lamp, &v, out);
+        }
     } else {
-        if (PRV_IS_P(pt) && !(sys->noisy == 0 || prv_sigma_iso(sys))) {
+        if (PRV_IS_P(pt) && !prv_sigma_iso(sys)) {
             prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
         }
         st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }
-    if (st != SFIT_OK) {
-        return st;
-    }
-    if (out->rho >= 1.0f) {
-        out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
-    }
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(out->w.v[i])) {
-            return SFIT_E_RANGE;
-        }
-    }
-    if (!sfit_i_isfinite(out->rho) || !sfit_i_isfinite(out->trace)) {
-        return SFIT_E_RANGE;
-    }
-    return SFIT_OK;
+    return (st == SFIT_OK) ? prv_end(out) : st;
+}
+
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                           sfit_i_solution_t *out)
+{
+    return (sys->noisy == (int)SFIT_NOISE_NONE) ? sfit_i_solve_plain(sys, mode, planar_ratio, out)
+                                                : prv_solve_noisy(sys, mode, planar_ratio, out);
 }
 
 float sfit_i_coincident_scale(const float origin[3], const float d[3])

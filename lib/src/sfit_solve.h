@@ -168,6 +168,17 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
                            sfit_i_solution_t *out);
 
 /**
+ * @brief sfit_i_solve() of a system without a noise model (sys->noisy
+ * SFIT_NOISE_NONE: sfit_i_solve() delegates to it): C's Jacobi
+ * eigen-decomposition, the geometry checks, then the sphere (Cholesky of C)
+ * or the planar pseudo-inverse. Links neither the noise models nor the
+ * screen: the whole solver of sfit_fit_moments_default(). Arguments and
+ * statuses as sfit_i_solve().
+ */
+sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                                 sfit_i_solution_t *out);
+
+/**
  * @brief The fit of the samples of an accumulator m (pt NULL) or of a total
  * pt (m not read): the body of sfit_fit_moments() and sfit_fit_points(),
  * with their statuses after the argument checks (cfg NULL: the defaults).

@@ -21,7 +21,7 @@ int main(void)
         x.v[i % 3u] += 0.5f;
         (void)sfit_moments_add(&m, &x);
     }
-    if (sfit_fit_moments(&m, NULL, &r) == SFIT_OK) {
+    if (sfit_fit_moments_default(&m, &r) == SFIT_OK) {
         g_minapp_out[0] = r.center.v[0];
         g_minapp_out[1] = r.center.v[1];
         g_minapp_out[2] = r.center.v[2];

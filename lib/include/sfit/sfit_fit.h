@@ -134,6 +134,31 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
                              sfit_result_t *out);
 
 /**
+ * @brief The fit with the default options (::sfit_fit_cfg_default) by the
+ * full solver alone, for the smallest firmware: it links neither the screen
+ * nor the noise models (an accumulator and this fit: about 3.9 KB of code
+ * at -Os on Cortex-M4F, against about 6 KB for sfit_fit_moments();
+ * docs/firmware.md#footprint). The result is that of
+ * sfit_fit_moments(m, &cfg, out) with cfg the defaults and cfg.eigen true,
+ * bit for bit: the same centre, radius, status and flags as
+ * sfit_fit_moments(m, NULL, out), with exact always true (eigenvalues and
+ * axis filled).
+ * @param[in]  m    Accumulator (not modified).
+ * @param[out] out  Result; written only on SFIT_OK.
+ * @retval SFIT_OK            success
+ * @retval SFIT_E_ARG         NULL m or out
+ * @retval SFIT_E_TOO_FEW     fewer than SFIT_MIN_SAMPLES samples
+ * @retval SFIT_E_DEGENERATE  coincident or collinear samples, a spread below
+ *                            SFIT_MIN_SPREAD, or a singular sphere system
+ * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
+ * @retval SFIT_E_RANGE       the result would not be finite
+ * @par Cost  337 FLOPs (tools/flopcount: solve_default); in a build with
+ *            SFIT_FULL_SOLVER 0 too (it is the full solver).
+ * @par Range  As sfit_fit_moments().
+ */
+sfit_status_t sfit_fit_moments_default(const sfit_moments_t *m, sfit_result_t *out);
+
+/**
  * @brief Fit a caller-owned array of samples (accumulates, then solves).
  * @param[in]  pts  Array of n samples.
  * @param[in]  n    Sample count.
