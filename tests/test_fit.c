@@ -9,6 +9,7 @@
 #include "test_cmocka.h"
 
 #include <float.h>
+#include <math.h>
 #include <string.h>
 
 #include "sfit_ref.h"
@@ -699,6 +700,126 @@ static void test_mode_threshold(void **state)
     assert_true((r.flags & SFIT_FLAG_NEAR_PLANAR) != 0u);
 }
 
+
+/* --------------------------------------------- sfit_fit_moments_default */
+
+/* The default fit by the plain solver (issue 30's minimal application):
+ * bit for bit the fit with cfg.eigen true, and the same centre, radius,
+ * status and flags as sfit_fit_moments(m, NULL): on random caps and arcs
+ * (N 4-400, noise 0-5 % r, centres up to 3000 mm, radii 1-1000 mm) and on
+ * degenerate sets; against the double reference on a cap and an arc. */
+static void test_default_fit(void **state)
+{
+    sfit_fit_cfg_t eig = sfit_fit_cfg_default;
+    sfit_moments_t m;
+    sfit_result_t rd, re, rn;
+    tu_rng_t g;
+    unsigned planar = 0u, rounding = 0u, few = 0u, screened = 0u, refused = 0u, ok = 0u;
+    int k;
+    (void)state;
+    eig.eigen = true;
+    tu_rng_seed(&g, 1300);
+    /* Arguments and too few samples: a specific status, out untouched. */
+    assert_int_equal(sfit_moments_init(&m), SFIT_OK);
+    memset(&rd, 0x5a, sizeof rd);
+    rn = rd;
+    assert_int_equal(sfit_fit_moments_default(NULL, &rd), SFIT_E_ARG);
+    assert_int_equal(sfit_fit_moments_default(&m, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_fit_moments_default(&m, &rd), SFIT_E_TOO_FEW);
+    assert_memory_equal(&rd, &rn, sizeof rd);
+    for (k = 0; k < 4000; k++) {
+        const double rad = pow(10.0, 3.0 * tu_rng_uniform(&g));
+        const double theta = (1.0 + 179.0 * tu_rng_uniform(&g)) * TU_PI / 180.0;
+        const double sigma = (k % 3 == 0) ? 0.0 : 0.05 * rad * tu_rng_uniform(&g);
+        const size_t n = 4u + (size_t)(396.0 * tu_rng_uniform(&g) * tu_rng_uniform(&g));
+        const int kind = k % 5; /* 0-2 cap, 3 arc, 4 degenerate */
+        double c[3], ax[3], ref[3] = {1.0, 0.0, 0.0};
+        sfit_status_t sd, se, sn;
+        size_t i;
+        for (i = 0; i < 3; i++) {
+            c[i] = 3000.0 * (2.0 * tu_rng_uniform(&g) - 1.0);
+            ax[i] = tu_rng_gauss(&g);
+        }
+        {
+            const double l = tu_norm3(ax);
+            for (i = 0; i < 3; i++) {
+                ax[i] /= l;
+            }
+        }
+        ref[0] = -ax[1]; /* a direction normal to ax */
+        ref[1] = ax[0];
+        ref[2] = 0.0;
+        {
+            const double l = tu_norm3(ref);
+            for (i = 0; i < 3; i++) {
+                ref[i] = (l > 1e-6) ? ref[i] / l : (i == 2 ? 1.0 : 0.0);
+            }
+        }
+        (void)sfit_moments_init(&m);
+        for (i = 0; i < n; i++) {
+            double p[3];
+            sfit_vec3_t x;
+            if (kind <= 2) {
+                tu_sample_cap(&g, c, rad, ax, theta, sigma, p);
+            } else if (kind == 3) {
+                tu_sample_arc(&g, c, rad, ax, ref, theta, sigma, p);
+            } else { /* on a line (k % 2) or one point, with a little noise on some */
+                const double t = (k % 2) ? rad * tu_rng_uniform(&g) : 0.0;
+                int a;
+                for (a = 0; a < 3; a++) {
+                    p[a] = c[a] + t * ax[a] + ((k % 4 == 1) ? 1e-9 * rad * tu_rng_gauss(&g) : 0.0);
+                }
+            }
+            tc_to_vec3(p, &x);
+            assert_int_equal(sfit_moments_add(&m, &x), SFIT_OK);
+        }
+        memset(&rd, 0, sizeof rd);
+        memset(&re, 0, sizeof re);
+        memset(&rn, 0, sizeof rn);
+        sd = sfit_fit_moments_default(&m, &rd);
+        se = sfit_fit_moments(&m, &eig, &re);
+        sn = sfit_fit_moments(&m, NULL, &rn);
+        assert_int_equal(sd, se);
+        assert_int_equal(sd, sn);
+        if (sd != SFIT_OK) {
+            refused++;
+            continue;
+        }
+        ok++;
+        assert_memory_equal(&rd, &re, sizeof rd); /* bit for bit */
+        assert_true(rd.exact);
+        assert_memory_equal(&rd.center, &rn.center, sizeof rd.center);
+        assert_memory_equal(&rd.radius, &rn.radius, sizeof rd.radius);
+        assert_int_equal(rd.flags, rn.flags);
+        assert_int_equal(rd.mode, rn.mode);
+        assert_int_equal(rd.n, rn.n);
+        assert_int_equal(rd.method, rn.method);
+        planar += (rd.mode == SFIT_MODE_PLANAR);
+        rounding += ((rd.flags & SFIT_FLAG_ROUNDING) != 0u);
+        few += ((rd.flags & SFIT_FLAG_FEW_SAMPLES) != 0u);
+        screened += !rn.exact;
+    }
+    print_message("default fit: %u OK (planar %u, rounding %u, few %u; screened by "
+                  "sfit_fit_moments %u), %u refused\n",
+                  ok, planar, rounding, few, screened, refused);
+    /* Every path of the comparison was taken. */
+    assert_true(planar >= 100u && rounding >= 20u && few >= 20u && screened >= 500u);
+    assert_true(refused >= 200u);
+    /* Against the double reference (independent of the float solvers). */
+    {
+        ref_fit_t rf;
+        make_cap(&g, 500, 100.0, 40.0 * TU_PI / 180.0, 0.2);
+        (void)sfit_moments_init(&m);
+        assert_int_equal(sfit_moments_add_block(&m, g_fpts, 500, NULL), SFIT_OK);
+        assert_int_equal(sfit_fit_moments_default(&m, &rd), SFIT_OK);
+        assert_int_equal(ref_fit_sphere(REF_C3(g_pts), 500, NULL, &rf), 0);
+        assert_true(tc_dist(&rd.center, rf.center) <= 1e-4 * 100.0);
+        assert_near(rd.radius, rf.radius, 1e-4 * 100.0, "default cap radius");
+        assert_vec3_near(rd.axis.v, rf.axis, 1e-3, "default cap axis");
+        assert_near(rd.eigenvalues.v[0], rf.eig[0], 1e-4 * rf.eig[2], "default cap eig");
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -716,6 +837,7 @@ int main(void)
         cmocka_unit_test(test_real_knee_is_planar),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_mode_threshold),
+        cmocka_unit_test(test_default_fit),
     };
     return cmocka_run_group_tests_name("fit", tests, NULL, NULL);
 }

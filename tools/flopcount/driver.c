@@ -419,6 +419,13 @@ static void fc_solve_gdke_eigen(void)
     fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_gdke_eig, &fc_res));
 }
 
+/* The default fit by the plain solver alone (the minimal application's). */
+static void fc_solve_default(void)
+{
+    fc_keep(sfit_fit_moments_default(&fc_mom_cap, &fc_res));
+    fc_keep(fc_res.exact ? SFIT_OK : SFIT_E_RANGE);
+}
+
 static void fc_solve_ugdk_eigen(void)
 {
     fc_keep(sfit_fit_moments(&fc_mom_cap, &fc_cfg_ugdk_eig, &fc_res));
@@ -874,6 +881,7 @@ static const fc_op_t fc_ops[] = {
     {"solve_ugdk", "sfit_fit_moments", NULL, fc_solve_ugdk, NULL, NULL, 1u},
     {"solve_gdke_eigen", "sfit_fit_moments", NULL, fc_solve_gdke_eigen, NULL, NULL, 1u},
     {"solve_ugdk_eigen", "sfit_fit_moments", NULL, fc_solve_ugdk_eigen, NULL, NULL, 1u},
+    {"solve_default", "sfit_fit_moments_default", NULL, fc_solve_default, NULL, NULL, 1u},
     {"chol_factor", "sfit_mat3_chol", NULL, fc_chol, NULL, NULL, 1u},
     {"chol_solve", "sfit_mat3_chol", NULL, fc_chol_and_subst, NULL, NULL, 1u},
     {"jacobi_eig", "sfit_mat3_eig_sym", NULL, fc_eig, NULL, NULL, 1u},

@@ -63,21 +63,24 @@ END {
 grep -v '^staticdata' "$tmp/code.txt"
 
 # ---- minimal application -----------------------------------------------------
-# minimal_app.c (moments + the default fit) linked with --gc-sections against
+# minimal_app.c (moments + the default fit, sfit_fit_moments_default) linked
+# with --gc-sections against
 # the -Os and -O2 objects: the .text/.rodata input sections taken from the
 # library (link map); SFIT_MINAPP_DETAIL=1 lists them on stderr
 # ("section NAME OPT SECTION BYTES"). Reported as the pseudo-module minimal_app (budget lines
 # code_os/code_o2 minimal_app); not part of code_total. -lm: a core without
 # an FPU takes sqrtf from libm (not counted: only libsfit's sections are).
-# minimal_app_lean: the same application against the library built without
-# the full solver's fallback (libsfit_fp_lean_*, -DSFIT_FULL_SOLVER=0).
+# minimal_app_screened: the application with sfit_fit_moments(m, NULL, ...)
+# instead (-DSFIT_MINAPP_SCREENED: the screen and its full-solver fallback);
+# minimal_app_lean: that one against the library built without the
+# fallback (libsfit_fp_lean_*, -DSFIT_FULL_SOLVER=0).
 srcroot=$(cd "$here/../.." && pwd)
-minapp() { # minapp NAME LIBPREFIX -> "code NAME OS O2"
+minapp() { # minapp NAME LIBPREFIX [CFLAGS] -> "code NAME OS O2"
     for opt in Os O2; do
         if [ -f "$m4f/lib$2_$opt.a" ] &&
             "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
                 -I"$srcroot/lib/include" -I"$srcroot/port" -I"$srcroot/port/cortex-m4f" \
-                -c "$here/minimal_app.c" -o "$tmp/$1_$opt.o" &&
+                ${3:-} -c "$here/minimal_app.c" -o "$tmp/$1_$opt.o" &&
             "$gcc" $arch --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections \
                 -Wl,-Map="$tmp/$1_$opt.map" "$tmp/$1_$opt.o" "$m4f/lib$2_$opt.a" \
                 -lm -o "$tmp/$1_$opt.elf" >/dev/null 2>&1; then
@@ -95,7 +98,11 @@ minapp() { # minapp NAME LIBPREFIX -> "code NAME OS O2"
         fi
     done | tr '\n' ' ' | awk -v name="$1" '{ printf "code %s %d %d\n", name, $1, $2 }'
 }
-{ minapp minimal_app sfit_fp; minapp minimal_app_lean sfit_fp_lean; } >"$tmp/minapp.txt"
+{
+    minapp minimal_app sfit_fp
+    minapp minimal_app_screened sfit_fp -DSFIT_MINAPP_SCREENED
+    minapp minimal_app_lean sfit_fp_lean -DSFIT_MINAPP_SCREENED
+} >"$tmp/minapp.txt"
 cat "$tmp/minapp.txt"
 if grep -q -- '-1' "$tmp/minapp.txt"; then
     echo "check minimal_app FAIL the minimal application did not link"
