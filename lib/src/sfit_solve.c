@@ -171,15 +171,16 @@ static float prv_sg(const sfit_i_system_t *sys, int i, int j)
 /* Column k of V as a vector, sign chosen so the largest component is > 0. */
 static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
 {
-    int i;
-    float big = -1.0f, sgn = 1.0f;
+    int i, imax = 0;
+    float big = -1.0f, sgn;
     for (i = 0; i < 3; i++) {
-        const float a = v->m[3 * i + k];
-        if (SFIT_FABSF(a) > big) {
-            big = SFIT_FABSF(a);
-            sgn = (a < 0.0f) ? -1.0f : 1.0f;
+        const float a = SFIT_FABSF(v->m[3 * i + k]);
+        if (a > big) {
+            big = a;
+            imax = i;
         }
     }
+    sgn = (v->m[3 * imax + k] < 0.0f) ? -1.0f : 1.0f;
     for (i = 0; i < 3; i++) {
         ax->v[i] = sgn * v->m[3 * i + k];
     }

@@ -136,9 +136,9 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
 /**
  * @brief The fit with the default options (::sfit_fit_cfg_default) by the
  * full solver alone, for the smallest firmware: it links neither the screen
- * nor the noise models (an accumulator and this fit: about 3.9 KB of code
- * at -Os on Cortex-M4F, against about 6 KB for sfit_fit_moments();
- * docs/firmware.md#footprint). The result is that of
+ * nor the noise models (an accumulator and this fit: 4066 B of sfit code
+ * at -Os on Cortex-M4F, against 6418 B with sfit_fit_moments(); docs/cost.md,
+ * tools/flopcount/footprint.sh records minimal_app and minimal_app_screened). The result is that of
  * sfit_fit_moments(m, &cfg, out) with cfg the defaults and cfg.eigen true,
  * bit for bit: the same centre, radius, status and flags as
  * sfit_fit_moments(m, NULL, out), with exact always true (eigenvalues and
@@ -152,8 +152,9 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
  *                            SFIT_MIN_SPREAD, or a singular sphere system
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost  337 FLOPs (tools/flopcount: solve_default); in a build with
- *            SFIT_FULL_SOLVER 0 too (it is the full solver).
+ * @par Cost  336 FLOPs (tools/flopcount: solve_default), the full solver's
+ *            path; also in a build with SFIT_FULL_SOLVER 0 (it is the plain
+ *            solver, not the screen's fallback).
  * @par Range  As sfit_fit_moments().
  */
 sfit_status_t sfit_fit_moments_default(const sfit_moments_t *m, sfit_result_t *out);
