@@ -410,15 +410,10 @@ static void prv_init(sfit_i_system_t *sys, float planar_ratio, sfit_i_solution_t
     sfit_i_sym_full(cp, cp->m); /* in place: the lower triangle mirrored */
 }
 
-/* After C's eigen-decomposition (status st: eigenvalues in out, vectors in
- * v): the geometry checks on C's eigenvalues and the sphere's cap axis. */
-static sfit_status_t prv_geometry(sfit_status_t st, const sfit_i_system_t *sys,
-                                  const sfit_mat3_t *v, sfit_i_solution_t *out)
+/* The geometry checks on C's eigenvalues (in out). */
+static sfit_status_t prv_geometry(const sfit_i_system_t *sys, const sfit_i_solution_t *out)
 {
     const sfit_vec3_t *const lam = &out->eigenvalues;
-    if (st != SFIT_OK) {
-        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
-    }
     if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
         || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
         return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
@@ -426,7 +421,6 @@ static sfit_status_t prv_geometry(sfit_status_t st, const sfit_i_system_t *sys,
     if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
         return SFIT_E_DEGENERATE; /* collinear */
     }
-    prv_axis(v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
     return SFIT_OK;
 }
 
@@ -461,10 +455,15 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
     sfit_status_t st;
 
     prv_init(sys, planar_ratio, out);
-    st = prv_geometry(sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m), sys, &v, out);
+    st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
+    if (st != SFIT_OK) {
+        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+    }
+    st = prv_geometry(sys, out);
     if (st != SFIT_OK) {
         return st;
     }
+    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
     if (lam->v[0] < out->trace * lam->v[2]) { /* out->trace: the threshold */
         out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
         mode = (mode == SFIT_MODE_AUTO) ? SFIT_MODE_PLANAR : mode;
@@ -500,10 +499,15 @@ SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_
     sfit_status_t st;
 
     prv_init(sys, planar_ratio, out);
-    st = prv_geometry(sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m), sys, &v, out);
+    st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
+    if (st != SFIT_OK) {
+        return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
+    }
+    st = prv_geometry(sys, out);
     if (st != SFIT_OK) {
         return st;
     }
+    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
     prv_cprime(c6, sys, cp);
     pt = prv_planar_test(sys, &v, out);
     if (pt < 0) {

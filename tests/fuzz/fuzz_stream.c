@@ -174,6 +174,20 @@ static void fz_solve(const sfit_moments_t *m, uint64_t count, const sfit_fit_cfg
             FZ_CHECK(r.exact == 1 || r.leontief_ratio >= re.leontief_ratio,
                      "screened solve: trust bound below the exact ratio");
         }
+        if (cfg_or_null == NULL) {
+            /* sfit_fit_moments_default: the full solve with the defaults
+             * (ce: eigen true) bit for bit, the accumulator unchanged. */
+            sfit_result_t rd;
+            sfit_status_t sd;
+            memset(&rd, FZ_SENTINEL, sizeof rd);
+            sd = sfit_fit_moments_default(m, &rd);
+            FZ_CHECK_OUT(sd, rd, "sfit_fit_moments_default");
+            FZ_CHECK(sd == se, "default fit and full solve: different status");
+            FZ_CHECK(sd != SFIT_OK || memcmp(&rd, &re, sizeof rd) == 0,
+                     "default fit and full solve: different result");
+            FZ_CHECK(memcmp(&before, m, sizeof before) == 0,
+                     "sfit_fit_moments_default modified its input");
+        }
     }
 }
 
@@ -227,6 +241,8 @@ static void fz_nulls(fz_state_t *s)
     FZ_CHECK(sfit_moments_stats(NULL, &v, &c, &v) == SFIT_E_ARG, "stats(NULL)");
     FZ_CHECK(sfit_fit_moments(NULL, NULL, &r) == SFIT_E_ARG, "solve(NULL m)");
     FZ_CHECK(sfit_fit_moments(&s->acc[0], NULL, NULL) == SFIT_E_ARG, "solve(NULL out)");
+    FZ_CHECK(sfit_fit_moments_default(NULL, &r) == SFIT_E_ARG, "default fit(NULL m)");
+    FZ_CHECK(sfit_fit_moments_default(&s->acc[0], NULL) == SFIT_E_ARG, "default fit(NULL out)");
     FZ_CHECK(sfit_fit_points(NULL, 5u, NULL, &r) == SFIT_E_ARG, "batch(NULL pts)");
     FZ_CHECK(sfit_fit_points(s->ring, 1u, NULL, NULL) == SFIT_E_ARG, "batch(NULL out)");
     FZ_CHECK(sfit_multi_fit(NULL, 1u, NULL, &mr, NULL) == SFIT_E_ARG, "multi(NULL markers)");

@@ -131,6 +131,8 @@ static inline void fz_g_read_moments(fz_in_t *in, const sfit_moments_t *m, uint8
         fz_cfg_decode(in, &cfg, 0);
         memset(&r, FZ_SENTINEL, sizeof r);
         fz_g_check_result(sfit_fit_moments(m, (op % 6u == 1u) ? NULL : &cfg, &r), &r);
+        memset(&r, FZ_SENTINEL, sizeof r);
+        fz_g_check_result(sfit_fit_moments_default(m, &r), &r);
         break;
     }
     case 3: {

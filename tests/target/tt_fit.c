@@ -71,6 +71,14 @@ void tt_fit(void)
         TT_TRUE(memcmp(&res, &res2, sizeof res) == 0);
     }
 
+    tt_case("fit.default_equals_eigen");
+    /* sfit_fit_moments_default (the plain solver alone): the fit with
+     * cfg.eigen true bit for bit (res, above, on the same accumulator). */
+    if (TT_EQ_INT(sfit_fit_moments_default(&m, &res2), SFIT_OK)) {
+        TT_TRUE(memcmp(&res, &res2, sizeof res) == 0);
+    }
+    TT_EQ_INT(sfit_fit_moments_default(NULL, &res2), SFIT_E_ARG);
+
     tt_case("fit.screened_equals_full");
     /* The default (screened) solve on the same cap: the sphere of the full
      * solver bit for bit, the same flags, a trust bound >= the exact ratio. */

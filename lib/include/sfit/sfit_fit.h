@@ -136,8 +136,8 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
 /**
  * @brief The fit with the default options (::sfit_fit_cfg_default) by the
  * full solver alone, for the smallest firmware: it links neither the screen
- * nor the noise models (an accumulator and this fit: 4066 B of sfit code
- * at -Os on Cortex-M4F, against 6418 B with sfit_fit_moments(); docs/cost.md,
+ * nor the noise models (an accumulator and this fit: 4034 B of sfit code
+ * at -Os on Cortex-M4F, against 6470 B with sfit_fit_moments(); docs/cost.md,
  * tools/flopcount/footprint.sh records minimal_app and minimal_app_screened). The result is that of
  * sfit_fit_moments(m, &cfg, out) with cfg the defaults and cfg.eigen true,
  * bit for bit: the same centre, radius, status and flags as
