@@ -484,8 +484,8 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
 
 /* The solve of a system with a noise model (SFIT_NOISE_ISO, _COV); not
  * inlined, so that sfit_i_solve() is a dispatch without a frame. */
-SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
-                                     sfit_i_solution_t *out)
+SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_mode_t mode,
+                                                     float planar_ratio, sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
      * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */

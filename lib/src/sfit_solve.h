@@ -15,13 +15,13 @@
  * 24 B on that path: 336 B).
  *  1. The system's C (sys->ms.c) is the full solver's working matrix: the
  *     Jacobi, then C' and its Cholesky factor; C itself is kept packed
- *     (6 floats) in sfit_i_solve().
+ *     (6 floats) in sfit_i_solve_plain() and the noisy solve.
  *  2. sfit_i_solve(): out->w holds the eigenvalues of C' (lamp) or the
  *     trust ratio's scratch until the solution's w is written last
  *     (prv_sphere, prv_planar).
- *  3. sfit_i_solve(): out->trace holds the planar threshold, stored before
- *     any call (no float register kept across calls) until prv_sphere /
- *     prv_planar set the trace.
+ *  3. sfit_i_solve() and sfit_i_solve_plain(): out->trace holds the planar
+ *     threshold, stored before any call (no float register kept across
+ *     calls) until the sphere or planar solve sets the trace.
  *  4. sfit_i_solution_t.flags is one byte beside mode (8 B less frame).
  *  5. The totals of an accumulator stay in the frame of
  *     sfit_i_moments_system() (sfit_moments.c), and the accumulator of a
@@ -159,7 +159,8 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. sys->ms.c is used as working storage (destroyed;
+ * trust ratio included. A system without a noise model goes to
+ * sfit_i_solve_plain() (a dispatch without a frame of its own). sys->ms.c is used as working storage (destroyed;
  * stack trick 1), out->w and out->trace too until written last (stack
  * tricks 2, 3). Statuses as sfit_fit_moments(); out is scratch (partly
  * written) on failure.
