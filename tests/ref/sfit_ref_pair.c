@@ -142,6 +142,24 @@ static void rp_jacobi(const double *a_in, int n, double *w, double *v)
     }
 }
 
+/* mid += J E J^T (J 6x3, E 3x3, mid 6x6; row-major): one frame's term of
+ * a sandwich's middle. */
+static void rp_add_jej(const double jm[18], const double e[9], double mid[36])
+{
+    int i, j, p, q;
+    for (i = 0; i < 6; i++) {
+        for (j = 0; j < 6; j++) {
+            double s = 0.0;
+            for (p = 0; p < 3; p++) {
+                for (q = 0; q < 3; q++) {
+                    s += jm[3 * i + p] * e[3 * p + q] * jm[3 * j + q];
+                }
+            }
+            mid[6 * i + j] += s;
+        }
+    }
+}
+
 /* cov := the parent block of H^-1 M H^-1 (H, M 6x6; H^-1 column by
  * column by Gaussian elimination). 1 when H is singular. */
 static int rp_sandwich6(const double h[36], const double mid[36], double cov[9])
@@ -485,18 +503,7 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                 jm[3 * (3 + i) + j] = -a[3 * j + i];
             }
         }
-        for (i = 0; i < 6; i++) {
-            for (j = 0; j < 6; j++) {
-                double s = 0.0;
-                int p, q;
-                for (p = 0; p < 3; p++) {
-                    for (q = 0; q < 3; q++) {
-                        s += jm[3 * i + p] * e[3 * p + q] * jm[3 * j + q];
-                    }
-                }
-                mid[6 * i + j] += s;
-            }
-        }
+        rp_add_jej(jm, e, mid);
         /* eps at (cp, cc), original coordinates */
         (void)cgp;
         (void)cgc;
@@ -758,18 +765,7 @@ int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t
                 jw[3 * (3 + i) + j] = -w[3 * i + j];
             }
         }
-        for (i = 0; i < 6; i++) {
-            for (j = 0; j < 6; j++) {
-                double s = 0.0;
-                int p, q;
-                for (p = 0; p < 3; p++) {
-                    for (q = 0; q < 3; q++) {
-                        s += jw[3 * i + p] * e[3 * p + q] * jw[3 * j + q];
-                    }
-                }
-                mid[6 * i + j] += s;
-            }
-        }
+        rp_add_jej(jw, e, mid);
     }
     return rp_sandwich6(h, mid, cov);
 }
