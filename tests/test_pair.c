@@ -201,6 +201,17 @@ static void init_pair(sfit_pair_t *s, sfit_pair_method_t method, sfit_pair_mode_
     assert_int_equal(sfit_pair_init(s, &g_pcl, &g_ccl, &cfg), SFIT_OK);
 }
 
+/* One ball trial (10 deg range of motion, moving parent, noise sigma) from
+ * seed into a pair initialised with method and mode: two methods given the
+ * same seed see the same frames. */
+static void ball_trial(sfit_pair_t *s, tu_rng_t *g, uint64_t seed, sfit_pair_method_t method,
+                       sfit_pair_mode_t mode, double sigma)
+{
+    tu_rng_seed(g, seed);
+    init_pair(s, method, mode);
+    run_trial(s, g, 0, 10.0, 0.0, sigma, 0);
+}
+
 static double dist3(const sfit_vec3_t *a, const double b[3])
 {
     return tc_dist(a, b);
@@ -411,12 +422,8 @@ static void test_mc_bias_and_coverage(void **state)
     for (t = 0; t < MC_TRIALS; t++) {
         sfit_pair_result_t rd, rs;
         double e[3], es[3];
-        tu_rng_seed(&g, 1000u + (uint64_t)t);
-        init_pair(&sd, SFIT_PAIR_METHOD_DEFAULT, SFIT_PAIR_MODE_AUTO);
-        run_trial(&sd, &g, 0, 10.0, 0.0, 1.0, 0);
-        tu_rng_seed(&g, 1000u + (uint64_t)t);
-        init_pair(&ss, SFIT_PAIR_METHOD_SCORE, SFIT_PAIR_MODE_AUTO);
-        run_trial(&ss, &g, 0, 10.0, 0.0, 1.0, 0);
+        ball_trial(&sd, &g, 1000u + (uint64_t)t, SFIT_PAIR_METHOD_DEFAULT, SFIT_PAIR_MODE_AUTO, 1.0);
+        ball_trial(&ss, &g, 1000u + (uint64_t)t, SFIT_PAIR_METHOD_SCORE, SFIT_PAIR_MODE_AUTO, 1.0);
         assert_int_equal(sfit_pair_solve(&sd, &rd), SFIT_OK);
         assert_int_equal(sfit_pair_solve(&ss, &rs), SFIT_OK);
         assert_int_equal(rd.mode, SFIT_PAIR_MODE_BALL);
@@ -488,12 +495,9 @@ static void test_mc_weighted_gain(void **state)
     for (t = 0; t < MC_W_TRIALS; t++) {
         sfit_pair_result_t rw, ru;
         double e[3], f[3], d;
-        tu_rng_seed(&g, 5000u + (uint64_t)t);
-        init_pair(&sw, SFIT_PAIR_METHOD_DEFAULT, SFIT_PAIR_MODE_BALL);
-        run_trial(&sw, &g, 0, 10.0, 0.0, 0.5, 0);
-        tu_rng_seed(&g, 5000u + (uint64_t)t);
-        init_pair(&su, SFIT_PAIR_METHOD_UNWEIGHTED, SFIT_PAIR_MODE_BALL);
-        run_trial(&su, &g, 0, 10.0, 0.0, 0.5, 0);
+        ball_trial(&sw, &g, 5000u + (uint64_t)t, SFIT_PAIR_METHOD_DEFAULT, SFIT_PAIR_MODE_BALL, 0.5);
+        ball_trial(&su, &g, 5000u + (uint64_t)t, SFIT_PAIR_METHOD_UNWEIGHTED, SFIT_PAIR_MODE_BALL,
+                   0.5);
         assert_int_equal(sfit_pair_solve(&sw, &rw), SFIT_OK);
         assert_int_equal(sfit_pair_solve(&su, &ru), SFIT_OK);
         assert_int_equal(rw.method, SFIT_PAIR_METHOD_DEFAULT);

@@ -775,6 +775,16 @@ _PAIR_ERRORS = {-1: ArgError, -2: TooFewError, -3: NotPosDefError, -4: NoConverg
                 -5: DegenerateError, -6: NonFiniteError, -7: RangeError}
 
 
+def _cluster_of(template, frames):
+    """A segment's template: template itself (a Cluster), a Cluster of its
+    points, or (None) Cluster.from_frames(frames)."""
+    if template is None:
+        return Cluster.from_frames(frames)
+    if isinstance(template, _sfit.Cluster):
+        return template
+    return Cluster(template)
+
+
 def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noise_var,
                  label_swaps=None, zero_missing=0):
     """joint_center with the pair of segments (sfit_pair.h via _sfit._pair_solve)."""
@@ -783,12 +793,7 @@ def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noi
     if child_arr.shape[1] < 3:
         raise _arg_error("joint_center: method %r needs 3 child markers (a cluster); "
                          "use method='mgdk'" % method)
-    if child_template is None:
-        ccl = Cluster.from_frames(child_arr)
-    elif isinstance(child_template, _sfit.Cluster):
-        ccl = child_template
-    else:
-        ccl = Cluster(child_template)
+    ccl = _cluster_of(child_template, child_arr)
     if marker_noise_var is None or (isinstance(marker_noise_var, str)
                                     and marker_noise_var == "auto"):
         noise, var = 0, 0.0
@@ -906,12 +911,7 @@ def joint_center(parent, child, template=None, noise_var=None, noise_cov=None, m
     parent, swaps_p = _label_swaps(parent, repair_swaps)
     child, swaps_c = _label_swaps(child, repair_swaps)
     label_swaps = {"repair": bool(repair_swaps), "parent": swaps_p, "child": swaps_c}
-    if template is None:
-        cl = Cluster.from_frames(parent)
-    elif isinstance(template, _sfit.Cluster):
-        cl = template
-    else:
-        cl = Cluster(template)
+    cl = _cluster_of(template, parent)
     try:
         child_arr = _np.asarray(child)
     except (TypeError, ValueError):
