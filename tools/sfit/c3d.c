@@ -215,12 +215,36 @@ typedef struct bad_link {
     int how; /* 1 other byte order, 2 the entry's own length */
 } bad_link_t;
 
-/* Walk the whole parameter section once, bounded by its declared size. */
-static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c, char *err)
+/* The name of the group of a parameter entry ("?" when not read). */
+static const char *group_name(const c3d_t *c, const c3d_entry_t *e)
+{
+    int j;
+    for (j = 0; j < c->nentries; j++) {
+        if (c->entries[j].is_group && c->entries[j].group == e->group) {
+            return c->entries[j].name;
+        }
+    }
+    return "?";
+}
+
+/* How the walk ended where a link leads nowhere (no recovery). */
+typedef struct walk_end {
+    int ended;            /* the walk stopped at a link it could not follow */
+    char name[C3D_NAME_MAX + C3D_NAME_MAX]; /* GROUP:NAME of the entry */
+    unsigned long at, to; /* byte of the link word, byte it points to */
+    size_t reach;         /* the end of the last entry read */
+} walk_end_t;
+
+/* Walk the whole parameter section once, bounded by `bound` (its declared
+ * size, or the data section's start when the entries run past that size).
+ * A link that leads nowhere, where neither the other byte order nor the
+ * entry's own length gives a next entry, ends the walk (`end`). */
+static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c,
+                       walk_end_t *end, char *err)
 {
     size_t off = start + 4u, cap = 0;
     bad_link_t bad[C3D_WARNINGS_MAX];
-    int nbad = 0, k, i;
+    int nbad = 0, k, i, stop = 0;
     for (k = 0; k < C3D_MAX_ENTRIES; k++) {
         c3d_entry_t e;
         int nl;
@@ -273,14 +297,16 @@ static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c,
                 b.used = (unsigned)(nat + 2u);
                 b.how = 2;
             } else {
-                return fail(err,
-                            "parameter section: the link after entry %s (byte %lu) points to byte "
-                            "%lu, outside the section's %lu bytes, and neither the other byte order "
-                            "nor the entry's length gives a next entry",
-                            e.name, (unsigned long)after, (unsigned long)next_off,
-                            (unsigned long)(bound - start));
+                /* the walk ends here: this entry is kept at its own length */
+                end->ended = 1;
+                end->at = (unsigned long)after;
+                end->to = (unsigned long)next_off;
+                (void)snprintf(end->name, sizeof end->name, "%s", e.name);
+                stop = 1;
+                b.used = 0u;
+                b.how = 0;
             }
-            if (nbad < C3D_WARNINGS_MAX) {
+            if (!stop && nbad < C3D_WARNINGS_MAX) {
                 bad[nbad++] = b;
             }
             link = b.used;
@@ -300,6 +326,9 @@ static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c,
             cap = ncap;
         }
         c->entries[c->nentries++] = e;
+        if (e.end > end->reach) {
+            end->reach = e.end;
+        }
         if (link == 0u) {
             break; /* last entry */
         }
@@ -308,16 +337,17 @@ static int walk_params(const c3d_in_t *in, size_t start, size_t bound, c3d_t *c,
     if (k == C3D_MAX_ENTRIES) {
         return fail(err, "parameter section: more than %d entries", C3D_MAX_ENTRIES);
     }
+    if (end->ended) {
+        const c3d_entry_t *e = &c->entries[c->nentries - 1];
+        const char *g = group_name(c, e);
+        char nm[sizeof end->name];
+        (void)snprintf(nm, sizeof nm, "%s%s%s", e->is_group ? "group " : g,
+                       e->is_group ? "" : ":", e->name);
+        (void)snprintf(end->name, sizeof end->name, "%s", nm);
+    }
     for (i = 0; i < nbad; i++) {
         const c3d_entry_t *e = &c->entries[bad[i].entry];
-        const char *g = "?";
-        int j;
-        for (j = 0; j < c->nentries; j++) {
-            if (c->entries[j].is_group && c->entries[j].group == e->group) {
-                g = c->entries[j].name;
-                break;
-            }
-        }
+        const char *g = group_name(c, e);
         warn(c,
              "parameter section: the link after %s%s%s (byte %lu) reads %u, outside the section; "
              "read as %u (%s)",
@@ -510,6 +540,23 @@ int c3d_sniff(const unsigned char *buf, size_t len)
     return len >= 2u && buf[1] == 0x50u && buf[0] >= 2u;
 }
 
+/* Frames lo .. hi-1 of the data section are all zero bytes. */
+static int zero_frames(const c3d_in_t *in, const c3d_t *c, long lo, long hi)
+{
+    const size_t a = c->data_start + (size_t)lo * c->frame_bytes;
+    const size_t b = c->data_start + (size_t)hi * c->frame_bytes;
+    size_t i;
+    if (hi <= lo || b > in->n) {
+        return 0;
+    }
+    for (i = a; i < b; i++) {
+        if (in->b[i] != 0u) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 /* Frames: the header's count, POINT:FRAMES, the long counts and the file's
  * size. 0 with c->nframes set, or -1. */
 static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have_params,
@@ -517,6 +564,13 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
 {
     const long cap = c->frames_in_file;
     const long pf = have_params ? param_count(in, c3d_param(c, "POINT", "FRAMES")) : -1;
+    /* a data section that ends after whole frames (or a file of whole
+     * 512-byte blocks) was written to its end: a count above what it
+     * holds was never updated. One that ends inside a frame was cut. */
+    const size_t rest = (c->frame_bytes > 0u && in->n >= c->data_start)
+                            ? (in->n - c->data_start) - (size_t)cap * c->frame_bytes
+                            : 1u;
+    const int complete = cap >= 1 && (rest == 0u || in->n % C3D_BLOCK == 0u);
     long lf = -1, n;
     const char *lsrc = NULL;
     if (have_params) {
@@ -541,8 +595,15 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
     }
     if (lsrc != NULL) {
         if (lf > cap) {
-            return fail(err, "truncated: %s announces %ld frames of %lu bytes, the file holds %ld",
-                        lsrc, lf, (unsigned long)c->frame_bytes, cap);
+            if (!complete) {
+                return fail(err,
+                            "truncated: %s announces %ld frames of %lu bytes, the file holds %ld "
+                            "and ends inside a frame",
+                            lsrc, lf, (unsigned long)c->frame_bytes, cap);
+            }
+            warn(c, "frame count: %s announces %ld frames, the data section holds %ld whole "
+                    "frames and ends there: read %ld", lsrc, lf, cap, cap);
+            lf = cap;
         }
         c->nframes = lf;
         c->src_frames = lsrc;
@@ -552,28 +613,55 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
         n = hdr_frames;
         c->src_frames = (pf < 0) ? "header" : "header, POINT:FRAMES";
         if (n > cap) {
-            return fail(err, "truncated: %ld frames of %lu bytes announced (%s), the file holds %ld",
-                        n, (unsigned long)c->frame_bytes, c->src_frames, cap);
+            if (!complete) {
+                return fail(err,
+                            "truncated: %ld frames of %lu bytes announced (%s), the file holds "
+                            "%ld and ends inside a frame",
+                            n, (unsigned long)c->frame_bytes, c->src_frames, cap);
+            }
+            warn(c, "frame count: %ld announced (%s), the data section holds %ld whole frames "
+                    "and ends there: read %ld", n, c->src_frames, cap, cap);
+            c->src_frames = (pf < 0) ? "data section size (the header says more)"
+                                     : "data section size (header and POINT:FRAMES say more)";
+            n = cap;
         }
     } else {
         const int h_ok = hdr_frames <= cap, p_ok = pf <= cap;
         if (!h_ok && !p_ok) {
-            return fail(err,
-                        "truncated: the header announces %ld frames, POINT:FRAMES %ld; the file "
-                        "holds %ld frames of %lu bytes",
-                        hdr_frames, pf, cap, (unsigned long)c->frame_bytes);
-        }
-        if (h_ok && (!p_ok || hdr_frames >= pf)) {
-            n = hdr_frames;
-            c->src_frames = "header (file size)";
+            if (!complete) {
+                return fail(err,
+                            "truncated: the header announces %ld frames, POINT:FRAMES %ld; the "
+                            "file holds %ld frames of %lu bytes and ends inside a frame",
+                            hdr_frames, pf, cap, (unsigned long)c->frame_bytes);
+            }
+            n = cap;
+            c->src_frames = "data section size (header and POINT:FRAMES say more)";
+            warn(c,
+                 "frame count: the header says %ld, POINT:FRAMES %ld; the data section holds %ld "
+                 "whole frames and ends there: read %ld",
+                 hdr_frames, pf, cap, n);
         } else {
-            n = pf;
-            c->src_frames = "POINT:FRAMES (file size)";
+            const long lo = (hdr_frames < pf) ? hdr_frames : pf;
+            const long hi = (hdr_frames < pf) ? pf : hdr_frames;
+            if (h_ok && p_ok && zero_frames(in, c, lo, hi)) {
+                /* the larger count's extra frames are zero bytes: padding */
+                n = lo;
+            } else {
+                n = (h_ok && p_ok) ? hi : (h_ok ? hdr_frames : pf);
+            }
+            c->src_frames = (n == hdr_frames) ? "header (file size)" : "POINT:FRAMES (file size)";
+            if (h_ok && p_ok && n == lo) {
+                warn(c,
+                     "frame count: the header says %ld, POINT:FRAMES %ld; frames %ld to %ld of "
+                     "the data section are zero bytes (padding): read %ld (%s)",
+                     hdr_frames, pf, lo, hi - 1, n, n == pf ? "POINT:FRAMES" : "the header");
+            } else {
+                warn(c,
+                     "frame count: the header says %ld, POINT:FRAMES %ld; the file holds %ld: "
+                     "read %ld (%s)",
+                     hdr_frames, pf, cap, n, n == pf ? "POINT:FRAMES" : "the header");
+            }
         }
-        warn(c,
-             "frame count: the header says %ld, POINT:FRAMES %ld; the file holds %ld: read %ld "
-             "(%s)",
-             hdr_frames, pf, cap, n, n == pf ? "POINT:FRAMES" : "the header");
     }
     c->nframes = n;
     if (cap > n && c->frame_bytes > 0u && (size_t)(cap - n) * c->frame_bytes >= C3D_BLOCK) {
@@ -583,10 +671,35 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
     return 0;
 }
 
-/* Analog words per frame: the header against ANALOG:USED and the rates. */
+/* A frame count n fits a frame size fb in a data section of `bytes` when
+ * the n frames end at its end or in its last 512-byte block (padding). */
+static int count_fits(size_t fb, size_t bytes, long n)
+{
+    if (n < 1 || fb == 0u || (size_t)n > bytes / fb) {
+        return 0;
+    }
+    return bytes - (size_t)n * fb < C3D_BLOCK;
+}
+
+/* The announced count (header's, else POINT:FRAMES) a frame size fits; 0. */
+static long okh_frames(size_t fb, size_t bytes, long hdr_frames, long pframes)
+{
+    return count_fits(fb, bytes, hdr_frames) ? hdr_frames
+           : count_fits(fb, bytes, pframes)  ? pframes
+                                             : 0;
+}
+
+static int layout_fits(size_t fb, size_t bytes, long hdr_frames, long pframes)
+{
+    return okh_frames(fb, bytes, hdr_frames, pframes) > 0;
+}
+
+/* Analog words per frame: the header against ANALOG:USED and the rates;
+ * where they differ, the layout whose frames fill the data section. */
 static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsigned hdr_samples,
                         long hdr_frames, size_t data_bytes, char *err)
 {
+    const long pframes = param_count(in, c3d_param(c, "POINT", "FRAMES"));
     const long used = param_count(in, c3d_param(c, "ANALOG", "USED"));
     double ar = 0.0;
     c->analog_words = (long)hdr_words;
@@ -621,6 +734,28 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
                 const size_t pb = 4u * (size_t)c->npoints * (size_t)c->word;
                 const size_t fh = pb + (size_t)hdr_words * (size_t)c->word;
                 const size_t fp = pb + (size_t)want * (size_t)c->word;
+                const int okh = layout_fits(fh, data_bytes, hdr_frames, pframes);
+                const int okp = layout_fits(fp, data_bytes, hdr_frames, pframes);
+                if (okh != okp) {
+                    /* the data section's size decides: one layout ends the
+                     * announced frames at its end (or in its last block) */
+                    warn(c,
+                         "analog layout: the header says %u analog words per frame, ANALOG:USED "
+                         "%ld x ANALOG:RATE %g / POINT:RATE %g = %ld; the data section (%lu "
+                         "bytes) holds the %ld frames announced in the %s layout only: read so",
+                         hdr_words, used, ar, (double)c->rate, want, (unsigned long)data_bytes,
+                         okh ? okh_frames(fh, data_bytes, hdr_frames, pframes)
+                             : okh_frames(fp, data_bytes, hdr_frames, pframes),
+                         okh ? "header's" : "parameters'");
+                    c->analog_per_frame = okh ? (int)(hdr_words / (unsigned long)used) : (int)r;
+                    if (okh && hdr_words % (unsigned long)used != 0u) {
+                        c->analog_per_frame = 0;
+                    }
+                    c->analog_words = okh ? (long)hdr_words : want;
+                    c->src_analog = okh ? "header (data section size)"
+                                        : "ANALOG:USED x ANALOG:RATE / POINT:RATE (data section size)";
+                    return 0;
+                }
                 return fail(err,
                             "analog layout conflict: the header says %u analog words per frame, "
                             "ANALOG:USED %ld x ANALOG:RATE %g / POINT:RATE %g = %ld; %ld frames "
@@ -644,6 +779,38 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
     }
     c->analog_per_frame = (int)(hdr_words / (unsigned long)used);
     c->src_analog = "header, ANALOG:USED";
+    return 0;
+}
+
+/* A walk ended at a link that leads nowhere: read on when the parameters
+ * that fix the layout were read before it, else refuse naming the link and
+ * the missing parameter. */
+static int check_walk_end(const c3d_in_t *in, c3d_t *c, const walk_end_t *w, unsigned hdr_points,
+                          unsigned hdr_analog, char *err)
+{
+    static const char *const need[][2] = {{"POINT", "USED"},   {"POINT", "SCALE"},
+                                          {"POINT", "RATE"},   {"POINT", "LABELS"},
+                                          {"ANALOG", "USED"},  {"ANALOG", "RATE"}};
+    size_t k;
+    (void)in;
+    for (k = 0; k < sizeof need / sizeof need[0]; k++) {
+        const int analog = need[k][0][0] == 'A';
+        const int labels = need[k][1][0] == 'L';
+        if ((analog && hdr_analog == 0u) || (labels && hdr_points == 0u)) {
+            continue;
+        }
+        if (c3d_param(c, need[k][0], need[k][1]) == NULL) {
+            return fail(err,
+                        "parameter section: the link after %s (byte %lu) points to byte %lu, "
+                        "where no entry starts (neither the other byte order nor the entry's "
+                        "length gives one), and %s:%s was not read before it",
+                        w->name, w->at, w->to, need[k][0], need[k][1]);
+        }
+    }
+    warn(c,
+         "parameter section: the link after %s (byte %lu) points to byte %lu, where no entry "
+         "starts: the walk ends there, %d entries read (the layout's parameters among them)",
+         w->name, w->at, w->to, c->nentries);
     return 0;
 }
 
@@ -726,27 +893,47 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
     out->first_frame = (long)hdr_first;
 
     if (have_params) {
+        /* The walk is bounded by the section's declared size, or by the
+         * data section's start when that is later (a declared size too
+         * small: the entries run on to the data, as the field's readers
+         * follow them). */
         const unsigned nb = buf[pstart + 2u];
-        bound = (nb > 0u) ? pstart + (size_t)nb * C3D_BLOCK : len;
-        if (nb == 0u && hdr_data >= 2u && ((size_t)hdr_data - 1u) * C3D_BLOCK > pstart) {
-            bound = ((size_t)hdr_data - 1u) * C3D_BLOCK;
-        }
+        const size_t declared = (nb > 0u) ? pstart + (size_t)nb * C3D_BLOCK : pstart;
+        const size_t dsb = (hdr_data >= 2u) ? ((size_t)hdr_data - 1u) * C3D_BLOCK : 0u;
+        walk_end_t wend;
+        int i, g = 0;
+        memset(&wend, 0, sizeof wend);
+        bound = (dsb > declared) ? dsb : (nb > 0u ? declared : len);
         if (bound > len) {
             bound = len;
         }
         out->param_start = pstart;
         out->param_blocks = nb;
-        if (walk_params(&in, pstart, bound, out, err) != 0) {
+        if (walk_params(&in, pstart, bound, out, &wend, err) != 0) {
             return -1;
         }
-        {
-            int i, g = 0;
-            for (i = 0; i < out->nentries; i++) {
-                g |= out->entries[i].is_group && name_eq(out->entries[i].name, "POINT");
+        if (nb > 0u && wend.reach > declared) {
+            warn(out,
+                 "parameter section: its first block declares %u blocks (%lu bytes), its entries "
+                 "run to byte %lu, before the data section (block %u): read to there",
+                 nb, (unsigned long)(declared - pstart), (unsigned long)wend.reach, hdr_data);
+        }
+        if (wend.ended) {
+            if (check_walk_end(&in, out, &wend, hdr_points, hdr_analog, err) != 0) {
+                return -1;
             }
-            if (!g) {
-                return fail(err, "no POINT group in the parameter section");
-            }
+        }
+        for (i = 0; i < out->nentries; i++) {
+            g |= out->entries[i].is_group && name_eq(out->entries[i].name, "POINT");
+        }
+        if (!g) {
+            /* no POINT group: the header alone describes the data */
+            have_params = 0;
+            warn(out,
+                 "parameter section: no POINT group (%d entries): counts, scale and rate from "
+                 "the header, points named POINT1, POINT2, ...",
+                 out->nentries);
+            out->src_processor = "parameter section (no POINT group)";
         }
     }
 
@@ -816,7 +1003,7 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
     if (choose_frames(&in, out, hdr_frames, have_params, err) != 0) {
         return -1;
     }
-    if (!have_params) {
+    if (!have_params && out->param_start == 0u) {
         warn(out, "no parameter section: counts, scale and rate from the header, processor type "
                   "%s guessed from its byte order, points named POINT1, POINT2, ...",
              c3d_processor_name(proc));
