@@ -557,6 +557,18 @@ static int zero_frames(const c3d_in_t *in, const c3d_t *c, long lo, long hi)
     return 1;
 }
 
+/* Whole frames held, without trailing frames of zero bytes that start in
+ * the file's last 512 bytes (the last block's padding). */
+static long held_frames(const c3d_in_t *in, const c3d_t *c)
+{
+    long n = c->frames_in_file;
+    while (n > 1 && c->data_start + (size_t)(n - 1) * c->frame_bytes + C3D_BLOCK >= in->n
+           && zero_frames(in, c, n - 1, n)) {
+        n--;
+    }
+    return n;
+}
+
 /* Frames: the header's count, POINT:FRAMES, the long counts and the file's
  * size. 0 with c->nframes set, or -1. */
 static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have_params,
@@ -602,8 +614,8 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
                             lsrc, lf, (unsigned long)c->frame_bytes, cap);
             }
             warn(c, "frame count: %s announces %ld frames, the data section holds %ld whole "
-                    "frames and ends there: read %ld", lsrc, lf, cap, cap);
-            lf = cap;
+                    "frames and ends there: read %ld", lsrc, lf, cap, held_frames(in, c));
+            lf = held_frames(in, c);
         }
         c->nframes = lf;
         c->src_frames = lsrc;
@@ -620,10 +632,10 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
                             n, (unsigned long)c->frame_bytes, c->src_frames, cap);
             }
             warn(c, "frame count: %ld announced (%s), the data section holds %ld whole frames "
-                    "and ends there: read %ld", n, c->src_frames, cap, cap);
+                    "and ends there: read %ld", n, c->src_frames, cap, held_frames(in, c));
             c->src_frames = (pf < 0) ? "data section size (the header says more)"
                                      : "data section size (header and POINT:FRAMES say more)";
-            n = cap;
+            n = held_frames(in, c);
         }
     } else {
         const int h_ok = hdr_frames <= cap, p_ok = pf <= cap;
@@ -634,7 +646,7 @@ static int choose_frames(const c3d_in_t *in, c3d_t *c, long hdr_frames, int have
                             "file holds %ld frames of %lu bytes and ends inside a frame",
                             hdr_frames, pf, cap, (unsigned long)c->frame_bytes);
             }
-            n = cap;
+            n = held_frames(in, c);
             c->src_frames = "data section size (header and POINT:FRAMES say more)";
             warn(c,
                  "frame count: the header says %ld, POINT:FRAMES %ld; the data section holds %ld "
@@ -901,7 +913,7 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
         const size_t declared = (nb > 0u) ? pstart + (size_t)nb * C3D_BLOCK : pstart;
         const size_t dsb = (hdr_data >= 2u) ? ((size_t)hdr_data - 1u) * C3D_BLOCK : 0u;
         walk_end_t wend;
-        int i, g = 0;
+        int i, g = 0, ngroups = 0;
         memset(&wend, 0, sizeof wend);
         bound = (dsb > declared) ? dsb : (nb > 0u ? declared : len);
         if (bound > len) {
@@ -925,15 +937,20 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
         }
         for (i = 0; i < out->nentries; i++) {
             g |= out->entries[i].is_group && name_eq(out->entries[i].name, "POINT");
+            ngroups += out->entries[i].is_group;
+        }
+        if (!g && ngroups > 0) {
+            return fail(err, "no POINT group in the parameter section (%d groups, %d entries)",
+                        ngroups, out->nentries);
         }
         if (!g) {
-            /* no POINT group: the header alone describes the data */
+            /* no group at all: the header alone describes the data */
             have_params = 0;
             warn(out,
-                 "parameter section: no POINT group (%d entries): counts, scale and rate from "
-                 "the header, points named POINT1, POINT2, ...",
+                 "parameter section: no groups (%d entries): counts, scale and rate from the "
+                 "header, points named POINT1, POINT2, ...",
                  out->nentries);
-            out->src_processor = "parameter section (no POINT group)";
+            out->src_processor = "parameter section (no groups)";
         }
     }
 

@@ -123,6 +123,40 @@ def main():
     x[q + 4:q + 8] = b"RFT1"
     x[q + 8:q + 12] = b"RFT1"
     cases["dup_labels"] = x
+    # The analog conflict with two more blocks of data: neither layout ends
+    # the 5 frames announced in the data section's last block.
+    cases["analog_ambiguous"] = bytearray(cases["analog_conflict"]) + bytes(1024)
+    # A link that leads nowhere after the parameters that fix the layout
+    # (ANALOG:LABELS's link out of the section in both byte orders, the next
+    # entry's name unreadable): the walk ends there.
+    def break_link(x, after, nxt):
+        ents = {n if g < 0 else "%d:%s" % (g, n): (lo, body) for g, n, lo, body in entries(x, e)}
+        lo = ents[after][0]
+        x[lo:lo + 2] = struct.pack(e + "H", 0xF0F0)
+        nlo = ents[nxt][0]
+        nl = len(nxt.split(":")[1])
+        x[nlo - nl:nlo] = bytes([1]) * nl
+        return x
+    cases["link_end"] = break_link(bytearray(pc), "2:LABELS", "1:DATA_START")
+    # The same before POINT:LABELS was read (after ANALOG:RATE): refused.
+    cases["link_early"] = break_link(bytearray(pc), "2:RATE", "1:LABELS")
+    # A parameter section without any entry (its first byte the end mark).
+    x = bytearray(pc)
+    p = (x[0] - 1) * 512
+    x[p + 4:p + 6] = bytes(2)
+    cases["no_groups"] = x
+    # The header and POINT:FRAMES both say 1149; the file holds 5 frames and
+    # ends with its last block (a count never updated).
+    x = bytearray(pc)
+    x[8:10] = struct.pack(e + "H", 1149)
+    q = param(x, e, "POINT", "FRAMES")
+    x[q:q + 2] = struct.pack(e + "H", 1149)
+    cases["frames_both_1149"] = x
+    # The header says frames 1..6, POINT:FRAMES 5: the 6th frame's bytes are
+    # the last block's zero padding.
+    x = bytearray(pc)
+    x[8:10] = struct.pack(e + "H", 6)
+    cases["frames_pad_6"] = x
     for name, data in cases.items():
         with open(os.path.join(HERE, name + ".c3d"), "wb") as fh:
             fh.write(bytes(data))
