@@ -370,20 +370,99 @@ static int patch_number(bbuf_t *body, const c3d_entry_t *e, int proc, double v)
     }
 }
 
+/* POINT:FRAMES as stored (an int16 read as unsigned), -1 if not a count. */
+static long frames_of(const unsigned char *buf, const c3d_t *c, const c3d_entry_t *e)
+{
+    if (e->count < 1u) {
+        return -1;
+    }
+    if (e->type == 2) {
+        return (long)dec_u16(c->processor, buf + e->data);
+    }
+    if (e->type == 1) {
+        return (long)buf[e->data];
+    }
+    return -1; /* a float count: rewritten */
+}
+
+static int new_number(bbuf_t *out, const c3d_t *c, const char *name, int group, int type,
+                      double v, char *err)
+{
+    bbuf_t b;
+    unsigned char w[4];
+    int rc;
+    memset(&b, 0, sizeof b);
+    put_byte(&b, (unsigned)type);
+    put_byte(&b, 0u); /* a scalar */
+    if (type == 2) {
+        enc_u16(c->processor, (unsigned)((long)v & 0xffff), w);
+        put(&b, w, 2u);
+    } else if (enc_f32(c->processor, (float)v, w) == 0) {
+        put(&b, w, 4u);
+    } else {
+        free(b.p);
+        return wfail(err, "POINT:%s %g cannot be written", name, v);
+    }
+    put_byte(&b, 0u); /* no description */
+    rc = b.oom ? wfail(err, "out of memory") : put_entry(out, c, NULL, c->processor, name, group, 0, 0, &b, err);
+    free(b.p);
+    return rc;
+}
+
+/* A file without a POINT group (its header alone describes the points):
+ * the group and the parameters a reader needs, from what was read. */
+static int new_point_group(const c3d_t *c, const c3d_add_t *add, unsigned data_block,
+                           int to_float, bbuf_t *out, int *pg, char *err)
+{
+    int i, g = 0;
+    bbuf_t b;
+    for (i = 0; i < c->nentries; i++) {
+        if (c->entries[i].group > g) {
+            g = c->entries[i].group;
+        }
+    }
+    if (g >= 127) {
+        return wfail(err, "no group id left for a POINT group");
+    }
+    *pg = g + 1;
+    memset(&b, 0, sizeof b);
+    put_byte(&b, 0u);
+    if (put_entry(out, c, NULL, c->processor, "POINT", *pg, 1, 0, &b, err) != 0) {
+        free(b.p);
+        return -1;
+    }
+    free(b.p);
+    if (new_number(out, c, "USED", *pg, 2, (double)(c->npoints + add->n), err) != 0
+        || new_number(out, c, "SCALE", *pg, 4, to_float ? -fabs((double)c->scale) : (double)c->scale,
+                      err) != 0
+        || new_number(out, c, "RATE", *pg, 4, (double)c->rate, err) != 0
+        || new_number(out, c, "DATA_START", *pg, 2, (double)data_block, err) != 0
+        || (c->nframes <= 65535L
+            && new_number(out, c, "FRAMES", *pg, 2, (double)c->nframes, err) != 0)) {
+        return -1;
+    }
+    return 0;
+}
+
 /* The rebuilt parameter section (without its 4-byte head). */
 static int build_params(const unsigned char *buf, const c3d_t *c, const c3d_add_t *add,
                         family_t *lab, family_t *des, unsigned data_block, int to_float,
                         bbuf_t *out, char *err)
 {
-    const int proc = c->processor, pg = point_group_id(c);
+    const int proc = c->processor;
+    int pg = point_group_id(c);
     const c3d_entry_t *used = c3d_param(c, "POINT", "USED");
     const c3d_entry_t *ds = c3d_param(c, "POINT", "DATA_START");
     const c3d_entry_t *sc = c3d_param(c, "POINT", "SCALE");
+    const c3d_entry_t *fr = c3d_param(c, "POINT", "FRAMES");
     family_t *fams[2];
     const char *bases[2] = {"LABELS", "DESCRIPTIONS"};
     int i, k, fi;
     fams[0] = lab;
     fams[1] = des;
+    if (pg < 0 && new_point_group(c, add, data_block, to_float, out, &pg, err) != 0) {
+        return -1;
+    }
     for (i = 0; i < c->nentries; i++) {
         const c3d_entry_t *e = &c->entries[i];
         bbuf_t body;
@@ -415,6 +494,11 @@ static int build_params(const unsigned char *buf, const c3d_t *c, const c3d_add_
             if (is_entry(c, i, ds) && patch_number(&body, e, proc, (double)data_block) != 0) {
                 free(body.p);
                 return wfail(err, "POINT:DATA_START cannot be written");
+            }
+            if (is_entry(c, i, fr) && c->nframes <= 65535L && frames_of(buf, c, e) != c->nframes
+                && patch_number(&body, e, proc, (double)c->nframes) != 0) {
+                free(body.p);
+                return wfail(err, "POINT:FRAMES cannot be written");
             }
             if (is_entry(c, i, sc) && to_float
                 && patch_number(&body, e, proc, -fabs((double)c->scale)) != 0) {
@@ -509,7 +593,7 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
     int have_des;
     bbuf_t ps, data;
     unsigned pblock, nblocks, data_block;
-    size_t npts_bytes, hdr_gap;
+    size_t npts_bytes, hdr_gap, pstart;
     unsigned char hdr[W_BLOCK], w[4];
     FILE *fo;
     int unsigned_analog = 0;
@@ -525,8 +609,10 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
     if (add == NULL || add->n < 1 || add->names == NULL || add->xyz == NULL) {
         return wfail(err, "no points to add");
     }
-    if (c->nentries == 0 || c->param_start == 0u) {
-        return wfail(err, "cannot add points to a file without a parameter section");
+    pstart = (c->param_start > 0u) ? c->param_start : ((size_t)buf[0] - 1u) * W_BLOCK;
+    if (pstart < W_BLOCK || pstart > c->data_start) {
+        return wfail(err, "the parameter block %u is not between the header and the data",
+                     (unsigned)buf[0]);
     }
     if ((long)c->npoints + add->n > 65535) {
         return wfail(err, "%d + %d points: more than a C3D file holds (65535)", c->npoints, add->n);
@@ -578,7 +664,7 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
                      add->n, W_MAX_CHUNKS);
     }
     /* the parameter section, twice: its size fixes the data block */
-    pblock = (unsigned)(c->param_start / W_BLOCK) + 1u;
+    pblock = (unsigned)(pstart / W_BLOCK) + 1u;
     data_block = (unsigned)(c->data_start / W_BLOCK) + 1u;
     for (i = 0; i < 2; i++) {
         ps.n = 0;
@@ -604,6 +690,14 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
     enc_u16(proc, data_block, hdr + 16);
     if (to_float) {
         (void)enc_f32(proc, -fabsf(c->scale), hdr + 12);
+    }
+    /* the header's last frame: the frames written (a header that says more
+     * would have a reader take the last block's padding for frames) */
+    {
+        const unsigned first = dec_u16(proc, hdr + 6);
+        if (c->nframes >= 1L && (long)first + c->nframes - 1L <= 65535L) {
+            enc_u16(proc, (unsigned)((long)first + c->nframes - 1L), hdr + 8);
+        }
     }
     /* frames */
     npts_bytes = 4u * (size_t)c->npoints * (size_t)old_word;
@@ -665,10 +759,16 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
         static const unsigned char zero[W_BLOCK];
         unsigned char head[4];
         size_t written = 0, pad;
-        hdr_gap = c->param_start - W_BLOCK; /* blocks between the header and the parameters */
+        hdr_gap = pstart - W_BLOCK; /* blocks between the header and the parameters */
         written += fwrite(hdr, 1u, W_BLOCK, fo);
         written += fwrite(buf + W_BLOCK, 1u, hdr_gap, fo);
-        memcpy(head, buf + c->param_start, 4u);
+        if (c->param_start > 0u) {
+            memcpy(head, buf + c->param_start, 4u);
+        } else { /* no parameter section before: a new one */
+            head[0] = 1u;
+            head[1] = 0x50u;
+            head[3] = (unsigned char)proc;
+        }
         head[2] = (unsigned char)nblocks;
         written += fwrite(head, 1u, 4u, fo);
         written += fwrite(ps.p, 1u, ps.n, fo);
