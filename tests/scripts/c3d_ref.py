@@ -68,25 +68,39 @@ class Param:
         return [self.raw[i * w:(i + 1) * w].decode('latin-1').rstrip(' \0') for i in range(n)]
 
 
-def read(path):
-    buf = open(path, 'rb').read()
-    assert buf[1] == 0x50, 'not a C3D file'
-    pblock = buf[0]
-    ps = (pblock - 1) * BLOCK
-    proc = buf[ps + 3]
-    assert proc in (INTEL, DEC, MIPS), proc
+def _printable_entry(buf, off, end):
+    """Something that can start an entry at `off`: the end mark, or a name
+    length byte followed by id, a printable name and its link word."""
+    if off + 1 > end:
+        return False
+    nl = abs(struct.unpack('b', buf[off:off + 1])[0])
+    if nl == 0:
+        return True
+    if off + 4 + nl > end:
+        return False
+    return all(0x20 <= ch < 0x7f for ch in buf[off + 2:off + 2 + nl])
+
+
+def _walk(buf, ps, proc, data_start):
+    """Every entry of the parameter section, in file order. The section ends
+    at its declared size, or at the data section when that is later (the
+    declared size of some writers is too small). A link that does not lead to
+    an entry is read in the other byte order, else the entry's own length is
+    used; when neither gives an entry the walk stops there (returned as
+    `stopped`: (entry name, byte of the link word, byte it points to))."""
     e = _order(proc)
-    words = list(struct.unpack(e + '256H', buf[:BLOCK]))
-    hdr_scale = float(_floats(buf[12:16], proc)[0])
-    hdr_rate = float(_floats(buf[20:24], proc)[0])
-    end = ps + buf[ps + 2] * BLOCK
-    groups, params, order = {}, {}, []
+    declared = ps + buf[ps + 2] * BLOCK if buf[ps + 2] else ps
+    end = max(declared, data_start) if data_start > declared else (declared if buf[ps + 2] else len(buf))
+    end = min(end, len(buf))
+    out, repaired, stopped, reach = [], [], None, ps + 4
     off = ps + 4
     while off + 2 <= end:
         nl = struct.unpack('b', buf[off:off + 1])[0]
         gid = struct.unpack('b', buf[off + 1:off + 2])[0]
         if nl == 0:
             break
+        if off + 4 + abs(nl) > end:
+            raise ValueError('parameter section truncated')
         locked = nl < 0
         nl = abs(nl)
         name = buf[off + 2:off + 2 + nl].decode('latin-1').upper()
@@ -94,35 +108,98 @@ def read(path):
         link = struct.unpack(e + 'H', buf[lw:lw + 2])[0]
         q = lw + 2
         if gid < 0:
-            dl = buf[q]
-            groups[-gid] = (name, buf[q + 1:q + 1 + dl], locked)
+            dl = buf[q] if q < end else 0
+            ent = ('group', -gid, name, buf[q + 1:q + 1 + dl], locked, None)
             size = 1 + dl
-            order.append(('group', name))
         else:
             typ = struct.unpack('b', buf[q:q + 1])[0]
             nd = buf[q + 1]
             dims = list(buf[q + 2:q + 2 + nd])
-            cnt = 1
-            for d in dims:
-                cnt *= d
+            cnt = int(np.prod(dims)) if dims else 1
             d0 = q + 2 + nd
             raw = buf[d0:d0 + cnt * abs(typ)]
-            dl = buf[d0 + cnt * abs(typ)]
+            dl = buf[d0 + cnt * abs(typ)] if d0 + cnt * abs(typ) < end else 0
             desc = buf[d0 + cnt * abs(typ) + 1:d0 + cnt * abs(typ) + 1 + dl]
-            params[(gid, name)] = (typ, dims, raw, desc, locked)
+            ent = ('param', gid, name, desc, locked, (typ, dims, raw))
             size = 2 + nd + cnt * abs(typ) + 1 + dl
-            order.append(('param', gid, name))
+        out.append(ent)
+        reach = max(reach, min(q + size, end))
         if link == 0:
             break
         nxt = lw + link
-        if nxt > end or link < 2:
-            nxt = lw + 2 + size  # a link outside the section: the entry's own length
+        if link < 2 or nxt > end or not _printable_entry(buf, nxt, end):
+            sw = ((link & 0xff) << 8) | (link >> 8)
+            if sw >= 2 and lw + sw <= end and _printable_entry(buf, lw + sw, end):
+                repaired.append(name)
+                nxt = lw + sw
+            elif _printable_entry(buf, q + size, end):
+                repaired.append(name)
+                nxt = q + size
+            else:
+                stopped = (name, lw, nxt)
+                break
         off = nxt
+    return out, repaired, stopped, reach, declared
+
+
+def read(path, strict=True):
+    """Read a C3D file. `strict`: the plain format (the writer's tests);
+    False: the repairs of the field's readers as docs/c3d.md lists them
+    (raises ValueError where the file is refused)."""
+    buf = open(path, 'rb').read()
+    assert buf[1] == 0x50, 'not a C3D file'
+    pblock = buf[0]
+    ps = (pblock - 1) * BLOCK
+    proc = buf[ps + 3]
+    no_section = False
+    if proc not in (INTEL, DEC, MIPS):
+        # no parameter section: the header's data block is the parameter block
+        le, be = struct.unpack('<H', buf[16:18])[0], struct.unpack('>H', buf[16:18])[0]
+        if strict or pblock not in (le, be):
+            raise ValueError('unknown processor %d' % proc)
+        no_section = True
+        proc = MIPS if pblock != le else INTEL
+        if proc == INTEL:
+            r = struct.unpack('<f', buf[20:24])[0]
+            if not (np.isfinite(r) and 0 < r < 1e6):
+                proc = DEC
+    e = _order(proc)
+    words = list(struct.unpack(e + '256H', buf[:BLOCK]))
+    if not no_section and words[8] == pblock:
+        no_section = not strict
+    hdr_scale = float(_floats(buf[12:16], proc)[0])
+    hdr_rate = float(_floats(buf[20:24], proc)[0])
+    notes = []
+    ents, repaired, stopped = [], [], None
+    if not no_section:
+        ents, repaired, stopped, reach, declared = _walk(buf, ps, proc, (words[8] - 1) * BLOCK if strict is False else 0)
+        if reach > declared and buf[ps + 2]:
+            notes.append('section runs past its declared size')
+    groups, params, order = {}, {}, []
+    for kind, gid, name, desc, locked, body in ents:
+        if kind == 'group':
+            groups[gid] = (name, desc, locked)
+            order.append(('group', name))
+        else:
+            params[(gid, name)] = body + (desc, locked)
+            order.append(('param', gid, name))
     gname = {g: v[0] for g, v in groups.items()}
     P = {}
     for (gid, name), (typ, dims, raw, desc, locked) in params.items():
         P[(gname.get(gid, '?%d' % gid), name)] = Param(gname.get(gid), name, typ, dims, raw, desc, locked)
     G = {v[0]: (v[1], v[2]) for v in groups.values()}
+    if groups and 'POINT' not in G:
+        raise ValueError('no POINT group')
+    if stopped is not None:
+        need = [('POINT', 'USED'), ('POINT', 'SCALE'), ('POINT', 'RATE')]
+        if words[1]:
+            need.append(('POINT', 'LABELS'))
+        if words[2]:
+            need += [('ANALOG', 'USED'), ('ANALOG', 'RATE')]
+        missing = [k for k in need if k not in P]
+        if strict or missing:
+            raise ValueError('the link after %s leads nowhere%s' % (stopped[0], ', %s:%s not read' % missing[0] if missing else ''))
+        notes.append('walk ended at %s' % stopped[0])
 
     def num(g, n, default=None):
         p = P.get((g, n))
@@ -132,6 +209,9 @@ def read(path):
         return v[0].item() if hasattr(v[0], 'item') else v[0]
 
     npts = words[1]
+    used = num('POINT', 'USED')
+    if used is not None and used % 65536 != npts:
+        raise ValueError('POINT:USED %d, header %d' % (used, npts))
     scale = num('POINT', 'SCALE', hdr_scale)
     rate = num('POINT', 'RATE', hdr_rate)
     dblock = num('POINT', 'DATA_START', words[8])
@@ -139,12 +219,71 @@ def read(path):
         dblock += 65536
     nanalog = words[2]
     first, last = words[3], words[4]
-    nframes = num('POINT', 'FRAMES', last - first + 1)
-    if nframes < 0:
-        nframes += 65536
+    hframes = last - first + 1 if last >= first else 0
+    pframes = num('POINT', 'FRAMES')
+    if pframes is not None and pframes < 0:
+        pframes += 65536
+    if pframes is not None:
+        pframes = int(pframes) if pframes == int(pframes) else None
     word = 4 if scale < 0 else 2
-    fb = (4 * npts + nanalog) * word
     d0 = (dblock - 1) * BLOCK
+    nbytes = len(buf) - d0
+    if strict:
+        nframes = pframes if pframes is not None else hframes
+    else:
+        # analog words per frame: header, or ANALOG:USED x the rate ratio
+        au, ar = num('ANALOG', 'USED'), num('ANALOG', 'RATE')
+        if au is not None and ar and rate and ar > 0 and rate > 0:
+            ratio = ar / rate
+            if round(ratio) >= 1 and abs(ratio - round(ratio)) <= 1e-3 * round(ratio) and au * round(ratio) != nanalog:
+                def ends(fb):
+                    return [n for n in (hframes, pframes) if n and n * fb <= nbytes and nbytes - n * fb < BLOCK]
+                alt = int(au * round(ratio))
+                h_ok = bool(ends((4 * npts + nanalog) * word))
+                p_ok = bool(ends((4 * npts + alt) * word))
+                if h_ok == p_ok:
+                    raise ValueError('analog layout conflict: header %d, parameters %d' % (nanalog, alt))
+                if p_ok:
+                    nanalog = alt
+                notes.append('analog layout by the data size')
+        fb = (4 * npts + nanalog) * word
+        held = nbytes // fb if fb else 0
+        complete = held >= 1 and (nbytes - held * fb == 0 or len(buf) % BLOCK == 0)
+
+        def zero(a, b):
+            return not any(buf[d0 + a * fb:d0 + b * fb])
+
+        def trimmed_held():
+            n = held
+            while n > 1 and d0 + (n - 1) * fb + BLOCK >= len(buf) and zero(n - 1, n):
+                n -= 1
+            return n
+        if pframes is None or pframes == hframes:
+            nframes = hframes
+            if nframes > held:
+                if not complete:
+                    raise ValueError('truncated')
+                nframes = trimmed_held()
+        else:
+            if hframes > held and pframes > held:
+                if not complete:
+                    raise ValueError('truncated')
+                nframes = trimmed_held()
+            elif hframes <= held and pframes <= held:
+                lo, hi = min(hframes, pframes), max(hframes, pframes)
+                nframes = lo if zero(lo, hi) else hi
+            else:
+                nframes = hframes if hframes <= held else pframes
+        # long counts (above 65535)
+        lf = P.get(('POINT', 'LONG_FRAMES'))
+        if lf is not None:
+            v = lf.values(proc)
+            n = int(v[0]) % 65536 + 65536 * (int(v[1]) % 65536) if lf.type == 2 and len(v) >= 2 else int(v[0])
+            if n > 65535:
+                nframes = min(n, held) if complete or n <= held else None
+                if nframes is None:
+                    raise ValueError('truncated')
+    fb = (4 * npts + nanalog) * word
     data = buf[d0:d0 + nframes * fb]
     assert len(data) == nframes * fb, 'data section short'
     fmt = P.get(('ANALOG', 'FORMAT'))
@@ -178,7 +317,8 @@ def read(path):
                 groups=G, params=P, order=order, npoints=npts, nframes=nframes, scale=scale,
                 rate=rate, data_block=dblock, word=word, xyz=xyz, residual=res, raw_points=raw_pts,
                 analog=analog, labels=labels[:npts], all_labels=labels, descriptions=descs,
-                units=(P[('POINT', 'UNITS')].strings()[0] if ('POINT', 'UNITS') in P else ''))
+                units=(P[('POINT', 'UNITS')].strings()[0] if ('POINT', 'UNITS') in P else ''),
+                notes=notes, repaired=repaired)
 
 
 def read_trc(path):
@@ -220,14 +360,22 @@ def check_added(orig, new, names, xyz, prefix=''):
     assert new['proc'] == orig['proc']
     assert new['npoints'] == np_ + n and new['nframes'] == orig['nframes']
     to_float = orig['word'] == 2 and new['word'] == 4
-    # header: every word but the point count, the scale (when converted) and the data block
+    # header: every word but the point count, the scale (when converted) and the data block;
+    # the analog words per frame and the last frame say the layout and frames written
     for i, (a, b) in enumerate(zip(orig['words'], new['words'])):
         if i in (1, 8) or (to_float and i in (6, 7)):
+            continue
+        if i == 2 and b == orig['analog'].shape[1]:
+            continue
+        if i == 4 and b == orig['words'][3] + orig['nframes'] - 1:
             continue
         assert a == b, 'header word %d: %d -> %d' % (i + 1, a, b)
     assert new['words'][1] == np_ + n
     # parameters: every one identical, but the ones adding points changes
     changed = {('POINT', 'USED'), ('POINT', 'DATA_START')}
+    if ('POINT', 'FRAMES') in new['params']:
+        assert new['params'][('POINT', 'FRAMES')].values(new['proc'])[0] % 65536 == orig['nframes'] % 65536
+        changed.add(('POINT', 'FRAMES'))
     if to_float:
         changed.add(('POINT', 'SCALE'))
     fam = lambda k: k[0] == 'POINT' and (k[1].startswith('LABELS') or k[1].startswith('DESCRIPTIONS'))

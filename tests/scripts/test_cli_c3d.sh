@@ -28,19 +28,59 @@ shared=${SFIT_SHARED_DATA:-$src/../shared/data}
 json() { "$sfit" c3d --json "$1"; }
 
 # ---------------------------------------------------------------- 1. reader
-# Analog layout: the header's 16 words per frame against ANALOG:USED x rate ratio.
-expect_rc 3 "$sfit" c3d --json "$cases/analog_conflict.c3d"
+# Analog layout: the header's 16 words per frame against ANALOG:USED x rate
+# ratio (64). The data section's size decides where only one layout ends the
+# announced frames in its last block; where neither does, refused.
+expect_rc 3 "$sfit" c3d --json "$cases/analog_ambiguous.c3d"
 py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "format_error", o
 want = ("analog layout conflict: the header says 16 analog words per frame, ANALOG:USED 16 x "
-        "ANALOG:RATE 200 / POINT:RATE 50 = 64; 5 frames announced, the data section holds 8 "
-        "frames of the header\u0027s layout, 6 of the parameters\u0027")
+        "ANALOG:RATE 200 / POINT:RATE 50 = 64; 5 frames announced, the data section holds 11 "
+        "frames of the header\u0027s layout, 8 of the parameters\u0027")
 assert o["message"] == want, o["message"]; print("analog conflict refused:", o["message"])' "$out" \
   || fail "analog conflict"
-expect_rc 3 "$sfit" joint --json "$cases/analog_conflict.c3d" --parent RFT1,RFT2,RFT3 --child RSK1
+expect_rc 3 "$sfit" joint --json "$cases/analog_ambiguous.c3d" --parent RFT1,RFT2,RFT3 --child RSK1
 echo "$out" | grep -q "analog layout conflict" || fail "joint on the analog conflict: $out"
+"$sfit" c3d "$cases/pc_int_5.c3d" --export "$tmp/pc5.csv" >/dev/null
+"$sfit" c3d "$cases/analog_conflict.c3d" --export "$tmp/ac.csv" >/dev/null 2>&1
+cmp -s "$tmp/pc5.csv" "$tmp/ac.csv" || fail "analog conflict decided by the data size: values differ"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["analog_words"] == 64, o
+assert o["warnings"] == ["analog layout: the header says 16 analog words per frame, ANALOG:USED 16 x ANALOG:RATE 200 / POINT:RATE 50 = 64; the data section (2560 bytes) holds the 5 frames announced in the parameters\u0027 layout only: read so"], o["warnings"]
+print("analog layout by the data size:", o["warnings"][0])' "$(json "$cases/analog_conflict.c3d")" || fail "analog by data size"
+
+# A link that leads nowhere: the walk ends there when the layout's
+# parameters were read before it, else refused naming the link.
+"$sfit" c3d "$cases/link_end.c3d" --export "$tmp/le.csv" >/dev/null 2>&1
+cmp -s "$tmp/pc5.csv" "$tmp/le.csv" || fail "link_end: values differ"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["frames"] == 5, o
+assert o["warnings"] == ["parameter section: the link after ANALOG:LABELS (byte 5581) points to byte 67261, where no entry starts: the walk ends there, 47 entries read (the layout\u0027s parameters among them)"], o["warnings"]
+print("walk ended:", o["warnings"][0])' "$(json "$cases/link_end.c3d")" || fail "link_end"
+expect_rc 3 "$sfit" c3d --json "$cases/link_early.c3d"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "format_error", o
+assert o["message"] == "parameter section: the link after ANALOG:RATE (byte 5213) points to byte 66893, where no entry starts (neither the other byte order nor the entry\u0027s length gives one), and POINT:LABELS was not read before it", o["message"]
+print("walk ended early, refused:", o["message"])' "$out" || fail "link_early"
+
+# A section without groups: the header alone.
+"$sfit" c3d "$cases/no_groups.c3d" --export "$tmp/ng.csv" >/dev/null 2>&1
+py 'import json,sys,csv; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["points"] == 36 and o["frames"] == 5, o
+assert o["warnings"] == ["parameter section: no groups (0 entries): counts, scale and rate from the header, points named POINT1, POINT2, ..."], o["warnings"]
+a = [r[1:] for r in csv.reader(open(sys.argv[2]))][1:]; b = [r[1:] for r in csv.reader(open(sys.argv[3]))][1:]
+assert a == b, "values"; print("no groups:", o["warnings"][0])' "$(json "$cases/no_groups.c3d")" "$tmp/ng.csv" "$tmp/pc5.csv" \
+  || fail "no groups"
+
+# Header and POINT:FRAMES both say 1149, the file ends after 5 frames and
+# its last block: read 5 (the zero padding is not a frame). The header's
+# 6th frame is the padding: read POINT:FRAMES's 5.
+for c in frames_both_1149 frames_pad_6; do
+  "$sfit" c3d "$cases/$c.c3d" --export "$tmp/$c.csv" >/dev/null 2>&1
+  cmp -s "$tmp/pc5.csv" "$tmp/$c.csv" || fail "$c: values differ"
+done
+py 'import json,sys; a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2])
+assert a["frames"] == 5 and a["warnings"] == ["frame count: 1149 announced (header, POINT:FRAMES), the data section holds 6 whole frames and ends there: read 5"], a
+assert b["frames"] == 5 and b["warnings"] == ["frame count: the header says 6, POINT:FRAMES 5; frames 5 to 5 of the data section are zero bytes (padding): read 5 (POINT:FRAMES)"], b
+print("frames:", a["warnings"][0]); print("frames:", b["warnings"][0])' "$(json "$cases/frames_both_1149.c3d")" "$(json "$cases/frames_pad_6.c3d")" \
+  || fail "frames past the data"
 
 # The c3d.org SGI sample: POINT:LABELS links in the other byte order.
-"$sfit" c3d "$cases/pc_int_5.c3d" --export "$tmp/pc5.csv" >/dev/null
 "$sfit" c3d "$cases/sgi_bad_link.c3d" --export "$tmp/sgi5.csv" >/dev/null 2>&1
 cmp -s "$tmp/pc5.csv" "$tmp/sgi5.csv" || fail "SGI sample differs from the Intel one"
 py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["processor"] == 86

@@ -691,6 +691,12 @@ int c3d_write_added(const unsigned char *buf, size_t len, const c3d_t *c, const 
     if (to_float) {
         (void)enc_f32(proc, -fabsf(c->scale), hdr + 12);
     }
+    /* the header's analog words per frame: the layout written (where the
+     * reader took the parameters' layout by the data section's size) */
+    if (c->analog_words >= 0L && c->analog_words <= 65535L
+        && dec_u16(proc, hdr + 4) != (unsigned)c->analog_words) {
+        enc_u16(proc, (unsigned)c->analog_words, hdr + 4);
+    }
     /* the header's last frame: the frames written (a header that says more
      * would have a reader take the last block's padding for frames) */
     {
