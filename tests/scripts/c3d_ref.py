@@ -217,6 +217,8 @@ def read(path, strict=True):
     dblock = num('POINT', 'DATA_START', words[8])
     if dblock is not None and dblock < 0:
         dblock += 65536
+    if not dblock:  # a POINT:DATA_START of 0: the header's
+        dblock = words[8]
     nanalog = words[2]
     first, last = words[3], words[4]
     hframes = last - first + 1 if last >= first else 0
@@ -285,7 +287,7 @@ def read(path, strict=True):
                     raise ValueError('truncated')
     fb = (4 * npts + nanalog) * word
     data = buf[d0:d0 + nframes * fb]
-    assert len(data) == nframes * fb, 'data section short'
+    assert len(data) == nframes * fb, "data section short: %d frames of %d bytes from byte %d, %d bytes" % (nframes, fb, d0, len(buf))
     fmt = P.get(('ANALOG', 'FORMAT'))
     unsigned = fmt is not None and len(fmt.strings()) > 0 and fmt.strings()[0].upper().startswith('UNSIGNED')
     if word == 4:
