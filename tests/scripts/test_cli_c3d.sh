@@ -322,6 +322,38 @@ for f, v in traj.items():
 print("hinge --write: KJC and KJC_AX1/AX2 100 mm either side on the axis in %d frames" % len(traj))
 ' "$tmp/knee.c3d" "$tmp/ktraj.csv" || fail "hinge --write"
 
+# A header that says frames 0..N while POINT:FRAMES says N (as OptiTrack
+# Motive writes): the file holds N frames and a last block whose zero
+# padding is longer than a frame. sfit reads N; `joint --write` writes N
+# frames with a header and a POINT:FRAMES that say N, so a reader that
+# trusts the header's first and last frame (py-c3d), one that trusts
+# POINT:FRAMES (c3d_ref's strict mode) and sfit all read N.
+arm="$shared/c3d/unlabeled/arm-4-4-4_clean_30fps.c3d"
+py '
+import sys, struct, c3d_ref
+b = bytearray(open(sys.argv[1], "rb").read()); r = c3d_ref.read(sys.argv[1])
+n, fb = r["nframes"], (4 * r["npoints"] + r["analog"].shape[1]) * r["word"]
+end = (r["data_block"] - 1) * 512 + n * fb
+b = b[:end] + bytes(512 + (-end) % 512)       # padding longer than a frame
+assert len(b) - end >= fb and len(b) % 512 == 0
+b[6:10] = struct.pack("<2H", 0, n)            # the header: frames 0..N
+open(sys.argv[2], "wb").write(bytes(b))
+print("motive-like input: header frames 0..%d, POINT:FRAMES %d, %d bytes of padding (frame %d bytes)" % (n, n, len(b) - end, fb))
+' "$arm" "$tmp/motive.c3d"
+"$sfit" joint "$tmp/motive.c3d" --parent M000,M001,M002,M003 --child M004,M005,M006,M007 \
+  --write "$tmp/motive_jc.c3d" >/dev/null 2>"$tmp/motive.err"
+py '
+import sys, json, subprocess, c3d_ref
+a = json.loads(subprocess.check_output([sys.argv[3], "c3d", "--json", sys.argv[1]]))
+assert a["frames"] == 1831 and a["warnings"][0] == "frame count: the header says 1832, POINT:FRAMES 1831; frames 1831 to 1831 of the data section are zero bytes (padding): read 1831 (POINT:FRAMES)", a
+w = c3d_ref.read(sys.argv[2])                 # POINT:FRAMES, strict
+hdr = w["words"][4] - w["words"][3] + 1       # the header alone
+b = json.loads(subprocess.check_output([sys.argv[3], "c3d", "--json", sys.argv[2]]))
+assert (w["nframes"], hdr, b["frames"]) == (1831, 1831, 1831), (w["nframes"], hdr, b["frames"])
+assert b["labels"][-1] == "JC" and b["warnings"] == [], b["warnings"]
+print("joint --write on the motive-like file: 1831 frames by POINT:FRAMES, by the header (%d..%d) and by sfit" % (w["words"][3], w["words"][4]))
+' "$tmp/motive.c3d" "$tmp/motive_jc.c3d" "$sfit" || fail "motive-like frame count"
+
 # Options: --write needs a C3D file; --add and --write together.
 expect_usage "--add and --write go together (--prefix with them)" c3d "$hip" --add "$tmp/traj.csv"
 "$sfit" c3d "$hip" --export "$tmp/wide.csv" --markers $parent,$child >/dev/null
