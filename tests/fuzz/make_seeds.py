@@ -482,6 +482,11 @@ def c3d_seeds():
     i = lf.find(b"LABELS", 512) - 2
     ent = bytes([11, 1]) + b"LONG_FRAMES" + struct.pack("<H", 9) + bytes([4, 0]) + struct.pack("<f", 70000.0) + b"\0"
     out["long_frames_short"] = bytes(lf[:i]) + ent + bytes(lf[i:])
+    # the header says frames 0..4 (5; no POINT:FRAMES): the 5th frame is in
+    # the last blocks' zero padding (read as the header says: 5)
+    mo = bytearray(out["intel_float"])
+    mo[6:10] = struct.pack("<2H", 0, 4)
+    out["motive_frames"] = bytes(mo) + bytes(512)
     return out
 
 

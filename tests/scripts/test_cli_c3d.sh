@@ -59,6 +59,14 @@ py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "format_er
 assert o["message"] == "parameter section: the link after ANALOG:RATE (byte 5213) points to byte 66893, where no entry starts (neither the other byte order nor the entry\u0027s length gives one), and POINT:LABELS was not read before it", o["message"]
 print("walk ended early, refused:", o["message"])' "$out" || fail "link_early"
 
+# A first parameter block that declares too few blocks: the entries run on
+# to the data section and are read to there.
+"$sfit" c3d "$cases/params_past_size.c3d" --export "$tmp/pp.csv" >/dev/null 2>&1
+cmp -s "$tmp/pc5.csv" "$tmp/pp.csv" || fail "params_past_size: values differ"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["labels"][0] == "RFT1", o
+assert o["warnings"] == ["parameter section: its first block declares 5 blocks (2560 bytes), its entries run to byte 5748, before the data section (block 13): read to there"], o["warnings"]
+print("section past its size:", o["warnings"][0])' "$(json "$cases/params_past_size.c3d")" || fail "params_past_size"
+
 # A section without groups: the header alone.
 "$sfit" c3d "$cases/no_groups.c3d" --export "$tmp/ng.csv" >/dev/null 2>&1
 py 'import json,sys,csv; o=json.loads(sys.argv[1]); assert o["status"] == "ok" and o["points"] == 36 and o["frames"] == 5, o

@@ -157,6 +157,11 @@ def main():
     x = bytearray(pc)
     x[8:10] = struct.pack(e + "H", 6)
     cases["frames_pad_6"] = x
+    # The first parameter block declares 5 blocks; the entries run on to
+    # byte 5748, before the data section (block 13).
+    x = bytearray(pc)
+    x[(x[0] - 1) * 512 + 2] = 5
+    cases["params_past_size"] = x
     for name, data in cases.items():
         with open(os.path.join(HERE, name + ".c3d"), "wb") as fh:
             fh.write(bytes(data))
