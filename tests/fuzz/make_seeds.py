@@ -482,6 +482,23 @@ def c3d_seeds():
     i = lf.find(b"LABELS", 512) - 2
     ent = bytes([11, 1]) + b"LONG_FRAMES" + struct.pack("<H", 9) + bytes([4, 0]) + struct.pack("<f", 70000.0) + b"\0"
     out["long_frames_short"] = bytes(lf[:i]) + ent + bytes(lf[i:])
+    # the same ending after whole frames: read to there
+    lfc = out["long_frames_short"]
+    out["long_frames_complete"] = lfc + bytes(-len(lfc) % 512)
+    # the header says 1149 frames, POINT:FRAMES 1000; the file holds 5
+    both = bytearray(open(os.path.join(cases, "pc_int_5.c3d"), "rb").read())
+    both[8:10] = struct.pack("<H", 1149)
+    q = both.find(b"FRAMES", 512) + 6 + 2 + 2  # name, link, type and dimension count
+    both[q:q + 2] = struct.pack("<H", 1000)
+    out["frames_both_past"] = bytes(both)
+    # ANALOG:RATE 100 (16 x 100 / 50 = 32 words) against the header's 64, which
+    # the data section's size confirms: the header's layout
+    sys.path.insert(0, cases)
+    import make_cases
+    hb = bytearray(open(os.path.join(cases, "pc_int_5.c3d"), "rb").read())
+    q = make_cases.param(hb, "<", "ANALOG", "RATE")
+    hb[q:q + 4] = struct.pack("<f", 100.0)
+    out["analog_header_by_size"] = bytes(hb)
     # the header says frames 0..4 (5; no POINT:FRAMES): the 5th frame is in
     # the last blocks' zero padding (read as the header says: 5)
     mo = bytearray(out["intel_float"])
