@@ -740,7 +740,9 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
     if (c->analog_rate > 0.0f && c->rate > 0.0f) {
         const double ratio = (double)c->analog_rate / (double)c->rate;
         const double r = floor(ratio + 0.5);
-        if (r >= 1.0 && fabs(ratio - r) <= 1e-3 * r) {
+        /* a ratio or a channel count past 16 bits cannot describe a frame
+         * (the header's word is 16 bits): not used */
+        if (r >= 1.0 && r <= 65535.0 && used <= 65535L && fabs(ratio - r) <= 1e-3 * r) {
             const long want = used * (long)r;
             if (want != (long)hdr_words) {
                 const size_t pb = 4u * (size_t)c->npoints * (size_t)c->word;
