@@ -56,7 +56,9 @@ def test_warnings_and_sources():
     r = sfit.read_c3d(os.path.join(CASES, "zero_marker.c3d"))
     assert r.zero_samples == 2 and np.all(r.points[[1, 3], 2] == 0.0)
     with pytest.raises(ValueError, match="analog layout conflict"):
-        sfit.read_c3d(os.path.join(CASES, "analog_conflict.c3d"))
+        sfit.read_c3d(os.path.join(CASES, "analog_ambiguous.c3d"))
+    r = sfit.read_c3d(os.path.join(CASES, "analog_conflict.c3d"))  # the data size decides
+    assert r.warnings[0].startswith("analog layout: the header says 16") and r.points.shape == (5, 36, 3)
     with pytest.raises(OSError):
         sfit.read_c3d(os.path.join(CASES, "no_such_file.c3d"))
 

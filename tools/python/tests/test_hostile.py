@@ -712,7 +712,7 @@ def _c3d_cases(T):
         ("directory", lambda: sfit.read_c3d(tmp), (OSError, ValueError)),
         ("empty file", lambda: sfit.read_c3d(empty), ValueError),
         ("truncated", lambda: sfit.read_c3d(trunc), ValueError),
-        ("analog conflict", lambda: sfit.read_c3d(os.path.join(_C3D_CASES, "analog_conflict.c3d")),
+        ("analog conflict", lambda: sfit.read_c3d(os.path.join(_C3D_CASES, "analog_ambiguous.c3d")),
          ValueError),
         ("not a C3D file", lambda: sfit.read_c3d(__file__), ValueError)]
     for fn in ("write_c3d", "write_trc"):
