@@ -151,6 +151,9 @@ def main():
         f = line.rstrip("\n").split("\t")
         fp = tuple(int(v) for v in f[6].split("x"))
         rows.append((f[0] + ".c3d", corpus, f[1], f[4], f[5], fp))
+    listed = set(r[0] for r in rows)
+    on_disk = set(f for f in os.listdir(corpus) if f.lower().endswith(".c3d"))
+    assert rows and on_disk == listed, "the manifest and the corpus differ: %s" % sorted(on_disk ^ listed)
     # the other shared recordings (systems outside the corpus)
     base = os.path.join(shared, "c3d")
     for sub in ("", "c3d_org", "cmu", "unlabeled", "lower_limb_session"):
