@@ -961,8 +961,26 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
     cnt = param_count(&in, c3d_param(out, "POINT", "USED"));
     if (cnt >= 0) {
         if (cnt != (long)hdr_points) {
-            return fail(err, "POINT:USED (%ld) differs from the header's point count (%u)", cnt,
-                        hdr_points);
+            /* refused: which labels go with which points cannot be told;
+             * the message gives the frames each count makes of the data */
+            double sv = (double)hdr_scale;
+            unsigned long fa = 0, fb = 0;
+            size_t ws, ds;
+            (void)param_number_at(&in, c3d_param(out, "POINT", "SCALE"), 0u, &sv);
+            ws = (sv < 0.0) ? 4u : 2u;
+            ds = (hdr_data >= 2u && ((size_t)hdr_data - 1u) * C3D_BLOCK < len)
+                     ? len - ((size_t)hdr_data - 1u) * C3D_BLOCK
+                     : 0u;
+            if (cnt <= 65535L) {
+                const size_t ha = (4u * (size_t)hdr_points + hdr_analog) * ws;
+                const size_t pa = (4u * (size_t)cnt + hdr_analog) * ws;
+                fa = (ha > 0u) ? (unsigned long)(ds / ha) : 0ul;
+                fb = (pa > 0u) ? (unsigned long)(ds / pa) : 0ul;
+            }
+            return fail(err,
+                        "POINT:USED (%ld) differs from the header's point count (%u); %ld frames "
+                        "announced, the data section holds %lu frames of %u points, %lu of %ld",
+                        cnt, hdr_points, hdr_frames, fa, hdr_points, fb, cnt);
         }
         out->src_points = "header, POINT:USED";
     }
