@@ -9,8 +9,14 @@ values, description, locked flag), every point sample (x, y, z, residual as
 stored, scaled) and every analog word, so a test can compare two files
 field by field.
 
-Where a parameter's link to the next entry leads outside the section
-(c3d.org's SGI sample), this reader goes on at the entry's own length.
+Where a parameter's link to the next entry leads to no entry (c3d.org's
+SGI sample), this reader tries the other byte order, then the entry's own
+length. read(path) is strict: the plain format, as the writer must write
+it. read(path, strict=False) applies, written separately from sfit's
+reader, the repairs docs/c3d.md lists (the section read to the data
+section, a walk ended at a link that leads nowhere, no groups, the analog
+layout and the frame count decided by the data section's size) and raises
+ValueError where a file is refused (tests/scripts/c3d_corpus.py).
 """
 import struct
 
