@@ -693,17 +693,19 @@ static int count_fits(size_t fb, size_t bytes, long n)
     return bytes - (size_t)n * fb < C3D_BLOCK;
 }
 
-/* The announced count (header's, else POINT:FRAMES) a frame size fits; 0. */
-static long okh_frames(size_t fb, size_t bytes, long hdr_frames, long pframes)
+/* The announced count (the header's, else POINT:FRAMES) that frames of fb
+ * bytes fit in the data section; 0 when neither does. */
+static long fitting_count(size_t fb, size_t bytes, long hdr_frames, long pframes)
 {
     return count_fits(fb, bytes, hdr_frames) ? hdr_frames
            : count_fits(fb, bytes, pframes)  ? pframes
                                              : 0;
 }
 
+/* Frames of fb bytes fit one announced count. */
 static int layout_fits(size_t fb, size_t bytes, long hdr_frames, long pframes)
 {
-    return okh_frames(fb, bytes, hdr_frames, pframes) > 0;
+    return fitting_count(fb, bytes, hdr_frames, pframes) > 0;
 }
 
 /* Analog words per frame: the header against ANALOG:USED and the rates;
@@ -748,9 +750,9 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
                 const size_t pb = 4u * (size_t)c->npoints * (size_t)c->word;
                 const size_t fh = pb + (size_t)hdr_words * (size_t)c->word;
                 const size_t fp = pb + (size_t)want * (size_t)c->word;
-                const int okh = layout_fits(fh, data_bytes, hdr_frames, pframes);
-                const int okp = layout_fits(fp, data_bytes, hdr_frames, pframes);
-                if (okh != okp) {
+                const int fits_h = layout_fits(fh, data_bytes, hdr_frames, pframes);
+                const int fits_p = layout_fits(fp, data_bytes, hdr_frames, pframes);
+                if (fits_h != fits_p) {
                     /* the data section's size decides: one layout ends the
                      * announced frames at its end (or in its last block) */
                     warn(c,
@@ -758,15 +760,15 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
                          "%ld x ANALOG:RATE %g / POINT:RATE %g = %ld; the data section (%lu "
                          "bytes) holds the %ld frames announced in the %s layout only: read so",
                          hdr_words, used, ar, (double)c->rate, want, (unsigned long)data_bytes,
-                         okh ? okh_frames(fh, data_bytes, hdr_frames, pframes)
-                             : okh_frames(fp, data_bytes, hdr_frames, pframes),
-                         okh ? "header's" : "parameters'");
-                    c->analog_per_frame = okh ? (int)(hdr_words / (unsigned long)used) : (int)r;
-                    if (okh && hdr_words % (unsigned long)used != 0u) {
+                         fits_h ? fitting_count(fh, data_bytes, hdr_frames, pframes)
+                             : fitting_count(fp, data_bytes, hdr_frames, pframes),
+                         fits_h ? "header's" : "parameters'");
+                    c->analog_per_frame = fits_h ? (int)(hdr_words / (unsigned long)used) : (int)r;
+                    if (fits_h && hdr_words % (unsigned long)used != 0u) {
                         c->analog_per_frame = 0;
                     }
-                    c->analog_words = okh ? (long)hdr_words : want;
-                    c->src_analog = okh ? "header (data section size)"
+                    c->analog_words = fits_h ? (long)hdr_words : want;
+                    c->src_analog = fits_h ? "header (data section size)"
                                         : "ANALOG:USED x ANALOG:RATE / POINT:RATE (data section size)";
                     return 0;
                 }
@@ -799,14 +801,13 @@ static int check_analog(const c3d_in_t *in, c3d_t *c, unsigned hdr_words, unsign
 /* A walk ended at a link that leads nowhere: read on when the parameters
  * that fix the layout were read before it, else refuse naming the link and
  * the missing parameter. */
-static int check_walk_end(const c3d_in_t *in, c3d_t *c, const walk_end_t *w, unsigned hdr_points,
-                          unsigned hdr_analog, char *err)
+static int check_walk_end(c3d_t *c, const walk_end_t *w, unsigned hdr_points, unsigned hdr_analog,
+                          char *err)
 {
     static const char *const need[][2] = {{"POINT", "USED"},   {"POINT", "SCALE"},
                                           {"POINT", "RATE"},   {"POINT", "LABELS"},
                                           {"ANALOG", "USED"},  {"ANALOG", "RATE"}};
     size_t k;
-    (void)in;
     for (k = 0; k < sizeof need / sizeof need[0]; k++) {
         const int analog = need[k][0][0] == 'A';
         const int labels = need[k][1][0] == 'L';
@@ -933,7 +934,7 @@ static int parse(const unsigned char *buf, size_t len, c3d_t *out, char *err)
                  nb, (unsigned long)(declared - pstart), (unsigned long)wend.reach, hdr_data);
         }
         if (wend.ended) {
-            if (check_walk_end(&in, out, &wend, hdr_points, hdr_analog, err) != 0) {
+            if (check_walk_end(out, &wend, hdr_points, hdr_analog, err) != 0) {
                 return -1;
             }
         }
