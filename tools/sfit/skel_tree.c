@@ -284,7 +284,7 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
     for (k = 0; k < g->n; k++) {
         int best = -1;
         double bc[3] = {0.0, 0.0, 0.0}, bcost = HUGE_VAL;
-        if (g->size[k] != 2 || s->nseg >= SKEL_MAX_SEG) {
+        if (g->size[k] != 2 || nposed + added >= SKEL_MAX_SEG) {
             continue;
         }
         for (a = 0; a < nposed; a++) {
@@ -297,21 +297,24 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
             }
         }
         if (best >= 0) {
-            skel_seg_t *ng = &s->seg[s->nseg];
+            /* s->nseg stays at nposed until every group is placed: the per-frame
+             * arrays (pose_ok, pose) are laid out frames x nposed until the poses
+             * are computed again below */
+            skel_seg_t *ng = &s->seg[nposed + added];
             memset(ng, 0, sizeof *ng);
-            (void)snprintf(ng->name, sizeof ng->name, "seg%d", s->nseg + 1);
+            (void)snprintf(ng->name, sizeof ng->name, "seg%d", nposed + added + 1);
             ng->nm = 2;
             ng->mk[0] = g->member[k][0];
             ng->mk[1] = g->member[k][1];
             ng->vpar = best;
             memcpy(ng->vc, bc, sizeof bc);
             ng->vcost = bcost;
-            s->nseg++;
             added++;
         }
     }
     if (added > 0) { /* poses again, with the new segments */
         skel_free(s);
+        s->nseg = nposed + added;
         if (skel_poses(s, why) != 0) {
             return -1;
         }
