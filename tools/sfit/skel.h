@@ -224,6 +224,14 @@ typedef struct skel {
 int skel_poses(skel_t *s, char *why);
 /** Pair costs, tree, root, joints; force types from the map. 0, -1 (why). */
 int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why);
+/**
+ * The skeleton found from the data alone (no map): groups (skel_group), the
+ * groups of 3 or more markers as segments, their poses, the 2-marker groups
+ * attached (skel_attach), the tree (skel_tree; `root` a segment name or
+ * NULL), the segments named seg1 (root), seg2, ... down the tree. s->rec set,
+ * s otherwise empty. Segments in the tree, or -1 (why).
+ */
+int skel_from_data(skel_t *s, skel_groups_t *grp, const char *root, char *why);
 /** Per-frame rotations and joint centres (the forward kinematics of the BVH). 0, -1. */
 int skel_motion(skel_t *s, char *why);
 void skel_free(skel_t *s);

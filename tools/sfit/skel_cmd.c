@@ -272,44 +272,23 @@ int skel_cmd(int argc, char **argv)
                 g->mk[i] = m;
             }
         }
-    } else {
-        if (skel_group(&rec, grp, why) != 0) {
+    }
+    if (map == NULL) {
+        intree = skel_from_data(s, grp, o.root, why);
+        if (intree < 0) {
             rc = fail(&o, why);
             goto done;
         }
-        for (k = 0; k < grp->n; k++) {
-            if (grp->size[k] >= 3 && s->nseg < SKEL_MAX_SEG) {
-                skel_seg_t *g = &s->seg[s->nseg];
-                (void)snprintf(g->name, sizeof g->name, "seg%d", s->nseg + 1);
-                g->nm = grp->size[k];
-                memcpy(g->mk, grp->member[k], (size_t)g->nm * sizeof g->mk[0]);
-                g->vpar = -1;
-                s->nseg++;
-            }
+    } else {
+        if (skel_poses(s, why) != 0) {
+            rc = fail(&o, why);
+            goto done;
         }
-    }
-    if (skel_poses(s, why) != 0 || (map == NULL && skel_attach(s, grp, why) < 0)) {
-        rc = fail(&o, why);
-        goto done;
-    }
-    if (s->nseg < 2) {
-        rc = fail(&o, "fewer than two segments with a pose: no joint");
-        goto done;
-    }
-    intree = skel_tree(s, map, o.root, why);
-    if (intree >= 0 && map == NULL) { /* found segments: seg1 the root, then down the tree */
-        int q;
-        for (q = 0; q < s->nseg && s->order[q] >= 0; q++) {
-            (void)snprintf(s->seg[s->order[q]].name, SKEL_NAME, "seg%d", q + 1);
+        if (s->nseg < 2) {
+            rc = fail(&o, "fewer than two segments with a pose: no joint");
+            goto done;
         }
-        for (k = 0; k < s->nseg; k++) {
-            if (k != s->root && s->parent_joint[k] < 0) {
-                (void)snprintf(s->seg[k].name, SKEL_NAME, "seg%d", ++q);
-            }
-        }
-        for (k = 0; k < s->njoint; k++) {
-            memcpy(s->joint[k].name, s->seg[s->joint[k].child].name, SKEL_NAME);
-        }
+        intree = skel_tree(s, map, o.root, why);
     }
     if (intree < 0 || skel_motion(s, why) != 0) {
         rc = fail(&o, why);

@@ -532,6 +532,52 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
     return qt; /* segments in the tree */
 }
 
+/* ------------------------------------------------- segments from data */
+
+int skel_from_data(skel_t *s, skel_groups_t *grp, const char *root, char *why)
+{
+    int k, q, intree;
+    if (skel_group(s->rec, grp, why) != 0) {
+        return -1;
+    }
+    s->nseg = 0;
+    for (k = 0; k < grp->n; k++) {
+        if (grp->size[k] >= 3 && s->nseg < SKEL_MAX_SEG) {
+            skel_seg_t *g = &s->seg[s->nseg];
+            memset(g, 0, sizeof *g);
+            (void)snprintf(g->name, sizeof g->name, "seg%d", s->nseg + 1);
+            g->nm = grp->size[k];
+            memcpy(g->mk, grp->member[k], (size_t)g->nm * sizeof g->mk[0]);
+            g->vpar = -1;
+            s->nseg++;
+        }
+    }
+    if (skel_poses(s, why) != 0 || skel_attach(s, grp, why) < 0) {
+        return -1;
+    }
+    if (s->nseg < 2) {
+        (void)snprintf(why, SKEL_ERR, "fewer than two segments with a pose: no joint");
+        return -1;
+    }
+    intree = skel_tree(s, NULL, root, why);
+    if (intree < 0) {
+        return -1;
+    }
+    /* names: seg1 the root, then down the tree, then those not in the tree */
+    for (q = 0; q < s->nseg && s->order[q] >= 0; q++) {
+        (void)snprintf(s->seg[s->order[q]].name, SKEL_NAME, "seg%d", q + 1);
+    }
+    for (k = 0; k < s->nseg; k++) {
+        if (k != s->root && s->parent_joint[k] < 0) {
+            (void)snprintf(s->seg[k].name, SKEL_NAME, "seg%d", ++q);
+        }
+    }
+    for (k = 0; k < s->njoint; k++) {
+        memcpy(s->joint[k].name, s->seg[s->joint[k].child].name, SKEL_NAME);
+    }
+    return intree;
+}
+
 /* --------------------------------------------------------------- motion */
 
 int skel_motion(skel_t *s, char *why)
