@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# `sfit skeleton FILE` without a map on full-body recordings: how well the
+# segments found from the data match the true segments, measured by
+# tests/scripts/skeleton_ari.py (adjusted Rand index; truth from the marker
+# names, which sfit ignores when it groups; docs/skeleton.md).
+#  1. skeleton_ari.py itself on a partition computed by hand;
+#  2. the two unlabelled arm recordings: every segment exact (index 1);
+#  3. the two CMU full-body trials (41 markers, 17 segments): the index at
+#     least the figure docs/skeleton.md gives (rounded down to 0.01), both
+#     hands exact on 85_12, the left foot exact on 135_02.
+# Usage: test_skeleton_groups.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+. "$(dirname "$0")/common.sh"
+cli_setup skeleton_groups "$1" "$2"
+ari() { /usr/bin/python3 "$cli_src/tests/scripts/skeleton_ari.py" "$@"; }
+D="$data/c3d"
+
+# 1. [0,0,1,1] against [0,0,1,2]: index 4/7 (pairs: 1 agreeing, expected 1/3, mean 3/2).
+py 'import skeleton_ari as A; r = A.ari([0, 0, 1, 1], [0, 0, 1, 2]); assert abs(r - 4 / 7) < 1e-12, r
+assert A.ari([0, 1, 2], [5, 6, 7]) == 1.0 and abs(A.ari([0, 0, 1, 1], [0, 1, 0, 1]) + 0.5) < 1e-12' \
+  || fail "adjusted Rand index of the hand-computed cases"
+
+# 2. arms
+"$sfit" skeleton "$D/unlabeled/arm-4-2-3_clean_120fps.c3d" --json > "$tmp/a423.json"
+ari "$tmp/a423.json" --truth sequential:4,2,3 --min 1.0 --quiet || fail "arm-4-2-3"
+"$sfit" skeleton "$D/unlabeled/arm-4-4-4_clean_30fps.c3d" --json > "$tmp/a444.json"
+ari "$tmp/a444.json" --truth sequential:4,4,4 --min 1.0 --quiet || fail "arm-4-4-4"
+
+# 3. CMU full body
+"$sfit" skeleton "$D/cmu/85_12.c3d" --json > "$tmp/85.json"
+ari "$tmp/85.json" --truth names --min 0.71 --exact Lhand,Rhand --quiet || fail "CMU 85_12"
+"$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
+ari "$tmp/135.json" --truth names --min 0.77 --exact Lfoot --quiet || fail "CMU 135_02"
+echo "skeleton_groups: ok"
