@@ -47,6 +47,71 @@ def _table():
 
 SEGMENT_OF = _table()
 
+# The 16 joints of the 17-segment body.
+BODY_JOINTS = [('head', 'thorax'), ('thorax', 'pelvis')]
+for _s in 'LR':
+    BODY_JOINTS += [('thorax', _s + 'shoulder'), (_s + 'shoulder', _s + 'upperarm'),
+                    (_s + 'upperarm', _s + 'forearm'), (_s + 'forearm', _s + 'hand'),
+                    ('pelvis', _s + 'thigh'), (_s + 'thigh', _s + 'shank'),
+                    (_s + 'shank', _s + 'foot')]
+
+
+def _path(a, b):
+    """Segments on the body's path from a to b (both included)."""
+    adj = {}
+    for x, y in BODY_JOINTS:
+        adj.setdefault(x, []).append(y)
+        adj.setdefault(y, []).append(x)
+    prev, todo = {a: None}, [a]
+    while todo:
+        x = todo.pop(0)
+        for y in adj.get(x, []):
+            if y not in prev:
+                prev[y] = x
+                todo.append(y)
+    out, x = [], b
+    while x is not None:
+        out.append(x)
+        x = prev.get(x)
+    return out[::-1]
+
+
+def judge_joints(d, truth_of):
+    """The tree's joints against the body: a joint between two segments is
+    between neighbours when some true segment of one and some of the other are
+    the same or joined in the body through segments no posed segment
+    represents (a shoulder of one marker left out makes thorax - upper arm
+    neighbours). Returns (joints, unflagged, unflagged non-neighbour joints,
+    body joints found by an unflagged joint, their names)."""
+    segs = {g['name']: {truth_of(m) for m in g['markers']} - {None} for g in d['segments']}
+    major = {}
+    for g in d['segments']:
+        c = Counter(t for t in (truth_of(m) for m in g['markers']) if t is not None)
+        major[g['name']] = {t for t, n in c.items() if n == max(c.values())} if c else set()
+    represented = set().union(*segs.values()) if segs else set()
+
+    def neighbours(a, b):
+        for x in segs[a]:
+            for y in segs[b]:
+                if x == y:
+                    return True
+                inner = _path(x, y)[1:-1]
+                if not any(z in represented for z in inner):
+                    return True
+        return False
+    bad, found, unflagged = [], set(), 0
+    for j in d['joints']:
+        if 'untrusted' in j['flags']:
+            continue
+        unflagged += 1
+        if not neighbours(j['parent'], j['child']):
+            bad.append((j['parent'], j['child']))
+        for x, y in BODY_JOINTS:
+            if (x in major[j['parent']] and y in major[j['child']]) or \
+               (y in major[j['parent']] and x in major[j['child']]):
+                found.add((x, y))
+    return len(d['joints']), unflagged, bad, len(found), sorted('%s-%s' % e for e in found)
+
 
 def ari(a, b):
     """Adjusted Rand index of two labelings of the same items."""
@@ -94,6 +159,11 @@ def main():
     ap.add_argument('--min', type=float, default=None)
     ap.add_argument('--exact', default='')
     ap.add_argument('--quiet', action='store_true')
+    ap.add_argument('--joints', action='store_true',
+                    help='also judge the tree (--truth names): no unflagged joint between '
+                         'segments that are not neighbours')
+    ap.add_argument('--min-joints', type=int, default=None,
+                    help='at least this many body joints found by an unflagged joint')
     a = ap.parse_args()
     d = json.load(open(a.json))
     groups = [g['markers'] for g in d['grouping']['groups']]
@@ -124,6 +194,18 @@ def main():
         for g in groups:
             print('  group ' + ' '.join('%s(%s)' % (m.split(':')[-1], truth_of(m)) for m in g))
     ok = True
+    if a.joints:
+        nj, nu, bad, nfound, names = judge_joints(d, truth_of)
+        print('joints %d unflagged %d unflagged_non_neighbours %d body_joints_found %d of %d %s'
+              % (nj, nu, len(bad), nfound, len(BODY_JOINTS), ','.join(names)))
+        for p, c in bad:
+            print('FAIL: joint %s - %s joins segments that are not neighbours, without untrusted'
+                  % (p, c))
+            ok = False
+        if a.min_joints is not None and nfound < a.min_joints:
+            print('FAIL: %d body joints found by an unflagged joint, fewer than %d'
+                  % (nfound, a.min_joints))
+            ok = False
     if a.min is not None and r < a.min:
         print('FAIL: adjusted Rand index %.3f below %.3f' % (r, a.min))
         ok = False

@@ -136,6 +136,19 @@ typedef enum skel_jtype { SKEL_NONE = 0, SKEL_BALL = 1, SKEL_HINGE = 2 } skel_jt
                                     together were ambiguous; docs/skeleton.md) */
 #define SKEL_F_ONE_TRIAL 64u   /**< a hinge estimated on its functional trial alone (all
                                     trials together do not fix its axis) */
+#define SKEL_F_UNTRUSTED 128u  /**< the fit is not what a joint can be (why: SKEL_U_*) */
+
+/** Why a pair / joint is untrusted (docs/skeleton.md, "What a joint can be"). */
+#define SKEL_U_MISFIT 1u  /**< residual above SKEL_TRUST_MISFIT times what the marker noise
+                               explains (the pair module's misfit) */
+#define SKEL_U_COST 2u    /**< cost above SKEL_TRUST_COST times the marker noise (sigma) */
+#define SKEL_U_REACH 4u   /**< the centre lies further from a segment's nearest marker than
+                               SKEL_TRUST_REACH times the larger segment's marker extent */
+#define SKEL_U_MODULE 8u  /**< the pair module cannot say (too few frames, no noise figure) */
+#define SKEL_TRUST_MISFIT 4.0
+#define SKEL_TRUST_COST 6.0
+#define SKEL_TRUST_REACH 2.0
+#define SKEL_ATTACH_COST 3.0 /* a 2-marker group's sphere-route cost, times the rigid level */
 
 /** Solution of one pair: the library's pair module (sfit_pair.h), the same
  * module and options `sfit calibrate` and `sfit joint` use. */
@@ -156,6 +169,9 @@ typedef struct skel_pair_res {
     int trial;            /**< trials used: -1 all, else that trial only (SKEL_F_ONE_TRIAL) */
     int type_trial;       /**< -1, or the trial whose auto decision gave the type */
     const char *type_rule; /**< "map", "all_trials", "functional_trial" (docs/skeleton.md) */
+    double reach_a, reach_b; /**< distance from the centre to the nearest marker of a, of b
+                               (their templates; a 2-marker segment's own markers) */
+    unsigned why_untrusted; /**< SKEL_U_* bits: why the joint cannot be trusted (0: it can) */
 } skel_pair_res_t;
 
 /** Symmetric 3x3 eigen-decomposition (double, Jacobi): ascending w, vectors in v's columns. */

@@ -135,12 +135,28 @@ static const char *type_name(skel_jtype_t t)
 
 static void print_flags_json(unsigned fl)
 {
-    static const char *const nm[] = {"no_motion", "small_range", "few_frames", "borderline",
-                                     "forced",    "type_from_trial", "one_trial"};
+    static const char *const nm[] = {"no_motion", "small_range",     "few_frames",
+                                     "borderline", "forced",         "type_from_trial",
+                                     "one_trial",  "untrusted"};
     int k, first = 1;
     printf("[");
-    for (k = 0; k < 7; k++) {
+    for (k = 0; k < 8; k++) {
         if (fl & (1u << k)) {
+            printf("%s\"%s\"", first ? "" : ",", nm[k]);
+            first = 0;
+        }
+    }
+    printf("]");
+}
+
+/* Why a joint is untrusted, by name (docs/skeleton.md). */
+static void print_untrusted_json(unsigned why)
+{
+    static const char *const nm[] = {"misfit", "cost", "reach", "module"};
+    int k, first = 1;
+    printf("[");
+    for (k = 0; k < 4; k++) {
+        if (why & (1u << k)) {
             printf("%s\"%s\"", first ? "" : ",", nm[k]);
             first = 0;
         }
@@ -150,10 +166,11 @@ static void print_flags_json(unsigned fl)
 
 static void print_flags(unsigned fl)
 {
-    static const char *const nm[] = {"no-motion", "small-range", "few-frames", "borderline",
-                                     "forced",    "type-from-trial", "one-trial"};
+    static const char *const nm[] = {"no-motion", "small-range",     "few-frames",
+                                     "borderline", "forced",         "type-from-trial",
+                                     "one-trial",  "untrusted"};
     int k;
-    for (k = 0; k < 7; k++) {
+    for (k = 0; k < 8; k++) {
         if (fl & (1u << k)) {
             printf(" [%s]", nm[k]);
         }
@@ -389,6 +406,10 @@ int skel_cmd(int argc, char **argv)
                            sqrt(p->s[1]) * 57.29577951308232, sqrt(p->s[2]) * 57.29577951308232,
                            p->n, cli_joint_pair_reason(p->lib.reason));
                     print_flags_json(p->flags);
+                    printf(",\"untrusted_why\":");
+                    print_untrusted_json(p->why_untrusted);
+                    printf(",\"reach\":[%.6g,%.6g],\"misfit\":%.6g,\"noise\":%.6g", p->reach_a,
+                           p->reach_b, (double)p->lib.misfit, sqrt((double)p->lib.marker_var));
                     printf("}");
                 }
             }
@@ -472,6 +493,9 @@ int skel_cmd(int argc, char **argv)
             printf(",\"lag1\":%.4g,\"inflation\":%.4g,\"frames\":%.0f,\"flags\":", j->lag1,
                    j->infl, j->pr.n);
             print_flags_json(j->pr.flags);
+            printf(",\"untrusted_why\":");
+            print_untrusted_json(j->pr.why_untrusted);
+            printf(",\"reach\":[%.6g,%.6g]", j->pr.reach_a, j->pr.reach_b);
             printf("}");
         }
         printf("],\"map_joints_not_in_tree\":[");
@@ -538,6 +562,18 @@ int skel_cmd(int argc, char **argv)
                    j->name, s->seg[j->parent].name, s->seg[j->child].name, type_name(j->pr.type),
                    j->pr.rms, rec.units, j->pr.sigma, j->pr.n);
             print_flags(j->pr.flags);
+            if (j->pr.why_untrusted != 0u) {
+                static const char *const wn[] = {"misfit", "cost", "reach", "module"};
+                int w, first = 1;
+                printf(" (untrusted:");
+                for (w = 0; w < 4; w++) {
+                    if (j->pr.why_untrusted & (1u << w)) {
+                        printf("%s %s", first ? "" : ",", wn[w]);
+                        first = 0;
+                    }
+                }
+                printf(")");
+            }
             printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
                    j->pr.ca[2], s->seg[j->parent].name);
             if (j->pr.type == SKEL_HINGE) {

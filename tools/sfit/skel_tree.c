@@ -189,7 +189,7 @@ static const double *pose_at(const skel_t *s, long f, int k)
 
 /* Sphere route of group g's markers in segment a's frame: centre and cost. */
 static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c[3],
-                        double *cost)
+                        double *cost, double *radius)
 {
     const skel_rec_t *r = s->rec;
     const skel_seg_t *ga = &s->seg[a];
@@ -274,7 +274,45 @@ static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c
         return -1;
     }
     *cost = sqrt(sum2 / tot);
+    *radius = 0.0;
+    for (k = 0; k < nmk; k++) {
+        *radius = sum[k] > *radius ? sum[k] : *radius;
+    }
     return 0;
+}
+
+/* The largest distance between two markers of a segment's template, and
+ * the distance from c to its nearest marker (its own markers only). */
+static double seg_extent(const skel_seg_t *g)
+{
+    double best = 0.0;
+    int i, j, k;
+    for (i = 0; i < g->nm && i < g->npose; i++) {
+        for (j = i + 1; j < g->nm && j < g->npose; j++) {
+            double d2 = 0.0;
+            for (k = 0; k < 3; k++) {
+                const double d = (double)g->tpl.pos[i].v[k] - (double)g->tpl.pos[j].v[k];
+                d2 += d * d;
+            }
+            best = d2 > best ? d2 : best;
+        }
+    }
+    return sqrt(best);
+}
+
+static double seg_reach(const skel_seg_t *g, const double c[3])
+{
+    double best = HUGE_VAL;
+    int i, k;
+    for (i = 0; i < g->nm && i < g->npose; i++) {
+        double d2 = 0.0;
+        for (k = 0; k < 3; k++) {
+            const double d = (double)g->tpl.pos[i].v[k] - c[k];
+            d2 += d * d;
+        }
+        best = d2 < best ? d2 : best;
+    }
+    return sqrt(best);
 }
 
 int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
@@ -288,9 +326,17 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
             continue;
         }
         for (a = 0; a < nposed; a++) {
-            double c[3], cost;
+            double c[3], cost, radius;
+            /* what a joint can be: the markers keep their distance to the centre
+             * within SKEL_ATTACH_COST times the rigid level, and the centre lies
+             * within reach of a's markers and of the pair's (SKEL_TRUST_REACH
+             * times a's marker extent); else the group is left out */
             if (s->seg[a].tpl_ok && s->seg[a].vpar < 0
-                && sphere_route(s, a, g->member[k], 2, c, &cost) == 0 && cost < bcost) {
+                && sphere_route(s, a, g->member[k], 2, c, &cost, &radius) == 0
+                && isfinite(cost) && cost <= SKEL_ATTACH_COST * g->noise
+                && radius <= SKEL_TRUST_REACH * seg_extent(&s->seg[a])
+                && seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * seg_extent(&s->seg[a])
+                && cost < bcost) {
                 bcost = cost;
                 best = a;
                 memcpy(bc, c, sizeof bc);
@@ -410,6 +456,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
     typedef struct edge {
         double w;
         int a, b;
+        int untrusted; /* trusted joints first (docs/skeleton.md) */
     } edge_t;
     edge_t edges[SKEL_MAX_SEG * SKEL_MAX_SEG / 2];
     int ne = 0, a, b, i, k;
@@ -427,6 +474,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             }
             s->pair_ok[a][b] = 1;
             if (s->pair[a][b].type != SKEL_NONE) {
+                edges[ne].untrusted = (s->pair[a][b].flags & SKEL_F_UNTRUSTED) != 0u;
                 edges[ne].w = s->pair[a][b].rms;
                 edges[ne].a = a;
                 edges[ne].b = b;
@@ -434,11 +482,15 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             }
         }
     }
-    /* Kruskal; ties by the lower segment indices (edges already in that order) */
+    /* Kruskal over the trusted pairs first, then the untrusted ones (their
+     * joints keep SKEL_F_UNTRUSTED); by cost within each; ties by the lower
+     * segment indices (edges already in that order) */
     for (i = 1; i < ne; i++) { /* insertion sort, stable */
         const edge_t e = edges[i];
         k = i - 1;
-        while (k >= 0 && edges[k].w > e.w) {
+        while (k >= 0
+               && (edges[k].untrusted > e.untrusted
+                   || (edges[k].untrusted == e.untrusted && edges[k].w > e.w))) {
             edges[k + 1] = edges[k];
             k--;
         }
