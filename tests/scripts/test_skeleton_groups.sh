@@ -12,7 +12,8 @@
 #  4. the tree on the same trials (skeleton_ari.py --joints): no joint
 #     without `untrusted` between two segments that are not neighbours in
 #     the body, and at least the 5 body joints docs/skeleton.md gives found
-#     by a joint without it.
+#     by a joint without it;
+#  5. the BVH's distance to the joint centres the JSON reports, recomputed.
 # Usage: test_skeleton_groups.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 . "$(dirname "$0")/common.sh"
@@ -32,10 +33,14 @@ ari "$tmp/a423.json" --truth sequential:4,2,3 --min 1.0 --quiet || fail "arm-4-2
 ari "$tmp/a444.json" --truth sequential:4,4,4 --min 1.0 --quiet || fail "arm-4-4-4"
 
 # 3. CMU full body
-"$sfit" skeleton "$D/cmu/85_12.c3d" --json > "$tmp/85.json"
+"$sfit" skeleton "$D/cmu/85_12.c3d" --json --bvh "$tmp/85.bvh" --centres "$tmp/85.csv" > "$tmp/85.json"
 ari "$tmp/85.json" --truth names --min 0.71 --exact Lhand,Rhand --joints --min-joints 5 --quiet \
   || fail "CMU 85_12"
 "$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
 ari "$tmp/135.json" --truth names --min 0.77 --exact Lfoot --joints --min-joints 5 --quiet \
   || fail "CMU 135_02"
+# 5. the JSON's bvh_distance on the full body, recomputed from the BVH and the
+# centres (tests/scripts/skeleton_check.py bvhdist); figures printed
+PYTHONPATH="$cli_src/tests/scripts" /usr/bin/python3 "$cli_src/tests/scripts/skeleton_check.py" \
+  bvhdist "$tmp/85.bvh" "$tmp/85.csv" "$tmp/85.json" || fail "BVH distance, CMU 85_12"
 echo "skeleton_groups: ok"

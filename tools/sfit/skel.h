@@ -203,6 +203,11 @@ typedef struct skel_joint {
     skel_pair_res_t pr;     /**< in (parent, child) order */
     double lag1;            /**< lag-1 autocorrelation of the residual */
     double infl;            /**< variance inflation (1 + rho) / (1 - rho) applied to cov */
+    double bvh_med, bvh_p95; /**< distance from the BVH's forward kinematics of the joint to
+                                  its centre as the parent carries it (median, 95th
+                                  percentile over the frames where the parent has a pose;
+                                  units of the recording); NaN without such frames */
+    long bvh_frames;        /**< those frames */
 } skel_joint_t;
 
 typedef struct skel {

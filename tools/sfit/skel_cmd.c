@@ -496,6 +496,13 @@ int skel_cmd(int argc, char **argv)
             printf(",\"untrusted_why\":");
             print_untrusted_json(j->pr.why_untrusted);
             printf(",\"reach\":[%.6g,%.6g]", j->pr.reach_a, j->pr.reach_b);
+            printf(",\"bvh_distance\":");
+            if (j->bvh_frames > 0) {
+                printf("{\"median\":%.6g,\"p95\":%.6g,\"frames\":%ld}", j->bvh_med, j->bvh_p95,
+                       j->bvh_frames);
+            } else {
+                printf("null");
+            }
             printf("}");
         }
         printf("],\"map_joints_not_in_tree\":[");
@@ -576,6 +583,11 @@ int skel_cmd(int argc, char **argv)
             }
             printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
                    j->pr.ca[2], s->seg[j->parent].name);
+            if (j->bvh_frames > 0) {
+                printf("  bvh          its forward kinematics %.3g %s from this centre (median), "
+                       "%.3g (95th percentile)\n",
+                       j->bvh_med, rec.units, j->bvh_p95);
+            }
             if (j->pr.type == SKEL_HINGE) {
                 printf("  axis         %.5f %.5f %.5f\n", j->pr.axis_a[0], j->pr.axis_a[1],
                        j->pr.axis_a[2]);

@@ -632,6 +632,60 @@ int skel_from_data(skel_t *s, skel_groups_t *grp, const char *root, char *why)
 
 /* --------------------------------------------------------------- motion */
 
+static int cmp_dbl(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Per joint: distance from the BVH's forward kinematics (s->jc) to the
+ * centre its parent carries (t_p + R_p ca) in the frames where the parent
+ * has a pose; median and 95th percentile (nearest rank). The difference is
+ * the sum of the ancestors' joint residuals (docs/skeleton.md). */
+static int bvh_distance(skel_t *s, char *why)
+{
+    const long nf = s->rec->nframes;
+    double *d = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *d);
+    int k, i;
+    if (d == NULL) {
+        (void)snprintf(why, SKEL_ERR, "out of memory");
+        return -1;
+    }
+    for (k = 0; k < s->njoint; k++) {
+        skel_joint_t *j = &s->joint[k];
+        long f, n = 0;
+        for (f = 0; f < nf; f++) {
+            const double *p = pose_at(s, f, j->parent);
+            const double *b = &s->jc[((size_t)f * (size_t)s->njoint + (size_t)k) * 3u];
+            double c[3], e2 = 0.0;
+            if (p == NULL) {
+                continue;
+            }
+            mat_vec(p, j->pr.ca, c);
+            for (i = 0; i < 3; i++) {
+                const double e = b[i] - (c[i] + p[9 + i]);
+                e2 += e * e;
+            }
+            if (isfinite(e2)) {
+                d[n++] = sqrt(e2);
+            }
+        }
+        j->bvh_frames = n;
+        if (n == 0) {
+            j->bvh_med = j->bvh_p95 = (double)NAN;
+            continue;
+        }
+        qsort(d, (size_t)n, sizeof *d, cmp_dbl);
+        j->bvh_med = (n % 2 == 1) ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
+        {
+            long r = (long)ceil(0.95 * (double)n); /* nearest rank */
+            j->bvh_p95 = d[(r < 1 ? 1 : r) - 1];
+        }
+    }
+    free(d);
+    return 0;
+}
+
 int skel_motion(skel_t *s, char *why)
 {
     const long nf = s->rec->nframes;
@@ -727,7 +781,7 @@ int skel_motion(skel_t *s, char *why)
             }
         }
     }
-    return 0;
+    return bvh_distance(s, why);
 }
 
 /* --------------------------------------------------------------- euler */
