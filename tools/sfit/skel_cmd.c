@@ -166,11 +166,10 @@ static void print_untrusted_json(unsigned why)
 
 static void print_flags(unsigned fl)
 {
-    static const char *const nm[] = {"no-motion", "small-range",     "few-frames",
-                                     "borderline", "forced",         "type-from-trial",
-                                     "one-trial",  "untrusted"};
+    static const char *const nm[] = {"no-motion", "small-range", "few-frames", "borderline",
+                                     "forced",    "type-from-trial", "one-trial"};
     int k;
-    for (k = 0; k < 8; k++) {
+    for (k = 0; k < 7; k++) { /* untrusted: with its reasons, by the caller */
         if (fl & (1u << k)) {
             printf(" [%s]", nm[k]);
         }
@@ -572,14 +571,14 @@ int skel_cmd(int argc, char **argv)
             if (j->pr.why_untrusted != 0u) {
                 static const char *const wn[] = {"misfit", "cost", "reach", "module"};
                 int w, first = 1;
-                printf(" (untrusted:");
+                printf(" [untrusted:");
                 for (w = 0; w < 4; w++) {
                     if (j->pr.why_untrusted & (1u << w)) {
                         printf("%s %s", first ? "" : ",", wn[w]);
                         first = 0;
                     }
                 }
-                printf(")");
+                printf("]");
             }
             printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
                    j->pr.ca[2], s->seg[j->parent].name);
