@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # `sfit skeleton FILE...` (segments found from the data) under
 # AddressSanitizer + UndefinedBehaviorSanitizer on real recordings:
-# the two CMU full-body trials (41 markers, tests/data/c3d/cmu), the two
-# unlabelled arm recordings and the lower-limb session's trials together.
+# the two CMU full-body trials (41 markers, tests/data/c3d/cmu), the
+# unlabelled full body (44 markers) and arms (tests/data/c3d/unlabeled) and
+# the lower-limb session's trials together.
 # Every writer is asked for (--json --bvh --trc --svg --html --centres).
 # Each run must exit 0, in under 30 s, with no sanitizer report, and its
 # JSON must parse with status "ok".
@@ -78,6 +79,7 @@ assert len(d['joints']) >= 1, 'no joint'
 }
 run "CMU 85_12 (41 markers, full body)" "$D/cmu/85_12.c3d"
 run "CMU 135_02 (41 markers, full body)" "$D/cmu/135_02.c3d"
+run "unlabelled full body (44 markers)" "$D/unlabeled/fullbody_44Markers_clean_120fps.c3d"
 run "unlabelled arm 4-2-3" "$D/unlabeled/arm-4-2-3_clean_120fps.c3d"
 run "unlabelled arm 4-4-4" "$D/unlabeled/arm-4-4-4_clean_30fps.c3d"
 run "lower-limb session, 4 trials" "$L/Test_func_rankle.c3d" "$L/Test_func_rhip.c3d" \
