@@ -174,6 +174,11 @@ typedef struct skel_pair_res {
     unsigned why_untrusted; /**< SKEL_U_* bits: why the joint cannot be trusted (0: it can) */
 } skel_pair_res_t;
 
+/** Largest distance between two of a segment's own markers (template frame). */
+double skel_seg_extent(const skel_seg_t *g);
+/** Distance from c (segment frame) to the segment's nearest own marker (template). */
+double skel_seg_reach(const skel_seg_t *g, const double c[3]);
+
 /** Symmetric 3x3 eigen-decomposition (double, Jacobi): ascending w, vectors in v's columns. */
 int skel_eig3(const double a[9], double w[3], double v[9]);
 

@@ -88,54 +88,13 @@ int skel_eig3(const double a_in[9], double w[3], double v[9])
     return 0;
 }
 
-/* Distance from c (segment frame) to the nearest of the segment's own
- * markers in its template (not a 2-marker segment's joint-centre point). */
-static double reach(const skel_seg_t *g, const double c[3])
-{
-    const int nreal = g->nm < g->npose ? g->nm : g->npose;
-    double best = HUGE_VAL;
-    int i, k;
-    for (i = 0; i < nreal; i++) {
-        double d2 = 0.0;
-        for (k = 0; k < 3; k++) {
-            const double d = (double)g->tpl.pos[i].v[k] - c[k];
-            d2 += d * d;
-        }
-        if (d2 < best) {
-            best = d2;
-        }
-    }
-    return sqrt(best);
-}
-
-/* Largest distance between two of the segment's own markers (template). */
-static double extent(const skel_seg_t *g)
-{
-    const int nreal = g->nm < g->npose ? g->nm : g->npose;
-    double best = 0.0;
-    int i, j, k;
-    for (i = 0; i < nreal; i++) {
-        for (j = i + 1; j < nreal; j++) {
-            double d2 = 0.0;
-            for (k = 0; k < 3; k++) {
-                const double d = (double)g->tpl.pos[i].v[k] - (double)g->tpl.pos[j].v[k];
-                d2 += d * d;
-            }
-            if (d2 > best) {
-                best = d2;
-            }
-        }
-    }
-    return sqrt(best);
-}
-
 /* What a joint can be (docs/skeleton.md): its residual is what the marker
  * noise and a little soft tissue explain, and its centre lies within reach
  * of both segments' markers. SKEL_U_* bits, 0 when the fit can be trusted. */
 static unsigned judge(const skel_t *s, int a, int b, const skel_pair_res_t *o)
 {
     const double noise = sqrt((double)o->lib.marker_var);
-    const double ext = fmax(extent(&s->seg[a]), extent(&s->seg[b]));
+    const double ext = fmax(skel_seg_extent(&s->seg[a]), skel_seg_extent(&s->seg[b]));
     unsigned why = 0u;
     if (!((double)o->lib.misfit <= SKEL_TRUST_MISFIT)) {
         why |= SKEL_U_MISFIT;
@@ -237,8 +196,8 @@ int skel_pair_run(const skel_t *s, int a, int b, skel_jtype_t mode, int trial,
         double w[3], v[9];
         o.sigma = skel_eig3(o.cov_a, w, v) == 0 && w[2] > 0.0 ? sqrt(w[2]) : 0.0;
     }
-    o.reach_a = reach(&s->seg[a], o.ca);
-    o.reach_b = reach(&s->seg[b], o.cb);
+    o.reach_a = skel_seg_reach(&s->seg[a], o.ca);
+    o.reach_b = skel_seg_reach(&s->seg[b], o.cb);
     o.why_untrusted = judge(s, a, b, &o);
     if (o.why_untrusted != 0u) {
         o.flags |= SKEL_F_UNTRUSTED;

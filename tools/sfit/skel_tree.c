@@ -281,9 +281,9 @@ static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c
     return 0;
 }
 
-/* The largest distance between two markers of a segment's template, and
- * the distance from c to its nearest marker (its own markers only). */
-static double seg_extent(const skel_seg_t *g)
+/* The largest distance between two of a segment's own markers in its
+ * template (not a 2-marker segment's joint-centre point). */
+double skel_seg_extent(const skel_seg_t *g)
 {
     double best = 0.0;
     int i, j, k;
@@ -300,7 +300,8 @@ static double seg_extent(const skel_seg_t *g)
     return sqrt(best);
 }
 
-static double seg_reach(const skel_seg_t *g, const double c[3])
+/* Distance from c (segment frame) to the nearest of the segment's own markers. */
+double skel_seg_reach(const skel_seg_t *g, const double c[3])
 {
     double best = HUGE_VAL;
     int i, k;
@@ -334,8 +335,8 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
             if (s->seg[a].tpl_ok && s->seg[a].vpar < 0
                 && sphere_route(s, a, g->member[k], 2, c, &cost, &radius) == 0
                 && isfinite(cost) && cost <= SKEL_ATTACH_COST * g->noise
-                && radius <= SKEL_TRUST_REACH * seg_extent(&s->seg[a])
-                && seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * seg_extent(&s->seg[a])
+                && radius <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
+                && skel_seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
                 && cost < bcost) {
                 bcost = cost;
                 best = a;
