@@ -39,6 +39,18 @@ ari "$tmp/85.json" --truth names --min 0.71 --exact Lhand,Rhand --joints --min-j
 "$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
 ari "$tmp/135.json" --truth names --min 0.77 --exact Lfoot --joints --min-joints 5 --quiet \
   || fail "CMU 135_02"
+# the members tools read keep their names and types
+py 'import json, sys
+d = json.load(open(sys.argv[1]))
+assert all(isinstance(m, str) for s in d["segments"] for m in s["markers"])
+assert all(isinstance(m, str) for g in d["grouping"]["groups"] for m in g["markers"])
+for j in d["joints"]:
+    assert isinstance(j["name"], str) and j["type"] in ("ball", "hinge")
+    assert j["parent"] in [s["name"] for s in d["segments"]] and j["child"] in [s["name"] for s in d["segments"]]
+    assert isinstance(j["flags"], list) and all(isinstance(f, str) for f in j["flags"])
+    assert ("untrusted" in j["flags"]) == bool(j["untrusted_why"]), j' "$tmp/85.json" \
+  || fail "JSON members of segments, grouping and joints"
+
 # 5. the JSON's bvh_distance on the full body, recomputed from the BVH and the
 # centres (tests/scripts/skeleton_check.py bvhdist); figures printed
 PYTHONPATH="$cli_src/tests/scripts" /usr/bin/python3 "$cli_src/tests/scripts/skeleton_check.py" \
