@@ -625,12 +625,51 @@ def pair_seeds():
     return out
 
 
+def skeleton_seeds():
+    """fuzz_skeleton.c recordings: [segments - 2] [frames - 12] [mode: 1 markers
+    interleaved, 2 no drift, 4 no turning] [noise, 0.1 units]; per segment
+    [markers - 1], 3 signed bytes per marker, 3 for the joint, 3 for the
+    axis, amplitude, frequency; then occlusion runs (even opcode: frame u32,
+    marker, length) and raw samples (odd opcode: frame u32, marker, float)."""
+    import random
+    rnd = random.Random(38)
+
+    def seg(nmk, spread=60):
+        b = bytes([nmk - 1])
+        for _ in range(nmk):
+            b += bytes([(127 + rnd.randrange(-spread, spread)) & 0xFF for _ in range(3)])
+        b += bytes([127, 127, 127 + 100, rnd.randrange(256), rnd.randrange(256),
+                    rnd.randrange(256), 160 + rnd.randrange(90), rnd.randrange(256)])
+        return b
+
+    def rec(sizes, frames=140, mode=0, noise=3):
+        return bytes([len(sizes) - 2, frames - 12, mode, noise]) + b"".join(seg(n) for n in sizes)
+
+    def occl(f, m, n):
+        return bytes([0]) + struct.pack("<I", f) + bytes([m, n])
+
+    def raw(f, m, v, axis=0):
+        return bytes([1 + 2 * axis]) + struct.pack("<I", f) + bytes([m]) + struct.pack("<f", v)
+
+    return {
+        "arm": rec([4, 3, 3]),
+        "chain_small_groups": rec([3, 2, 3, 1, 2, 3]),
+        "interleaved": rec([3, 3, 2, 3], mode=1),
+        "static": rec([3, 3], mode=6, noise=0),
+        "noise_free": rec([4, 4, 4], noise=0),
+        "occluded": rec([3, 2, 3, 3]) + occl(10, 0, 40) + occl(50, 4, 63) + occl(0, 2, 20),
+        "hostile": rec([3, 3, 2]) + raw(5, 0, float("nan")) + raw(6, 1, float("inf"), 1)
+        + raw(7, 2, 3e38, 2) + raw(8, 3, -1e12) + raw(9, 4, 1e-40),
+        "short": rec([2, 2], frames=12),
+    }
+
+
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "corpus")
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
                        ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds()),
                        ("garbage", garbage_seeds()), ("swaps", swaps_seeds()),
-                       ("pair", pair_seeds())):
+                       ("pair", pair_seeds()), ("skeleton", skeleton_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

@@ -148,6 +148,51 @@ def cmd_bvh(args):
               len(nodes), len(frames), ft, worst, units))
 
 
+def cmd_bvhdist(args):
+    """bvhdist OUT.bvh CENTRES.csv JSON [LIMIT_P95]: per joint, the distance
+    from the BVH's forward kinematics (this file's own reader) to the centre
+    its parent carries (the --centres CSV) over the frames where that centre
+    is given; its median and 95th percentile (nearest rank) are the JSON's
+    bvh_distance within 0.1 (the BVH's written precision); printed. With
+    LIMIT_P95, every joint's 95th percentile at most that."""
+    import csv
+    nodes, frames, _ = bvh_ref.read_bvh(args[0])
+    rows = list(csv.reader(open(args[1])))
+    head, body = rows[0], rows[1:]
+    js = json.load(open(args[2]))
+    limit = float(args[3]) if len(args) > 3 else None
+    if len(body) != len(frames):
+        fail('%d CSV rows, %d BVH frames' % (len(body), len(frames)))
+    pos = [bvh_ref.forward(nodes, v) for v in frames]
+    for j in js['joints']:
+        c = head.index(j['name'] + '_X')
+        d = []
+        for f, r in enumerate(body):
+            if r[c] == '':
+                continue
+            d.append(math.dist(pos[f][j['child']], [float(r[c + i]) for i in range(3)]))
+        d.sort()
+        got = j['bvh_distance']
+        if not d:
+            if got is not None:
+                fail('%s: no frame with a centre, JSON %s' % (j['name'], got))
+            continue
+        n = len(d)
+        med = d[n // 2] if n % 2 else 0.5 * (d[n // 2 - 1] + d[n // 2])
+        p95 = d[max(1, math.ceil(0.95 * n)) - 1]
+        if got is None or got['frames'] != n or abs(got['median'] - med) > 0.1 \
+           or abs(got['p95'] - p95) > 0.1:
+            fail('%s: BVH to centre median %.4g p95 %.4g over %d frames, JSON %s'
+                 % (j['name'], med, p95, n, got))
+        print('%-10s %s -> %s: BVH forward kinematics to the centre: median %.2f, 95th '
+              'percentile %.2f %s (%d frames)%s' % (j['name'], j['parent'], j['child'], med, p95,
+                                                    js['units'], n,
+                                                    '' if 'untrusted' not in j['flags'] else
+                                                    ' [untrusted]'))
+        if limit is not None and p95 > limit:
+            fail('%s: 95th percentile %.2f above %.2f' % (j['name'], p95, limit))
+
+
 def cmd_synth(args):
     """synth JSON TRUTH ABS_TOL K_SIGMA ANGLE_TOL_DEG: the synthetic chain found
     again: groups, chain A - B - C, ball then hinge, centres and axis vs the truth."""
@@ -325,4 +370,4 @@ def cmd_screens(args):
 
 if __name__ == '__main__':
     {'unlabeled': cmd_unlabeled, 'synth': cmd_synth, 'session': cmd_session, 'tree': cmd_tree, 'norigid': cmd_norigid,
-     'bvh': cmd_bvh, 'screens': cmd_screens, 'calib': cmd_calib}[sys.argv[1]](sys.argv[2:])
+     'bvh': cmd_bvh, 'screens': cmd_screens, 'calib': cmd_calib, 'bvhdist': cmd_bvhdist}[sys.argv[1]](sys.argv[2:])

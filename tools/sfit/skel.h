@@ -136,6 +136,19 @@ typedef enum skel_jtype { SKEL_NONE = 0, SKEL_BALL = 1, SKEL_HINGE = 2 } skel_jt
                                     together were ambiguous; docs/skeleton.md) */
 #define SKEL_F_ONE_TRIAL 64u   /**< a hinge estimated on its functional trial alone (all
                                     trials together do not fix its axis) */
+#define SKEL_F_UNTRUSTED 128u  /**< the fit is not what a joint can be (why: SKEL_U_*) */
+
+/** Why a pair / joint is untrusted (docs/skeleton.md, "What a joint can be"). */
+#define SKEL_U_MISFIT 1u  /**< residual above SKEL_TRUST_MISFIT times what the marker noise
+                               explains (the pair module's misfit) */
+#define SKEL_U_COST 2u    /**< cost above SKEL_TRUST_COST times the marker noise (sigma) */
+#define SKEL_U_REACH 4u   /**< the centre lies further from a segment's nearest marker than
+                               SKEL_TRUST_REACH times the larger segment's marker extent */
+#define SKEL_U_MODULE 8u  /**< the pair module cannot say (too few frames, no noise figure) */
+#define SKEL_TRUST_MISFIT 4.0
+#define SKEL_TRUST_COST 6.0
+#define SKEL_TRUST_REACH 2.0
+#define SKEL_ATTACH_COST 3.0 /* a 2-marker group's sphere-route cost, times the rigid level */
 
 /** Solution of one pair: the library's pair module (sfit_pair.h), the same
  * module and options `sfit calibrate` and `sfit joint` use. */
@@ -156,7 +169,15 @@ typedef struct skel_pair_res {
     int trial;            /**< trials used: -1 all, else that trial only (SKEL_F_ONE_TRIAL) */
     int type_trial;       /**< -1, or the trial whose auto decision gave the type */
     const char *type_rule; /**< "map", "all_trials", "functional_trial" (docs/skeleton.md) */
+    double reach_a, reach_b; /**< distance from the centre to the nearest marker of a, of b
+                               (their templates; a 2-marker segment's own markers) */
+    unsigned why_untrusted; /**< SKEL_U_* bits: why the joint cannot be trusted (0: it can) */
 } skel_pair_res_t;
+
+/** Largest distance between two of a segment's own markers (template frame). */
+double skel_seg_extent(const skel_seg_t *g);
+/** Distance from c (segment frame) to the segment's nearest own marker (template). */
+double skel_seg_reach(const skel_seg_t *g, const double c[3]);
 
 /** Symmetric 3x3 eigen-decomposition (double, Jacobi): ascending w, vectors in v's columns. */
 int skel_eig3(const double a[9], double w[3], double v[9]);
@@ -187,6 +208,11 @@ typedef struct skel_joint {
     skel_pair_res_t pr;     /**< in (parent, child) order */
     double lag1;            /**< lag-1 autocorrelation of the residual */
     double infl;            /**< variance inflation (1 + rho) / (1 - rho) applied to cov */
+    double bvh_med, bvh_p95; /**< distance from the BVH's forward kinematics of the joint to
+                                  its centre as the parent carries it (median, 95th
+                                  percentile over the frames where the parent has a pose;
+                                  units of the recording); NaN without such frames */
+    long bvh_frames;        /**< those frames */
 } skel_joint_t;
 
 typedef struct skel {
@@ -224,6 +250,14 @@ typedef struct skel {
 int skel_poses(skel_t *s, char *why);
 /** Pair costs, tree, root, joints; force types from the map. 0, -1 (why). */
 int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why);
+/**
+ * The skeleton found from the data alone (no map): groups (skel_group), the
+ * groups of 3 or more markers as segments, their poses, the 2-marker groups
+ * attached (skel_attach), the tree (skel_tree; `root` a segment name or
+ * NULL), the segments named seg1 (root), seg2, ... down the tree. s->rec set,
+ * s otherwise empty. Segments in the tree, or -1 (why).
+ */
+int skel_from_data(skel_t *s, skel_groups_t *grp, const char *root, char *why);
 /** Per-frame rotations and joint centres (the forward kinematics of the BVH). 0, -1. */
 int skel_motion(skel_t *s, char *why);
 void skel_free(skel_t *s);

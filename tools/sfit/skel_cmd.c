@@ -135,12 +135,28 @@ static const char *type_name(skel_jtype_t t)
 
 static void print_flags_json(unsigned fl)
 {
-    static const char *const nm[] = {"no_motion", "small_range", "few_frames", "borderline",
-                                     "forced",    "type_from_trial", "one_trial"};
+    static const char *const nm[] = {"no_motion", "small_range",     "few_frames",
+                                     "borderline", "forced",         "type_from_trial",
+                                     "one_trial",  "untrusted"};
     int k, first = 1;
     printf("[");
-    for (k = 0; k < 7; k++) {
+    for (k = 0; k < 8; k++) {
         if (fl & (1u << k)) {
+            printf("%s\"%s\"", first ? "" : ",", nm[k]);
+            first = 0;
+        }
+    }
+    printf("]");
+}
+
+/* Why a joint is untrusted, by name (docs/skeleton.md). */
+static void print_untrusted_json(unsigned why)
+{
+    static const char *const nm[] = {"misfit", "cost", "reach", "module"};
+    int k, first = 1;
+    printf("[");
+    for (k = 0; k < 4; k++) {
+        if (why & (1u << k)) {
             printf("%s\"%s\"", first ? "" : ",", nm[k]);
             first = 0;
         }
@@ -153,7 +169,7 @@ static void print_flags(unsigned fl)
     static const char *const nm[] = {"no-motion", "small-range", "few-frames", "borderline",
                                      "forced",    "type-from-trial", "one-trial"};
     int k;
-    for (k = 0; k < 7; k++) {
+    for (k = 0; k < 7; k++) { /* untrusted: with its reasons, by the caller */
         if (fl & (1u << k)) {
             printf(" [%s]", nm[k]);
         }
@@ -272,44 +288,23 @@ int skel_cmd(int argc, char **argv)
                 g->mk[i] = m;
             }
         }
-    } else {
-        if (skel_group(&rec, grp, why) != 0) {
+    }
+    if (map == NULL) {
+        intree = skel_from_data(s, grp, o.root, why);
+        if (intree < 0) {
             rc = fail(&o, why);
             goto done;
         }
-        for (k = 0; k < grp->n; k++) {
-            if (grp->size[k] >= 3 && s->nseg < SKEL_MAX_SEG) {
-                skel_seg_t *g = &s->seg[s->nseg];
-                (void)snprintf(g->name, sizeof g->name, "seg%d", s->nseg + 1);
-                g->nm = grp->size[k];
-                memcpy(g->mk, grp->member[k], (size_t)g->nm * sizeof g->mk[0]);
-                g->vpar = -1;
-                s->nseg++;
-            }
+    } else {
+        if (skel_poses(s, why) != 0) {
+            rc = fail(&o, why);
+            goto done;
         }
-    }
-    if (skel_poses(s, why) != 0 || (map == NULL && skel_attach(s, grp, why) < 0)) {
-        rc = fail(&o, why);
-        goto done;
-    }
-    if (s->nseg < 2) {
-        rc = fail(&o, "fewer than two segments with a pose: no joint");
-        goto done;
-    }
-    intree = skel_tree(s, map, o.root, why);
-    if (intree >= 0 && map == NULL) { /* found segments: seg1 the root, then down the tree */
-        int q;
-        for (q = 0; q < s->nseg && s->order[q] >= 0; q++) {
-            (void)snprintf(s->seg[s->order[q]].name, SKEL_NAME, "seg%d", q + 1);
+        if (s->nseg < 2) {
+            rc = fail(&o, "fewer than two segments with a pose: no joint");
+            goto done;
         }
-        for (k = 0; k < s->nseg; k++) {
-            if (k != s->root && s->parent_joint[k] < 0) {
-                (void)snprintf(s->seg[k].name, SKEL_NAME, "seg%d", ++q);
-            }
-        }
-        for (k = 0; k < s->njoint; k++) {
-            memcpy(s->joint[k].name, s->seg[s->joint[k].child].name, SKEL_NAME);
-        }
+        intree = skel_tree(s, map, o.root, why);
     }
     if (intree < 0 || skel_motion(s, why) != 0) {
         rc = fail(&o, why);
@@ -410,6 +405,10 @@ int skel_cmd(int argc, char **argv)
                            sqrt(p->s[1]) * 57.29577951308232, sqrt(p->s[2]) * 57.29577951308232,
                            p->n, cli_joint_pair_reason(p->lib.reason));
                     print_flags_json(p->flags);
+                    printf(",\"untrusted_why\":");
+                    print_untrusted_json(p->why_untrusted);
+                    printf(",\"reach\":[%.6g,%.6g],\"misfit\":%.6g,\"noise\":%.6g", p->reach_a,
+                           p->reach_b, (double)p->lib.misfit, sqrt((double)p->lib.marker_var));
                     printf("}");
                 }
             }
@@ -493,6 +492,16 @@ int skel_cmd(int argc, char **argv)
             printf(",\"lag1\":%.4g,\"inflation\":%.4g,\"frames\":%.0f,\"flags\":", j->lag1,
                    j->infl, j->pr.n);
             print_flags_json(j->pr.flags);
+            printf(",\"untrusted_why\":");
+            print_untrusted_json(j->pr.why_untrusted);
+            printf(",\"reach\":[%.6g,%.6g]", j->pr.reach_a, j->pr.reach_b);
+            printf(",\"bvh_distance\":");
+            if (j->bvh_frames > 0) {
+                printf("{\"median\":%.6g,\"p95\":%.6g,\"frames\":%ld}", j->bvh_med, j->bvh_p95,
+                       j->bvh_frames);
+            } else {
+                printf("null");
+            }
             printf("}");
         }
         printf("],\"map_joints_not_in_tree\":[");
@@ -559,8 +568,25 @@ int skel_cmd(int argc, char **argv)
                    j->name, s->seg[j->parent].name, s->seg[j->child].name, type_name(j->pr.type),
                    j->pr.rms, rec.units, j->pr.sigma, j->pr.n);
             print_flags(j->pr.flags);
+            if (j->pr.why_untrusted != 0u) {
+                static const char *const wn[] = {"misfit", "cost", "reach", "module"};
+                int w, first = 1;
+                printf(" [untrusted:");
+                for (w = 0; w < 4; w++) {
+                    if (j->pr.why_untrusted & (1u << w)) {
+                        printf("%s %s", first ? "" : ",", wn[w]);
+                        first = 0;
+                    }
+                }
+                printf("]");
+            }
             printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
                    j->pr.ca[2], s->seg[j->parent].name);
+            if (j->bvh_frames > 0) {
+                printf("  bvh          its forward kinematics %.3g %s from this centre (median), "
+                       "%.3g (95th percentile)\n",
+                       j->bvh_med, rec.units, j->bvh_p95);
+            }
             if (j->pr.type == SKEL_HINGE) {
                 printf("  axis         %.5f %.5f %.5f\n", j->pr.axis_a[0], j->pr.axis_a[1],
                        j->pr.axis_a[2]);

@@ -197,10 +197,11 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
     }
     fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
                "width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n",
-            2.0 * pw + 20.0, ph + 90.0, 2.0 * pw + 20.0, ph + 90.0);
+            2.0 * pw + 20.0, ph + 106.0, 2.0 * pw + 20.0, ph + 106.0);
     fputs("<style>text{font-family:sans-serif}.t{font-size:15px;font-weight:bold}"
           ".c{font-size:13px;fill:#333}.j{font-size:12px;fill:#b00;font-weight:bold}"
           ".b{stroke:#333;stroke-width:5;stroke-linecap:round}.fr{fill:#fafafa;stroke:#ccc}"
+          ".u{stroke:#e80;stroke-width:4;stroke-dasharray:2 6;stroke-linecap:round}"
           ".jc{fill:#d00;stroke:#fff;stroke-width:1.5}.ax{stroke:#d00;stroke-width:2;"
           "stroke-dasharray:6 3}</style>\n",
           f);
@@ -237,8 +238,8 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
                 if (finite3d(a) && finite3d(b)) {
                     px(&w[v], a, &x, &y);
                     px(&w[v], b, &x2, &y2);
-                    fprintf(f, "<line class=\"b\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n",
-                            x, y, x2, y2);
+                    fprintf(f, "<line class=\"%s\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n",
+                            (s->joint[j].pr.flags & SKEL_F_UNTRUSTED) ? "u" : "b", x, y, x2, y2);
                 }
             }
             if (s->leaf[k]) {
@@ -282,9 +283,10 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
         }
     }
     fprintf(f, "<text class=\"c\" x=\"10\" y=\"%.0f\">red: joint centres (root: its segment's "
-               "marker centroid); dark: bones (dashed: to a leaf's marker centroid); dots: markers, "
-               "coloured by segment (grey: none)</text>\n",
-            ph + 80.0);
+               "marker centroid); dark: bones (dashed: to a leaf's marker centroid);</text>\n"
+               "<text class=\"c\" x=\"10\" y=\"%.0f\">orange dots: a bone whose joint is "
+               "untrusted; dots: markers, coloured by segment (grey: none)</text>\n",
+            ph + 80.0, ph + 96.0);
     fputs("</svg>\n", f);
     if (ferror(f) != 0 || fclose(f) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", path);

@@ -14,11 +14,12 @@
  * between markers (noise-free data, whose rigid spread is float rounding). Clustering: average linkage (the spread between two groups
  * is the mean spread of their pairs with a spread), merging the closest two
  * groups while that is at most the threshold; ties by the lowest marker
- * indices, so the result is deterministic. Threshold: the full merge
- * sequence is computed first; the cut is at the largest ratio between
- * consecutive merge heights h_k < h_k+1 whose geometric mean lies between
- * SKEL_GROUP_LO * b and SKEL_GROUP_HI * b (the threshold is that mean);
- * with no such pair, SKEL_GROUP_MID * b.
+ * indices, so the result is deterministic. Threshold: SKEL_GROUP_CUT * b,
+ * a fixed multiple of the rigid level (no count given, no gap search: on
+ * full-body recordings the merge heights have no clean gap, the largest
+ * ratio between consecutive heights fell between limbs and merged forearm
+ * and hand; docs/skeleton.md gives the adjusted Rand index of this rule on
+ * the shared recordings).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -27,9 +28,7 @@
 #include "skel.h"
 
 #define SKEL_GROUP_MIN_COMMON 10
-#define SKEL_GROUP_LO 2.0
-#define SKEL_GROUP_HI 8.0
-#define SKEL_GROUP_MID 4.0
+#define SKEL_GROUP_CUT 4.0
 #define SKEL_GROUP_FLOOR 1e-3
 
 static int cmp_double(const void *a, const void *b)
@@ -191,20 +190,17 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
         }
     }
     nh = linkage(spread, n, HUGE_VAL, cl, h);
-    {
-        const double lo = SKEL_GROUP_LO * g->noise, hi = SKEL_GROUP_HI * g->noise;
-        double best = 1.0;
-        g->threshold = SKEL_GROUP_MID * g->noise;
-        g->gap_lo = g->gap_hi = (double)NAN;
-        for (k = 0; k + 1 < nh; k++) {
-            const double gm = sqrt(h[k] * h[k + 1]);
-            if (gm >= lo && gm <= hi && h[k] > 0.0 && h[k + 1] / h[k] > best) {
-                best = h[k + 1] / h[k];
-                g->threshold = gm;
-                g->gap_lo = h[k];
-                g->gap_hi = h[k + 1];
-            }
+    g->threshold = SKEL_GROUP_CUT * g->noise;
+    g->gap_lo = g->gap_hi = (double)NAN;
+    for (k = 0; k < nh; k++) { /* the merge heights either side of the cut */
+        if (h[k] <= g->threshold) {
+            g->gap_lo = (isfinite(g->gap_lo) && g->gap_lo > h[k]) ? g->gap_lo : h[k];
+        } else if (!isfinite(g->gap_hi) || h[k] < g->gap_hi) {
+            g->gap_hi = h[k];
         }
+    }
+    if (!isfinite(g->gap_lo) || !isfinite(g->gap_hi)) {
+        g->gap_lo = g->gap_hi = (double)NAN;
     }
     (void)linkage(spread, n, g->threshold, cl, h);
     for (i = 0; i < n; i++) {

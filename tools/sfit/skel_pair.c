@@ -88,6 +88,29 @@ int skel_eig3(const double a_in[9], double w[3], double v[9])
     return 0;
 }
 
+/* What a joint can be (docs/skeleton.md): its residual is what the marker
+ * noise and a little soft tissue explain, and its centre lies within reach
+ * of both segments' markers. SKEL_U_* bits, 0 when the fit can be trusted. */
+static unsigned judge(const skel_t *s, int a, int b, const skel_pair_res_t *o)
+{
+    const double noise = sqrt((double)o->lib.marker_var);
+    const double ext = fmax(skel_seg_extent(&s->seg[a]), skel_seg_extent(&s->seg[b]));
+    unsigned why = 0u;
+    if (!((double)o->lib.misfit <= SKEL_TRUST_MISFIT)) {
+        why |= SKEL_U_MISFIT;
+    }
+    if (!(noise > 0.0) || !(o->rms <= SKEL_TRUST_COST * noise)) {
+        why |= SKEL_U_COST;
+    }
+    if (!(o->reach_a <= SKEL_TRUST_REACH * ext) || !(o->reach_b <= SKEL_TRUST_REACH * ext)) {
+        why |= SKEL_U_REACH;
+    }
+    if (o->lib.reason == SFIT_PAIR_REASON_FEW_FRAMES || o->lib.reason == SFIT_PAIR_REASON_NO_NOISE) {
+        why |= SKEL_U_MODULE;
+    }
+    return why;
+}
+
 int skel_pair_run(const skel_t *s, int a, int b, skel_jtype_t mode, int trial,
                   skel_pair_res_t *out)
 {
@@ -172,6 +195,12 @@ int skel_pair_run(const skel_t *s, int a, int b, skel_jtype_t mode, int trial,
     {
         double w[3], v[9];
         o.sigma = skel_eig3(o.cov_a, w, v) == 0 && w[2] > 0.0 ? sqrt(w[2]) : 0.0;
+    }
+    o.reach_a = skel_seg_reach(&s->seg[a], o.ca);
+    o.reach_b = skel_seg_reach(&s->seg[b], o.cb);
+    o.why_untrusted = judge(s, a, b, &o);
+    if (o.why_untrusted != 0u) {
+        o.flags |= SKEL_F_UNTRUSTED;
     }
     *out = o;
     return 0;

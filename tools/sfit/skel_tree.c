@@ -189,7 +189,7 @@ static const double *pose_at(const skel_t *s, long f, int k)
 
 /* Sphere route of group g's markers in segment a's frame: centre and cost. */
 static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c[3],
-                        double *cost)
+                        double *cost, double *radius)
 {
     const skel_rec_t *r = s->rec;
     const skel_seg_t *ga = &s->seg[a];
@@ -274,7 +274,46 @@ static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c
         return -1;
     }
     *cost = sqrt(sum2 / tot);
+    *radius = 0.0;
+    for (k = 0; k < nmk; k++) {
+        *radius = sum[k] > *radius ? sum[k] : *radius;
+    }
     return 0;
+}
+
+/* The largest distance between two of a segment's own markers in its
+ * template (not a 2-marker segment's joint-centre point). */
+double skel_seg_extent(const skel_seg_t *g)
+{
+    double best = 0.0;
+    int i, j, k;
+    for (i = 0; i < g->nm && i < g->npose; i++) {
+        for (j = i + 1; j < g->nm && j < g->npose; j++) {
+            double d2 = 0.0;
+            for (k = 0; k < 3; k++) {
+                const double d = (double)g->tpl.pos[i].v[k] - (double)g->tpl.pos[j].v[k];
+                d2 += d * d;
+            }
+            best = d2 > best ? d2 : best;
+        }
+    }
+    return sqrt(best);
+}
+
+/* Distance from c (segment frame) to the nearest of the segment's own markers. */
+double skel_seg_reach(const skel_seg_t *g, const double c[3])
+{
+    double best = HUGE_VAL;
+    int i, k;
+    for (i = 0; i < g->nm && i < g->npose; i++) {
+        double d2 = 0.0;
+        for (k = 0; k < 3; k++) {
+            const double d = (double)g->tpl.pos[i].v[k] - c[k];
+            d2 += d * d;
+        }
+        best = d2 < best ? d2 : best;
+    }
+    return sqrt(best);
 }
 
 int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
@@ -284,34 +323,45 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
     for (k = 0; k < g->n; k++) {
         int best = -1;
         double bc[3] = {0.0, 0.0, 0.0}, bcost = HUGE_VAL;
-        if (g->size[k] != 2 || s->nseg >= SKEL_MAX_SEG) {
+        if (g->size[k] != 2 || nposed + added >= SKEL_MAX_SEG) {
             continue;
         }
         for (a = 0; a < nposed; a++) {
-            double c[3], cost;
+            double c[3], cost, radius;
+            /* what a joint can be: the markers keep their distance to the centre
+             * within SKEL_ATTACH_COST times the rigid level, and the centre lies
+             * within reach of a's markers and of the pair's (SKEL_TRUST_REACH
+             * times a's marker extent); else the group is left out */
             if (s->seg[a].tpl_ok && s->seg[a].vpar < 0
-                && sphere_route(s, a, g->member[k], 2, c, &cost) == 0 && cost < bcost) {
+                && sphere_route(s, a, g->member[k], 2, c, &cost, &radius) == 0
+                && isfinite(cost) && cost <= SKEL_ATTACH_COST * g->noise
+                && radius <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
+                && skel_seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
+                && cost < bcost) {
                 bcost = cost;
                 best = a;
                 memcpy(bc, c, sizeof bc);
             }
         }
         if (best >= 0) {
-            skel_seg_t *ng = &s->seg[s->nseg];
+            /* s->nseg stays at nposed until every group is placed: the per-frame
+             * arrays (pose_ok, pose) are laid out frames x nposed until the poses
+             * are computed again below */
+            skel_seg_t *ng = &s->seg[nposed + added];
             memset(ng, 0, sizeof *ng);
-            (void)snprintf(ng->name, sizeof ng->name, "seg%d", s->nseg + 1);
+            (void)snprintf(ng->name, sizeof ng->name, "seg%d", nposed + added + 1);
             ng->nm = 2;
             ng->mk[0] = g->member[k][0];
             ng->mk[1] = g->member[k][1];
             ng->vpar = best;
             memcpy(ng->vc, bc, sizeof bc);
             ng->vcost = bcost;
-            s->nseg++;
             added++;
         }
     }
     if (added > 0) { /* poses again, with the new segments */
         skel_free(s);
+        s->nseg = nposed + added;
         if (skel_poses(s, why) != 0) {
             return -1;
         }
@@ -407,6 +457,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
     typedef struct edge {
         double w;
         int a, b;
+        int untrusted; /* trusted joints first (docs/skeleton.md) */
     } edge_t;
     edge_t edges[SKEL_MAX_SEG * SKEL_MAX_SEG / 2];
     int ne = 0, a, b, i, k;
@@ -424,6 +475,7 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             }
             s->pair_ok[a][b] = 1;
             if (s->pair[a][b].type != SKEL_NONE) {
+                edges[ne].untrusted = (s->pair[a][b].flags & SKEL_F_UNTRUSTED) != 0u;
                 edges[ne].w = s->pair[a][b].rms;
                 edges[ne].a = a;
                 edges[ne].b = b;
@@ -431,11 +483,15 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
             }
         }
     }
-    /* Kruskal; ties by the lower segment indices (edges already in that order) */
+    /* Kruskal over the trusted pairs first, then the untrusted ones (their
+     * joints keep SKEL_F_UNTRUSTED); by cost within each; ties by the lower
+     * segment indices (edges already in that order) */
     for (i = 1; i < ne; i++) { /* insertion sort, stable */
         const edge_t e = edges[i];
         k = i - 1;
-        while (k >= 0 && edges[k].w > e.w) {
+        while (k >= 0
+               && (edges[k].untrusted > e.untrusted
+                   || (edges[k].untrusted == e.untrusted && edges[k].w > e.w))) {
             edges[k + 1] = edges[k];
             k--;
         }
@@ -529,7 +585,107 @@ int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)
     return qt; /* segments in the tree */
 }
 
+/* ------------------------------------------------- segments from data */
+
+int skel_from_data(skel_t *s, skel_groups_t *grp, const char *root, char *why)
+{
+    int k, q, intree;
+    if (skel_group(s->rec, grp, why) != 0) {
+        return -1;
+    }
+    s->nseg = 0;
+    for (k = 0; k < grp->n; k++) {
+        if (grp->size[k] >= 3 && s->nseg < SKEL_MAX_SEG) {
+            skel_seg_t *g = &s->seg[s->nseg];
+            memset(g, 0, sizeof *g);
+            (void)snprintf(g->name, sizeof g->name, "seg%d", s->nseg + 1);
+            g->nm = grp->size[k];
+            memcpy(g->mk, grp->member[k], (size_t)g->nm * sizeof g->mk[0]);
+            g->vpar = -1;
+            s->nseg++;
+        }
+    }
+    if (skel_poses(s, why) != 0 || skel_attach(s, grp, why) < 0) {
+        return -1;
+    }
+    if (s->nseg < 2) {
+        (void)snprintf(why, SKEL_ERR, "fewer than two segments with a pose: no joint");
+        return -1;
+    }
+    intree = skel_tree(s, NULL, root, why);
+    if (intree < 0) {
+        return -1;
+    }
+    /* names: seg1 the root, then down the tree, then those not in the tree */
+    for (q = 0; q < s->nseg && s->order[q] >= 0; q++) {
+        (void)snprintf(s->seg[s->order[q]].name, SKEL_NAME, "seg%d", q + 1);
+    }
+    for (k = 0; k < s->nseg; k++) {
+        if (k != s->root && s->parent_joint[k] < 0) {
+            (void)snprintf(s->seg[k].name, SKEL_NAME, "seg%d", ++q);
+        }
+    }
+    for (k = 0; k < s->njoint; k++) {
+        memcpy(s->joint[k].name, s->seg[s->joint[k].child].name, SKEL_NAME);
+    }
+    return intree;
+}
+
 /* --------------------------------------------------------------- motion */
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Per joint: distance from the BVH's forward kinematics (s->jc) to the
+ * centre its parent carries (t_p + R_p ca) in the frames where the parent
+ * has a pose; median and 95th percentile (nearest rank). The difference is
+ * the sum of the ancestors' joint residuals (docs/skeleton.md). */
+static int bvh_distance(skel_t *s, char *why)
+{
+    const long nf = s->rec->nframes;
+    double *d = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *d);
+    int k, i;
+    if (d == NULL) {
+        (void)snprintf(why, SKEL_ERR, "out of memory");
+        return -1;
+    }
+    for (k = 0; k < s->njoint; k++) {
+        skel_joint_t *j = &s->joint[k];
+        long f, n = 0;
+        for (f = 0; f < nf; f++) {
+            const double *p = pose_at(s, f, j->parent);
+            const double *b = &s->jc[((size_t)f * (size_t)s->njoint + (size_t)k) * 3u];
+            double c[3], e2 = 0.0;
+            if (p == NULL) {
+                continue;
+            }
+            mat_vec(p, j->pr.ca, c);
+            for (i = 0; i < 3; i++) {
+                const double e = b[i] - (c[i] + p[9 + i]);
+                e2 += e * e;
+            }
+            if (isfinite(e2)) {
+                d[n++] = sqrt(e2);
+            }
+        }
+        j->bvh_frames = n;
+        if (n == 0) {
+            j->bvh_med = j->bvh_p95 = (double)NAN;
+            continue;
+        }
+        qsort(d, (size_t)n, sizeof *d, cmp_dbl);
+        j->bvh_med = (n % 2 == 1) ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
+        {
+            long r = (long)ceil(0.95 * (double)n); /* nearest rank */
+            j->bvh_p95 = d[(r < 1 ? 1 : r) - 1];
+        }
+    }
+    free(d);
+    return 0;
+}
 
 int skel_motion(skel_t *s, char *why)
 {
@@ -626,7 +782,7 @@ int skel_motion(skel_t *s, char *why)
             }
         }
     }
-    return 0;
+    return bvh_distance(s, why);
 }
 
 /* --------------------------------------------------------------- euler */

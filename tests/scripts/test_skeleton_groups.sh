@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# `sfit skeleton FILE` without a map on full-body recordings: how well the
+# segments found from the data match the true segments, measured by
+# tests/scripts/skeleton_ari.py (adjusted Rand index; truth from the marker
+# names, which sfit ignores when it groups; docs/skeleton.md).
+#  1. skeleton_ari.py itself on a partition computed by hand;
+#  2. the two unlabelled arm recordings: every segment exact (index 1);
+#  3. the two CMU full-body trials (41 markers, 17 segments): the index at
+#     least the figure docs/skeleton.md gives (rounded down to 0.01), both
+#     hands exact on 85_12, the left foot exact on 135_02;
+#  4. the tree on the same trials (skeleton_ari.py --joints): no joint
+#     without `untrusted` between two segments that are not neighbours in
+#     the body, and at least the 5 body joints docs/skeleton.md gives found
+#     by a joint without it;
+#  5. the BVH's distance to the joint centres the JSON reports, recomputed.
+# Usage: test_skeleton_groups.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+. "$(dirname "$0")/common.sh"
+cli_setup skeleton_groups "$1" "$2"
+ari() { /usr/bin/python3 "$cli_src/tests/scripts/skeleton_ari.py" "$@"; }
+D="$data/c3d"
+
+# 1. [0,0,1,1] against [0,0,1,2]: index 4/7 (pairs: 1 agreeing, expected 1/3, mean 3/2).
+py 'import skeleton_ari as A; r = A.ari([0, 0, 1, 1], [0, 0, 1, 2]); assert abs(r - 4 / 7) < 1e-12, r
+assert A.ari([0, 1, 2], [5, 6, 7]) == 1.0 and abs(A.ari([0, 0, 1, 1], [0, 1, 0, 1]) + 0.5) < 1e-12' \
+  || fail "adjusted Rand index of the hand-computed cases"
+
+# 2. arms
+"$sfit" skeleton "$D/unlabeled/arm-4-2-3_clean_120fps.c3d" --json > "$tmp/a423.json"
+ari "$tmp/a423.json" --truth sequential:4,2,3 --min 1.0 --quiet || fail "arm-4-2-3"
+"$sfit" skeleton "$D/unlabeled/arm-4-4-4_clean_30fps.c3d" --json > "$tmp/a444.json"
+ari "$tmp/a444.json" --truth sequential:4,4,4 --min 1.0 --quiet || fail "arm-4-4-4"
+
+# 3. CMU full body
+"$sfit" skeleton "$D/cmu/85_12.c3d" --json --bvh "$tmp/85.bvh" --centres "$tmp/85.csv" > "$tmp/85.json"
+ari "$tmp/85.json" --truth names --min 0.71 --exact Lhand,Rhand --joints --min-joints 5 --quiet \
+  || fail "CMU 85_12"
+"$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
+ari "$tmp/135.json" --truth names --min 0.77 --exact Lfoot --joints --min-joints 5 --quiet \
+  || fail "CMU 135_02"
+# the members tools read keep their names and types
+py 'import json, sys
+d = json.load(open(sys.argv[1]))
+assert all(isinstance(m, str) for s in d["segments"] for m in s["markers"])
+assert all(isinstance(m, str) for g in d["grouping"]["groups"] for m in g["markers"])
+for j in d["joints"]:
+    assert isinstance(j["name"], str) and j["type"] in ("ball", "hinge")
+    assert j["parent"] in [s["name"] for s in d["segments"]] and j["child"] in [s["name"] for s in d["segments"]]
+    assert isinstance(j["flags"], list) and all(isinstance(f, str) for f in j["flags"])
+    assert ("untrusted" in j["flags"]) == bool(j["untrusted_why"]), j' "$tmp/85.json" \
+  || fail "JSON members of segments, grouping and joints"
+
+# 5. the JSON's bvh_distance on the full body, recomputed from the BVH and the
+# centres (tests/scripts/skeleton_check.py bvhdist); figures printed
+PYTHONPATH="$cli_src/tests/scripts" /usr/bin/python3 "$cli_src/tests/scripts/skeleton_check.py" \
+  bvhdist "$tmp/85.bvh" "$tmp/85.csv" "$tmp/85.json" || fail "BVH distance, CMU 85_12"
+echo "skeleton_groups: ok"
