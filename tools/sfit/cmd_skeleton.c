@@ -606,6 +606,97 @@ static void print_joint_human(const sk_joint_t *j, long frame, const char *units
     }
 }
 
+/* 1 when the file at path is a session model (a `segment NAME MARKERS` line
+ * before any `joint` line), 0 otherwise (the joint-by-joint form, a C3D file,
+ * or a file that cannot be read: the form that opens it says why). */
+static int sk_is_session_model(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    char line[SK_LINE];
+    int is = 0, lines = 0;
+    if (f == NULL) {
+        return 0;
+    }
+    while (fgets(line, sizeof line, f) != NULL && lines < 10000) {
+        const char *p = line;
+        lines++;
+        while (*p == ' ' || *p == '\t') {
+            p++;
+        }
+        if (strncmp(p, "segment", 7) == 0 && (p[7] == ' ' || p[7] == '\t')) {
+            is = 1;
+            break;
+        }
+        if (strncmp(p, "joint", 5) == 0 && (p[5] == ' ' || p[5] == '\t')) {
+            break;
+        }
+        if ((unsigned char)p[0] >= 0x80u || (p[0] != '\0' && p[0] < ' ' && p[0] != '\n'
+                                                 && p[0] != '\r')) {
+            break; /* binary (a C3D file) */
+        }
+    }
+    fclose(f);
+    return is;
+}
+
+/* `sfit skeleton MODEL TRIALS...` with a session model: the same as
+ * `sfit skeleton TRIALS... --segments MODEL`. -1 when the first file is not a
+ * session model, else the exit status. */
+static int sk_session_form(int argc, char **argv)
+{
+    int i, first = -1, rc;
+    char **av;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--segments") == 0) {
+            return -1;
+        }
+    }
+    for (i = 1; i < argc; i++) {
+        if (argv[i][0] == '-') {
+            if (strcmp(argv[i], "--svg") == 0 || strcmp(argv[i], "--frame") == 0
+                || strcmp(argv[i], "--frames") == 0 || strcmp(argv[i], "--noise-var") == 0
+                || strcmp(argv[i], "--mode") == 0 || strcmp(argv[i], "--method") == 0
+                || strcmp(argv[i], "--root") == 0 || strcmp(argv[i], "--step") == 0
+                || strcmp(argv[i], "--bvh") == 0 || strcmp(argv[i], "--trc") == 0
+                || strcmp(argv[i], "--html") == 0 || strcmp(argv[i], "--centres") == 0) {
+                i++;
+            }
+            continue;
+        }
+        first = i;
+        break;
+    }
+    if (first < 0 || !sk_is_session_model(argv[first])) {
+        return -1;
+    }
+    av = malloc(((size_t)argc + 2u) * sizeof *av);
+    if (av == NULL) {
+        fprintf(stderr, "sfit: out of memory\n");
+        return CLI_FAIL;
+    }
+    {
+        static char seg_opt[] = "--segments";
+        int n = 0;
+        for (i = 0; i < argc; i++) {
+            if (i != first) {
+                av[n++] = argv[i];
+            }
+        }
+        av[n++] = seg_opt;
+        av[n++] = argv[first];
+        av[n] = NULL;
+        rc = skel_cmd(n, av);
+    }
+    free(av);
+    return rc;
+}
+
+/* `sfit skeleton --help` with no file: both forms, every option. */
+static int sk_help_only(int argc, char **argv)
+{
+    return argc == 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0);
+}
+
 int cli_cmd_skeleton(int argc, char **argv)
 {
     sk_opts_t o;
@@ -615,6 +706,21 @@ int cli_cmd_skeleton(int argc, char **argv)
     long frame = 0;
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
+    if (sk_help_only(argc, argv)) {
+        char *av[3] = {argv[0], argv[1], NULL};
+        (void)skel_cmd(2, av);
+        fputs("\nThe joint-by-joint form (each joint's parent and child markers listed in\n"
+              "MODEL instead of a session model's segments):\n",
+              stdout);
+        sk_usage(stdout);
+        return CLI_OK;
+    }
+    {
+        const int src = sk_session_form(argc, argv);
+        if (src >= 0) {
+            return src;
+        }
+    }
     if (skel_cmd_wanted(argc, argv)) {
         return skel_cmd(argc, argv);
     }
