@@ -10,7 +10,9 @@
 #     `sfit calibrate`) gives the same JSON as `--segments SESSION_MODEL`;
 #  3. no model file in docs/ uses the per-joint marker-list shorthand;
 #  4. no user document names an issue number or a branch;
-#  5. the README demo writes into out/, which git ignores.
+#  5. the README demo writes into out/, which git ignores;
+#  6. the knee centre of the shared session lies within 20 mm of the
+#     epicondyles' mid-point, and the session and the C3D name the rule.
 # Usage: test_cli_workflow.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 . "$(dirname "$0")/common.sh"
@@ -65,4 +67,27 @@ grep -q 'mkdir -p out && ./build/bin/sfit calibrate [^ ]* [^ ]* -o out/' "$src/R
 if git -C "$src" rev-parse --git-dir >/dev/null 2>&1; then
   git -C "$src" check-ignore -q out/session.json || fail "out/ is not ignored by git"
 fi
+# 6. the field's convention for the knee centre: on the functional axis,
+# nearest the mid-point of the epicondyle markers (the model's landmarks);
+# the session JSON and the C3D's point descriptions name it
+"$sfit" calibrate "$src/docs/lower_limb_session.txt" "$L"/*.c3d -o "$tmp/s.json" >/dev/null 2>&1 \
+  || fail "calibrate"
+"$sfit" apply "$tmp/s.json" "$L/anatomical_posture.c3d" -o "$tmp/ap.c3d" >/dev/null 2>&1 || fail "apply"
+py '
+import sys, json, numpy as np, c3d_ref
+s = {j["name"]: j for j in json.load(open(sys.argv[1]))["joints"]}
+assert "nearest the mid-point of RKNE and RKNEM" in s["r_knee"]["center_convention"], s["r_knee"]["center_convention"]
+assert s["r_hip"]["center_convention"].startswith("functional"), s["r_hip"]["center_convention"]
+b = c3d_ref.read(sys.argv[2]); L = b["labels"]; x = b["xyz"]
+mid = (x[:, L.index("RKNE")] + x[:, L.index("RKNEM")]) / 2
+d = np.linalg.norm(x[:, L.index("RKJC")] - mid, axis=1)
+assert np.isfinite(d).all() and d.mean() <= 20.0, d.mean()
+desc = b["descriptions"][L.index("RKJC")]
+assert "RKNE" in desc and "RKNEM" in desc, desc
+import re
+doc = open(sys.argv[3]).read()
+m = re.search(r"RKJC` is then\s+(\d+) mm from the mid-point of RKNE and RKNEM", doc)
+assert m and abs(int(m.group(1)) - d.mean()) < 0.5 + 1e-9, ("docs/session.md says", m and m.group(1), d.mean())
+print("RKJC: %.1f mm from the mid-point of RKNE and RKNEM (mean over %d frames); description: %s" % (d.mean(), len(d), desc))
+' "$tmp/s.json" "$tmp/ap.c3d" "$src/docs/session.md" || fail "the knee centre convention"
 echo "cli_workflow: ok"

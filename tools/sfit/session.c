@@ -113,6 +113,8 @@ void session_write_json(FILE *f, const session_t *s)
         } else {
             fprintf(f, "null");
         }
+        fprintf(f, ",\n  \"center_convention\":");
+        put_str(f, j->convention);
         fprintf(f, ",\n  \"center_cov\":[");
         for (k = 0; k < 3; k++) {
             if (k > 0) {
@@ -462,6 +464,10 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
         || jget_str(jp, o, "type", type, sizeof type) != 0
         || jget_str(jp, o, "trial", j->trial, sizeof j->trial) != 0
         || jget_str(jp, o, "verdict", j->verdict, sizeof j->verdict) != 0) {
+        return -1;
+    }
+    if (jget(jp, o, "center_convention") != NULL /* absent in older sessions */
+        && jget_str(jp, o, "center_convention", j->convention, sizeof j->convention) != 0) {
         return -1;
     }
     if (strcmp(type, "ball") != 0 && strcmp(type, "hinge") != 0) {

@@ -18,6 +18,8 @@
 #define SESSION_PATH_MAX 512
 
 /** One calibrated joint. */
+#define SESSION_CONVENTION_MAX 160 /* the centre's convention, in words, + 1 */
+
 typedef struct session_joint {
     char name[SM_NAME_MAX];
     char parent[SM_NAME_MAX], child[SM_NAME_MAX]; /**< segment names */
@@ -29,6 +31,7 @@ typedef struct session_joint {
     char markers[SM_MARKERS_MAX][SM_NAME_MAX];
     float tpl[SM_MARKERS_MAX][3];     /**< parent template (parent frame) */
     float center[3], axis[3];         /**< parent frame; axis unit (hinge) */
+    char convention[SESSION_CONVENTION_MAX]; /**< where the centre is put, in words */
     double cov[3][3];                 /**< centre covariance (parent frame, units^2) */
     double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
     double range_deg[3];              /**< rotation range of the child about lab x, y, z

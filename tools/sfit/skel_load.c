@@ -230,6 +230,9 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             m->nseg++;
         } else if (strcmp(tok[0], "root") == 0 && nt == 2 && strlen(tok[1]) < SKEL_NAME) {
             (void)snprintf(m->root, SKEL_NAME, "%s", tok[1]);
+        } else if (strcmp(tok[0], "landmarks") == 0 && nt == 3) {
+            /* the session's centre convention (sfit calibrate); the skeleton
+             * reports the functional centres */
         } else if (strcmp(tok[0], "joint") == 0 && (nt == 6 || nt == 7)
                    && m->njoint < SKEL_MAX_SEG && strlen(tok[1]) < SKEL_NAME
                    && strlen(tok[2]) < SKEL_NAME && strlen(tok[3]) < SKEL_NAME
@@ -244,7 +247,8 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
         } else {
             (void)snprintf(why, SKEL_ERR,
                            "%s:%lu: expected `segment NAME M1,M2,M3[,...]`, `joint NAME PARENT "
-                           "CHILD auto|ball|hinge POINTS [TRIALS]` or `root SEGMENT`",
+                           "CHILD auto|ball|hinge POINTS [TRIALS]`, `landmarks JOINT M1,M2` or "
+                           "`root SEGMENT`",
                            path, lineno);
             fclose(f);
             return -2;
@@ -252,7 +256,7 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
     }
     fclose(f);
     if (m->nseg < 2) {
-        (void)snprintf(why, SKEL_ERR, "%s: fewer than 2 segments", path);
+        (void)snprintf(why, SKEL_ERR, "fewer than 2 segments");
         return -2;
     }
     return 0;
