@@ -139,6 +139,15 @@ int cli_cmd_calibrate(int argc, char **argv)
         }
         s.njoint++;
     }
+    if (s.njoint == 0) { /* a session without joints would place nothing */
+        fprintf(stderr, "sfit: no joint of %s could be calibrated: %s not written\n", pos[0],
+                out);
+        if (json) {
+            printf("{\"status\":\"failed\",\"message\":\"no joint could be calibrated\","
+                   "\"joints\":[]}\n");
+        }
+        return CLI_FAIL;
+    }
     f = fopen(out, "w");
     if (f == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", out, strerror(errno));

@@ -228,7 +228,9 @@ int cli_cmd_coverage(int argc, char **argv)
     }
     st = cov_compute(&acc, &o, &c);
     if (st != SFIT_OK) {
-        return cli_report_failure(st, "fit", NULL, o.json, &in);
+        char what[CLI_WHAT_MAX];
+        (void)snprintf(what, sizeof what, "fit of %s", o.file);
+        return cli_report_failure(st, what, NULL, o.json, &in);
     }
     if (o.json) {
         cov_json(&o, &c, &in);

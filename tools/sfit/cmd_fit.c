@@ -645,7 +645,9 @@ int cli_cmd_fit(int argc, char **argv)
         cli_report_rejects(o.file, &in);
     }
     if (st != SFIT_OK) {
-        return cli_report_failure(st, "fit", NULL, o.json, &in);
+        char what[CLI_WHAT_MAX];
+        (void)snprintf(what, sizeof what, "fit of %s", o.file);
+        return cli_report_failure(st, what, NULL, o.json, &in);
     }
     if (o.json) {
         print_json(&r, &in, &extra);

@@ -134,7 +134,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         sk_joint_t *j;
         lineno++;
         if (len == sizeof line - 1u && line[len - 1u] != '\n') {
-            (void)snprintf(why, whylen, "%s:%lu: line too long", path, lineno);
+            (void)snprintf(why, whylen, "line %lu: line too long", lineno);
             fclose(f);
             return -2;
         }
@@ -146,7 +146,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
             continue;
         }
         if (m->n >= SK_MAX_JOINTS) {
-            (void)snprintf(why, whylen, "%s: more than %d joints", path, SK_MAX_JOINTS);
+            (void)snprintf(why, whylen, "more than %d joints", SK_MAX_JOINTS);
             fclose(f);
             return -2;
         }
@@ -164,8 +164,8 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         memset(j, 0, sizeof *j);
         if (nt < 4 || nt > 5 || strcmp(tok[0], "joint") != 0) {
             (void)snprintf(why, whylen,
-                           "%s:%lu: expected: joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]",
-                           path, lineno);
+                           "line %lu: expected: joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]",
+                           lineno);
             free(copy);
             fclose(f);
             return -2;
@@ -176,8 +176,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         if (nt == 5) {
             j->has_mode = 1;
             if (cli_parse_mode(tok[4], &j->mode) != 0) {
-                (void)snprintf(why, whylen, "%s:%lu: MODE is auto, sphere or planar", path,
-                               lineno);
+                (void)snprintf(why, whylen, "line %lu: MODE is auto, sphere or planar", lineno);
                 free(copy);
                 fclose(f);
                 return -2;
@@ -201,8 +200,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
                                                  SFIT_JOINT_MAX_CHILD);
             if (j->np < 3 || j->nc < 1) {
                 (void)snprintf(why, whylen,
-                               "%s:%lu: 3 to %d parent markers and 1 to %d child markers", path,
-                               lineno, SFIT_CLUSTER_MAX_MARKERS, SFIT_JOINT_MAX_CHILD);
+                               "line %lu: 3 to %d parent markers and 1 to %d child markers", lineno, SFIT_CLUSTER_MAX_MARKERS, SFIT_JOINT_MAX_CHILD);
                 free(lists);
                 free(copy);
                 fclose(f);
@@ -215,7 +213,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
     }
     fclose(f);
     if (m->n == 0) {
-        (void)snprintf(why, whylen, "%s: no joint", path);
+        (void)snprintf(why, whylen, "no joint");
         return -2;
     }
     return 0;
