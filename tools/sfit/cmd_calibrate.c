@@ -165,9 +165,10 @@ int cli_cmd_calibrate(int argc, char **argv)
             const session_joint_t *j = &s.joint[k];
             printf("%-10s %s, %ld of %ld frames, %s\n", j->name, base_name(j->trial),
                    j->frames_used, j->frames_total, j->hinge ? "hinge" : "ball");
-            printf("           centre %.2f %.2f %.2f %s (%s template frame)\n",
+            printf("           centre %.2f %.2f %.2f %s (%s template frame: origin at its "
+                   "markers' centroid, lab axes at frame %ld)\n",
                    (double)j->center[0], (double)j->center[1], (double)j->center[2], s.units,
-                   j->parent);
+                   j->parent, j->ref_frame);
             printf("           %s\n", j->verdict);
         }
         printf("session    %s: %d of %d joints calibrated\n", out, s.njoint, m.njoint);

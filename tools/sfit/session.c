@@ -115,6 +115,7 @@ void session_write_json(FILE *f, const session_t *s)
         }
         fprintf(f, ",\n  \"center_convention\":");
         put_str(f, j->convention);
+        fprintf(f, ",\"template_reference_frame\":%ld", j->ref_frame);
         fprintf(f, ",\n  \"center_cov\":[");
         for (k = 0; k < 3; k++) {
             if (k > 0) {
@@ -465,6 +466,16 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
         || jget_str(jp, o, "trial", j->trial, sizeof j->trial) != 0
         || jget_str(jp, o, "verdict", j->verdict, sizeof j->verdict) != 0) {
         return -1;
+    }
+    j->ref_frame = -1;
+    n = jget(jp, o, "template_reference_frame"); /* absent in older sessions */
+    if (n != NULL) {
+        if (n->type != J_NUM || !(n->num >= -1.0 && n->num < 2147483647.0)
+            || n->num != floor(n->num)) {
+            return jfail(jp, "joint %s: \"template_reference_frame\" must be a frame index",
+                         j->name);
+        }
+        j->ref_frame = (long)n->num;
     }
     if (jget(jp, o, "center_convention") != NULL /* absent in older sessions */
         && jget_str(jp, o, "center_convention", j->convention, sizeof j->convention) != 0) {

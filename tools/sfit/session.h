@@ -32,6 +32,8 @@ typedef struct session_joint {
     float tpl[SM_MARKERS_MAX][3];     /**< parent template (parent frame) */
     float center[3], axis[3];         /**< parent frame; axis unit (hinge) */
     char convention[SESSION_CONVENTION_MAX]; /**< where the centre is put, in words */
+    long ref_frame;                   /**< the template frame's axes are the lab's at this
+                                           frame of the trial (-1: not recorded) */
     double cov[3][3];                 /**< centre covariance (parent frame, units^2) */
     double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
     double range_deg[3];              /**< rotation range of the child about lab x, y, z

@@ -555,6 +555,7 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
     if (mj->type == SM_BALL && j->hinge) { /* cannot happen: the mode was forced */
         j->hinge = 0;
     }
+    j->ref_frame = jo.ref_frame;
     j->nmarkers = np;
     for (i = 0; i < np; i++) {
         (void)snprintf(j->markers[i], SM_NAME_MAX, "%s", ps->markers[i]);

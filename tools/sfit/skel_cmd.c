@@ -559,8 +559,9 @@ int skel_cmd(int argc, char **argv)
                    j->name, s->seg[j->parent].name, s->seg[j->child].name, type_name(j->pr.type),
                    j->pr.rms, rec.units, j->pr.sigma, j->pr.n);
             print_flags(j->pr.flags);
-            printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
-                   j->pr.ca[2], s->seg[j->parent].name);
+            printf("\n  centre       %.3f %.3f %.3f (%s template frame: origin at its markers' "
+                   "centroid, lab axes at the first frame that sees them all)\n",
+                   j->pr.ca[0], j->pr.ca[1], j->pr.ca[2], s->seg[j->parent].name);
             if (j->pr.type == SKEL_HINGE) {
                 printf("  axis         %.5f %.5f %.5f\n", j->pr.axis_a[0], j->pr.axis_a[1],
                        j->pr.axis_a[2]);
