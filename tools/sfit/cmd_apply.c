@@ -503,23 +503,6 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     return 0;
 }
 
-/* A written point's C3D description: the joint and where its centre is
- * put (the session's convention, shortened to fit a description). */
-static void joint_point_desc(const session_joint_t *j, int q, char *d, size_t cap)
-{
-    const char *conv = j->convention;
-    const char *near = strstr(conv, "mid-point of ");
-    if (q > 0) {
-        (void)snprintf(d, cap, "%.40s hinge axis point %d", j->name, q);
-    } else if (!j->hinge) {
-        (void)snprintf(d, cap, "%.40s centre (functional)", j->name);
-    } else if (near != NULL && strstr(conv, "landmarks") == NULL) {
-        (void)snprintf(d, cap, "%.20s centre: axis nearest %.50s", j->name, near);
-    } else {
-        (void)snprintf(d, cap, "%.40s centre on the functional axis", j->name);
-    }
-}
-
 int cli_cmd_apply(int argc, char **argv)
 {
     const char *pos[2] = {NULL, NULL};
@@ -540,7 +523,7 @@ int cli_cmd_apply(int argc, char **argv)
     apply_joint_t aj[SM_JOINTS_MAX];
     int col[SM_JOINTS_MAX];
     const char *names[3 * SM_JOINTS_MAX];
-    static char desc_buf[3 * SM_JOINTS_MAX][96];
+    static char desc_buf[3 * SM_JOINTS_MAX][SESSION_DESC_MAX];
     const char *descs[3 * SM_JOINTS_MAX];
     char err[C3D_ERR_MAX > SM_ERR_MAX ? C3D_ERR_MAX : SM_ERR_MAX], prefix[C3D_LABEL_MAX];
     unsigned char *buf = NULL;
@@ -602,7 +585,7 @@ int cli_cmd_apply(int argc, char **argv)
         int q;
         col[i] = ntot;
         for (q = 0; q < s.joint[i].npoints; q++) {
-            joint_point_desc(&s.joint[i], q, desc_buf[ntot], sizeof desc_buf[ntot]);
+            session_point_desc(&s.joint[i], q, desc_buf[ntot], sizeof desc_buf[ntot]);
             descs[ntot] = desc_buf[ntot];
             names[ntot++] = s.joint[i].points[q];
         }

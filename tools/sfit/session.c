@@ -51,6 +51,23 @@ static void put_mat(FILE *f, const double m[3][3])
     fputc(']', f);
 }
 
+/* A written point's C3D description: the joint and where its centre is
+ * put (the session's convention, shortened to fit a description). */
+void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap)
+{
+    const char *conv = j->convention;
+    const char *near = strstr(conv, "mid-point of ");
+    if (q > 0) {
+        (void)snprintf(d, cap, "%.40s hinge axis point %d", j->name, q);
+    } else if (!j->hinge) {
+        (void)snprintf(d, cap, "%.40s centre (functional)", j->name);
+    } else if (near != NULL && strstr(conv, "landmarks") == NULL) {
+        (void)snprintf(d, cap, "%.20s centre: axis nearest %.50s", j->name, near);
+    } else {
+        (void)snprintf(d, cap, "%.40s centre on the functional axis", j->name);
+    }
+}
+
 void session_write_json(FILE *f, const session_t *s)
 {
     int i, k;
@@ -115,7 +132,16 @@ void session_write_json(FILE *f, const session_t *s)
         }
         fprintf(f, ",\n  \"center_convention\":");
         put_str(f, j->convention);
-        fprintf(f, ",\"template_reference_frame\":%ld", j->ref_frame);
+        fprintf(f, ",\"template_reference_frame\":%ld,\"point_descriptions\":[", j->ref_frame);
+        for (k = 0; k < j->npoints; k++) {
+            char d[SESSION_DESC_MAX];
+            session_point_desc(j, k, d, sizeof d);
+            if (k > 0) {
+                fputc(',', f);
+            }
+            put_str(f, d);
+        }
+        fputc(']', f);
         fprintf(f, ",\n  \"center_cov\":[");
         for (k = 0; k < 3; k++) {
             if (k > 0) {

@@ -63,6 +63,12 @@ typedef struct session {
     session_joint_t joint[SM_JOINTS_MAX];
 } session_t;
 
+#define SESSION_DESC_MAX 96 /* a written point's C3D description + 1 */
+
+/** The C3D description of joint j's point q (0: the centre, 1 and 2: a
+ * hinge's axis points): the joint and where its centre is put. */
+void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap);
+
 /** Write the session as JSON (one object). */
 void session_write_json(FILE *f, const session_t *s);
 

@@ -391,7 +391,7 @@ int skel_write_html(const skel_t *s, const char *path)
           "body{font-family:sans-serif;margin:8px;background:#fff;color:#222}\n"
           "#bar{margin:4px 0;white-space:nowrap;overflow:hidden}\n"
           "#bar input[type=range]{width:380px;vertical-align:middle}\n"
-          "#info{margin:2px 0 4px 0;font-size:14px}\n"
+          "#info{margin:2px 0 4px 0;font-size:14px;height:18px;white-space:nowrap;overflow:hidden}\n"
           "canvas{border:1px solid #ccc;background:#fbfbfb;touch-action:none;cursor:grab}\n"
           "#legend{font-size:13px;max-width:900px}\n"
           "#state{display:none}\n</style></head><body>\n"

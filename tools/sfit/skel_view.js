@@ -164,6 +164,8 @@ function draw(k) {
   const t = trialOf(k), f = k * D.stride, tr = D.trials[t];
   info.textContent = 'trial ' + (t + 1) + ' of ' + D.trials.length + ': ' + tr.name + ' \u00b7 t = ' +
     ((f - tr.start) / (D.rate || 1)).toFixed(2) + ' s \u00b7 frame ' + (f - tr.start) + ' of ' + tr.frames;
+  const rc = cv.getBoundingClientRect(); // after the text above: where the canvas is now
+  st.canvas = [rc.left, rc.top, cv.width, cv.height];
   document.getElementById('state').textContent = JSON.stringify(st);
   document.title = 'sfit skeleton, frame ' + f;
 }
