@@ -136,13 +136,14 @@ for doc in docs:
                     rel(doc), lines[i][2:], "\n    ".join(got), "\n    ".join(lines[i + 1:j])))
 
 # 3. The README's demo: after the build, one or more `./build/bin/sfit ...`
-# commands chained with &&; each runs in a scratch directory that sees the
+# commands chained with &&, after an optional `mkdir -p out` (the ignored
+# folder the outputs go to); each runs in a scratch directory that sees the
 # tree's tests/ and docs/ (its output files land there), shell globs
 # expanded; their outputs, one after the other, are the block shown.
 with open(docs[0], encoding="utf-8") as f:
     readme = f.read()
 demo = re.search(r"^```sh\n(cmake --preset default && cmake --build --preset default && "
-                 r"(\./build/bin/sfit [^\n]*))\n```", readme, re.M)
+                 r"(?:mkdir -p (out) && )?(\./build/bin/sfit [^\n]*))\n```", readme, re.M)
 shown = re.search(r"^Demo output \(measured\):\n\n```\n(.*?)^```", readme, re.S | re.M)
 if not demo or not shown:
     problems.append("README.md: the demo command or its output block is not found")
@@ -152,7 +153,9 @@ else:
     with tempfile.TemporaryDirectory() as scratch:
         for sub in ("tests", "docs"):
             os.symlink(os.path.join(src, sub), os.path.join(scratch, sub))
-        for part in demo.group(2).split(" && "):
+        if demo.group(2):
+            os.mkdir(os.path.join(scratch, demo.group(2)))
+        for part in demo.group(3).split(" && "):
             argv = part.split()
             if argv[0] != "./build/bin/sfit":
                 problems.append("README.md: the demo runs %s, not sfit" % argv[0])

@@ -275,7 +275,7 @@ expect_usage "--noise-var given twice" "${j[@]}" --noise-var 1 --noise-var auto
 expect_usage "--mode is auto, sphere or planar" "${j[@]}" --mode cube
 
 # 7. Skeleton: the model in docs/, the same centre as `joint`, an SVG.
-"$sfit" skeleton "$src/docs/hip_model.txt" "$hip" --frames 0:498 --svg "$tmp/hip.svg" --json > "$tmp/sk.json"
+"$sfit" skeleton "$src/tests/data/models/hip_joints.txt" "$hip" --frames 0:498 --svg "$tmp/hip.svg" --json > "$tmp/sk.json"
 py '
 import json, sys, math, xml.etree.ElementTree as ET
 o = json.load(open(sys.argv[1])); j = json.load(open(sys.argv[2]))
@@ -294,7 +294,7 @@ printf 'joint a RASIS,LASIS RTHI1\n' > "$tmp/bad_model.txt"
 expect_rc 3 "$sfit" skeleton --json "$tmp/bad_model.txt" "$hip"
 echo "$out" | grep -q "3 to" || fail "bad model: $out"
 # The options of skeleton.
-model="$src/docs/hip_model.txt"
+model="$src/tests/data/models/hip_joints.txt"
 expect_help skeleton -h
 expect_usage "MODEL and FILE are required" skeleton "$model"
 expect_usage "MODEL and FILE expected" skeleton "$model" "$hip" "$hip"

@@ -244,7 +244,7 @@ clean_check "$tmp/c.json" "knee trial, pelvis/thigh"
 clean_check "$tmp/c.json" "hip trial before the swap"
 "$sfit" joint "$hip" --parent $thigh --child $shank --frames 0:725 --json > "$tmp/c.json"
 clean_check "$tmp/c.json" "hip trial, thigh/shank before the swap"
-"$sfit" skeleton "$src/docs/knee_model.txt" "$knee" --json > "$tmp/c.json"
+"$sfit" skeleton "$src/tests/data/models/knee_joints.txt" "$knee" --json > "$tmp/c.json"
 clean_check "$tmp/c.json" "knee model"
 # tests/data/mocap: each folder's markers (in their parent's frame, so
 # their distances are the segment's) as the child of a still 3-marker
@@ -312,9 +312,9 @@ grep -q "undecidable: C1<->C2 changes the distances by" "$tmp/sym.txt" \
   || fail "undecidable not in the text: $(cat "$tmp/sym.txt")"
 
 # 5. Skeleton: the same report per joint; --no-repair-swaps there too.
-"$sfit" skeleton "$src/docs/hip_model.txt" "$hip" --json > "$tmp/sk.json"
-"$sfit" skeleton "$src/docs/hip_model.txt" "$hip" --json --no-repair-swaps > "$tmp/sk_raw.json"
-"$sfit" skeleton "$src/docs/hip_model.txt" "$hip" > "$tmp/sk.txt"
+"$sfit" skeleton "$src/tests/data/models/hip_joints.txt" "$hip" --json > "$tmp/sk.json"
+"$sfit" skeleton "$src/tests/data/models/hip_joints.txt" "$hip" --json --no-repair-swaps > "$tmp/sk_raw.json"
+"$sfit" skeleton "$src/tests/data/models/hip_joints.txt" "$hip" > "$tmp/sk.txt"
 py '
 import json, sys, math
 sk, raw, j, jr = (json.load(open(p)) for p in sys.argv[1:5])

@@ -149,9 +149,9 @@ chrome=$(command -v chromium || command -v chromium-browser || true)
 [ -n "$chrome" ] || missing "chromium not found (Debian package chromium)"
 shot() { # FRAME: screenshot and DOM of the page at that frame
   "$chrome" --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=920,760 \
-    --screenshot="$tmp/f$1.png" "file://$tmp/s.html#frame=$1" > /dev/null 2>&1
+    --screenshot="$tmp/f$1.png" "file://$tmp/s.html#frame=$1&ell=0" > /dev/null 2>&1
   "$chrome" --headless --no-sandbox --disable-gpu --window-size=920,760 --dump-dom \
-    "file://$tmp/s.html#frame=$1" > "$tmp/f$1.dom" 2> /dev/null
+    "file://$tmp/s.html#frame=$1&ell=0" > "$tmp/f$1.dom" 2> /dev/null
   [ -s "$tmp/f$1.png" ] && grep -q '<pre id="state">{' "$tmp/f$1.dom" \
     || fail "chromium did not render frame $1"
 }

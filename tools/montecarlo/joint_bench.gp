@@ -21,14 +21,14 @@ hinge(m, s, v) = (strcol(1) eq "hinge" && $4 == 1 && $6 == s && strcol(7) eq m) 
 cov(v) = (v >= 0) ? v : NaN
 stats f using 0 nooutput
 havepair = system("grep -c ',pair_default,' ".f) + 0 > 0
-set multiplot layout 1,3 title "Joint benchmark (issue 28): synthetic trials after Ehrig et al. 2006/2007, sigma = 1 mm"
+set multiplot layout 1,3 title "Joint benchmark: synthetic trials after Ehrig et al. 2006/2007, sigma = 1 mm"
 set title "ball joint: mean centre error"
 set xlabel "range of motion (deg)"
 set ylabel "mean error (mm)"
 set logscale y
 set format y "%g"
 set key top right box opaque
-plot f using 5:(ball("mgdk", 1, $11)) with linespoints pt 7 lc rgb "#7f7f7f" title "MGDK (today's default)", \
+plot f using 5:(ball("mgdk", 1, $11)) with linespoints pt 7 lc rgb "#7f7f7f" title "MGDK (multi-marker sphere fit)", \
      "" using 5:(ball("mgdk_est", 1, $11)) with linespoints pt 6 lc rgb "#2ca02c" title "MGDK, sigma from residuals", \
      "" using 5:(ball("score", 1, $11)) with linespoints pt 5 lc rgb "#1f5fbf" title "SCoRE (double)", \
      "" using 5:(ball("score_eiv", 1, $11)) with linespoints pt 4 lc rgb "#9467bd" title "SCoRE, bias removed (double)", \

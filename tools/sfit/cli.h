@@ -104,6 +104,8 @@ int cli_json_error(const char *status, const char *message);
 int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,
                      cli_input_t *in);
 
+#define CLI_WHAT_MAX 512 /* "fit of FILE" for cli_report_failure */
+
 /**
  * Report a failed computation: JSON {"status","message","n","rejected"} or a
  * line on stderr naming `what`. message NULL = cli_status_message(st).

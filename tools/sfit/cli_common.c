@@ -408,7 +408,8 @@ int cli_report_failure(sfit_status_t st, const char *what, const char *message, 
         printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
                sfit_status_str(st), msg, in->accepted, in->rejected);
     } else {
-        fprintf(stderr, "sfit: %s failed (%s): %s\n", what, sfit_status_str(st), msg);
+        fprintf(stderr, "sfit: %s failed (%s): %s (%lu samples read, %lu rejected)\n", what,
+                sfit_status_str(st), msg, in->accepted, in->rejected);
     }
     return CLI_FAIL;
 }

@@ -80,6 +80,23 @@ static int is_c3d_file(const char *path)
     return proc >= 84 && proc <= 86;
 }
 
+/* 1 when path's warnings were printed already by this process (the last
+ * 16 files remembered), else remembers it and gives 0. */
+static int warned_before(const char *path)
+{
+    static char seen[16][256];
+    static unsigned next;
+    unsigned i;
+    for (i = 0; i < 16u; i++) {
+        if (seen[i][0] != '\0' && strncmp(seen[i], path, sizeof seen[i] - 1u) == 0) {
+            return 1;
+        }
+    }
+    (void)snprintf(seen[next % 16u], sizeof seen[0], "%s", path);
+    next++;
+    return 0;
+}
+
 static int load_c3d(const char *path, const char *const *names, int n, cli_frames_t *out,
                     char *why)
 {
@@ -92,8 +109,10 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
         (void)snprintf(why, CLI_FRAMES_ERR_MAX, "%s", err);
         return -2;
     }
-    for (k = 0; k < c.nwarn; k++) { /* what was read differently from one source */
-        fprintf(stderr, "sfit: warning: %s: %s\n", path, c.warnings[k]);
+    if (!warned_before(path)) { /* a file read for several joints warns once */
+        for (k = 0; k < c.nwarn; k++) { /* what was read differently from one source */
+            fprintf(stderr, "sfit: warning: %s: %s\n", path, c.warnings[k]);
+        }
     }
     for (k = 0; k < n; k++) {
         idx[k] = c3d_find(&c, names[k]);

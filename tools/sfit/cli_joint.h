@@ -142,8 +142,9 @@ void cli_joint_opts_default(cli_joint_opts_t *o);
 /** The usage lines of the shared joint options. */
 #define CLI_JOINT_USAGE                                                                     \
     "  --frames F:L     use frames F to L (0-based, both included; default: all)\n"        \
-    "  --noise-var V    unbiased MGDK; V = noise variance of each measured marker\n"       \
-    "                   coordinate (unit^2), propagated through the parent pose\n"        \
+    "  --noise-var V    the multi-marker fit (mgdk) made unbiased: V = noise variance\n" \
+    "                   of each measured marker coordinate (unit^2), propagated\n"       \
+    "                   through the parent pose\n"                                        \
     "  --noise-var auto the child markers' noise in the parent frame, estimated per\n"   \
     "                   marker (self-calibrated UGDK) and pooled\n"                       \
     "  --mode M         auto (default): ball joint, or hinge when the markers' arcs are\n" \
@@ -154,6 +155,7 @@ void cli_joint_opts_default(cli_joint_opts_t *o);
     "  --method M       default: SCoRE / SARA from the two clusters' poses with the\n"    \
     "                   bias removed (marker noise from the registration residuals;\n"  \
     "                   needs 3 child markers, else mgdk); score, sara: as published;\n"\
-    "                   mgdk: the multi-marker fit of the child markers (sfit_joint)\n"
+    "                   mgdk: one sphere per child marker in the parent's frame,\n"    \
+    "                   sharing their centre (the multi-marker sphere fit)\n"
 
 #endif /* SFIT_CLI_JOINT_H */

@@ -122,10 +122,34 @@ static int seg_centroid(const c3d_t *c, long f, const sm_segment_t *g, double ou
     return n;
 }
 
+/* A round length (1, 2 or 5 times a power of ten) near x. */
+static double nice_len(double x)
+{
+    const double k = pow(10.0, floor(log10(x))), m = x / k;
+    return (m < 1.5 ? 1.0 : (m < 3.5 ? 2.0 : (m < 7.5 ? 5.0 : 10.0))) * k;
+}
+
+/* The lab direction v in words: "+x", "-z", or its components. */
+static void dir_words(const double v[3], char *out, size_t cap)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        if (fabs(v[i]) > 0.985) {
+            (void)snprintf(out, cap, "%c%c", v[i] > 0 ? '+' : '-', "xyz"[i]);
+            return;
+        }
+    }
+    (void)snprintf(out, cap, "(%.2f, %.2f, %.2f)", v[0], v[1], v[2]);
+}
+
 static int write_svg(const char *path, const session_t *s, const c3d_t *c, long f,
-                     const float *pts, int ntot, const int *col, const apply_joint_t *aj)
+                     const float *pts, int ntot, const int *col, const apply_joint_t *aj,
+                     const char *trial, const char *units)
 {
     const double W = 640.0, H = 900.0, M = 40.0;
+    double lab_cov[SM_JOINTS_MAX][2][2], mag = 10.0, biggest = 0.0, boxes[SM_JOINTS_MAX][4];
+    int nbox = 0;
+    unsigned char *in_model;
     double up[3] = {0, 0, 1}, lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30};
     double mean[3] = {0, 0, 0}, cxx[3][3] = {{0}};
     view_t v;
@@ -264,9 +288,63 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     v.s = fmin((W - 2 * M) / fmax(hi[0] - lo[0], 1e-9), (H - 2 * M - 60) / fmax(hi[1] - lo[1], 1e-9));
     v.x0 = (lo[0] + hi[0]) / 2.0 - (W / 2.0 - M) / v.s;
     v.y0 = hi[1];
+    /* each joint's 95 % ellipse in the view, and one magnification for all:
+     * at most 10 and no ellipse wider than 45 px (stated in the caption) */
+    for (k = 0; k < s->njoint; k++) {
+        double lab[3][3], P[2][3];
+        int r, t, u;
+        const int ok = aj[k].rot != NULL && f < c->nframes;
+        for (r = 0; r < 3; r++) { /* lab = R cov R^T */
+            for (t = 0; t < 3; t++) {
+                double sum = 0.0;
+                for (u = 0; u < 9 && ok; u++) {
+                    sum += (double)aj[k].rot[f].m[r * 3 + u / 3] * aj[k].pc.total[u / 3][u % 3]
+                           * (double)aj[k].rot[f].m[t * 3 + u % 3];
+                }
+                lab[r][t] = sum;
+            }
+        }
+        for (i = 0; i < 3; i++) {
+            P[0][i] = v.ex[i];
+            P[1][i] = v.ey[i];
+        }
+        for (r = 0; r < 2; r++) {
+            for (t = 0; t < 2; t++) {
+                double sum = 0.0;
+                for (u = 0; u < 9; u++) {
+                    sum += P[r][u / 3] * lab[u / 3][u % 3] * P[t][u % 3];
+                }
+                lab_cov[k][r][t] = sum;
+            }
+        }
+        {
+            const double tr = lab_cov[k][0][0] + lab_cov[k][1][1];
+            const double det = lab_cov[k][0][0] * lab_cov[k][1][1] - lab_cov[k][0][1] * lab_cov[k][1][0];
+            const double l1 = tr / 2.0 + sqrt(fmax(tr * tr / 4.0 - det, 0.0));
+            const double semi = sqrt(CHI2_3_95 * fmax(l1, 0.0)) * v.s;
+            biggest = isfinite(semi) && semi > biggest ? semi : biggest;
+        }
+    }
+    while (mag > 1.0 && mag * biggest > 45.0) {
+        mag = mag > 5.0 ? 5.0 : (mag > 2.0 ? 2.0 : 1.0);
+    }
+    in_model = calloc((size_t)c->npoints + 1u, 1u);
+    if (in_model == NULL) {
+        fprintf(stderr, "sfit: out of memory\n");
+        return -1;
+    }
+    for (k = 0; k < s->nseg; k++) {
+        for (i = 0; i < s->seg[k].nmarkers; i++) {
+            const int idx = c3d_find(c, s->seg[k].markers[i]);
+            if (idx >= 0) {
+                in_model[idx] = 1u;
+            }
+        }
+    }
     o = fopen(path, "w");
     if (o == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
+        free(in_model);
         return -1;
     }
 #define PX(q) ((dot3((q), v.ex) - v.x0) * v.s + M)
@@ -274,10 +352,34 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     fprintf(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
                "viewBox=\"0 0 %.0f %.0f\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
-               "<text x=\"%.0f\" y=\"24\" font-family=\"sans-serif\" font-size=\"13\">"
-               "frame %ld: joint centres (red), segments (blue), markers (grey), "
-               "95 %% ellipsoids x10 (orange)</text>\n",
-            W, H, W, H, M, f);
+               "<text x=\"%.0f\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\" "
+               "font-weight=\"bold\">%s, frame %ld</text>\n"
+               "<text x=\"%.0f\" y=\"37\" font-family=\"sans-serif\" font-size=\"12\" "
+               "fill=\"#555\">joint centres (red), their 95 %% ellipsoids (orange, drawn x%g), "
+               "segments (blue);</text>\n"
+               "<text x=\"%.0f\" y=\"52\" font-family=\"sans-serif\" font-size=\"12\" "
+               "fill=\"#555\">markers of the model (dark grey), other markers (light grey)"
+               "</text>\n",
+            W, H, W, H, M, trial, f, M, mag, M);
+    {
+        /* the view: its direction and vertical in lab axes, and a scale bar */
+        double toward[3], len = nice_len(110.0 / v.s);
+        char a[48], b[48];
+        toward[0] = v.ex[1] * v.ey[2] - v.ex[2] * v.ey[1];
+        toward[1] = v.ex[2] * v.ey[0] - v.ex[0] * v.ey[2];
+        toward[2] = v.ex[0] * v.ey[1] - v.ex[1] * v.ey[0];
+        dir_words(toward, a, sizeof a);
+        dir_words(v.ey, b, sizeof b);
+        fprintf(o, "<text x=\"%.0f\" y=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\" "
+                   "fill=\"#555\">orthographic view from lab %s (toward the viewer), up = lab "
+                   "%s</text>\n",
+                M, H - 14.0, a, b);
+        fprintf(o, "<path d=\"M %.1f %.1f v 8 h %.1f v -8\" fill=\"none\" stroke=\"#222\" "
+                   "stroke-width=\"2.5\"/>\n<text x=\"%.1f\" y=\"%.1f\" font-family=\"sans-serif\" "
+                   "font-size=\"12\">%g %s</text>\n",
+                W - M - len * v.s, H - 44.0, len * v.s, W - M - len * v.s, H - 50.0, len,
+                units);
+    }
     /* markers */
     for (k = 0; k < c->npoints; k++) {
         const float *p = c->xyz + ((size_t)f * (size_t)c->npoints + (size_t)k) * 3u;
@@ -288,8 +390,8 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         q[0] = (double)p[0];
         q[1] = (double)p[1];
         q[2] = (double)p[2];
-        fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"#999\"><title>%s</title></circle>\n",
-                PX(q), PY(q), c->labels[k]);
+        fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"><title>%s</title></circle>\n",
+                PX(q), PY(q), in_model[k] ? "#777" : "#ccc", c->labels[k]);
     }
     /* segments: a joint to the joints of its child segment, or to the child's markers */
     for (k = 0; k < s->njoint; k++) {
@@ -332,59 +434,68 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
             }
         }
     }
-    /* joint centres and their ellipsoids */
+    /* joint centres and their ellipsoids, then the labels where they
+     * overlap no other label (else moved down) */
     for (k = 0; k < s->njoint; k++) {
-        const session_joint_t *j = &s->joint[k];
         const float *a = pts + ((size_t)f * (size_t)ntot + (size_t)col[k]) * 3u;
-        double qa[3], lab[3][3], c2[2][2], P[2][3], tr, det, l1, l2, ang;
-        int r, t, u;
+        double qa[3], tr, det, l1, l2, ang;
         if (!finite3(a)) {
             continue;
         }
         qa[0] = (double)a[0];
         qa[1] = (double)a[1];
         qa[2] = (double)a[2];
-        for (r = 0; r < 3; r++) { /* lab = R cov R^T */
-            for (t = 0; t < 3; t++) {
-                double sum = 0.0;
-                for (u = 0; u < 9; u++) {
-                    sum += (double)aj[k].rot[f].m[r * 3 + u / 3] * aj[k].pc.total[u / 3][u % 3]
-                           * (double)aj[k].rot[f].m[t * 3 + u % 3];
-                }
-                lab[r][t] = sum;
-            }
-        }
-        for (i = 0; i < 3; i++) {
-            P[0][i] = v.ex[i];
-            P[1][i] = v.ey[i];
-        }
-        for (r = 0; r < 2; r++) {
-            for (t = 0; t < 2; t++) {
-                double sum = 0.0;
-                for (u = 0; u < 9; u++) {
-                    sum += P[r][u / 3] * lab[u / 3][u % 3] * P[t][u % 3];
-                }
-                c2[r][t] = sum;
-            }
-        }
-        tr = c2[0][0] + c2[1][1];
-        det = c2[0][0] * c2[1][1] - c2[0][1] * c2[1][0];
+        tr = lab_cov[k][0][0] + lab_cov[k][1][1];
+        det = lab_cov[k][0][0] * lab_cov[k][1][1] - lab_cov[k][0][1] * lab_cov[k][1][0];
         l1 = tr / 2.0 + sqrt(fmax(tr * tr / 4.0 - det, 0.0));
         l2 = fmax(tr - l1, 0.0);
-        ang = 0.5 * atan2(2.0 * c2[0][1], c2[0][0] - c2[1][1]) * 57.29577951308232;
+        ang = 0.5 * atan2(2.0 * lab_cov[k][0][1], lab_cov[k][0][0] - lab_cov[k][1][1])
+              * 57.29577951308232;
         fprintf(o, "<ellipse cx=\"%.1f\" cy=\"%.1f\" rx=\"%.2f\" ry=\"%.2f\" "
-                   "transform=\"rotate(%.1f %.1f %.1f)\" fill=\"#ffb000\" fill-opacity=\"0.6\" "
+                   "transform=\"rotate(%.1f %.1f %.1f)\" fill=\"#ffb000\" fill-opacity=\"0.45\" "
                    "stroke=\"#b06000\"/>\n",
-                PX(qa), PY(qa), 10.0 * sqrt(CHI2_3_95 * l1) * v.s,
-                10.0 * sqrt(CHI2_3_95 * l2) * v.s, -ang, PX(qa), PY(qa));
-        fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"#d01010\"><title>%s</title>"
+                PX(qa), PY(qa), mag * sqrt(CHI2_3_95 * l1) * v.s,
+                mag * sqrt(CHI2_3_95 * l2) * v.s, -ang, PX(qa), PY(qa));
+    }
+    for (k = 0; k < s->njoint; k++) {
+        const session_joint_t *j = &s->joint[k];
+        const float *a = pts + ((size_t)f * (size_t)ntot + (size_t)col[k]) * 3u;
+        double qa[3], x, y, w;
+        int b, moved = 1, guard = 0;
+        if (!finite3(a)) {
+            continue;
+        }
+        qa[0] = (double)a[0];
+        qa[1] = (double)a[1];
+        qa[2] = (double)a[2];
+        x = PX(qa) + 12.0;
+        y = PY(qa) - 4.0;
+        w = 7.5 * (double)strlen(j->name) + 4.0;
+        while (moved && guard++ < 20) {
+            moved = 0;
+            for (b = 0; b < nbox; b++) {
+                if (x < boxes[b][2] && x + w > boxes[b][0] && y - 12.0 < boxes[b][3]
+                    && y + 3.0 > boxes[b][1]) {
+                    y = boxes[b][3] + 13.0;
+                    moved = 1;
+                }
+            }
+        }
+        boxes[nbox][0] = x;
+        boxes[nbox][1] = y - 12.0;
+        boxes[nbox][2] = x + w;
+        boxes[nbox][3] = y + 3.0;
+        nbox++;
+        fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"#d01010\"><title>%s</title>"
                    "</circle>\n<text x=\"%.1f\" y=\"%.1f\" font-family=\"sans-serif\" "
-                   "font-size=\"13\" fill=\"#d01010\">%s</text>\n",
-                PX(qa), PY(qa), j->points[0], PX(qa) + 9, PY(qa) - 6, j->name);
+                   "font-size=\"13\" font-weight=\"bold\" fill=\"#b00000\" stroke=\"white\" "
+                   "stroke-width=\"3\" paint-order=\"stroke\">%s</text>\n",
+                PX(qa), PY(qa), j->points[0], x, y, j->name);
     }
 #undef PX
 #undef PY
     fprintf(o, "</svg>\n");
+    free(in_model);
     if (fclose(o) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", path);
         return -1;
@@ -412,6 +523,8 @@ int cli_cmd_apply(int argc, char **argv)
     apply_joint_t aj[SM_JOINTS_MAX];
     int col[SM_JOINTS_MAX];
     const char *names[3 * SM_JOINTS_MAX];
+    static char desc_buf[3 * SM_JOINTS_MAX][SESSION_DESC_MAX];
+    const char *descs[3 * SM_JOINTS_MAX];
     char err[C3D_ERR_MAX > SM_ERR_MAX ? C3D_ERR_MAX : SM_ERR_MAX], prefix[C3D_LABEL_MAX];
     unsigned char *buf = NULL;
     size_t len = 0, k;
@@ -472,6 +585,8 @@ int cli_cmd_apply(int argc, char **argv)
         int q;
         col[i] = ntot;
         for (q = 0; q < s.joint[i].npoints; q++) {
+            session_point_desc(&s.joint[i], q, desc_buf[ntot], sizeof desc_buf[ntot]);
+            descs[ntot] = desc_buf[ntot];
             names[ntot++] = s.joint[i].points[q];
         }
     }
@@ -496,6 +611,7 @@ int cli_cmd_apply(int argc, char **argv)
     memset(&add, 0, sizeof add);
     add.n = ntot;
     add.names = names;
+    add.descs = descs;
     add.xyz = pts;
     add.prefix = prefix;
     if (c3d_write_added(buf, len, &c, &add, out, &to_float, err) != 0) {
@@ -521,7 +637,19 @@ int cli_cmd_apply(int argc, char **argv)
                 frame = 0;
             }
         }
-        if (write_svg(svg, &s, &c, frame, pts, ntot, col, aj) != 0) {
+        char tname[128];
+        {
+            const char *slash = strrchr(pos[1], '/');
+            size_t q;
+            (void)snprintf(tname, sizeof tname, "%s", slash != NULL ? slash + 1 : pos[1]);
+            for (q = 0; tname[q] != '\0'; q++) { /* plain text in the SVG */
+                if (strchr("<>&\"", tname[q]) != NULL) {
+                    tname[q] = '_';
+                }
+            }
+        }
+        if (write_svg(svg, &s, &c, frame, pts, ntot, col, aj, tname,
+                      c.units[0] != '\0' ? c.units : "units") != 0) {
             rc = CLI_IO;
             goto out;
         }

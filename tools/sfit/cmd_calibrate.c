@@ -139,6 +139,15 @@ int cli_cmd_calibrate(int argc, char **argv)
         }
         s.njoint++;
     }
+    if (s.njoint == 0) { /* a session without joints would place nothing */
+        fprintf(stderr, "sfit: no joint of %s could be calibrated: %s not written\n", pos[0],
+                out);
+        if (json) {
+            printf("{\"status\":\"failed\",\"message\":\"no joint could be calibrated\","
+                   "\"joints\":[]}\n");
+        }
+        return CLI_FAIL;
+    }
     f = fopen(out, "w");
     if (f == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", out, strerror(errno));
@@ -156,9 +165,10 @@ int cli_cmd_calibrate(int argc, char **argv)
             const session_joint_t *j = &s.joint[k];
             printf("%-10s %s, %ld of %ld frames, %s\n", j->name, base_name(j->trial),
                    j->frames_used, j->frames_total, j->hinge ? "hinge" : "ball");
-            printf("           centre %.2f %.2f %.2f %s (%s template frame)\n",
+            printf("           centre %.2f %.2f %.2f %s (%s template frame: origin at its "
+                   "markers' centroid, lab axes at frame %ld)\n",
                    (double)j->center[0], (double)j->center[1], (double)j->center[2], s.units,
-                   j->parent);
+                   j->parent, j->ref_frame);
             printf("           %s\n", j->verdict);
         }
         printf("session    %s: %d of %d joints calibrated\n", out, s.njoint, m.njoint);

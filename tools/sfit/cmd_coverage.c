@@ -49,10 +49,12 @@ static void cov_usage(FILE *f)
           "  --cap / --arc    force the geometry (default: arc when the samples are\n"
           "                   near-planar, else cap)\n"
           "  --noise-var V    known noise variance sigma^2 (e.g. from `sfit noise`):\n"
-          "                   removed from the eigenvalues, used for the UGDK fit and\n"
+          "                   removed from the eigenvalues, used for the unbiased fit\n"
+          "                   (UGDK) and\n"
           "                   for the smallest half-angle that noise needs\n"
           "  --rho-max R      target trust ratio for that half-angle (0 < R <= 1,\n"
-          "                   default 1: the Leontief limit itself)\n"
+          "                   default 1: the limit past which the noise, not the\n"
+          "                   samples' spread, decides the fit: the Leontief limit)\n"
           "  --json           one JSON object on stdout\n",
           f);
 }
@@ -228,7 +230,9 @@ int cli_cmd_coverage(int argc, char **argv)
     }
     st = cov_compute(&acc, &o, &c);
     if (st != SFIT_OK) {
-        return cli_report_failure(st, "fit", NULL, o.json, &in);
+        char what[CLI_WHAT_MAX];
+        (void)snprintf(what, sizeof what, "fit of %s", o.file);
+        return cli_report_failure(st, what, NULL, o.json, &in);
     }
     if (o.json) {
         cov_json(&o, &c, &in);

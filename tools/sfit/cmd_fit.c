@@ -46,8 +46,11 @@ static void fit_usage(FILE *f)
     fputs("usage: sfit fit [--noise-var V|auto | --noise-cov XX,YY,ZZ,XY,XZ,YZ] [--refine]\n"
           "                [--gate K] [--mode auto|sphere|planar] [--weight equal|samples]\n"
           "                [--cols A,B,C] [--json] FILE [FILE ...]\n"
+          "  The fit is algebraic: GDKE (the default, exact without noise) or, given the\n"
+          "  noise, UGDK (GDKE with the bias that noise puts on a partial sphere removed).\n"
           CLI_INPUT_USAGE
-          "        several FILEs: one marker each, common centre of all (MGDK)\n"
+          "        several FILEs: one marker each, common centre of all (MGDK: the\n"
+          "        multi-marker form of GDKE, one centre and a radius per marker)\n"
           "  --noise-var V    UGDK with isotropic measurement-noise variance V (unit^2)\n"
           "  --noise-var auto self-calibrated UGDK: V estimated from the radial residuals\n"
           "  --refine         self-calibrated start, geometric (orthogonal-distance) fit\n"
@@ -58,8 +61,9 @@ static void fit_usage(FILE *f)
           "  --noise-cov ...  UGDK with a full symmetric noise covariance (unit^2)\n"
           "  --mode M         auto (default): sphere, or circle when the samples are\n"
           "                   near-planar (hinge); sphere / planar force one\n"
-          "  --weight W       several FILEs: equal (default, eq. 220: every marker\n"
-          "                   counts once) or samples (weight N_p - 1: joint least squares)\n"
+          "  --weight W       several FILEs: equal (default: every marker counts once,\n"
+          "                   however many samples it has) or samples (weight N_p - 1:\n"
+          "                   least squares over all samples together)\n"
           "  --json           one JSON object on stdout\n",
           f);
 }
@@ -246,12 +250,12 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
 static const char *leontief_words(const sfit_result_t *r)
 {
     if (!(r->leontief_ratio < 1.0f)) {
-        return ">= 1: condition of eq. 194 fails; do not trust this fit";
+        return ">= 1: the noise is too large for the spread of the samples; do not trust this fit";
     }
     if ((r->flags & SFIT_FLAG_UNTRUSTED) != 0u) {
         return "< 1, but the fit is flagged untrusted: see the warnings";
     }
-    return "< 1: condition of eq. 194 holds";
+    return "< 1: the spread of the samples is large enough for the noise";
 }
 
 /* The reasons of SFIT_FLAG_UNTRUSTED, one warning line each. */
@@ -390,7 +394,7 @@ static void print_multi_human(const fit_opts_t *o, const sfit_multi_result_t *r,
                (double)r->trust_ratio, (double)r->leontief_ratio,
                !(r->leontief_ratio < 1.0f) ? ">= 1: do not trust this fit"
                : (r->flags & SFIT_FLAG_UNTRUSTED) != 0u ? "< 1, but flagged untrusted"
-                                                        : "< 1: condition of eq. 194 holds");
+                                                        : "< 1: the spread of the samples is large enough for the noise");
     }
     printf("per marker   radius; the marker's own fit (same options) and its distance from\n"
            "             the common %s:\n",
@@ -645,7 +649,9 @@ int cli_cmd_fit(int argc, char **argv)
         cli_report_rejects(o.file, &in);
     }
     if (st != SFIT_OK) {
-        return cli_report_failure(st, "fit", NULL, o.json, &in);
+        char what[CLI_WHAT_MAX];
+        (void)snprintf(what, sizeof what, "fit of %s", o.file);
+        return cli_report_failure(st, what, NULL, o.json, &in);
     }
     if (o.json) {
         print_json(&r, &in, &extra);

@@ -96,7 +96,9 @@ int cli_cmd_noise(int argc, char **argv)
     }
     st = sfit_noise_calibrate(&acc, &o.center, o.radius, &e);
     if (st != SFIT_OK) {
-        return cli_report_failure(st, "noise calibration",
+        char what[CLI_WHAT_MAX];
+        (void)snprintf(what, sizeof what, "noise calibration of %s", o.file);
+        return cli_report_failure(st, what,
                                   (st == SFIT_E_TOO_FEW) ? "no valid sample" : NULL, o.json, &in);
     }
     if (o.json) {

@@ -134,7 +134,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         sk_joint_t *j;
         lineno++;
         if (len == sizeof line - 1u && line[len - 1u] != '\n') {
-            (void)snprintf(why, whylen, "%s:%lu: line too long", path, lineno);
+            (void)snprintf(why, whylen, "line %lu: line too long", lineno);
             fclose(f);
             return -2;
         }
@@ -146,7 +146,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
             continue;
         }
         if (m->n >= SK_MAX_JOINTS) {
-            (void)snprintf(why, whylen, "%s: more than %d joints", path, SK_MAX_JOINTS);
+            (void)snprintf(why, whylen, "more than %d joints", SK_MAX_JOINTS);
             fclose(f);
             return -2;
         }
@@ -164,8 +164,8 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         memset(j, 0, sizeof *j);
         if (nt < 4 || nt > 5 || strcmp(tok[0], "joint") != 0) {
             (void)snprintf(why, whylen,
-                           "%s:%lu: expected: joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]",
-                           path, lineno);
+                           "line %lu: expected: joint NAME PARENT_MARKERS CHILD_MARKERS [MODE]",
+                           lineno);
             free(copy);
             fclose(f);
             return -2;
@@ -176,8 +176,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
         if (nt == 5) {
             j->has_mode = 1;
             if (cli_parse_mode(tok[4], &j->mode) != 0) {
-                (void)snprintf(why, whylen, "%s:%lu: MODE is auto, sphere or planar", path,
-                               lineno);
+                (void)snprintf(why, whylen, "line %lu: MODE is auto, sphere or planar", lineno);
                 free(copy);
                 fclose(f);
                 return -2;
@@ -201,8 +200,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
                                                  SFIT_JOINT_MAX_CHILD);
             if (j->np < 3 || j->nc < 1) {
                 (void)snprintf(why, whylen,
-                               "%s:%lu: 3 to %d parent markers and 1 to %d child markers", path,
-                               lineno, SFIT_CLUSTER_MAX_MARKERS, SFIT_JOINT_MAX_CHILD);
+                               "line %lu: 3 to %d parent markers and 1 to %d child markers", lineno, SFIT_CLUSTER_MAX_MARKERS, SFIT_JOINT_MAX_CHILD);
                 free(lists);
                 free(copy);
                 fclose(f);
@@ -215,7 +213,7 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
     }
     fclose(f);
     if (m->n == 0) {
-        (void)snprintf(why, whylen, "%s: no joint", path);
+        (void)snprintf(why, whylen, "no joint");
         return -2;
     }
     return 0;
@@ -606,6 +604,97 @@ static void print_joint_human(const sk_joint_t *j, long frame, const char *units
     }
 }
 
+/* 1 when the file at path is a session model (a `segment NAME MARKERS` line
+ * before any `joint` line), 0 otherwise (the joint-by-joint form, a C3D file,
+ * or a file that cannot be read: the form that opens it says why). */
+static int sk_is_session_model(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    char line[SK_LINE];
+    int is = 0, lines = 0;
+    if (f == NULL) {
+        return 0;
+    }
+    while (fgets(line, sizeof line, f) != NULL && lines < 10000) {
+        const char *p = line;
+        lines++;
+        while (*p == ' ' || *p == '\t') {
+            p++;
+        }
+        if (strncmp(p, "segment", 7) == 0 && (p[7] == ' ' || p[7] == '\t')) {
+            is = 1;
+            break;
+        }
+        if (strncmp(p, "joint", 5) == 0 && (p[5] == ' ' || p[5] == '\t')) {
+            break;
+        }
+        if ((unsigned char)p[0] >= 0x80u || (p[0] != '\0' && p[0] < ' ' && p[0] != '\n'
+                                                 && p[0] != '\r')) {
+            break; /* binary (a C3D file) */
+        }
+    }
+    fclose(f);
+    return is;
+}
+
+/* `sfit skeleton MODEL TRIALS...` with a session model: the same as
+ * `sfit skeleton TRIALS... --segments MODEL`. -1 when the first file is not a
+ * session model, else the exit status. */
+static int sk_session_form(int argc, char **argv)
+{
+    int i, first = -1, rc;
+    char **av;
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--segments") == 0) {
+            return -1;
+        }
+    }
+    for (i = 1; i < argc; i++) {
+        if (argv[i][0] == '-') {
+            if (strcmp(argv[i], "--svg") == 0 || strcmp(argv[i], "--frame") == 0
+                || strcmp(argv[i], "--frames") == 0 || strcmp(argv[i], "--noise-var") == 0
+                || strcmp(argv[i], "--mode") == 0 || strcmp(argv[i], "--method") == 0
+                || strcmp(argv[i], "--root") == 0 || strcmp(argv[i], "--step") == 0
+                || strcmp(argv[i], "--bvh") == 0 || strcmp(argv[i], "--trc") == 0
+                || strcmp(argv[i], "--html") == 0 || strcmp(argv[i], "--centres") == 0) {
+                i++;
+            }
+            continue;
+        }
+        first = i;
+        break;
+    }
+    if (first < 0 || !sk_is_session_model(argv[first])) {
+        return -1;
+    }
+    av = malloc(((size_t)argc + 2u) * sizeof *av);
+    if (av == NULL) {
+        fprintf(stderr, "sfit: out of memory\n");
+        return CLI_FAIL;
+    }
+    {
+        static char seg_opt[] = "--segments";
+        int n = 0;
+        for (i = 0; i < argc; i++) {
+            if (i != first) {
+                av[n++] = argv[i];
+            }
+        }
+        av[n++] = seg_opt;
+        av[n++] = argv[first];
+        av[n] = NULL;
+        rc = skel_cmd(n, av);
+    }
+    free(av);
+    return rc;
+}
+
+/* `sfit skeleton --help` with no file: both forms, every option. */
+static int sk_help_only(int argc, char **argv)
+{
+    return argc == 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0);
+}
+
 int cli_cmd_skeleton(int argc, char **argv)
 {
     sk_opts_t o;
@@ -615,6 +704,21 @@ int cli_cmd_skeleton(int argc, char **argv)
     long frame = 0;
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
+    if (sk_help_only(argc, argv)) {
+        char *av[3] = {argv[0], argv[1], NULL};
+        (void)skel_cmd(2, av);
+        fputs("\nThe joint-by-joint form (each joint's parent and child markers listed in\n"
+              "MODEL instead of a session model's segments):\n",
+              stdout);
+        sk_usage(stdout);
+        return CLI_OK;
+    }
+    {
+        const int src = sk_session_form(argc, argv);
+        if (src >= 0) {
+            return src;
+        }
+    }
     if (skel_cmd_wanted(argc, argv)) {
         return skel_cmd(argc, argv);
     }

@@ -51,6 +51,23 @@ static void put_mat(FILE *f, const double m[3][3])
     fputc(']', f);
 }
 
+/* A written point's C3D description: the joint and where its centre is
+ * put (the session's convention, shortened to fit a description). */
+void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap)
+{
+    const char *conv = j->convention;
+    const char *near = strstr(conv, "mid-point of ");
+    if (q > 0) {
+        (void)snprintf(d, cap, "%.40s hinge axis point %d", j->name, q);
+    } else if (!j->hinge) {
+        (void)snprintf(d, cap, "%.40s centre (functional)", j->name);
+    } else if (near != NULL && strstr(conv, "landmarks") == NULL) {
+        (void)snprintf(d, cap, "%.20s centre: axis nearest %.50s", j->name, near);
+    } else {
+        (void)snprintf(d, cap, "%.40s centre on the functional axis", j->name);
+    }
+}
+
 void session_write_json(FILE *f, const session_t *s)
 {
     int i, k;
@@ -113,6 +130,18 @@ void session_write_json(FILE *f, const session_t *s)
         } else {
             fprintf(f, "null");
         }
+        fprintf(f, ",\n  \"center_convention\":");
+        put_str(f, j->convention);
+        fprintf(f, ",\"template_reference_frame\":%ld,\"point_descriptions\":[", j->ref_frame);
+        for (k = 0; k < j->npoints; k++) {
+            char d[SESSION_DESC_MAX];
+            session_point_desc(j, k, d, sizeof d);
+            if (k > 0) {
+                fputc(',', f);
+            }
+            put_str(f, d);
+        }
+        fputc(']', f);
         fprintf(f, ",\n  \"center_cov\":[");
         for (k = 0; k < 3; k++) {
             if (k > 0) {
@@ -462,6 +491,20 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
         || jget_str(jp, o, "type", type, sizeof type) != 0
         || jget_str(jp, o, "trial", j->trial, sizeof j->trial) != 0
         || jget_str(jp, o, "verdict", j->verdict, sizeof j->verdict) != 0) {
+        return -1;
+    }
+    j->ref_frame = -1;
+    n = jget(jp, o, "template_reference_frame"); /* absent in older sessions */
+    if (n != NULL) {
+        if (n->type != J_NUM || !(n->num >= -1.0 && n->num < 2147483647.0)
+            || n->num != floor(n->num)) {
+            return jfail(jp, "joint %s: \"template_reference_frame\" must be a frame index",
+                         j->name);
+        }
+        j->ref_frame = (long)n->num;
+    }
+    if (jget(jp, o, "center_convention") != NULL /* absent in older sessions */
+        && jget_str(jp, o, "center_convention", j->convention, sizeof j->convention) != 0) {
         return -1;
     }
     if (strcmp(type, "ball") != 0 && strcmp(type, "hinge") != 0) {

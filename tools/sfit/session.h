@@ -18,6 +18,8 @@
 #define SESSION_PATH_MAX 512
 
 /** One calibrated joint. */
+#define SESSION_CONVENTION_MAX 160 /* the centre's convention, in words, + 1 */
+
 typedef struct session_joint {
     char name[SM_NAME_MAX];
     char parent[SM_NAME_MAX], child[SM_NAME_MAX]; /**< segment names */
@@ -29,6 +31,9 @@ typedef struct session_joint {
     char markers[SM_MARKERS_MAX][SM_NAME_MAX];
     float tpl[SM_MARKERS_MAX][3];     /**< parent template (parent frame) */
     float center[3], axis[3];         /**< parent frame; axis unit (hinge) */
+    char convention[SESSION_CONVENTION_MAX]; /**< where the centre is put, in words */
+    long ref_frame;                   /**< the template frame's axes are the lab's at this
+                                           frame of the trial (-1: not recorded) */
     double cov[3][3];                 /**< centre covariance (parent frame, units^2) */
     double semi95[3];                 /**< 95 % ellipsoid semi-axes, descending (units) */
     double range_deg[3];              /**< rotation range of the child about lab x, y, z
@@ -57,6 +62,12 @@ typedef struct session {
     int njoint;
     session_joint_t joint[SM_JOINTS_MAX];
 } session_t;
+
+#define SESSION_DESC_MAX 96 /* a written point's C3D description + 1 */
+
+/** The C3D description of joint j's point q (0: the centre, 1 and 2: a
+ * hinge's axis points): the joint and where its centre is put. */
+void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap);
 
 /** Write the session as JSON (one object). */
 void session_write_json(FILE *f, const session_t *s);

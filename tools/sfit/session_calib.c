@@ -244,6 +244,56 @@ static int inv3(double a[3][3], double inv[3][3])
     return 0;
 }
 
+/* The field's convention for a hinge's centre (docs/session.md#joint-centre-conventions):
+ * with landmarks (a knee's epicondyles, an ankle's malleoli, markers of the
+ * parent segment) the point of the functional axis nearest their midpoint
+ * in the parent template; its covariance gains the axis' tilt over the
+ * distance moved (s^2 axis_cov). Without, the axis point the data leave.
+ * A ball joint keeps its functional centre. Names the rule in
+ * j->convention. */
+static void place_on_axis(const sm_joint_t *mj, const sm_segment_t *ps,
+                          const sfit_pair_result_t *pr, session_joint_t *j)
+{
+    double mid[3] = {0, 0, 0}, s = 0.0;
+    int i, k, q;
+    if (!j->hinge) {
+        (void)snprintf(j->convention, sizeof j->convention,
+                       mj->nlandmarks == 2 ? "functional: the point fixed in both segments "
+                                             "(a ball joint: its landmarks are not used)"
+                                           : "functional: the point fixed in both segments");
+        return;
+    }
+    if (mj->nlandmarks != 2) {
+        (void)snprintf(j->convention, sizeof j->convention,
+                       "functional axis: its point nearest the mid-point of the two "
+                       "segments' markers (no landmarks in the model)");
+        return;
+    }
+    for (i = 0; i < 2; i++) {
+        for (k = 0; k < ps->nmarkers && strcmp(ps->markers[k], mj->landmarks[i]) != 0; k++) {
+        }
+        for (q = 0; q < 3; q++) {
+            mid[q] += 0.5 * (double)j->tpl[k][q]; /* k < nmarkers: the model checked it */
+        }
+    }
+    for (q = 0; q < 3; q++) {
+        s += (mid[q] - (double)j->center[q]) * (double)j->axis[q];
+    }
+    for (q = 0; q < 3; q++) {
+        j->center[q] = (float)((double)j->center[q] + s * (double)j->axis[q]);
+    }
+    if (pr != NULL) {
+        for (i = 0; i < 3; i++) {
+            for (q = 0; q < 3; q++) {
+                j->cov[i][q] += s * s * (double)pr->axis_cov.m[i * 3 + q];
+            }
+        }
+    }
+    (void)snprintf(j->convention, sizeof j->convention,
+                   "functional axis: its point nearest the mid-point of %s and %s",
+                   mj->landmarks[0], mj->landmarks[1]);
+}
+
 #define JACK_BLOCKS 10 /* contiguous blocks of the block jackknife */
 
 /* The block jackknife of the pair's centre: the joint solved again
@@ -505,6 +555,7 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
     if (mj->type == SM_BALL && j->hinge) { /* cannot happen: the mode was forced */
         j->hinge = 0;
     }
+    j->ref_frame = jo.ref_frame;
     j->nmarkers = np;
     for (i = 0; i < np; i++) {
         (void)snprintf(j->markers[i], SM_NAME_MAX, "%s", ps->markers[i]);
@@ -532,6 +583,7 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
     } else if (center_cov(fr, np, nc, &jo, var, j->cov) != 0) {
         j->flags |= SFIT_FLAG_UNTRUSTED;
     }
+    place_on_axis(mj, ps, jo.pair_used ? &jo.pair : NULL, j);
     sym3_eig(j->cov, ev);
     for (i = 0; i < 3; i++) {
         const double q = j->hinge ? CHI2_2_95 : CHI2_3_95;

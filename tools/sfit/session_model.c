@@ -203,6 +203,48 @@ static int parse_joint(session_model_t *m, char **f, int nf, char *err, int line
     return 0;
 }
 
+/* landmarks JOINT MARKER,MARKER: two markers of the joint's parent segment. */
+static int parse_landmarks(session_model_t *m, char **f, int nf, char *err, int line)
+{
+    char *items[3];
+    sm_joint_t *j = NULL;
+    const sm_segment_t *ps;
+    int i, k, n;
+    if (nf != 3) {
+        return fail(err, line, "landmarks needs JOINT MARKER,MARKER (%d fields)", nf);
+    }
+    for (i = 0; i < m->njoint; i++) {
+        if (strcmp(m->joint[i].name, f[1]) == 0) {
+            j = &m->joint[i];
+        }
+    }
+    if (j == NULL) {
+        return fail(err, line, "landmarks: joint '%.60s' is not declared above it", f[1]);
+    }
+    if (j->nlandmarks != 0) {
+        return fail(err, line, "landmarks of joint '%s' given twice", j->name);
+    }
+    n = split_commas(f[2], items, 3);
+    if (n != 2 || strcmp(items[0], items[1]) == 0) {
+        return fail(err, line, "landmarks of joint '%s': two different comma-separated markers",
+                    j->name);
+    }
+    ps = &m->seg[j->parent];
+    for (i = 0; i < 2; i++) {
+        for (k = 0; k < ps->nmarkers && strcmp(ps->markers[k], items[i]) != 0; k++) {
+        }
+        if (k == ps->nmarkers) {
+            return fail(err, line,
+                        "landmarks of joint '%s': '%.60s' is not a marker of its parent "
+                        "segment '%s'",
+                        j->name, items[i], ps->name);
+        }
+        memcpy(j->landmarks[i], items[i], strlen(items[i]) + 1);
+    }
+    j->nlandmarks = 2;
+    return 0;
+}
+
 int session_model_parse(const char *text, size_t len, session_model_t *m, char *err)
 {
     char buf[SM_LINE_MAX];
@@ -263,6 +305,10 @@ int session_model_parse(const char *text, size_t len, session_model_t *m, char *
             if (parse_joint(m, f, nf, err, line) != 0) {
                 return -1;
             }
+        } else if (strcmp(f[0], "landmarks") == 0) {
+            if (parse_landmarks(m, f, nf, err, line) != 0) {
+                return -1;
+            }
         } else if (strcmp(f[0], "root") == 0) {
             if (nf != 2 || root[0] != '\0') {
                 return fail(err, line, nf != 2 ? "root needs one SEGMENT" : "root given twice");
@@ -272,7 +318,7 @@ int session_model_parse(const char *text, size_t len, session_model_t *m, char *
             }
             root_line = line;
         } else {
-            return fail(err, line, "unknown keyword '%.40s' (segment, joint or root)", f[0]);
+            return fail(err, line, "unknown keyword '%.40s' (segment, joint, landmarks or root)", f[0]);
         }
     }
     if (m->nseg == 0) {

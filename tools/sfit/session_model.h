@@ -8,7 +8,12 @@
  *     segment NAME MARKER,MARKER,MARKER[,...]
  *     joint NAME PARENT CHILD auto|ball|hinge POINTS [TRIAL_PATTERN]
  *     root SEGMENT
+ *     landmarks JOINT MARKER,MARKER
  *
+ * `landmarks` names two markers of the joint's parent segment that lie on
+ * either side of the joint (a knee's epicondyles, an ankle's malleoli): a
+ * hinge's centre is then the point of its functional axis nearest their
+ * midpoint (the field's convention), not the axis point the data leave.
  * Blank lines and `#` comments are ignored. Host only.
  */
 #ifndef SFIT_TOOLS_SESSION_MODEL_H
@@ -38,6 +43,8 @@ typedef struct sm_joint {
     int npoints;                             /**< ball / auto: 1; hinge: 3 */
     char points[3][SM_NAME_MAX];             /**< auto: [1], [2] = NAME_AX1, NAME_AX2 */
     char pattern[SM_PATTERN_MAX];            /**< "" when not given */
+    int nlandmarks;                          /**< 0, or 2: landmarks given */
+    char landmarks[2][SM_NAME_MAX];          /**< markers of the parent segment */
     int line;                                /**< line of the model file */
 } sm_joint_t;
 

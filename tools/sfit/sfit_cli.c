@@ -21,7 +21,8 @@ static const cli_command_t commands[] = {
     {"track", cli_cmd_track, "incremental estimate: a new centre every K samples"},
     {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
     {"joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table"},
-    {"skeleton", cli_cmd_skeleton, "every joint of a model, and an SVG of the skeleton"},
+    {"skeleton", cli_cmd_skeleton, "the skeleton of a session model or found in the data:\n"
+                                   "            segments, joints, tree; --bvh --trc --svg --html --json"},
     {"calibrate", cli_cmd_calibrate, "every joint of a session model from its functional trial"},
     {"apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial"},
     {"c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table"},
@@ -36,7 +37,8 @@ static void usage(FILE *f)
 {
     size_t i;
     fprintf(f, "sfit %s: sphere and circle fitting (GDKE / UGDK)\n"
-               "usage: sfit COMMAND [options] FILE...   (sfit COMMAND --help)\n"
+               "usage: sfit COMMAND [options] FILE...\n"
+               "       sfit help [COMMAND]   (or sfit COMMAND --help: every option)\n"
                "       sfit --version\n",
             SFIT_CLI_VERSION);
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
@@ -58,6 +60,21 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0) {
         printf("sfit %s\n", SFIT_CLI_VERSION);
         return CLI_OK;
+    }
+    if (strcmp(argv[1], "help") == 0) {
+        if (argc < 3) {
+            usage(stdout);
+            return CLI_OK;
+        }
+        for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+            if (strcmp(argv[2], commands[i].name) == 0) {
+                static char help_opt[] = "--help";
+                char *av[3] = {argv[2], help_opt, NULL};
+                return commands[i].run(2, av);
+            }
+        }
+        fprintf(stderr, "sfit: no command '%s' (sfit help lists them)\n", argv[2]);
+        return CLI_USAGE;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(argv[1], commands[i].name) == 0) {

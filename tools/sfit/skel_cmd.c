@@ -580,8 +580,9 @@ int skel_cmd(int argc, char **argv)
                 }
                 printf("]");
             }
-            printf("\n  centre       %.3f %.3f %.3f (%s frame)\n", j->pr.ca[0], j->pr.ca[1],
-                   j->pr.ca[2], s->seg[j->parent].name);
+            printf("\n  centre       %.3f %.3f %.3f (%s template frame: origin at its markers' "
+                   "centroid, lab axes at the first frame that sees them all)\n",
+                   j->pr.ca[0], j->pr.ca[1], j->pr.ca[2], s->seg[j->parent].name);
             if (j->bvh_frames > 0) {
                 printf("  bvh          its forward kinematics %.3g %s from this centre (median), "
                        "%.3g (95th percentile)\n",

@@ -297,15 +297,6 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
 
 /* ----------------------------------------------------------------- HTML */
 
-static void jnum(FILE *f, double x)
-{
-    if (isfinite(x)) {
-        fprintf(f, "%.1f", x);
-    } else {
-        fputs("null", f);
-    }
-}
-
 static void jstr(FILE *f, const char *t)
 {
     fputc('"', f);
@@ -324,7 +315,65 @@ static void jstr(FILE *f, const char *t)
     fputc('"', f);
 }
 
-#define HTML_MAX_FRAMES 3000L
+#define HTML_MAX_FRAMES 2000L
+
+/* Number for the page's data: enough digits for mm and m alike. */
+static void jnum6(FILE *f, double x)
+{
+    if (isfinite(x)) {
+        fprintf(f, "%.6g", x);
+    } else {
+        fputs("null", f);
+    }
+}
+
+/* Segment k's joint's 95 % ellipsoid in the lab at frame fr, packed xx yy
+ * zz xy xz yz: chi2 (3 dof; a hinge, whose covariance is the part normal
+ * to its axis: 2) times R_p C R_p^T, C the covariance in the parent
+ * segment's frame. 0, or -1 (no joint, or no parent pose in the frame). */
+static int lab_ellipsoid(const skel_t *s, long fr, int k, double e[6])
+{
+    const int j = s->parent_joint[k];
+    const skel_joint_t *jt;
+    const double *R;
+    double T[9], q;
+    int a, b, c;
+    if (j < 0) {
+        return -1;
+    }
+    jt = &s->joint[j];
+    if (!s->pose_ok[(size_t)fr * (size_t)s->nseg + (size_t)jt->parent]) {
+        return -1;
+    }
+    R = &s->pose[((size_t)fr * (size_t)s->nseg + (size_t)jt->parent) * 12u];
+    q = jt->pr.type == SKEL_HINGE ? 5.991464547107979 : 7.814727903251178;
+    for (a = 0; a < 3; a++) { /* T = R C */
+        for (b = 0; b < 3; b++) {
+            T[a * 3 + b] = 0.0;
+            for (c = 0; c < 3; c++) {
+                T[a * 3 + b] += R[a * 3 + c] * jt->pr.cov_a[c * 3 + b];
+            }
+        }
+    }
+    {
+        static const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+        for (a = 0; a < 6; a++) { /* (T R^T)[ia][ib] */
+            double v = 0.0;
+            for (c = 0; c < 3; c++) {
+                v += T[ia[a] * 3 + c] * R[ib[a] * 3 + c];
+            }
+            e[a] = q * v;
+            if (!isfinite(e[a])) {
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* The player's script, one string per line (tools/sfit/skel_view.js,
+ * embedded by the build: tools/sfit/embed_js.cmake). */
+#include "skel_view_js.h"
 
 int skel_write_html(const skel_t *s, const char *path)
 {
@@ -332,23 +381,29 @@ int skel_write_html(const skel_t *s, const char *path)
     const long stride = (nf + HTML_MAX_FRAMES - 1) / HTML_MAX_FRAMES;
     FILE *f = fopen(path, "w");
     long fr;
-    int k, m, i, first;
+    int k, m, i, first, nell = 0, ell[SKEL_MAX_SEG];
+    size_t line;
     if (f == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
         return -1;
     }
     fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+          "<meta name=\"viewport\" content=\"width=device-width\">\n"
           "<title>sfit skeleton</title>\n<style>\n"
           "body{font-family:sans-serif;margin:8px;background:#fff;color:#222}\n"
-          "#bar{margin:4px 0;height:28px;white-space:nowrap;overflow:hidden}\n"
-          "#bar input[type=range]{width:420px;vertical-align:middle}\n"
-          "canvas{border:1px solid #ccc;background:#fafafa}\n"
+          "#bar{margin:4px 0;white-space:nowrap;overflow:hidden}\n"
+          "#bar input[type=range]{width:380px;vertical-align:middle}\n"
+          "#info{margin:2px 0 4px 0;font-size:14px;height:18px;white-space:nowrap;overflow:hidden}\n"
+          "canvas{border:1px solid #ccc;background:#fbfbfb;touch-action:none;cursor:grab}\n"
+          "#legend{font-size:13px;max-width:900px}\n"
           "#state{display:none}\n</style></head><body>\n"
           "<div id=\"bar\"><button id=\"play\">play</button> frame <input id=\"fr\" "
-          "type=\"range\" min=\"0\" value=\"0\"> <span id=\"lbl\"></span> &nbsp; turn "
-          "<input id=\"yaw\" type=\"range\" min=\"-180\" max=\"180\" value=\"0\" "
-          "style=\"width:120px\"></div>\n"
-          "<canvas id=\"cv\" width=\"900\" height=\"640\"></canvas>\n"
+          "type=\"range\" min=\"0\" value=\"0\"> <button id=\"reset\">reset view</button> "
+          "ellipsoids <select id=\"ell\"><option value=\"1\">x1</option><option "
+          "value=\"5\">x5</option><option value=\"10\">x10</option><option "
+          "value=\"0\">off</option></select></div>\n"
+          "<div id=\"info\"></div>\n"
+          "<canvas id=\"cv\" width=\"900\" height=\"600\"></canvas>\n"
           "<div id=\"legend\"></div><pre id=\"state\"></pre>\n"
           "<script>\nconst D=",
           f);
@@ -361,16 +416,25 @@ int skel_write_html(const skel_t *s, const char *path)
                 (double)s->rec->rate, stride, nf, up, sg);
     }
     jstr(f, s->rec->units);
-    fputs(",\"seg\":[", f);
+    fputs(",\"trials\":[", f);
+    for (i = 0; i < s->rec->nfiles; i++) {
+        const char *name = s->rec->file[i], *slash = strrchr(name, '/');
+        fprintf(f, "%s{\"name\":", i ? "," : "");
+        jstr(f, slash != NULL ? slash + 1 : name);
+        fprintf(f, ",\"start\":%ld,\"frames\":%ld}", s->rec->start[i],
+                s->rec->start[i + 1] - s->rec->start[i]);
+    }
+    fputs("],\"seg\":[", f);
     for (k = 0; k < s->nseg; k++) {
         const int j = s->parent_joint[k];
+        ell[k] = (j >= 0 && k != s->root) ? nell++ : -1;
         fprintf(f, "%s{\"name\":", k ? "," : "");
         jstr(f, s->seg[k].name);
         fprintf(f, ",\"joint\":");
         jstr(f, j >= 0 ? s->joint[j].name : (k == s->root ? s->seg[k].name : ""));
-        fprintf(f, ",\"parent\":%d,\"in\":%d,\"leaf\":%d,\"colour\":\"%s\"}",
+        fprintf(f, ",\"parent\":%d,\"in\":%d,\"leaf\":%d,\"ell\":%d,\"colour\":\"%s\"}",
                 j >= 0 ? s->joint[j].parent : -1, (k == s->root || j >= 0) ? 1 : 0, s->leaf[k],
-                k_colour[k % NCOL]);
+                ell[k], k_colour[k % NCOL]);
     }
     fputs("],\"mseg\":[", f);
     for (m = 0; m < s->rec->nmark; m++) {
@@ -379,97 +443,49 @@ int skel_write_html(const skel_t *s, const char *path)
     fputs("],\n\"f\":[", f);
     first = 1;
     for (fr = 0; fr < nf; fr += stride) {
-        /* per frame: nodes (per segment), end sites (per segment), markers */
+        /* per frame: nodes (per segment), end sites (per segment), markers,
+         * then each joint's lab ellipsoid (6 numbers, null when unknown) */
         fprintf(f, "%s[", first ? "" : ",\n");
         first = 0;
         for (k = 0; k < s->nseg; k++) {
             const double *p = node(s, fr, k);
             for (i = 0; i < 3; i++) {
                 fputs(k || i ? "," : "", f);
-                jnum(f, p != NULL ? p[i] : (double)NAN);
+                jnum6(f, p != NULL ? p[i] : (double)NAN);
             }
         }
         for (k = 0; k < s->nseg; k++) {
             const double *p = &s->ends[((size_t)fr * (size_t)s->nseg + (size_t)k) * 3u];
             for (i = 0; i < 3; i++) {
                 fputc(',', f);
-                jnum(f, p[i]);
+                jnum6(f, p[i]);
             }
         }
         for (m = 0; m < s->rec->nmark; m++) {
             const float *p = skel_rec_at(s->rec, fr, m);
             for (i = 0; i < 3; i++) {
                 fputc(',', f);
-                jnum(f, (double)p[i]);
+                jnum6(f, (double)p[i]);
+            }
+        }
+        for (k = 0; k < s->nseg; k++) {
+            double e[6];
+            const int ok = ell[k] >= 0 && lab_ellipsoid(s, fr, k, e) == 0;
+            if (ell[k] < 0) {
+                continue;
+            }
+            for (i = 0; i < 6; i++) {
+                fputc(',', f);
+                jnum6(f, ok ? e[i] : (double)NAN);
             }
         }
         fputc(']', f);
     }
     fputs("]};\n", f);
-    /* the player (plain script, no library) */
-    fputs(
-        "const cv=document.getElementById('cv'),cx=cv.getContext('2d');\n"
-        "const S=D.seg.length,NM=D.mseg.length,NF=D.f.length;\n"
-        "const up=D.up,h1=(up+1)%3,h2=(up+2)%3;\n"
-        "const fr=document.getElementById('fr'),lbl=document.getElementById('lbl'),"
-        "yaw=document.getElementById('yaw');\n"
-        "fr.max=NF-1;\n"
-        "function cen(row){let c=[0,0,0],n=0;for(let i=0;i<S;i++){if(row[3*i]===null)continue;"
-        "for(let a=0;a<3;a++)c[a]+=row[3*i+a];n++;}return n?c.map(v=>v/n):[0,0,0];}\n"
-        "const C=D.f.map(cen);const dd=[];\n"
-        "D.f.forEach((row,k)=>{for(let i=0;i<row.length;i+=3){if(row[i]===null)continue;"
-        "dd.push(Math.hypot(row[i]-C[k][0],row[i+1]-C[k][1],row[i+2]-C[k][2]));}});\n"
-        "dd.sort((a,b)=>a-b);const R=Math.max(1e-9,dd[Math.floor(0.995*(dd.length-1))]||1);\n"
-        "const sc=Math.min(cv.width,cv.height)/(2.2*R);let ctr=C[0];\n"
-        "function proj(p){const t=yaw.value*Math.PI/180,a=p[h1]-ctr[h1],b=p[h2]-ctr[h2];\n"
-        " const x=a*Math.cos(t)-b*Math.sin(t);\n"
-        " return [cv.width/2+x*sc,cv.height/2-D.sgn*(p[up]-ctr[up])*sc];}\n"
-        "function pt(row,i){const p=[row[3*i],row[3*i+1],row[3*i+2]];return p[0]===null?null:p;}\n"
-        "let cur=0,timer=null;\n"
-        "function draw(k){cur=k;fr.value=k;const row=D.f[k];ctr=C[k];const r=cv.getBoundingClientRect();"
-        "const st={frame:k*D.stride,canvas:[r.left,r.top,cv.width,cv.height],nodes:{},bones:[]};\n"
-        " cx.clearRect(0,0,cv.width,cv.height);cx.fillStyle='#fafafa';"
-        "cx.fillRect(0,0,cv.width,cv.height);\n"
-        " for(let m=0;m<NM;m++){const p=pt(row,2*S+m);if(!p)continue;const q=proj(p);"
-        "const g=D.mseg[m];\n"
-        "  cx.fillStyle=g>=0?D.seg[g].colour:'#bbb';cx.beginPath();"
-        "cx.arc(q[0],q[1],3.5,0,7);cx.fill();}\n"
-        " cx.lineCap='round';\n"
-        " for(let k2=0;k2<S;k2++){const s=D.seg[k2];if(!s.in)continue;const a=pt(row,k2);"
-        "if(!a)continue;const qa=proj(a);\n"
-        "  if(s.parent>=0){const b=pt(row,s.parent);if(b){const qb=proj(b);cx.strokeStyle='#333';"
-        "cx.lineWidth=6;cx.setLineDash([]);\n"
-        "   cx.beginPath();cx.moveTo(qb[0],qb[1]);cx.lineTo(qa[0],qa[1]);cx.stroke();"
-        "st.bones.push([qb[0],qb[1],qa[0],qa[1]]);}}\n"
-        "  if(s.leaf){const e=pt(row,S+k2);if(e){const qe=proj(e);cx.strokeStyle='#333';"
-        "cx.lineWidth=6;cx.setLineDash([10,6]);\n"
-        "   cx.beginPath();cx.moveTo(qa[0],qa[1]);cx.lineTo(qe[0],qe[1]);cx.stroke();"
-        "cx.setLineDash([]);st.bones.push([qa[0],qa[1],qe[0],qe[1]]);}}}\n"
-        " cx.font='bold 13px sans-serif';\n"
-        " for(let k2=0;k2<S;k2++){const s=D.seg[k2];if(!s.in)continue;const a=pt(row,k2);"
-        "if(!a)continue;const q=proj(a);\n"
-        "  cx.fillStyle='#d00';cx.beginPath();cx.arc(q[0],q[1],7,0,7);cx.fill();\n"
-        "  cx.fillText(s.joint,q[0]+10,q[1]+15);st.nodes[s.joint]=[Math.round(q[0]),"
-        "Math.round(q[1])];}\n"
-        " lbl.textContent=(k*D.stride)+' / '+D.nframes+' ('+(k*D.stride/(D.rate||1))"
-        ".toFixed(2)+' s)';\n"
-        " document.getElementById('state').textContent=JSON.stringify(st);"
-        "document.title='sfit skeleton, frame '+(k*D.stride);}\n"
-        "function fromHash(){const m=/frame=(\\d+)/.exec(location.hash+location.search);"
-        "if(m){stop();draw(Math.min(NF-1,Math.floor(+m[1]/D.stride)));return true;}return false;}\n"
-        "function stop(){if(timer){clearInterval(timer);timer=null;}"
-        "document.getElementById('play').textContent='play';}\n"
-        "document.getElementById('play').onclick=function(){if(timer){stop();return;}"
-        "this.textContent='pause';\n"
-        " timer=setInterval(()=>draw((cur+1)%NF),1000/((D.rate||30)/D.stride));};\n"
-        "fr.oninput=()=>{stop();draw(+fr.value);};yaw.oninput=()=>draw(cur);\n"
-        "window.onhashchange=fromHash;\n"
-        "document.getElementById('legend').innerHTML=D.seg.map(s=>'<span style=\"color:'+"
-        "s.colour+'\">&#9679; '+s.name.replace(/&/g,'&amp;').replace(/</g,'&lt;')+'</span>').join(' &nbsp; ')+"
-        "' &nbsp; red: joint centres; dark: bones; grey: markers of no segment ('+D.units+')';\n"
-        "if(!fromHash())draw(0);\n"
-        "</script></body></html>\n",
-        f);
+    for (line = 0; skel_view_js[line] != NULL; line++) {
+        fputs(skel_view_js[line], f);
+    }
+    fputs("</script></body></html>\n", f);
     if (ferror(f) != 0 || fclose(f) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", path);
         return -1;

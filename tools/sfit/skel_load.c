@@ -203,7 +203,7 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             continue;
         }
         if (strcmp(tok[0], "segment") == 0 && nt == 3 && m->nseg >= SKEL_MAX_SEG) {
-            (void)snprintf(why, SKEL_ERR, "%s:%lu: more than %d segments", path, lineno,
+            (void)snprintf(why, SKEL_ERR, "line %lu: more than %d segments", lineno,
                            SKEL_MAX_SEG);
             fclose(f);
             return -2;
@@ -213,7 +213,7 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             int d;
             for (d = 0; d < k; d++) {
                 if (strcmp(m->seg[d], tok[1]) == 0) {
-                    (void)snprintf(why, SKEL_ERR, "%s:%lu: segment %s given twice", path, lineno,
+                    (void)snprintf(why, SKEL_ERR, "line %lu: segment %s given twice", lineno,
                                    tok[1]);
                     fclose(f);
                     return -2;
@@ -222,14 +222,16 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             (void)snprintf(m->seg[k], SKEL_NAME, "%s", tok[1]);
             m->nm[k] = split_list(tok[2], m->mk[k], SFIT_CLUSTER_MAX_MARKERS * 4);
             if (m->nm[k] < 3) {
-                (void)snprintf(why, SKEL_ERR, "%s:%lu: a segment needs 3 to %d markers", path,
-                               lineno, SFIT_CLUSTER_MAX_MARKERS * 4);
+                (void)snprintf(why, SKEL_ERR, "line %lu: a segment needs 3 to %d markers", lineno, SFIT_CLUSTER_MAX_MARKERS * 4);
                 fclose(f);
                 return -2;
             }
             m->nseg++;
         } else if (strcmp(tok[0], "root") == 0 && nt == 2 && strlen(tok[1]) < SKEL_NAME) {
             (void)snprintf(m->root, SKEL_NAME, "%s", tok[1]);
+        } else if (strcmp(tok[0], "landmarks") == 0 && nt == 3) {
+            /* the session's centre convention (sfit calibrate); the skeleton
+             * reports the functional centres */
         } else if (strcmp(tok[0], "joint") == 0 && (nt == 6 || nt == 7)
                    && m->njoint < SKEL_MAX_SEG && strlen(tok[1]) < SKEL_NAME
                    && strlen(tok[2]) < SKEL_NAME && strlen(tok[3]) < SKEL_NAME
@@ -243,16 +245,17 @@ int skel_map_load(const char *path, skel_map_t *m, char *why)
             (void)snprintf(m->jtrial[k], SKEL_NAME, "%s", nt == 7 ? tok[6] : "");
         } else {
             (void)snprintf(why, SKEL_ERR,
-                           "%s:%lu: expected `segment NAME M1,M2,M3[,...]`, `joint NAME PARENT "
-                           "CHILD auto|ball|hinge POINTS [TRIALS]` or `root SEGMENT`",
-                           path, lineno);
+                           "line %lu: expected `segment NAME M1,M2,M3[,...]`, `joint NAME PARENT "
+                           "CHILD auto|ball|hinge POINTS [TRIALS]`, `landmarks JOINT M1,M2` or "
+                           "`root SEGMENT`",
+                           lineno);
             fclose(f);
             return -2;
         }
     }
     fclose(f);
     if (m->nseg < 2) {
-        (void)snprintf(why, SKEL_ERR, "%s: fewer than 2 segments", path);
+        (void)snprintf(why, SKEL_ERR, "fewer than 2 segments");
         return -2;
     }
     return 0;

@@ -620,7 +620,7 @@ def _added(src, points, prefix, what):
     return names, xyz.tobytes(), prefix
 
 
-def write_c3d(src, dst, points, prefix=None) -> bool:
+def write_c3d(src, dst, points, prefix=None, descriptions=None) -> bool:
     """Write ``dst``: the C3D recording ``src`` with ``points`` added.
 
     Args:
@@ -629,6 +629,8 @@ def write_c3d(src, dst, points, prefix=None) -> bool:
             frame; NaN in a frame: the point is missing there (residual -1).
         prefix: put before every new label; None (default): the subject
             prefix ("P01:") every label of src shares, else none.
+        descriptions: None, or a mapping label -> text for POINT:DESCRIPTIONS
+            (when the file has descriptions; a label not in it gets none).
 
     Nothing else changes: every parameter, event, point sample and analog
     word is kept, in the file's processor format (docs/c3d.md). Returns True
@@ -637,7 +639,14 @@ def write_c3d(src, dst, points, prefix=None) -> bool:
     """
     s, d = _path(src, "write_c3d"), _path(dst, "write_c3d")
     names, raw, pre = _added(s, points, prefix, "write_c3d")
-    return bool(_sfit._c3d_write(s, d, names, raw, pre, False))
+    descs = None
+    if descriptions is not None:
+        if not isinstance(descriptions, _Mapping):
+            raise _arg_error("write_c3d: descriptions must be a mapping label -> str")
+        descs = [descriptions.get(n, "") for n in names]
+        if not all(isinstance(t, str) for t in descs):
+            raise _arg_error("write_c3d: descriptions must be a mapping label -> str")
+    return bool(_sfit._c3d_write(s, d, names, raw, pre, False, descs))
 
 
 def write_trc(src, dst, points=None, prefix=None) -> None:
@@ -1115,6 +1124,7 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
     res = {}
     invalid = {}
     placement = {}
+    descriptions = {}
     for k, j in enumerate(s["joints"]):
         if not isinstance(j, dict) or not isinstance(j.get("parent_markers"), list):
             raise _arg_error("apply_session: joint %d is malformed" % k)
@@ -1125,12 +1135,15 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
         pts = _np.frombuffer(raw, dtype=_np.float32).reshape(xyz.shape[0], -1, 3).astype(_np.float64)
         for i, name in enumerate(j["points"]):
             res[name] = pts[:, i, :]
+            pd = j.get("point_descriptions")
+            if isinstance(pd, list) and i < len(pd) and isinstance(pd[i], str):
+                descriptions[name] = pd[i]
         invalid[j["name"]] = int(_np.isnan(pts[:, 0, 0]).sum())
     if out is not None or trc is not None:
         if isinstance(trial, _Mapping):
             raise _arg_error("apply_session: out and trc need a C3D trial")
         if out is not None:
-            write_c3d(trial, out, res)
+            write_c3d(trial, out, res, descriptions=descriptions)
         if trc is not None:
             write_trc(trial, trc, res)
     res["invalid"] = invalid

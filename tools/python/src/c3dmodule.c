@@ -200,14 +200,53 @@ static int make_add(PyObject *names, Py_buffer *xyz, const char *prefix, long nf
     return 0;
 }
 
-/* _c3d_write(src, dst, names, xyz_bytes, prefix, trc) -> bool (float storage).
- * trc = 0: write the C3D file dst; trc = 1: the TRC file dst (names may be empty). */
+/* The descriptions (list of str, one per name, or None) into add->descs. */
+static int make_descs(PyObject *descs, c3d_add_t *add, const char ***out)
+{
+    Py_ssize_t i;
+    const char **d;
+    *out = NULL;
+    if (descs == Py_None) {
+        return 0;
+    }
+    if (!PyList_Check(descs) || PyList_GET_SIZE(descs) != (Py_ssize_t)add->n) {
+        PyErr_SetString(PyExc_ValueError, "descriptions: a list of str, one per new point");
+        return -1;
+    }
+    d = malloc((size_t)add->n * sizeof *d);
+    if (d == NULL) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    for (i = 0; i < (Py_ssize_t)add->n; i++) {
+        PyObject *s = PyList_GET_ITEM(descs, i);
+        const char *u;
+        if (!PyUnicode_Check(s) || (u = PyUnicode_AsUTF8(s)) == NULL || strlen(u) > 200u
+            || strchr(u, '\n') != NULL) {
+            free(d);
+            if (!PyErr_Occurred() || PyErr_ExceptionMatches(PyExc_UnicodeError)) {
+                PyErr_Clear();
+                PyErr_SetString(PyExc_ValueError,
+                                "descriptions: str of at most 200 characters, no newline");
+            }
+            return -1;
+        }
+        d[i] = u;
+    }
+    add->descs = d;
+    *out = d;
+    return 0;
+}
+
+/* _c3d_write(src, dst, names, xyz_bytes, prefix, trc[, descs]) -> bool (float
+ * storage). trc = 0: write the C3D file dst; trc = 1: the TRC file dst (names
+ * may be empty). descs: None or a list of str, one per name. */
 static PyObject *py_c3d_write(PyObject *self, PyObject *args)
 {
-    PyObject *src_b = NULL, *dst_b = NULL, *names, *res = NULL;
+    PyObject *src_b = NULL, *dst_b = NULL, *names, *res = NULL, *descs = Py_None;
     Py_buffer xyz;
     const char *prefix;
-    const char **nm = NULL;
+    const char **nm = NULL, **ds = NULL;
     int trc, to_float = 0;
     unsigned char *buf = NULL;
     size_t len = 0;
@@ -216,8 +255,8 @@ static PyObject *py_c3d_write(PyObject *self, PyObject *args)
     char err[C3D_ERR_MAX];
     (void)self;
     memset(&c, 0, sizeof c);
-    if (!PyArg_ParseTuple(args, "O&O&Oy*sp:write_c3d", PyUnicode_FSConverter, &src_b,
-                          PyUnicode_FSConverter, &dst_b, &names, &xyz, &prefix, &trc)) {
+    if (!PyArg_ParseTuple(args, "O&O&Oy*sp|O:write_c3d", PyUnicode_FSConverter, &src_b,
+                          PyUnicode_FSConverter, &dst_b, &names, &xyz, &prefix, &trc, &descs)) {
         Py_XDECREF(src_b);
         Py_XDECREF(dst_b);
         return NULL;
@@ -238,7 +277,8 @@ static PyObject *py_c3d_write(PyObject *self, PyObject *args)
         res = Py_False;
         goto out;
     }
-    if (make_add(names, &xyz, prefix, c.nframes, &add, &nm) != 0) {
+    if (make_add(names, &xyz, prefix, c.nframes, &add, &nm) != 0
+        || make_descs(descs, &add, &ds) != 0) {
         goto out;
     }
     if (trc) {
@@ -253,6 +293,7 @@ static PyObject *py_c3d_write(PyObject *self, PyObject *args)
     }
     res = PyBool_FromLong(to_float);
 out:
+    free(ds);
     free(nm);
     free(buf);
     c3d_free(&c);
