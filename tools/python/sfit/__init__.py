@@ -1044,9 +1044,11 @@ def calibrate(model, trials, out=None) -> dict:
             matched; an optional "units" entry gives the units).
         out: None, or a path: the session JSON is written there too.
 
-    Returns the session (the JSON of ``sfit calibrate`` as a dict): per joint
-    the parent markers' template, the centre (and hinge axis) in that frame,
-    center_cov, semi_axes_95, rotation_range_deg, flags and verdict. A joint
+    Returns the session (the JSON of ``sfit calibrate`` as a dict of plain
+    lists and numbers, so that ``json.dump`` saves it as it is and
+    :func:`apply_session` takes it back): per joint the parent markers'
+    template, the centre (and hinge axis) in that frame, center_cov,
+    semi_axes_95, rotation_range_deg, flags and verdict. A joint
     without a matching trial, with a missing marker or whose fit fails
     raises ValueError naming it.
     """
@@ -1088,6 +1090,24 @@ def calibrate(model, trials, out=None) -> dict:
     return session
 
 
+def _numeric_list(v):
+    """True for a non-empty list of numbers, or of such lists (a vector or a
+    matrix of the session JSON)."""
+    if not isinstance(v, list) or not v:
+        return False
+    if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+        return True
+    return all(isinstance(x, list) and x and all(isinstance(y, (int, float)) and not isinstance(y, bool)
+                                                for y in x) for x in v) and len({len(x) for x in v}) == 1
+
+
+def _session_json(o):
+    """json.dumps default: the arrays of a session from :func:`calibrate`."""
+    if isinstance(o, _np.ndarray):
+        return o.tolist()
+    raise TypeError("%s is not JSON serializable" % type(o).__name__)
+
+
 def apply_session(session, trial, out=None, trc=None) -> dict:
     """Place every joint of a calibrated session in every frame of a trial,
     as ``sfit apply`` does (docs/session.md).
@@ -1110,7 +1130,7 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
     import json as _json
     if isinstance(session, _Mapping):
         try:
-            text = _json.dumps(session, allow_nan=False)
+            text = _json.dumps(session, allow_nan=False, default=_session_json)
         except (TypeError, ValueError) as e:
             raise _arg_error("apply_session: the session is not JSON: %s" % e)
     else:
@@ -1131,7 +1151,8 @@ def apply_session(session, trial, out=None, trc=None) -> dict:
         xyz, units = _trial_markers(trial, [str(n) for n in j["parent_markers"]], "apply_session")
         d = {"m": 0.1, "cm": 10.0}.get(units, 100.0)
         raw, pc = _sfit._session_place(text, k, xyz, xyz.shape[0], d)
-        placement[j["name"]] = _json.loads(pc)
+        placement[j["name"]] = {k: (_np.asarray(v, dtype=_np.float64) if _numeric_list(v) else v)
+                                for k, v in _json.loads(pc).items()}
         pts = _np.frombuffer(raw, dtype=_np.float32).reshape(xyz.shape[0], -1, 3).astype(_np.float64)
         for i, name in enumerate(j["points"]):
             res[name] = pts[:, i, :]
