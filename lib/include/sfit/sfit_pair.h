@@ -104,6 +104,16 @@ enum sfit_pair_flag {
     SFIT_PAIR_FLAG_NO_NOISE = 0x2000u     /**< See ::SFIT_PAIR_REASON_NO_NOISE. */
 };
 
+/** @brief Information bits of a result (sfit_pair_result_t::info): facts about the
+ * data that are not faults (a flag means something is wrong). */
+enum sfit_pair_info {
+    SFIT_PAIR_INFO_AXIS_FREE = 0x1u,  /**< Ball: the motion does not fix a hinge axis (as
+                                           expected of a ball joint moved about 3 axes). */
+    SFIT_PAIR_INFO_SKIN = 0x2u        /**< Ball: the joint model's residual moves with the
+                                           joint angle beyond the marker noise (skin motion);
+                                           sta_rms > 0 and center_cov_model carries it. */
+};
+
 /** @brief Options of a pair. Start from ::sfit_pair_cfg_default. */
 typedef struct sfit_pair_cfg {
     sfit_pair_method_t method;  /**< Estimator. */
@@ -179,14 +189,34 @@ typedef struct sfit_pair_result {
     sfit_mat3_t axis_cov;       /**< Hinge: covariance of the unit axis_p (rad^2), scaled
                                      by the hinge model's residual rotation against the
                                      noise's when larger (out-of-axis motion);
-                                     ball: zero. */
+                                     ball: zero. Includes axis_cov_model. */
+    sfit_mat3_t center_cov_model; /**< Ball: the model part of center_cov (included in
+                                     it): the centre shift that skin motion linear in the
+                                     joint angle causes, its size estimated from the
+                                     angle-correlated residual (docs/pair.md#model-error);
+                                     hinge: zero. */
+    sfit_mat3_t axis_cov_model; /**< Hinge: the model part of axis_cov (included in it):
+                                     the tilt that the out-of-axis rotation seen
+                                     (wobble_rms) can cause; ball: zero. */
+    float sta_rms;              /**< Ball: RMS of the angle-correlated part of the joint
+                                     model's residual beyond the noise (input units): how
+                                     far the clusters move on their segments with the
+                                     joint angle, as seen at the joint. Hinge: 0. */
+    float sta_ratio;            /**< Ball: the angle-correlated residual / its expectation
+                                     from the marker noise (about 1 without skin motion;
+                                     6 dof). Hinge: 0. */
+    float wobble_rms;           /**< Hinge: out-of-axis rotation seen beyond the noise
+                                     (rms, rad). Ball: 0. */
+    uint32_t info;              /**< ::sfit_pair_info bits (informational, not faults). */
     sfit_vec3_t eigenvalues;    /**< Eigenvalues of the (corrected) S / frames, ascending:
                                      the spread of the relative rotations (rad^2). */
     float trust_ratio;          /**< Noise eigenvalue / smallest eigenvalue used (ball:
                                      lambda_1, hinge: lambda_2) of S; the correction and
                                      the covariance are first order in it. */
     float misfit;               /**< Residual of the joint model / its expectation from the
-                                     marker noise (about 1 when the model holds). */
+                                     marker noise (about 1 when the model holds); ball:
+                                     the part not explained by skin motion linear in the
+                                     joint angle (sta_rms). */
     float rms;                  /**< RMS of the joint model's residual per frame (input units). */
     float marker_var;           /**< Marker variance used (mean of the two clusters'). */
     float marker_var_p;         /**< Parent cluster's marker variance. */
