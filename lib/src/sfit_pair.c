@@ -29,9 +29,6 @@
 #include "sfit/sfit_pair.h"
 
 #include <string.h>
-#ifdef PRV_DEBUG
-#include <stdio.h>
-#endif
 
 #include "sfit/sfit_mat3.h"
 #include "sfit_float.h"
@@ -61,11 +58,6 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
  * largest are left out of the regression (the motion does not excite them;
  * there theta is the rotation noise). */
 #define PRV_STA_EXCITED 0.03f
-/* Hinge: the tilt an out-of-axis rotation of spread lambda_1 can cause
- * along eigen-direction k is at most sqrt(lambda_1 / lambda_k) (Cauchy-
- * Schwarz); smooth motions over a trial of a few flexion cycles reach on
- * average 1 / PRV_WOB_NEFF of that bound squared. */
-#define PRV_WOB_NEFF 6.0f
 /* No relative rotation: the largest eigenvalue of S / frames below this
  * (rad^2) is no motion at all. */
 #define PRV_MIN_SPREAD 1e-12f
@@ -1180,6 +1172,8 @@ static void prv_bcov(const sfit_mat3_t *cm, const sfit_mat3_t *sg, sfit_mat3_t *
  * M = tr C I - C, G = tr(C^2) I - C^2. */
 static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
 {
+    static const float k_chi[3] = {3.841f, 2.605f, 2.099f};
+    static const float k_fq[3] = {82.8f, 3.563f, 1.828f};
     const prv_sys_t *y = &c->y;
     float lm[3][9], lt[3][9], x[3], beta[3];
     sfit_mat3_t cm, crt, cinv, mm, minv, g2, h, t1, sig, pm, qm, l;
@@ -1305,14 +1299,14 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
     prv_sandwich(&minv, &t1, &h);
     if (noise > 0.0f) {
         c->res.sta_ratio = vis / noise;
-#ifdef PRV_DEBUG
-        printf("ess %g vis %g noise %g denom %g trc %g trs %g n %g\n", (double)ess, (double)vis, (double)noise, (double)denom, (double)trc, (double)trs, (double)y->n);
-#endif
     }
-    if (vis > noise && denom > 0.0f && sfit_i_isfinite(vis)) {
-        /* 3 F(3, nu; 0.95) / chi^2(3; 0.95), nu = 3 kept - 3 visible dof */
-        static const float fq[3] = {82.8f, 3.563f, 1.828f};
-        const float s2 = fq[(int)nk - 1] * (vis - noise) / denom;
+    /* The skin is seen when the angle-correlated residual passes its 95 %
+     * quantile under the noise alone, chi^2(nu) / nu, nu = 3 kept - 3
+     * (1 for one direction); its size, s^2, takes the 95 % quantile of
+     * 3 F(3, nu) against chi^2(3)'s (s^2 comes from nu dof). */
+    if (noise > 0.0f && vis > 0.0f && denom > 0.0f && sfit_i_isfinite(vis)
+        && vis > k_chi[(int)nk - 1] * noise) {
+        const float s2 = k_fq[(int)nk - 1] * (vis - noise) / denom;
         c->sta_excess = vis - noise;
         c->res.sta_rms = SFIT_SQRTF(c->sta_excess / y->n);
         prv_sandwich(&y->abar, &h, &t1);
@@ -1331,7 +1325,7 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
  * size trust_ratio that the first-order sandwich leaves out. Hinge: the
  * tilt the out-of-axis rotation seen can cause is axis_cov_model; the point
  * moves with it. */
-static void prv_scale(prv_ctx_t *c, float at, float mm)
+static void prv_scale(prv_ctx_t *c, float at, float mm, float wb)
 {
     sfit_pair_result_t *r = &c->res;
     sfit_vec3_t wa;
@@ -1348,11 +1342,13 @@ static void prv_scale(prv_ctx_t *c, float at, float mm)
             r->axis_cov.m[k] *= fa;
         }
     }
-    if (c->mode == SFIT_PAIR_MODE_HINGE && c->l1c > 0.0f && c->lam.v[1] > 0.0f) {
+    if (c->mode == SFIT_PAIR_MODE_HINGE && c->lam.v[1] > 0.0f) {
         sfit_mat3_t t;
-        const float q = c->l1c / PRV_WOB_NEFF;
+        const float l1 = (c->l1c > 0.0f) ? c->l1c : 0.0f;
+        const float pr = 0.5f * wb * wb * c->y.n;
+        const float q = (l1 > pr) ? l1 : pr;
         int i, j;
-        r->wobble_rms = SFIT_SQRTF(c->l1c / c->y.n);
+        r->wobble_rms = SFIT_SQRTF(l1 / c->y.n);
         for (i = 0; i < 3; i++) {
             for (j = 0; j < 3; j++) {
                 r->axis_cov_model.m[3 * i + j] =
@@ -1511,7 +1507,8 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         if (c.mode == SFIT_PAIR_MODE_BALL) {
             prv_sta(s, &c);
         }
-        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
+        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT),
+                  prv_or(s->cfg.wobble, PRV_WOBBLE));
     }
     if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
         return SFIT_E_RANGE;
