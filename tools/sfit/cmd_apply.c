@@ -32,7 +32,8 @@ static void apply_usage(FILE *f)
           "                shows fewer than 3 markers gets an invalid sample (residual -1)\n"
           "  --trc OUT.trc an OpenSim marker file of the same\n"
           "  --svg OUT.svg the skeleton at a frame: segments between joint centres, the\n"
-          "                markers, each joint's 95 % ellipsoid (projected, drawn x10)\n"
+          "                markers, each joint's 95 % ellipsoid (projected, drawn x10,\n"
+          "                x2 or x1 as their size allows)\n"
           "  --frame N     the frame of the picture (0-based; default: the first frame\n"
           "                where every joint is placed)\n"
           "  --json        one JSON object on stdout\n",
@@ -130,6 +131,7 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     double mean[3] = {0, 0, 0}, cxx[3][3] = {{0}};
     view_t v;
     FILE *o;
+    double mag;
     int k, i, n = 0, deepest = -1, depth_max = -1;
     /* down: from the root's centroid to the centroid of the deepest segment */
     for (k = 0; k < s->nseg; k++) {
@@ -271,13 +273,22 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     }
 #define PX(q) ((dot3((q), v.ex) - v.x0) * v.s + M)
 #define PY(q) ((v.y0 - dot3((q), v.ey)) * v.s + M + 50)
+    /* the ellipsoids magnified so that they show and leave the segments
+     * visible: x10 up to 5 units (95 % semi-axis), x2 up to 25, else x1 */
+    {
+        double big = 0.0;
+        for (k = 0; k < s->njoint; k++) {
+            big = fmax(big, fmax(s->joint[k].semi95[0], s->joint[k].semi95_model[0]));
+        }
+        mag = (big <= 5.0) ? 10.0 : ((big <= 25.0) ? 2.0 : 1.0);
+    }
     fprintf(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
                "viewBox=\"0 0 %.0f %.0f\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
                "<text x=\"%.0f\" y=\"24\" font-family=\"sans-serif\" font-size=\"13\">"
                "frame %ld: joint centres (red), segments (blue), markers (grey), "
-               "95 %% ellipsoids x10 (orange)</text>\n",
-            W, H, W, H, M, f);
+               "95 %% ellipsoids x%.0f (orange)</text>\n",
+            W, H, W, H, M, f, mag);
     /* markers */
     for (k = 0; k < c->npoints; k++) {
         const float *p = c->xyz + ((size_t)f * (size_t)c->npoints + (size_t)k) * 3u;
@@ -375,8 +386,8 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
         fprintf(o, "<ellipse cx=\"%.1f\" cy=\"%.1f\" rx=\"%.2f\" ry=\"%.2f\" "
                    "transform=\"rotate(%.1f %.1f %.1f)\" fill=\"#ffb000\" fill-opacity=\"0.6\" "
                    "stroke=\"#b06000\"/>\n",
-                PX(qa), PY(qa), 10.0 * sqrt(CHI2_3_95 * l1) * v.s,
-                10.0 * sqrt(CHI2_3_95 * l2) * v.s, -ang, PX(qa), PY(qa));
+                PX(qa), PY(qa), mag * sqrt(CHI2_3_95 * l1) * v.s,
+                mag * sqrt(CHI2_3_95 * l2) * v.s, -ang, PX(qa), PY(qa));
         fprintf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"#d01010\"><title>%s</title>"
                    "</circle>\n<text x=\"%.1f\" y=\"%.1f\" font-family=\"sans-serif\" "
                    "font-size=\"13\" fill=\"#d01010\">%s</text>\n",
