@@ -1178,7 +1178,7 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
     float lm[3][9], lt[3][9], x[3], beta[3];
     sfit_mat3_t cm, crt, cinv, mm, minv, g2, h, t1, sig, pm, qm, l;
     float ess = 0.0f, trc, trs, noise, denom, vis, nk;
-    int a, i, k, m;
+    int a, i, k, m, kept = 0;
     for (i = 0; i < 3; i++) {
         x[i] = c->cpp[i] + s->cen_p.v[i];
     }
@@ -1229,7 +1229,6 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
     {
         sfit_vec3_t ev;
         sfit_mat3_t vv;
-        int kept = 0;
         if (sfit_mat3_eig_sym(&cm, &ev, &vv) != SFIT_OK || !(ev.v[2] > 0.0f)) {
             return;
         }
@@ -1305,8 +1304,8 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
      * (1 for one direction); its size, s^2, takes the 95 % quantile of
      * 3 F(3, nu) against chi^2(3)'s (s^2 comes from nu dof). */
     if (noise > 0.0f && vis > 0.0f && denom > 0.0f && sfit_i_isfinite(vis)
-        && vis > k_chi[(int)nk - 1] * noise) {
-        const float s2 = k_fq[(int)nk - 1] * (vis - noise) / denom;
+        && vis > k_chi[kept - 1] * noise) {
+        const float s2 = k_fq[kept - 1] * (vis - noise) / denom;
         c->sta_excess = vis - noise;
         c->res.sta_rms = SFIT_SQRTF(c->sta_excess / y->n);
         prv_sandwich(&y->abar, &h, &t1);
