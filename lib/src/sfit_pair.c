@@ -1143,6 +1143,14 @@ static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
     prv_symmetrise(&c->res.axis_cov);
 }
 
+/* out = [x]x m. */
+static void prv_cross_mul(const float x[3], const sfit_mat3_t *m, sfit_mat3_t *out)
+{
+    const float cx[9] = {0.0f, -x[2], x[1], x[2], 0.0f, -x[0], -x[1], x[0], 0.0f};
+    const sfit_mat3_t c = {{cx[0], cx[1], cx[2], cx[3], cx[4], cx[5], cx[6], cx[7], cx[8]}};
+    sfit_i_mat3_mul(&c, m, out);
+}
+
 /* E[beta beta^T] of beta_a = X_bd - X_db ((a, b, d) cyclic) for X with
  * E[X_pq X_p'q'] = C_pp' S_qq':
  * C_bb' S_dd' - C_bd' S_db' - C_db' S_bd' + C_dd' S_bb'. */
@@ -1223,6 +1231,25 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
         }
     }
     prv_symmetrise(&cm);
+    /* The rotation noise is in both theta and r (the lever arm): less its
+     * expectation, N ([c]x S_c + Abar^T [x]x S_p Abar), S = var J^-1. */
+    {
+        sfit_mat3_t sc, sp, t2;
+        for (i = 0; i < 9; i++) {
+            sc.m[i] = y->var_c * y->jc.m[i];
+            sp.m[i] = y->var_p * y->jp.m[i];
+        }
+        prv_cross_mul(c->ccc, &sc, &h);
+        prv_cross_mul(c->cpp, &sp, &t1);
+        sfit_i_mat3_mul(&t1, &y->abar, &t2);
+        for (i = 0; i < 9; i++) {
+            t1.m[i] = y->abar.m[3 * (i % 3) + i / 3]; /* Abar^T */
+        }
+        sfit_i_mat3_mul(&t1, &t2, &g2);
+        for (i = 0; i < 9; i++) {
+            crt.m[i] -= y->n * (h.m[i] + g2.m[i]);
+        }
+    }
     /* Only the directions the motion excites: in one it hardly turns (a
      * ball moved about horizontal axes), theta is the rotation noise, which
      * the residual shares (the lever arm): dropped. C^+ over the rest. */

@@ -861,6 +861,34 @@ int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
         cmat[k] = stt[k] - st[k / 3] * st[k % 3] / (double)n;
         xm[k] = str[k] - st[k / 3] * sr[k % 3] / (double)n;
     }
+    /* less the rotation noise shared by theta and r: per frame
+     * E[dr dtheta^T] = [xc]x Sc + A^T [xp]x Sp A, Sc = var_c J_c^-1 */
+    for (fi = 0; fi < n; fi++) {
+        double a[9], cxm[9], pxm[9], sc[9], sp[9], t1[9], t2[9], t3[9];
+        const double *xx[2] = {xc, xp};
+        double *cm2[2] = {cxm, pxm};
+        int q;
+        rp_mtm(f[fi].rp, f[fi].rc, a);
+        for (q = 0; q < 2; q++) {
+            const double *z = xx[q];
+            double *o = cm2[q];
+            o[0] = 0.0; o[1] = -z[2]; o[2] = z[1];
+            o[3] = z[2]; o[4] = 0.0; o[5] = -z[0];
+            o[6] = -z[1]; o[7] = z[0]; o[8] = 0.0;
+        }
+        for (k = 0; k < 9; k++) {
+            sc[k] = var_c * tc->jinv[k];
+            sp[k] = var_p * tp->jinv[k];
+        }
+        rp_mm(cxm, sc, t1);
+        rp_mm(pxm, sp, t2);
+        rp_mm(t2, a, t3);
+        rp_mtm(a, t3, t2);
+        for (k = 0; k < 9; k++) {
+            /* xm(a, k): theta_a r_k; the expectation's (k, a) entry */
+            xm[3 * (k % 3) + k / 3] -= (t1[k] + t2[k]) * (double)(n - 1) / (double)n;
+        }
+    }
     rp_jacobi(cmat, 3, w, v);
     wmax = fmax(w[0], fmax(w[1], w[2]));
     if (!(wmax > 0.0)) {
