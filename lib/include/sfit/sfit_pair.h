@@ -33,6 +33,13 @@
  * first estimate fails the misfit test (its residual is not that noise).
  * SFIT_PAIR_METHOD_UNWEIGHTED gives the first estimate. docs/pair.md#weighting
  *
+ * Every covariance has a model part: a ball's residual regressed on the
+ * relative rotation (the same 9x9 and 9x3 moments) shows skin motion that
+ * moves with the joint angle, and the centre shift such motion causes is
+ * added (center_cov_model); a hinge's axis carries the tilt an out-of-axis
+ * rotation in step with the flexion can cause (axis_cov_model).
+ * docs/pair.md#model-error
+ *
  * A rejected frame leaves the state bit for bit unchanged. Maths, the
  * default and why, flags: docs/pair.md
  */
@@ -139,8 +146,10 @@ typedef struct sfit_pair_cfg {
                                      rotation about a tilted axis and cannot show it);
                                      0 = default 2.5 degrees rms (a knee's 2-5 degrees of
                                      ab/adduction in step with its flexion); a tiny value
-                                     (1e-6) for a mechanical hinge. Enters the AXIS_FREE
-                                     test only, not axis_cov (the data cannot show it). */
+                                     (1e-6) for a mechanical hinge. The data cannot show
+                                     it: axis_cov carries the tilt it can cause (the
+                                     larger of it and the out-of-axis rotation seen,
+                                     axis_cov_model), and so does the AXIS_FREE test. */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
@@ -184,12 +193,12 @@ typedef struct sfit_pair_result {
                                      unit, parent frame; largest component positive. */
     sfit_vec3_t axis_c;         /**< The same axis in the child frame (A^T axis_p). */
     sfit_mat3_t center_cov;     /**< Covariance of center_p (parent frame, squared input
-                                     units); hinge: of the part normal to the axis plus
-                                     the axis' tilt at that point. */
-    sfit_mat3_t axis_cov;       /**< Hinge: covariance of the unit axis_p (rad^2), scaled
-                                     by the hinge model's residual rotation against the
-                                     noise's when larger (out-of-axis motion);
-                                     ball: zero. Includes axis_cov_model. */
+                                     units): the marker noise's (scaled by the misfit
+                                     when above 1) plus center_cov_model; hinge: of the
+                                     part normal to the axis plus the axis' tilt at that
+                                     point. docs/pair.md#model-error */
+    sfit_mat3_t axis_cov;       /**< Hinge: covariance of the unit axis_p (rad^2): the
+                                     noise's plus axis_cov_model; ball: zero. */
     sfit_mat3_t center_cov_model; /**< Ball: the model part of center_cov (included in
                                      it): the centre shift that skin motion linear in the
                                      joint angle causes, its size estimated from the
