@@ -323,9 +323,10 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method (weighted): 7195 FLOPs (tools/flopcount
- * "pair_solve"); plain SCoRE 3800 FLOPs ("pair_solve_score"); independent of the
- * number of frames (instructions and stack: docs/cost.md).
+ * @par Cost ball, default method (weighted), with the skin-motion term: 9979
+ * FLOPs (tools/flopcount "pair_solve", 61101 M4F instructions, 2824 B stack);
+ * plain SCoRE 6584 FLOPs ("pair_solve_score"); independent of the number of
+ * frames (docs/cost.md).
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 
