@@ -104,6 +104,10 @@ static void mv3(const double a[9], const double x[3], double y[3])
  * 1.5 cycles, with an out-of-axis rotation of amplitude wob in step);
  * still = a nearly still parent. Poses kept in g_fr for the reference.
  */
+/* Skin motion of the child cluster (mm per rad of the relative rotation
+ * vector, child frame): zero but in the skin tests. */
+static double g_sta[9];
+
 static void run_trial(sfit_pair_t *s, tu_rng_t *g, int kind, double rom_deg, double wob_deg,
                       double sigma, int still)
 {
@@ -161,8 +165,18 @@ static void run_trial(sfit_pair_t *s, tu_rng_t *g, int kind, double rom_deg, dou
                 tc_to_vec3(x, &pm[i]);
             }
             for (i = 0; i < NC; i++) {
-                double x[3];
-                mv3(rc, g_ctpl[i], x);
+                double x[3], q[3], th[3], off[3];
+                const double ca = 0.5 * (rrel[0] + rrel[4] + rrel[8] - 1.0);
+                const double an = acos(ca > 1.0 ? 1.0 : (ca < -1.0 ? -1.0 : ca));
+                const double kk = (an < 1e-9) ? 0.5 : an / (2.0 * sin(an));
+                th[0] = kk * (rrel[7] - rrel[5]);
+                th[1] = kk * (rrel[2] - rrel[6]);
+                th[2] = kk * (rrel[3] - rrel[1]);
+                mv3(g_sta, th, off);
+                for (k = 0; k < 3; k++) {
+                    q[k] = g_ctpl[i][k] + off[k];
+                }
+                mv3(rc, q, x);
                 for (k = 0; k < 3; k++) {
                     x[k] += tcv[k];
                 }
@@ -293,6 +307,42 @@ static void test_exact_hinge(void **state)
 
 /* ---------- against the double reference ---------- */
 
+/* The noise part of a ball's centre covariance: center_cov less its model
+ * part. */
+static double cov_noise(const sfit_pair_result_t *r, int k)
+{
+    return (double)r->center_cov.m[k] - (double)r->center_cov_model.m[k];
+}
+
+/* The skin-motion term against the frame-by-frame reference; returns the
+ * reference's excess (the angle-correlated sum of squares beyond the
+ * noise, 0 when not seen). */
+static double check_sta_ref(const sfit_pair_result_t *r, const ref_pair_tpl_t *tp,
+                            const ref_pair_tpl_t *tc)
+{
+    double cpd[3], ccd[3], model[9], ratio, excess, tr;
+    int k;
+    tc_to_double3(&r->center_p, cpd);
+    tc_to_double3(&r->center_c, ccd);
+    assert_int_equal(ref_pair_sta(g_fr, g_nf, tp, tc, (double)r->marker_var_p,
+                                  (double)r->marker_var_c, cpd, ccd, model, &ratio, &excess),
+                     0);
+    print_message("pair skin term: ratio %.4g (ref %.4g), sta_rms %.4g (ref %.4g)\n",
+                  (double)r->sta_ratio, ratio, (double)r->sta_rms,
+                  sqrt(excess / (double)g_nf));
+    assert_near(r->sta_ratio, ratio, 1e-2 * ratio + 1e-3, "sta_ratio vs ref");
+    /* seen by both or by neither (not within 1 % of the threshold) */
+    assert_int_equal(r->sta_rms > 0.0f, excess > 0.0);
+    assert_near(r->sta_rms, sqrt(excess / (double)g_nf), 1e-2 * sqrt(excess / (double)g_nf),
+                "sta_rms vs ref");
+    tr = model[0] + model[4] + model[8];
+    for (k = 0; k < 9; k++) {
+        assert_near(r->center_cov_model.m[k], model[k], 2e-2 * tr + 1e-12,
+                    "center_cov_model vs ref");
+    }
+    return excess;
+}
+
 static void check_against_ref(int kind, double rom, double sigma, uint64_t seed)
 {
     static sfit_pair_t s;
@@ -336,10 +386,11 @@ static void check_against_ref(int kind, double rom, double sigma, uint64_t seed)
              * parent's point noise at the mean rotation (docs/pair.md) */
             f = ((r.misfit > 1.0f) ? (double)r.misfit : 1.0) * (1.0 + (double)r.trust_ratio);
             tr = cov[0] + cov[4] + cov[8];
+            check_sta_ref(&r, &tp, &tc);
             {
                 double dmax = 0.0, dc[3];
                 for (k = 0; k < 9; k++) {
-                    dmax = fmax(dmax, fabs((double)r.center_cov.m[k] / f - cov[k]) / tr);
+                    dmax = fmax(dmax, fabs(cov_noise(&r, k) / f - cov[k]) / tr);
                 }
                 tc_to_double3(&r.center_p, dc);
                 print_message("pair weighted vs ref: centre %.2e mm (unweighted ref %.3f mm "
@@ -347,7 +398,7 @@ static void check_against_ref(int kind, double rom, double sigma, uint64_t seed)
                               tu_dist3(dc, cp), tu_dist3(cp, cp0), dmax);
             }
             for (k = 0; k < 9; k++) {
-                assert_near((double)r.center_cov.m[k] / f, cov[k], 5e-2 * tr,
+                assert_near(cov_noise(&r, k) / f, cov[k], 5e-2 * tr,
                             "weighted center_cov vs ref");
             }
             continue;
@@ -366,10 +417,14 @@ static void check_against_ref(int kind, double rom, double sigma, uint64_t seed)
                 assert_int_equal(ref_pair_cov(g_fr, g_nf, &tp, &tc, (double)r.marker_var_p,
                                               (double)r.marker_var_c, cpd, ccd, cov, &cost, &expect),
                                  0);
-                assert_near(r.misfit, cost / expect, 5e-3 * cost / expect, "misfit vs ref");
+                {
+                    const double ex = check_sta_ref(&r, &tp, &tc);
+                    assert_near(r.misfit, (cost - ex) / expect, 5e-3 * cost / expect,
+                                "misfit vs ref");
+                }
                 f = ((r.misfit > 1.0f) ? (double)r.misfit : 1.0) * (1.0 + (double)r.trust_ratio);
                 for (k = 0; k < 9; k++) {
-                    assert_near((double)r.center_cov.m[k] / f, cov[k],
+                    assert_near(cov_noise(&r, k) / f, cov[k],
                                 2e-2 * sqrt(cov[0] * cov[0] + cov[4] * cov[4] + cov[8] * cov[8]),
                                 "center_cov vs ref");
                 }
@@ -396,6 +451,36 @@ static void test_ref_ball(void **state)
     setup_templates();
     check_against_ref(0, 20.0, 1.0, 21u);
     check_against_ref(0, 60.0, 0.5, 22u);
+}
+
+/* Skin motion linear in the joint angle: the model term against the
+ * reference, and it is there (the comparison can fail). */
+static void test_ref_skin(void **state)
+{
+    static sfit_pair_t s;
+    static const double gain[9] = {4.0, -2.0, 1.0, 3.0, 5.0, -2.0, -1.0, 2.0, 6.0};
+    sfit_pair_result_t r;
+    ref_pair_tpl_t tp, tc;
+    tu_rng_t g;
+    int method;
+    (void)state;
+    setup_templates();
+    ref_tpls(&tp, &tc);
+    memcpy(g_sta, gain, sizeof g_sta);
+    for (method = 0; method < 3; method += 2) {
+        tu_rng_seed(&g, 31u);
+        init_pair(&s, (sfit_pair_method_t)method, SFIT_PAIR_MODE_BALL);
+        run_trial(&s, &g, 0, 40.0, 0.0, 0.5, 0);
+        assert_int_equal(sfit_pair_solve(&s, &r), SFIT_OK);
+        (void)check_sta_ref(&r, &tp, &tc);
+        assert_true(r.sta_rms > 0.5f);
+        assert_true((r.info & (uint32_t)SFIT_PAIR_INFO_SKIN) != 0u);
+        assert_true(r.center_cov_model.m[0] + r.center_cov_model.m[4] + r.center_cov_model.m[8]
+                    > 0.5f * (r.center_cov.m[0] + r.center_cov.m[4] + r.center_cov.m[8]));
+        /* informational, not a fault */
+        assert_true((r.flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) == 0u);
+    }
+    memset(g_sta, 0, sizeof g_sta);
 }
 
 static void test_ref_hinge(void **state)
@@ -824,6 +909,7 @@ int main(void)
         cmocka_unit_test(test_exact_ball),
         cmocka_unit_test(test_exact_hinge),
         cmocka_unit_test(test_ref_ball),
+        cmocka_unit_test(test_ref_skin),
         cmocka_unit_test(test_ref_hinge),
         cmocka_unit_test(test_mc_bias_and_coverage),
         cmocka_unit_test(test_mc_weighted_gain),

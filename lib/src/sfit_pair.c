@@ -51,6 +51,13 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 #define PRV_Z_BALL 5.0f
 /* chi^2(2 dof) 95 % quantile: the 95 % cone of a unit axis. */
 #define PRV_CHI2_2_95 5.991465f
+/* Skin motion: the translation of a cluster on its segment against its
+ * rotation (times the lever to the joint) in the prior of the offset. */
+#define PRV_STA_TRANS 0.1f
+/* Skin motion: theta's directions whose spread is below this share of the
+ * largest are left out of the regression (the motion does not excite them;
+ * there theta is the rotation noise). */
+#define PRV_STA_EXCITED 0.03f
 /* No relative rotation: the largest eigenvalue of S / frames below this
  * (rad^2) is no motion at all. */
 #define PRV_MIN_SPREAD 1e-12f
@@ -600,6 +607,9 @@ typedef struct prv_ctx {
     sfit_pair_mode_t mode;
     int corrected;
     int weighted;       /* the ball centre is the weighted one (prv_weighted) */
+    float sta_excess;   /* ball: angle-correlated residual beyond the noise (sum |r|^2) */
+    float l1c;          /* corrected smallest eigenvalue of S (out-of-axis rotation) */
+    sfit_mat3_t dpn;    /* hinge: d point / d axis */
     sfit_mat3_t w;      /* its weight (child frame, normalised to trace 3 of W^-1) */
 } prv_ctx_t;
 
@@ -701,6 +711,7 @@ static sfit_status_t prv_decide(const sfit_pair_t *s, prv_ctx_t *c, float hr)
         const float nz1 = prv_quad(&c->nm, c->n1);
         const float l1c = c->corrected ? c->lam.v[0] : c->lam.v[0] - nz1;
         const float l2c = c->corrected ? c->lam.v[1] : c->lam.v[1] - prv_quad(&c->nm, c->n2);
+        c->l1c = l1c;
         c->ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
         c->hratio = 1.0f;
         if (nz1 > 0.0f) {
@@ -1115,6 +1126,7 @@ static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
                 pinv.m[3 * i + k] = ((i == k) ? c->proj : 0.0f) + c->n1[i] * c->b[k];
             }
         }
+        c->dpn = pinv;
         prv_sandwich(&pinv, &c->res.axis_cov, &g);
         for (k = 0; k < 9; k++) {
             c->res.center_cov.m[k] += g.m[k];
@@ -1131,24 +1143,251 @@ static SFIT_I_NOINLINE void prv_covariances(const sfit_pair_t *s, prv_ctx_t *c)
     prv_symmetrise(&c->res.axis_cov);
 }
 
-/* The misfit and the scaling of both covariances; the axis cone; MISFIT.
- * The joint model's residual larger than the registrations predict scales
- * the centre's covariance (Birge), the hinge model's own ratio the axis'
- * (out-of-axis rotation is not noise); (1 + trust) restores the terms of
- * relative size trust_ratio that the first-order sandwich leaves out. */
-static void prv_scale(prv_ctx_t *c, float at, float mm)
+/* out = [x]x m. */
+static void prv_cross_mul(const float x[3], const sfit_mat3_t *m, sfit_mat3_t *out)
+{
+    const float cx[9] = {0.0f, -x[2], x[1], x[2], 0.0f, -x[0], -x[1], x[0], 0.0f};
+    const sfit_mat3_t c = {{cx[0], cx[1], cx[2], cx[3], cx[4], cx[5], cx[6], cx[7], cx[8]}};
+    sfit_i_mat3_mul(&c, m, out);
+}
+
+/* E[beta beta^T] of beta_a = X_bd - X_db ((a, b, d) cyclic) for X with
+ * E[X_pq X_p'q'] = C_pp' S_qq':
+ * C_bb' S_dd' - C_bd' S_db' - C_db' S_bd' + C_dd' S_bb'. */
+static void prv_bcov(const sfit_mat3_t *cm, const sfit_mat3_t *sg, sfit_mat3_t *out)
+{
+    int a, i;
+    for (a = 0; a < 3; a++) {
+        const int b = (a + 1) % 3, d = (a + 2) % 3;
+        for (i = 0; i < 3; i++) {
+            const int b2 = (i + 1) % 3, d2 = (i + 2) % 3;
+            out->m[3 * a + i] = cm->m[3 * b + b2] * sg->m[3 * d + d2]
+                                - cm->m[3 * b + d2] * sg->m[3 * d + b2]
+                                - cm->m[3 * d + b2] * sg->m[3 * b + d2]
+                                + cm->m[3 * d + d2] * sg->m[3 * b + b2];
+        }
+    }
+}
+
+/* Ball: skin motion linear in the joint angle (docs/pair.md#model-error).
+ * The joint model's residual in the child frame, r = A^T x - c_c - g, is
+ * regressed on the relative rotation theta = vee(skew(Abar^T (A - Abar)))
+ * (linear in A: the 9x9 and 9x3 moments give it). An offset L theta splits
+ * into a skew part, a centre shift the fit absorbs (the bias), and the rest,
+ * which shows; for L of independent entries of variance s^2 the visible
+ * sum of squares is s^2 (3 tr C - tr(M^-1 G)) beyond the noise's, and the
+ * absorbed shift has covariance s^2 M^-1 G M^-1, C = sum theta theta^T,
+ * M = tr C I - C, G = tr(C^2) I - C^2. */
+static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
+{
+    static const float k_chi[3] = {3.841f, 2.605f, 2.099f};
+    static const float k_fq[3] = {82.8f, 3.563f, 1.828f};
+    const prv_sys_t *y = &c->y;
+    float lm[3][9], lt[3][9], x[3], beta[3];
+    sfit_mat3_t cm, crt, cinv, mm, minv, g2, h, t1, sig, pm, qm, l;
+    float ess = 0.0f, trc, trs, noise, denom, vis, nk;
+    int a, i, k, m, kept = 0;
+    for (i = 0; i < 3; i++) {
+        x[i] = c->cpp[i] + s->cen_p.v[i];
+    }
+    memset(lm, 0, sizeof lm);
+    for (a = 0; a < 3; a++) {
+        const int b = (a + 1) % 3, d = (a + 2) % 3;
+        for (k = 0; k < 3; k++) {
+            lm[a][3 * k + b] = 0.5f * y->abar.m[3 * k + d];
+            lm[a][3 * k + d] = -0.5f * y->abar.m[3 * k + b];
+        }
+    }
+    for (a = 0; a < 3; a++) {
+        for (m = 0; m < 9; m++) {
+            float sum = 0.0f;
+            for (k = 0; k < 9; k++) {
+                sum += lm[a][k] * y->tc[prv_tidx(k, m)];
+            }
+            lt[a][m] = sum;
+        }
+    }
+    /* C = L T L^T; crt(k, a) = sum_f r_k theta_a = sum_m L(a, m) R(m, k),
+     * R(m, k) = sum_i x_i T(m, 3i + k) - xh(m, k). */
+    for (a = 0; a < 3; a++) {
+        for (k = 0; k < 3; k++) {
+            float sum = 0.0f;
+            for (m = 0; m < 9; m++) {
+                sum += lt[a][m] * lm[k][m];
+            }
+            cm.m[3 * a + k] = sum;
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        for (a = 0; a < 3; a++) {
+            float sum = 0.0f;
+            for (i = 0; i < 3; i++) {
+                sum += x[i] * lt[a][3 * i + k];
+            }
+            for (m = 0; m < 9; m++) {
+                sum -= lm[a][m] * y->xh[3 * m + k];
+            }
+            crt.m[3 * k + a] = sum;
+        }
+    }
+    prv_symmetrise(&cm);
+    /* The rotation noise is in both theta and r (the lever arm): less its
+     * expectation, N ([c]x S_c + Abar^T [x]x S_p Abar), S = var J^-1. */
+    {
+        sfit_mat3_t sc, sp, t2;
+        for (i = 0; i < 9; i++) {
+            sc.m[i] = y->var_c * y->jc.m[i];
+            sp.m[i] = y->var_p * y->jp.m[i];
+        }
+        prv_cross_mul(c->ccc, &sc, &h);
+        prv_cross_mul(c->cpp, &sp, &t1);
+        sfit_i_mat3_mul(&t1, &y->abar, &t2);
+        for (i = 0; i < 9; i++) {
+            t1.m[i] = y->abar.m[3 * (i % 3) + i / 3]; /* Abar^T */
+        }
+        sfit_i_mat3_mul(&t1, &t2, &g2);
+        for (i = 0; i < 9; i++) {
+            crt.m[i] -= y->n * (h.m[i] + g2.m[i]);
+        }
+    }
+    /* Only the directions the motion excites: in one it hardly turns (a
+     * ball moved about horizontal axes), theta is the rotation noise, which
+     * the residual shares (the lever arm): dropped. C^+ over the rest. */
+    {
+        sfit_vec3_t ev;
+        sfit_mat3_t vv;
+        if (sfit_mat3_eig_sym(&cm, &ev, &vv) != SFIT_OK || !(ev.v[2] > 0.0f)) {
+            return;
+        }
+        memset(&cinv, 0, sizeof cinv);
+        memset(&t1, 0, sizeof t1);
+        for (k = 0; k < 3; k++) {
+            if (ev.v[k] >= PRV_STA_EXCITED * ev.v[2]) {
+                kept++;
+                for (i = 0; i < 9; i++) {
+                    const float p = vv.m[3 * (i / 3) + k] * vv.m[3 * (i % 3) + k];
+                    cinv.m[i] += p / ev.v[k];
+                    t1.m[i] += p; /* projector */
+                }
+            }
+        }
+        /* C and crt on the kept directions */
+        sfit_i_mat3_mul(&cm, &t1, &h);
+        sfit_i_mat3_mul(&t1, &h, &cm);
+        prv_symmetrise(&cm);
+        sfit_i_mat3_mul(&crt, &t1, &h);
+        crt = h;
+        nk = (float)kept;
+    }
+    trc = cm.m[0] + cm.m[4] + cm.m[8];
+    for (i = 0; i < 9; i++) {
+        mm.m[i] = ((i % 4 == 0) ? trc : 0.0f) - cm.m[i];
+    }
+    if (sfit_mat3_chol(&mm, &l) != SFIT_OK) {
+        return;
+    }
+    sfit_i_chol_inverse(&l, &minv);
+    for (k = 0; k < 3; k++) {
+        ess += prv_quad(&cinv, &crt.m[3 * k]);
+    }
+    /* beta: the skew part of X = sum theta r^T (X(a, k) = crt(k, a)). */
+    for (a = 0; a < 3; a++) {
+        const int b = (a + 1) % 3, d = (a + 2) % 3;
+        beta[a] = crt.m[3 * d + b] - crt.m[3 * b + d];
+    }
+    vis = ess - prv_quad(&minv, beta);
+    /* The noise's share: 3 tr Sigma - tr(M^-1 E[beta beta^T]),
+     * E[beta_a beta_a'] = C_bb' S_dd' - C_bd' S_db' - C_db' S_bd' + C_dd' S_bb'. */
+    prv_point_noise(y, s, c->cpp, c->ccc, &pm, &qm);
+    prv_resid_cov(y, &pm, &qm, &sig);
+    trs = sig.m[0] + sig.m[4] + sig.m[8];
+    prv_bcov(&cm, &sig, &t1);
+    sfit_i_mat3_mul(&minv, &t1, &h);
+    noise = nk * trs - (h.m[0] + h.m[4] + h.m[8]);
+    /* The offset's prior: the child cluster turning on its segment by a
+     * random rotation Omega per unit joint angle moves the joint point by
+     * [c]x Omega theta (lever c: the point from the child's centroid), and
+     * its translation adds a little of every direction: L's rows have
+     * covariance P = (1 + PRV_STA_TRANS) |c|^2 I - c c^T per unit s^2. */
+    memset(&pm, 0, sizeof pm);
+    {
+        const float c2 = sfit_i_dot3(c->ccc, c->ccc);
+        for (i = 0; i < 9; i++) {
+            pm.m[i] = ((i % 4 == 0) ? c2 * (1.0f + PRV_STA_TRANS) : 0.0f)
+                      - c->ccc[i / 3] * c->ccc[i % 3];
+        }
+    }
+    sfit_i_mat3_mul(&cm, &cm, &g2);
+    prv_symmetrise(&g2);
+    prv_bcov(&g2, &pm, &t1); /* E[beta beta^T] per unit s^2 */
+    sfit_i_mat3_mul(&minv, &t1, &h);
+    denom = (pm.m[0] + pm.m[4] + pm.m[8]) * trc - (h.m[0] + h.m[4] + h.m[8]);
+    prv_sandwich(&minv, &t1, &h);
+    if (noise > 0.0f) {
+        c->res.sta_ratio = vis / noise;
+    }
+    /* The skin is seen when the angle-correlated residual passes its 95 %
+     * quantile under the noise alone, chi^2(nu) / nu, nu = 3 kept - 3
+     * (1 for one direction); its size, s^2, takes the 95 % quantile of
+     * 3 F(3, nu) against chi^2(3)'s (s^2 comes from nu dof). */
+    if (noise > 0.0f && vis > 0.0f && denom > 0.0f && sfit_i_isfinite(vis)
+        && vis > k_chi[kept - 1] * noise) {
+        const float s2 = k_fq[kept - 1] * (vis - noise) / denom;
+        c->sta_excess = vis - noise;
+        c->res.sta_rms = SFIT_SQRTF(c->sta_excess / y->n);
+        prv_sandwich(&y->abar, &h, &t1);
+        for (i = 0; i < 9; i++) {
+            c->res.center_cov_model.m[i] = s2 * t1.m[i];
+        }
+        prv_symmetrise(&c->res.center_cov_model);
+    }
+}
+
+/* The misfit and the scaling of both covariances; the model parts; the
+ * axis cone; MISFIT. The joint model's residual larger than the
+ * registrations predict scales the centre's covariance (Birge): for a ball
+ * the part not explained by skin motion linear in the joint angle, whose
+ * own share is center_cov_model; (1 + trust) restores the terms of relative
+ * size trust_ratio that the first-order sandwich leaves out. Hinge: the
+ * tilt the out-of-axis rotation seen can cause is axis_cov_model; the point
+ * moves with it. */
+static void prv_scale(prv_ctx_t *c, float at, float mm, float wb)
 {
     sfit_pair_result_t *r = &c->res;
     sfit_vec3_t wa;
     int k;
-    r->misfit = (c->expect > 0.0f) ? c->cost / c->expect : 0.0f;
+    r->misfit = (c->expect > 0.0f) ? (c->cost - c->sta_excess) / c->expect : 0.0f;
+    if (!(r->misfit > 0.0f)) {
+        r->misfit = 0.0f;
+    }
     {
         const float f = ((r->misfit > 1.0f) ? r->misfit : 1.0f) * (1.0f + r->trust_ratio);
-        const float fa = ((c->hratio > 1.0f) ? c->hratio : 1.0f) * (1.0f + r->trust_ratio);
+        const float fa = 1.0f + r->trust_ratio;
         for (k = 0; k < 9; k++) {
-            r->center_cov.m[k] *= f;
+            r->center_cov.m[k] = r->center_cov.m[k] * f + r->center_cov_model.m[k];
             r->axis_cov.m[k] *= fa;
         }
+    }
+    if (c->mode == SFIT_PAIR_MODE_HINGE && c->lam.v[1] > 0.0f) {
+        sfit_mat3_t t;
+        const float l1 = (c->l1c > 0.0f) ? c->l1c : 0.0f;
+        const float pr = 0.5f * wb * wb * c->y.n;
+        const float q = (l1 > pr) ? l1 : pr;
+        int i, j;
+        r->wobble_rms = SFIT_SQRTF(l1 / c->y.n);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                r->axis_cov_model.m[3 * i + j] =
+                    q * (c->vec.m[3 * i + 1] * c->vec.m[3 * j + 1] / c->lam.v[1]
+                         + c->vec.m[3 * i + 2] * c->vec.m[3 * j + 2] / c->lam.v[2]);
+            }
+        }
+        prv_sandwich(&c->dpn, &r->axis_cov_model, &t);
+        for (k = 0; k < 9; k++) {
+            r->axis_cov.m[k] += r->axis_cov_model.m[k];
+            r->center_cov.m[k] += t.m[k];
+        }
+        prv_symmetrise(&r->center_cov);
     }
     if (sfit_mat3_eig_sym(&r->axis_cov, &wa, NULL) != SFIT_OK
         || PRV_CHI2_2_95 * wa.v[2] > at * at) {
@@ -1156,6 +1395,13 @@ static void prv_scale(prv_ctx_t *c, float at, float mm)
     }
     if (c->mode != SFIT_PAIR_MODE_HINGE) {
         memset(&r->axis_cov, 0, sizeof r->axis_cov);
+        if ((c->flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) != 0u) {
+            c->flags &= ~(uint32_t)SFIT_PAIR_FLAG_AXIS_FREE;
+            r->info |= (uint32_t)SFIT_PAIR_INFO_AXIS_FREE;
+        }
+        if (r->sta_rms > 0.0f) {
+            r->info |= (uint32_t)SFIT_PAIR_INFO_SKIN;
+        }
     }
     if (c->expect > 0.0f && r->misfit > mm) {
         c->flags |= (uint32_t)SFIT_PAIR_FLAG_MISFIT;
@@ -1230,9 +1476,12 @@ static int prv_fill(const sfit_pair_t *s, prv_ctx_t *c, uint32_t mf)
          && sfit_i_finite3(r->axis_p.v) && sfit_i_finite3(r->axis_c.v)
          && sfit_i_finite3(r->eigenvalues.v) && sfit_i_isfinite(r->trust_ratio)
          && sfit_i_isfinite(r->misfit) && sfit_i_isfinite(r->rms)
-         && sfit_i_isfinite(r->marker_var);
+         && sfit_i_isfinite(r->marker_var) && sfit_i_isfinite(r->sta_rms)
+         && sfit_i_isfinite(r->sta_ratio) && sfit_i_isfinite(r->wobble_rms);
     for (i = 0; i < 9; i++) {
-        ok = ok && sfit_i_isfinite(r->center_cov.m[i]) && sfit_i_isfinite(r->axis_cov.m[i]);
+        ok = ok && sfit_i_isfinite(r->center_cov.m[i]) && sfit_i_isfinite(r->axis_cov.m[i])
+             && sfit_i_isfinite(r->center_cov_model.m[i])
+             && sfit_i_isfinite(r->axis_cov_model.m[i]);
     }
     return ok;
 }
@@ -1281,7 +1530,11 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         prv_axis_seen(&c, at, prv_or(s->cfg.wobble, PRV_WOBBLE));
         prv_points(&c);
         prv_covariances(s, &c);
-        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT));
+        if (c.mode == SFIT_PAIR_MODE_BALL) {
+            prv_sta(s, &c);
+        }
+        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT),
+                  prv_or(s->cfg.wobble, PRV_WOBBLE));
     }
     if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
         return SFIT_E_RANGE;

@@ -769,3 +769,198 @@ int ref_pair_score_wls(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t
     }
     return rp_sandwich6(h, mid, cov);
 }
+
+/* ---------------------------------------------------------------------------
+ * Skin motion linear in the joint angle (docs/pair.md#model-error), frame by
+ * frame: theta_f = vee(skew(Abar^T (A_f - Abar))), the residual
+ * r_f = A_f^T c_p - g_f (child frame), their centred cross and second
+ * sums; the regression of r on theta restricted to the directions theta
+ * excites, less the part a centre shift absorbs; the noise's share from
+ * the mean residual covariance; the offset's prior and the absorbed shift. */
+
+/* E[beta beta^T] for E[X_pq X_p'q'] = C_pp' S_qq' (beta_a = X_bd - X_db). */
+static void rp_bcov(const double c[9], const double s[9], double o[9])
+{
+    int a, i;
+    for (a = 0; a < 3; a++) {
+        const int b = (a + 1) % 3, d = (a + 2) % 3;
+        for (i = 0; i < 3; i++) {
+            const int b2 = (i + 1) % 3, d2 = (i + 2) % 3;
+            o[3 * a + i] = c[3 * b + b2] * s[3 * d + d2] - c[3 * b + d2] * s[3 * d + b2]
+                           - c[3 * d + b2] * s[3 * b + d2] + c[3 * d + d2] * s[3 * b + b2];
+        }
+    }
+}
+
+int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
+                 const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp[3],
+                 const double cc[3], double model[9], double *ratio, double *excess)
+{
+    static const double k_chi[3] = {3.841, 2.605, 2.099}, k_fq[3] = {82.8, 3.563, 1.828};
+    double abar[9] = {0}, sig[9] = {0}, pm[9], cm[9], xp[3], xc[3];
+    double st[3] = {0}, sr[3] = {0}, stt[9] = {0}, str[9] = {0};
+    double cmat[9], xm[9], w[3], v[9], cinv[9] = {0}, proj[9] = {0}, t[9], mm[9], minv[9];
+    double beta[3], ess = 0.0, vis, noise, trc, trs, nk = 0.0, pr[9], g2[9], h[9], den;
+    double wmax;
+    size_t fi;
+    int i, j, k;
+    memset(model, 0, 9 * sizeof model[0]);
+    *ratio = 0.0;
+    *excess = 0.0;
+    if (n < 3) {
+        return 1;
+    }
+    for (fi = 0; fi < n; fi++) {
+        double a[9];
+        rp_mtm(f[fi].rp, f[fi].rc, a);
+        for (k = 0; k < 9; k++) {
+            abar[k] += a[k] / (double)n;
+        }
+    }
+    for (i = 0; i < 3; i++) {
+        xp[i] = cp[i] - tp->cen[i];
+        xc[i] = cc[i] - tc->cen[i];
+    }
+    rp_point_noise(tp, var_p, xp, pm);
+    rp_point_noise(tc, var_c, xc, cm);
+    for (fi = 0; fi < n; fi++) {
+        double a[9], b[9], m[9], th[3], r[3], dt[3], g[3], atp[9], ap[9];
+        rp_mtm(f[fi].rp, f[fi].rc, a);
+        for (k = 0; k < 9; k++) {
+            b[k] = a[k] - abar[k];
+        }
+        rp_mtm(abar, b, m);
+        th[0] = 0.5 * (m[7] - m[5]);
+        th[1] = 0.5 * (m[2] - m[6]);
+        th[2] = 0.5 * (m[3] - m[1]);
+        for (i = 0; i < 3; i++) {
+            dt[i] = f[fi].tc[i] - f[fi].tp[i];
+        }
+        rp_mtv(f[fi].rc, dt, g);
+        rp_mtv(a, cp, r);
+        for (i = 0; i < 3; i++) {
+            r[i] -= g[i];
+            st[i] += th[i];
+            sr[i] += r[i];
+        }
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                stt[3 * i + j] += th[i] * th[j];
+                str[3 * i + j] += th[i] * r[j];
+            }
+        }
+        /* A^T P A */
+        rp_mtm(a, pm, atp);
+        rp_mm(atp, a, ap);
+        for (k = 0; k < 9; k++) {
+            sig[k] += ap[k] / (double)n;
+        }
+    }
+    for (k = 0; k < 9; k++) {
+        sig[k] += cm[k];
+        cmat[k] = stt[k] - st[k / 3] * st[k % 3] / (double)n;
+        xm[k] = str[k] - st[k / 3] * sr[k % 3] / (double)n;
+    }
+    /* less the rotation noise shared by theta and r: per frame
+     * E[dr dtheta^T] = [xc]x Sc + A^T [xp]x Sp A, Sc = var_c J_c^-1 */
+    for (fi = 0; fi < n; fi++) {
+        double a[9], cxm[9], pxm[9], sc[9], sp[9], t1[9], t2[9], t3[9];
+        const double *xx[2] = {xc, xp};
+        double *cm2[2] = {cxm, pxm};
+        int q;
+        rp_mtm(f[fi].rp, f[fi].rc, a);
+        for (q = 0; q < 2; q++) {
+            const double *z = xx[q];
+            double *o = cm2[q];
+            o[0] = 0.0; o[1] = -z[2]; o[2] = z[1];
+            o[3] = z[2]; o[4] = 0.0; o[5] = -z[0];
+            o[6] = -z[1]; o[7] = z[0]; o[8] = 0.0;
+        }
+        for (k = 0; k < 9; k++) {
+            sc[k] = var_c * tc->jinv[k];
+            sp[k] = var_p * tp->jinv[k];
+        }
+        rp_mm(cxm, sc, t1);
+        rp_mm(pxm, sp, t2);
+        rp_mm(t2, a, t3);
+        rp_mtm(a, t3, t2);
+        for (k = 0; k < 9; k++) {
+            /* xm(a, k): theta_a r_k; the expectation's (k, a) entry */
+            xm[3 * (k % 3) + k / 3] -= (t1[k] + t2[k]) * (double)(n - 1) / (double)n;
+        }
+    }
+    rp_jacobi(cmat, 3, w, v);
+    wmax = fmax(w[0], fmax(w[1], w[2]));
+    if (!(wmax > 0.0)) {
+        return 1;
+    }
+    for (k = 0; k < 3; k++) {
+        if (w[k] >= 0.03 * wmax) {
+            nk += 1.0;
+            for (i = 0; i < 9; i++) {
+                const double p = v[3 * (i / 3) + k] * v[3 * (i % 3) + k];
+                cinv[i] += p / w[k];
+                proj[i] += p;
+            }
+        }
+    }
+    rp_mm(cmat, proj, t);
+    rp_mm(proj, t, cmat);
+    rp_mm(proj, xm, t);
+    memcpy(xm, t, sizeof t);
+    for (k = 0; k < 3; k++) { /* columns of X: the cross sum of theta with r_k */
+        double col[3], u[3];
+        for (i = 0; i < 3; i++) {
+            col[i] = xm[3 * i + k];
+        }
+        rp_mv(cinv, col, u);
+        ess += col[0] * u[0] + col[1] * u[1] + col[2] * u[2];
+    }
+    for (i = 0; i < 3; i++) {
+        const int b = (i + 1) % 3, d = (i + 2) % 3;
+        beta[i] = xm[3 * b + d] - xm[3 * d + b];
+    }
+    trc = cmat[0] + cmat[4] + cmat[8];
+    for (k = 0; k < 9; k++) {
+        mm[k] = ((k % 4 == 0) ? trc : 0.0) - cmat[k];
+    }
+    if (rp_inv3(mm, minv) != 0) {
+        return 1;
+    }
+    {
+        double u[3];
+        rp_mv(minv, beta, u);
+        vis = ess - (beta[0] * u[0] + beta[1] * u[1] + beta[2] * u[2]);
+    }
+    trs = sig[0] + sig[4] + sig[8];
+    rp_bcov(cmat, sig, t);
+    rp_mm(minv, t, h);
+    noise = nk * trs - (h[0] + h[4] + h[8]);
+    {
+        const double c2 = xc[0] * xc[0] + xc[1] * xc[1] + xc[2] * xc[2];
+        for (k = 0; k < 9; k++) {
+            pr[k] = ((k % 4 == 0) ? 1.1 * c2 : 0.0) - xc[k / 3] * xc[k % 3];
+        }
+    }
+    rp_mm(cmat, cmat, g2);
+    rp_bcov(g2, pr, t);
+    rp_mm(minv, t, h);
+    den = (pr[0] + pr[4] + pr[8]) * trc - (h[0] + h[4] + h[8]);
+    if (noise > 0.0) {
+        *ratio = vis / noise;
+    }
+    if (noise > 0.0 && den > 0.0 && vis > k_chi[(int)nk - 1] * noise) {
+        const double s2 = k_fq[(int)nk - 1] * (vis - noise) / den;
+        double hm[9], ah[9];
+        rp_mm(h, minv, hm); /* M^-1 G M^-1 */
+        rp_mm(abar, hm, ah);
+        for (i = 0; i < 3; i++) {
+            for (j = 0; j < 3; j++) {
+                model[3 * i + j] = s2 * (ah[3 * i] * abar[3 * j] + ah[3 * i + 1] * abar[3 * j + 1]
+                                         + ah[3 * i + 2] * abar[3 * j + 2]);
+            }
+        }
+        *excess = vis - noise;
+    }
+    return 0;
+}

@@ -82,6 +82,21 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                  const double cc[3], double cov[9], double *cost, double *expect);
 
 /**
+ * Skin motion linear in the joint angle (docs/pair.md#model-error), frame
+ * by frame: the regression of the ball's residual r_f = A_f^T cp - g_f on
+ * theta_f = vee(skew(Abar^T (A_f - Abar))) over the directions theta
+ * excites (spread >= 3 % of the largest), less the part a centre shift
+ * absorbs; its expectation under the marker noise (mean A^T P A + C at
+ * (cp, cc)); when above its 95 % noise quantile, the model covariance of
+ * the absorbed centre shift (parent frame). ratio: visible / noise;
+ * excess: visible - noise when used (else 0). Returns 0, nonzero when
+ * degenerate.
+ */
+int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
+                 const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp[3],
+                 const double cc[3], double model[9], double *ratio, double *excess);
+
+/**
  * The weighted default of a ball (SFIT_PAIR_METHOD_DEFAULT,
  * docs/pair.md#weighting), by the full 6x6 normal equations frame by frame:
  * the residual eps_f = A_f^T c_p - c_c - g_f (child frame) weighted by the

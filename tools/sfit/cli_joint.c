@@ -360,6 +360,25 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
         printf(",\"axis_cov\":");
         cli_print_mat(&p->axis_cov);
     }
+    printf(",\"center_cov_model\":");
+    cli_print_mat(&p->center_cov_model);
+    if (p->mode == SFIT_PAIR_MODE_HINGE) {
+        printf(",\"axis_cov_model\":");
+        cli_print_mat(&p->axis_cov_model);
+    }
+    printf(",\"skin\":{\"rms\":%.9g,\"ratio\":%.9g},\"wobble_rms\":%.9g,\"info\":[",
+           (double)p->sta_rms, (double)p->sta_ratio, (double)p->wobble_rms);
+    {
+        const char *sep = "";
+        if ((p->info & (uint32_t)SFIT_PAIR_INFO_AXIS_FREE) != 0u) {
+            printf("\"axis_free\"");
+            sep = ",";
+        }
+        if ((p->info & (uint32_t)SFIT_PAIR_INFO_SKIN) != 0u) {
+            printf("%s\"skin_motion\"", sep);
+        }
+    }
+    printf("]");
     printf(",\"center_child\":");
     cli_print_vec(p->center_c.v);
     printf(",\"untrusted\":%s,\"reason\":\"%s\",\"marker_noise\":{\"var\":%.9g,"
@@ -398,10 +417,22 @@ void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, co
                sqrt(7.8147 * (double)(w.v[0] > 0.0f ? w.v[0] : 0.0f)), units,
                p->mode == SFIT_PAIR_MODE_HINGE ? "normal to the axis and along it" : "ball");
     }
+    if (p->sta_rms > 0.0f && sfit_mat3_eig_sym(&p->center_cov_model, &w, NULL) == SFIT_OK) {
+        printf("%sskin motion  the clusters move on the skin with the joint angle by about %.3g %s\n"
+               "%s             at the joint; the centre is uncertain by %.3g %s from it alone\n"
+               "%s             (95 %%, largest semi-axis; included above)\n",
+               indent, (double)p->sta_rms, units, indent,
+               sqrt(7.8147 * (double)(w.v[2] > 0.0f ? w.v[2] : 0.0f)), units, indent);
+    }
     if (p->mode == SFIT_PAIR_MODE_HINGE) {
         const double t = (double)(p->axis_cov.m[0] + p->axis_cov.m[4] + p->axis_cov.m[8]);
-        printf("%saxis 95%%     cone half-angle %.3g degrees\n", indent,
-               sqrt(5.9915 * (t > 0.0 ? t : 0.0)) * 57.29578);
+        const double tm = (double)(p->axis_cov_model.m[0] + p->axis_cov_model.m[4]
+                                   + p->axis_cov_model.m[8]);
+        printf("%saxis 95%%     cone half-angle %.3g degrees (%.3g of it from an out-of-axis\n"
+               "%s             rotation in step with the flexion; %.3g degrees rms seen)\n",
+               indent, sqrt(5.9915 * (t > 0.0 ? t : 0.0)) * 57.29578,
+               sqrt(5.9915 * (tm > 0.0 ? tm : 0.0)) * 57.29578, indent,
+               (double)p->wobble_rms * 57.29578);
     }
     printf("%smarker noise sigma %.4g %s (parent %.4g, child %.4g; %s)\n", indent,
            sqrt((double)p->marker_var), units, sqrt((double)p->marker_var_p),

@@ -32,7 +32,8 @@ static void apply_usage(FILE *f)
           "                shows fewer than 3 markers gets an invalid sample (residual -1)\n"
           "  --trc OUT.trc an OpenSim marker file of the same\n"
           "  --svg OUT.svg the skeleton at a frame: segments between joint centres, the\n"
-          "                markers, each joint's 95 % ellipsoid (projected, drawn x10)\n"
+          "                markers, each joint's 95 % ellipsoid (projected, drawn x10,\n"
+          "                x2 or x1 as their size allows)\n"
           "  --frame N     the frame of the picture (0-based; default: the first frame\n"
           "                where every joint is placed)\n"
           "  --json        one JSON object on stdout\n",

@@ -159,6 +159,13 @@ void session_write_json(FILE *f, const session_t *s)
         put_mat(f, j->cov_model);
         fprintf(f, ",\"semi_axes_95_model\":");
         put_vecd(f, j->semi95_model);
+        fprintf(f, ",\n  \"skin_rms\":%.9g,\"semi_axes_95_skin\":", j->skin_rms);
+        put_vecd(f, j->semi95_skin);
+        if (j->hinge) {
+            fprintf(f, ",\"axis_cone_95_deg\":%.9g,\"axis_cone_95_model_deg\":%.9g,"
+                       "\"wobble_rms_deg\":%.9g",
+                    j->cone_deg, j->cone_model_deg, j->wobble_deg);
+        }
         fprintf(f, ",\n  \"marker_sigma\":%.9g,\"rotation_range_deg\":", j->marker_sigma);
         put_vecd(f, j->range_deg);
         if (j->hinge) {
@@ -598,6 +605,19 @@ static int read_joint(jparser_t *jp, int o, session_joint_t *j)
     j->model_rms = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
     n = jget(jp, o, "jackknife_ratio");
     j->jack_ratio = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "skin_rms");
+    j->skin_rms = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    if (jget(jp, o, "semi_axes_95_skin") != NULL
+        && jnums(jp, jget(jp, o, "semi_axes_95_skin"), j->semi95_skin, 3, "semi_axes_95_skin")
+               != 0) {
+        return -1;
+    }
+    n = jget(jp, o, "axis_cone_95_deg");
+    j->cone_deg = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "axis_cone_95_model_deg");
+    j->cone_model_deg = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
+    n = jget(jp, o, "wobble_rms_deg");
+    j->wobble_deg = (n != NULL && n->type == J_NUM) ? n->num : 0.0;
     n = jget(jp, o, "flag_bits");
     if (n == NULL || n->type != J_NUM || !(n->num >= 0.0 && n->num < 4294967296.0)) {
         return jfail(jp, "joint %s: \"flag_bits\" missing or out of range", j->name);

@@ -14,7 +14,7 @@
 
 #include "session_model.h"
 
-#define SESSION_VERDICT_MAX 400
+#define SESSION_VERDICT_MAX 640
 #define SESSION_PATH_MAX 512
 
 /** One calibrated joint. */
@@ -49,6 +49,14 @@ typedef struct session_joint {
     double model_scale;               /**< cov_model = model_scale cov (1: the model holds) */
     double cov_model[3][3];           /**< centre covariance with the model error */
     double semi95_model[3];           /**< its 95 % semi-axes (units) */
+    double skin_rms;                  /**< ball: the clusters' motion on the skin with the
+                                           joint angle, at the joint (units; 0: not seen) */
+    double semi95_skin[3];            /**< ball: 95 % semi-axes of the centre's uncertainty
+                                           from that motion alone (in cov; units) */
+    double cone_deg, cone_model_deg;  /**< hinge: the axis' 95 % cone half-angle and the
+                                           part from an out-of-axis rotation in step with
+                                           the flexion (degrees) */
+    double wobble_deg;                /**< hinge: the out-of-axis rotation seen (rms, deg) */
     uint32_t flags;                   /**< sfit flags of the fit */
     long frames_used, frames_total;
     char verdict[SESSION_VERDICT_MAX];

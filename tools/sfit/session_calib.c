@@ -17,6 +17,7 @@
 
 #define CHI2_3_95 7.814727903251178 /* 95 % quantile of chi^2 with 3 degrees of freedom */
 #define CHI2_2_95 5.991464547107979 /* ... with 2 (a hinge: normal to the axis) */
+#define M_PI_SESSION 3.14159265358979323846
 
 /* Symmetric 3x3 eigenvalues (double Jacobi), descending. */
 static void sym3_eig(double a_in[3][3], double ev[3])
@@ -448,7 +449,7 @@ static void verdict(session_joint_t *j, const char *u)
 {
     static const char *ax[3] = {"x", "y", "z"};
     const double big = j->semi95[0];
-    char advice[200], model[64];
+    char advice[300], model[64];
     int order[3] = {0, 1, 2}, a, b;
     for (a = 0; a < 2; a++) { /* order: ranges descending */
         for (b = a + 1; b < 3; b++) {
@@ -471,6 +472,13 @@ static void verdict(session_joint_t *j, const char *u)
                        "untrusted: soft-tissue motion far above the marker noise (misfit %.1f); "
                        "95 %% with it %s %s",
                        j->misfit, model, u);
+    } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)
+               && j->hinge && j->cone_model_deg > 0.0) {
+        (void)snprintf(advice, sizeof advice,
+                       "untrusted: an out-of-axis rotation (%.1f degrees rms seen) in step with "
+                       "the flexion cannot be told from a tilted axis: axis uncertain by %.0f "
+                       "degrees (95 %%)",
+                       j->wobble_deg, j->cone_deg);
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)) {
         (void)snprintf(advice, sizeof advice,
                        "untrusted: the motion does not fix the hinge axis: record more flexion");
@@ -487,6 +495,12 @@ static void verdict(session_joint_t *j, const char *u)
         (void)snprintf(advice, sizeof advice,
                        "only %.0f degrees about lab %s: record more motion about that axis",
                        j->range_deg[order[1]], ax[order[1]]);
+    } else if (!j->hinge && j->skin_rms > 0.0) {
+        (void)snprintf(advice, sizeof advice,
+                       "skin motion: the markers move on the skin with the joint angle by about "
+                       "%.1f %s at the joint; the centre is uncertain by %.1f %s from it alone "
+                       "(95 %%, in the ellipsoid)",
+                       j->skin_rms, u, j->semi95_skin[0], u);
     } else if (big > 10.0 && strcmp(u, "mm") == 0) {
         (void)snprintf(advice, sizeof advice, "uncertain by more than 10 mm: record more motion");
     } else {
@@ -494,10 +508,12 @@ static void verdict(session_joint_t *j, const char *u)
     }
     if (j->hinge) {
         (void)snprintf(j->verdict, sizeof j->verdict,
-                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; flexion "
-                       "range %.0f degrees about the axis (lab x/y/z %.0f/%.0f/%.0f): %s",
-                       j->name, j->semi95[0], j->semi95[1], u, j->flex_deg, j->range_deg[0],
-                       j->range_deg[1], j->range_deg[2], advice);
+                       "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; axis "
+                       "95 %% cone %.1f degrees (%.1f of it from an out-of-axis rotation in step "
+                       "with the flexion); flexion range %.0f degrees about the axis (lab x/y/z "
+                       "%.0f/%.0f/%.0f): %s",
+                       j->name, j->semi95[0], j->semi95[1], u, j->cone_deg, j->cone_model_deg,
+                       j->flex_deg, j->range_deg[0], j->range_deg[1], j->range_deg[2], advice);
     } else {
         (void)snprintf(j->verdict, sizeof j->verdict,
                        "%s (ball): 95 %% ellipsoid %.1f x %.1f x %.1f %s; rotation range about "
@@ -575,6 +591,25 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
         int q;
         j->flags = jo.pair.flags;
         j->marker_sigma = sqrt((double)jo.pair.marker_var);
+        /* the model part: skin motion with the joint angle (ball), an
+         * out-of-axis rotation in step with the flexion (hinge) */
+        j->skin_rms = (double)jo.pair.sta_rms;
+        {
+            double cm[3][3];
+            for (i = 0; i < 9; i++) {
+                cm[i / 3][i % 3] = (double)jo.pair.center_cov_model.m[i];
+            }
+            session_semi_axes(cm, CHI2_3_95, j->semi95_skin);
+        }
+        if (jo.pair.mode == SFIT_PAIR_MODE_HINGE) {
+            const double t = (double)(jo.pair.axis_cov.m[0] + jo.pair.axis_cov.m[4]
+                                      + jo.pair.axis_cov.m[8]);
+            const double tm = (double)(jo.pair.axis_cov_model.m[0] + jo.pair.axis_cov_model.m[4]
+                                       + jo.pair.axis_cov_model.m[8]);
+            j->cone_deg = sqrt(CHI2_2_95 * (t > 0.0 ? t : 0.0)) * 180.0 / M_PI_SESSION;
+            j->cone_model_deg = sqrt(CHI2_2_95 * (tm > 0.0 ? tm : 0.0)) * 180.0 / M_PI_SESSION;
+            j->wobble_deg = (double)jo.pair.wobble_rms * 180.0 / M_PI_SESSION;
+        }
         for (i = 0; i < 3; i++) {
             for (q = 0; q < 3; q++) {
                 j->cov[i][q] = (double)jo.pair.center_cov.m[i * 3 + q];

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "sfit/sfit_joint.h"
+#include "sfit/sfit_mat3.h"
 #include "skel.h"
 
 /* ------------------------------------------------------------ 3x3 help */
@@ -446,10 +447,22 @@ static void joint_inflation(skel_t *s, skel_joint_t *j)
         double rho = j->lag1 < 0.0 ? 0.0 : (j->lag1 > 0.99 ? 0.99 : j->lag1);
         j->infl = (1.0 + rho) / (1.0 - rho);
     }
-    for (i = 0; i < 9; i++) {
-        j->pr.cov_a[i] *= j->infl;
+    /* the slow residual inflates the noise part only: the pair's model part
+     * (skin motion with the joint angle) is already a correlated error */
+    {
+        sfit_mat3_t m;
+        sfit_vec3_t w;
+        for (i = 0; i < 9; i++) {
+            const double model = (double)j->pr.lib.center_cov_model.m[i];
+            j->pr.cov_a[i] = (j->pr.cov_a[i] - model) * j->infl + model;
+            m.m[i] = (float)j->pr.cov_a[i];
+        }
+        if (sfit_mat3_eig_sym(&m, &w, NULL) == SFIT_OK) {
+            j->pr.sigma = sqrt(w.v[2] > 0.0f ? (double)w.v[2] : 0.0);
+        } else {
+            j->pr.sigma *= sqrt(j->infl);
+        }
     }
-    j->pr.sigma *= sqrt(j->infl);
 }
 
 int skel_tree(skel_t *s, const skel_map_t *map, const char *root, char *why)

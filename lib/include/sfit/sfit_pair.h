@@ -33,6 +33,13 @@
  * first estimate fails the misfit test (its residual is not that noise).
  * SFIT_PAIR_METHOD_UNWEIGHTED gives the first estimate. docs/pair.md#weighting
  *
+ * Every covariance has a model part: a ball's residual regressed on the
+ * relative rotation (the same 9x9 and 9x3 moments) shows skin motion that
+ * moves with the joint angle, and the centre shift such motion causes is
+ * added (center_cov_model); a hinge's axis carries the tilt an out-of-axis
+ * rotation in step with the flexion can cause (axis_cov_model).
+ * docs/pair.md#model-error
+ *
  * A rejected frame leaves the state bit for bit unchanged. Maths, the
  * default and why, flags: docs/pair.md
  */
@@ -104,6 +111,16 @@ enum sfit_pair_flag {
     SFIT_PAIR_FLAG_NO_NOISE = 0x2000u     /**< See ::SFIT_PAIR_REASON_NO_NOISE. */
 };
 
+/** @brief Information bits of a result (sfit_pair_result_t::info): facts about the
+ * data that are not faults (a flag means something is wrong). */
+enum sfit_pair_info {
+    SFIT_PAIR_INFO_AXIS_FREE = 0x1u,  /**< Ball: the motion does not fix a hinge axis (as
+                                           expected of a ball joint moved about 3 axes). */
+    SFIT_PAIR_INFO_SKIN = 0x2u        /**< Ball: the joint model's residual moves with the
+                                           joint angle beyond the marker noise (skin motion);
+                                           sta_rms > 0 and center_cov_model carries it. */
+};
+
 /** @brief Options of a pair. Start from ::sfit_pair_cfg_default. */
 typedef struct sfit_pair_cfg {
     sfit_pair_method_t method;  /**< Estimator. */
@@ -129,8 +146,10 @@ typedef struct sfit_pair_cfg {
                                      rotation about a tilted axis and cannot show it);
                                      0 = default 2.5 degrees rms (a knee's 2-5 degrees of
                                      ab/adduction in step with its flexion); a tiny value
-                                     (1e-6) for a mechanical hinge. Enters the AXIS_FREE
-                                     test only, not axis_cov (the data cannot show it). */
+                                     (1e-6) for a mechanical hinge. The data cannot show
+                                     it: axis_cov carries the tilt it can cause (the
+                                     larger of it and the out-of-axis rotation seen,
+                                     axis_cov_model), and so does the AXIS_FREE test. */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
@@ -174,19 +193,39 @@ typedef struct sfit_pair_result {
                                      unit, parent frame; largest component positive. */
     sfit_vec3_t axis_c;         /**< The same axis in the child frame (A^T axis_p). */
     sfit_mat3_t center_cov;     /**< Covariance of center_p (parent frame, squared input
-                                     units); hinge: of the part normal to the axis plus
-                                     the axis' tilt at that point. */
-    sfit_mat3_t axis_cov;       /**< Hinge: covariance of the unit axis_p (rad^2), scaled
-                                     by the hinge model's residual rotation against the
-                                     noise's when larger (out-of-axis motion);
-                                     ball: zero. */
+                                     units): the marker noise's (scaled by the misfit
+                                     when above 1) plus center_cov_model; hinge: of the
+                                     part normal to the axis plus the axis' tilt at that
+                                     point. docs/pair.md#model-error */
+    sfit_mat3_t axis_cov;       /**< Hinge: covariance of the unit axis_p (rad^2): the
+                                     noise's plus axis_cov_model; ball: zero. */
+    sfit_mat3_t center_cov_model; /**< Ball: the model part of center_cov (included in
+                                     it): the centre shift that skin motion linear in the
+                                     joint angle causes, its size estimated from the
+                                     angle-correlated residual (docs/pair.md#model-error);
+                                     hinge: zero. */
+    sfit_mat3_t axis_cov_model; /**< Hinge: the model part of axis_cov (included in it):
+                                     the tilt that the out-of-axis rotation seen
+                                     (wobble_rms) can cause; ball: zero. */
+    float sta_rms;              /**< Ball: RMS of the angle-correlated part of the joint
+                                     model's residual beyond the noise (input units): how
+                                     far the clusters move on their segments with the
+                                     joint angle, as seen at the joint. Hinge: 0. */
+    float sta_ratio;            /**< Ball: the angle-correlated residual / its expectation
+                                     from the marker noise (about 1 without skin motion;
+                                     6 dof). Hinge: 0. */
+    float wobble_rms;           /**< Hinge: out-of-axis rotation seen beyond the noise
+                                     (rms, rad). Ball: 0. */
+    uint32_t info;              /**< ::sfit_pair_info bits (informational, not faults). */
     sfit_vec3_t eigenvalues;    /**< Eigenvalues of the (corrected) S / frames, ascending:
                                      the spread of the relative rotations (rad^2). */
     float trust_ratio;          /**< Noise eigenvalue / smallest eigenvalue used (ball:
                                      lambda_1, hinge: lambda_2) of S; the correction and
                                      the covariance are first order in it. */
     float misfit;               /**< Residual of the joint model / its expectation from the
-                                     marker noise (about 1 when the model holds). */
+                                     marker noise (about 1 when the model holds); ball:
+                                     the part not explained by skin motion linear in the
+                                     joint angle (sta_rms). */
     float rms;                  /**< RMS of the joint model's residual per frame (input units). */
     float marker_var;           /**< Marker variance used (mean of the two clusters'). */
     float marker_var_p;         /**< Parent cluster's marker variance. */
@@ -284,9 +323,10 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method (weighted): 7195 FLOPs (tools/flopcount
- * "pair_solve"); plain SCoRE 3800 FLOPs ("pair_solve_score"); independent of the
- * number of frames (instructions and stack: docs/cost.md).
+ * @par Cost ball, default method (weighted), with the skin-motion term: 9979
+ * FLOPs (tools/flopcount "pair_solve", 61101 M4F instructions, 2824 B stack);
+ * plain SCoRE 6584 FLOPs ("pair_solve_score"); independent of the number of
+ * frames (docs/cost.md).
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
 

@@ -504,7 +504,12 @@ class JointResult(_Record):
     docs/pair.md): center_cov (3, 3, parent frame), axis_cov (3, 3, hinge;
     else None), center_child, axis_child, marker_noise_var (and _parent,
     _child), noise_source ("registration_residuals" or "given"), untrusted,
-    reason, misfit, model_rms, child_cluster; flags is then the pair's list
+    reason, misfit, model_rms, child_cluster; center_cov_model (the part of
+    center_cov from skin motion linear in the joint angle) and skin_rms,
+    skin_ratio (that motion's size at the joint and its test statistic);
+    axis_cov_model (hinge: the part of axis_cov from an out-of-axis rotation
+    in step with the flexion) and wobble_rms; info (facts, not faults:
+    "axis_free" on a ball, "skin_motion"); flags is then the pair's list
     of names ("untrusted", "few_frames", "small_motion", "axis_free",
     "ambiguous", "misfit", "no_noise"); radii, marker_n, n, markers are None.
     With method "mgdk" from :func:`joint_center`: center_cov (3, 3; None
@@ -523,7 +528,8 @@ class JointResult(_Record):
                  "center_cov", "axis_cov", "center_child", "axis_child", "marker_noise_var",
                  "marker_noise_var_parent", "marker_noise_var_child", "noise_source",
                  "untrusted", "reason", "misfit", "model_rms", "child_cluster", "zero_missing",
-                 "note")
+                 "note", "center_cov_model", "axis_cov_model", "skin_rms", "skin_ratio",
+                 "wobble_rms", "info")
     _repr_fields = ("center", "radii", "mode", "frames", "rejected_frames", "flags")
 
 

@@ -261,6 +261,12 @@ class JointResult:
     child_cluster: Optional[Cluster]
     zero_missing: Optional[int]
     note: Optional[str]
+    center_cov_model: Optional[Mat3]
+    axis_cov_model: Optional[Mat3]
+    skin_rms: Optional[float]
+    skin_ratio: Optional[float]
+    wobble_rms: Optional[float]
+    info: Optional[list[str]]
     def to_dict(self) -> dict[str, Any]: ...
 
 class Joint:

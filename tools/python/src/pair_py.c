@@ -127,6 +127,27 @@ static PyObject *flags_list(uint32_t flags)
     return l;
 }
 
+/* The information bits (facts about the data, not faults). */
+static PyObject *info_list(uint32_t info)
+{
+    PyObject *l = PyList_New(0);
+    const char *names[2] = {"axis_free", "skin_motion"};
+    const uint32_t bits[2] = {SFIT_PAIR_INFO_AXIS_FREE, SFIT_PAIR_INFO_SKIN};
+    size_t k;
+    for (k = 0; l != NULL && k < 2; k++) {
+        if ((info & bits[k]) != 0u) {
+            PyObject *s = PyUnicode_FromString(names[k]);
+            if (s == NULL || PyList_Append(l, s) != 0) {
+                Py_XDECREF(s);
+                Py_DECREF(l);
+                return NULL;
+            }
+            Py_DECREF(s);
+        }
+    }
+    return l;
+}
+
 static PyObject *result_dict(const sfit_pair_result_t *r)
 {
     PyObject *d = PyDict_New();
@@ -138,6 +159,14 @@ static PyObject *result_dict(const sfit_pair_result_t *r)
         || put(d, "center_cov", mat(&r->center_cov))
         || put(d, "axis_cov", r->mode == SFIT_PAIR_MODE_HINGE ? mat(&r->axis_cov)
                                                               : (Py_INCREF(Py_None), Py_None))
+        || put(d, "center_cov_model", mat(&r->center_cov_model))
+        || put(d, "axis_cov_model", r->mode == SFIT_PAIR_MODE_HINGE
+                                        ? mat(&r->axis_cov_model)
+                                        : (Py_INCREF(Py_None), Py_None))
+        || put(d, "skin_rms", PyFloat_FromDouble((double)r->sta_rms))
+        || put(d, "skin_ratio", PyFloat_FromDouble((double)r->sta_ratio))
+        || put(d, "wobble_rms", PyFloat_FromDouble((double)r->wobble_rms))
+        || put(d, "info", info_list(r->info))
         || put(d, "eigenvalues", vec(r->eigenvalues.v, 3))
         || put(d, "trust_ratio", PyFloat_FromDouble((double)r->trust_ratio))
         || put(d, "misfit", PyFloat_FromDouble((double)r->misfit))
