@@ -65,7 +65,10 @@ done
 harnesses=()
 for h in "$src"/tests/fuzz/fuzz_*.c; do
   hn=$(basename "${h%.c}")
-  "$CLANG" "${common[@]}" "${warn[@]}" "${san[@]}" -I"$src/tests/fuzz" \
+  # tools/gen: headers the build generates for the host tools (the skeleton
+  # page's script, tools/CMakeLists.txt) that a harness including a tool
+  # source needs
+  "$CLANG" "${common[@]}" "${warn[@]}" "${san[@]}" -I"$src/tests/fuzz" -I"$build/tools/gen" \
     "$h" "${libobjs[@]}" -lm -o "$out/$hn"
   harnesses+=("$hn")
 done
