@@ -42,6 +42,29 @@ static int frame_dist(const sfit_vec3_t *xyz, long f, int stride, int off, int m
     return n;
 }
 
+/* The distances of a frame packed (pairs u < v in order) and back: the
+ * frames' distances are computed once and kept (dc). */
+static void dist_put(dist_t d, int m, double *row)
+{
+    int u, v, k = 0;
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            row[k++] = d[u][v];
+        }
+    }
+}
+
+static void dist_get(const double *row, int m, dist_t d)
+{
+    int u, v, k = 0;
+    for (u = 0; u < m; u++) {
+        d[u][u] = 0.0;
+        for (v = u + 1; v < m; v++) {
+            d[u][v] = d[v][u] = row[k++];
+        }
+    }
+}
+
 /* The candidates: as given, every exchange of two labels, both rotations
  * of every three labels (lab[u]: the marker the point labelled u is). */
 static int make_cands(int m, cli_swap_cand_t *c)
@@ -261,9 +284,8 @@ static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
 /* Per-pair median of the frames' distances, relabelled by lab[k] (NULL:
  * as given), over frames fr[0..n-1]; buf holds n * CLI_SWAPS_MAX_PAIRS
  * values. Pairs never seen get NaN. */
-static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
-                         size_t n, const int *lab, const cli_swap_cand_t *c, double *buf,
-                         dist_t ref)
+static void pair_medians(const double *dc, int m, size_t n, const int *lab,
+                         const cli_swap_cand_t *c, double *buf, dist_t ref)
 {
     size_t cnt[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
     size_t k;
@@ -272,7 +294,7 @@ static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, con
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 if (!isnan(d[u][v])) { /* true labels (l[u], l[v]), in order */
@@ -295,9 +317,8 @@ static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, con
 
 /* Pooled robust scale: 1.4826 median |d - R| over the frames' pairs seen,
  * relabelled by lab (NULL: as given); at least the floor. */
-static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
-                           size_t n, const int *lab, const cli_swap_cand_t *c, dist_t ref,
-                           double *buf)
+static double pooled_scale(const double *dc, int m, size_t n, const int *lab,
+                           const cli_swap_cand_t *c, dist_t ref, double *buf)
 {
     size_t k, cnt = 0;
     double med_ref, s;
@@ -307,7 +328,7 @@ static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, c
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 const double r = ref[l[u]][l[v]];
@@ -381,6 +402,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     int *lab = NULL;
     double *buf = NULL;
     ok_cache_t *oc = NULL;
+    double *dc = NULL; /* the distances of frame fr[k] at dc + k MAX_PAIRS */
     size_t n = 0, na, k;
     dist_t anchor;
     double s0;
@@ -422,16 +444,19 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
     buf = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *buf);
     oc = malloc(sizeof *oc);
-    if (fr == NULL || lab == NULL || buf == NULL || oc == NULL) {
+    dc = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *dc);
+    if (fr == NULL || lab == NULL || buf == NULL || oc == NULL || dc == NULL) {
         free(fr);
         free(lab);
         free(buf);
         free(oc);
+        free(dc);
         return -1;
     }
     for (f = first; f <= last; f++) {
         dist_t d;
         if (frame_dist(xyz, f, stride, off, m, d) >= 3) {
+            dist_put(d, m, dc + n * CLI_SWAPS_MAX_PAIRS);
             fr[n++] = f;
         }
     }
@@ -440,11 +465,12 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         free(lab);
         free(buf);
         free(oc);
+        free(dc);
         return 0;
     }
     /* 1. the anchor: the start of the range, as given */
     na = (n < (size_t)CLI_SWAPS_ANCHOR) ? n : (size_t)CLI_SWAPS_ANCHOR;
-    pair_medians(xyz, stride, off, m, fr, na, NULL, out->cand, buf, anchor);
+    pair_medians(dc, m, na, NULL, out->cand, buf, anchor);
     {
         dist_t all; /* pairs the anchor never sees: their median over all frames */
         int u, v, gap = 0;
@@ -454,7 +480,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
             }
         }
         if (gap) {
-            pair_medians(xyz, stride, off, m, fr, n, NULL, out->cand, buf, all);
+            pair_medians(dc, m, n, NULL, out->cand, buf, all);
             for (u = 0; u < m; u++) {
                 for (v = u + 1; v < m; v++) {
                     if (isnan(anchor[u][v])) {
@@ -464,13 +490,14 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
             }
         }
     }
-    s0 = pooled_scale(xyz, stride, off, m, fr, na, NULL, out->cand, anchor, buf);
+    s0 = pooled_scale(dc, m, na, NULL, out->cand, anchor, buf);
     if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
         out->why = CLI_SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
         free(oc);
+        free(dc);
         return 0;
     }
     /* 2. provisional labels, reference and scale */
@@ -479,18 +506,19 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         dist_t d;
         double cost;
         int np, rival;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * CLI_SWAPS_Z * s0, oc,
                             &cost, &np, &rival);
     }
-    pair_medians(xyz, stride, off, m, fr, n, lab, out->cand, buf, out->ref);
-    out->scale = pooled_scale(xyz, stride, off, m, fr, n, lab, out->cand, out->ref, buf);
+    pair_medians(dc, m, n, lab, out->cand, buf, out->ref);
+    out->scale = pooled_scale(dc, m, n, lab, out->cand, out->ref, buf);
     if (!(out->scale > 0.0) || !isfinite(out->scale)) {
         out->why = CLI_SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
         free(oc);
+        free(dc);
         return 0;
     }
     out->decide = 2.0 * CLI_SWAPS_Z * out->scale;
@@ -525,7 +553,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         double cost;
         int np, rival, b;
         sfit_vec3_t *row = xyz + (size_t)fr[k] * (size_t)stride + (size_t)off;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, oc, &cost, &np,
                        &rival);
         out->frames_checked++;
@@ -567,5 +595,6 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     free(lab);
     free(buf);
     free(oc);
+    free(dc);
     return 0;
 }
