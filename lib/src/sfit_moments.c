@@ -318,12 +318,17 @@ static void prv_add_run(sfit_moments_t *m, const sfit_vec3_t *pts, uint32_t k)
  * all have it at or above 127 + SFIT_COORD_MAX_EXP). */
 SFIT_INLINE int prv_sample_ok(const float x[3])
 {
-    const uint32_t lim = (uint32_t)(127 + SFIT_COORD_MAX_EXP) << 24; /* exponent, sign out */
+    const uint32_t lim = (uint32_t)(127 + SFIT_COORD_MAX_EXP) << 24u; /* exponent, sign out */
     uint32_t u0, u1, u2;
     memcpy(&u0, &x[0], sizeof u0);
     memcpy(&u1, &x[1], sizeof u1);
     memcpy(&u2, &x[2], sizeof u2);
-    return ((u0 << 1) < lim) & ((u1 << 1) < lim) & ((u2 << 1) < lim);
+    u0 <<= 1; /* sign out: |x| in the order of its bits */
+    u1 <<= 1;
+    u2 <<= 1;
+    u0 = (u0 > u1) ? u0 : u1; /* the largest, without a branch */
+    u0 = (u0 > u2) ? u0 : u2;
+    return u0 < lim;
 }
 
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
