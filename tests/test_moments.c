@@ -91,6 +91,100 @@ static void test_add_equals_add_block(void **state)
     assert_memory_equal(&a, &b, sizeof a); /* same operations, same bits */
 }
 
+/* The batch path keeps a run's sums in registers: from any prior state
+ * (empty, mid-block, at a block's end) and in chunks of any size (one
+ * sample, inside a block, exactly a block, across one or more block
+ * ends), the state is bit for bit that of the same samples added one at
+ * a time. */
+static void test_add_block_chunks_bitwise(void **state)
+{
+    const size_t prior[] = {0, 1, 37, SFIT_SUM_BLOCK - 1, SFIT_SUM_BLOCK, 3 * SFIT_SUM_BLOCK + 5};
+    const size_t chunk[] = {0, 1, 2, 5, SFIT_SUM_BLOCK - 1, SFIT_SUM_BLOCK, SFIT_SUM_BLOCK + 1,
+                            2 * SFIT_SUM_BLOCK + 7, 333};
+    size_t p, c;
+    (void)state;
+    make_cap(41, 2000, 1.0, 2.0);
+    for (p = 0; p < sizeof prior / sizeof prior[0]; p++) {
+        for (c = 0; c < sizeof chunk / sizeof chunk[0]; c++) {
+            sfit_moments_t a, b;
+            size_t i = 0, j;
+            (void)sfit_moments_init(&a);
+            (void)sfit_moments_init(&b);
+            for (j = 0; j < prior[p]; j++) {
+                assert_int_equal(sfit_moments_add(&a, &g_fpts[j]), SFIT_OK);
+                assert_int_equal(sfit_moments_add(&b, &g_fpts[j]), SFIT_OK);
+            }
+            /* three chunks of this size, then one of the next size */
+            for (j = 0; j < 4; j++) {
+                const size_t k = (j < 3) ? chunk[c] : chunk[(c + 1) % (sizeof chunk / sizeof chunk[0])];
+                size_t q;
+                for (q = 0; q < k; q++) {
+                    assert_int_equal(sfit_moments_add(&a, &g_fpts[prior[p] + i + q]), SFIT_OK);
+                }
+                assert_int_equal(sfit_moments_add_block(&b, &g_fpts[prior[p] + i], k, NULL), SFIT_OK);
+                i += k;
+                assert_memory_equal(&a, &b, sizeof a);
+            }
+        }
+    }
+}
+
+/* The batch's one-test-per-coordinate screen against the full check at
+ * the edges of the range: the same status and the first bad index. */
+static void test_add_block_screen_edges(void **state)
+{
+    const float big = 134217728.0f; /* 2^SFIT_COORD_MAX_EXP */
+    const float edge[][3] = {
+        {134217720.0f, -134217720.0f, 0.0f}, /* largest accepted */
+        {-0.0f, 1e-45f, -1e-40f},            /* zero, denormals */
+        {FLT_MIN, -FLT_MIN, 1.0f},
+        {big, 0, 0}, {0, -big, 0}, {0, 0, 3e38f}, {0, 0, -INFINITY},
+        {NAN, big, 0}, {big, NAN, 0}, {-NAN, 0, 0}};
+    const sfit_status_t want[] = {SFIT_OK, SFIT_OK, SFIT_OK, SFIT_E_RANGE, SFIT_E_RANGE,
+                                  SFIT_E_RANGE, SFIT_E_NONFINITE, SFIT_E_NONFINITE,
+                                  SFIT_E_NONFINITE, SFIT_E_NONFINITE};
+    size_t k, pos;
+    (void)state;
+    make_cap(42, 10, 1.0, 1.0);
+    for (k = 0; k < sizeof edge / sizeof edge[0]; k++) {
+        for (pos = 0; pos < 5; pos++) {
+            sfit_moments_t m, before, one;
+            sfit_vec3_t blk[5];
+            size_t idx = 999, i;
+            memcpy(blk, g_fpts, sizeof blk);
+            memcpy(blk[pos].v, edge[k], sizeof blk[pos].v);
+            (void)sfit_moments_init(&m);
+            (void)sfit_moments_add_block(&m, g_fpts + 5, 3, NULL);
+            before = m;
+            one = m;
+            assert_int_equal(sfit_moments_add_block(&m, blk, 5, &idx), want[k]);
+            if (want[k] == SFIT_OK) {
+                assert_int_equal(idx, 999); /* written only on a rejection */
+                for (i = 0; i < 5; i++) {
+                    assert_int_equal(sfit_moments_add(&one, &blk[i]), SFIT_OK);
+                }
+                assert_memory_equal(&m, &one, sizeof m);
+            } else {
+                assert_int_equal(idx, pos);
+                assert_memory_equal(&m, &before, sizeof m);
+            }
+        }
+    }
+    {
+        /* two bad samples: the first one's status and index */
+        sfit_moments_t m;
+        sfit_vec3_t blk[4];
+        size_t idx = 999;
+        memcpy(blk, g_fpts, sizeof blk);
+        blk[1].v[2] = big;
+        blk[3].v[0] = NAN;
+        (void)sfit_moments_init(&m);
+        assert_int_equal(sfit_moments_add_block(&m, blk, 4, &idx), SFIT_E_RANGE);
+        assert_int_equal(idx, 1);
+        assert_int_equal(sfit_moments_count(&m), 0);
+    }
+}
+
 static void test_merge_equals_sequential(void **state)
 {
     const size_t splits[] = {1, 17, 64, 333, 999};
@@ -386,6 +480,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stats_vs_reference),
         cmocka_unit_test(test_add_equals_add_block),
+        cmocka_unit_test(test_add_block_chunks_bitwise),
+        cmocka_unit_test(test_add_block_screen_edges),
         cmocka_unit_test(test_merge_equals_sequential),
         cmocka_unit_test(test_merge_self),
         cmocka_unit_test(test_rejected_sample_leaves_state),

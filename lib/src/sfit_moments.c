@@ -246,6 +246,91 @@ sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total
     return st;
 }
 
+/* Start a block (the first sample's origin, or the running mean's) when
+ * the open one is empty. */
+static void prv_open(sfit_moments_t *m, const float x[3])
+{
+    if (m->blk.n == 0u) {
+        if (m->tot.n == 0u) {
+            memcpy(m->origin, x, sizeof m->origin);
+        } else {
+            prv_rebase(m);
+        }
+    }
+}
+
+/* Accumulate k already validated samples that fit in the open block
+ * (blk.n + k <= SFIT_SUM_BLOCK, k >= 1) with the sums in registers: the
+ * same operations in the same order as k prv_add() calls, so the same
+ * bits, without a load and a store of every sum per sample. */
+static void prv_add_run(sfit_moments_t *m, const sfit_vec3_t *pts, uint32_t k)
+{
+    sfit_cmom_t *const b = &m->blk;
+    const float o0 = m->origin[0], o1 = m->origin[1], o2 = m->origin[2];
+    float d0 = b->d[0], d1 = b->d[1], d2 = b->d[2];
+    float s00 = b->m2[0], s11 = b->m2[1], s22 = b->m2[2];
+    float s01 = b->m2[3], s02 = b->m2[4], s12 = b->m2[5];
+    float t0 = b->m3[0], t1 = b->m3[1], t2 = b->m3[2];
+    uint32_t i;
+
+    for (i = 0u; i < k; i++) {
+        const float z0 = pts[i].v[0] - o0;
+        const float z1 = pts[i].v[1] - o1;
+        const float z2 = pts[i].v[2] - o2;
+        const float q00 = z0 * z0;
+        const float q11 = z1 * z1;
+        const float q22 = z2 * z2;
+        float q;
+        d0 += z0;
+        d1 += z1;
+        d2 += z2;
+        s00 += q00;
+        s11 += q11;
+        s22 += q22;
+        s01 += z0 * z1;
+        s02 += z0 * z2;
+        s12 += z1 * z2;
+        q = q00 + q11 + q22;
+        t0 += q * z0;
+        t1 += q * z1;
+        t2 += q * z2;
+    }
+    b->d[0] = d0;
+    b->d[1] = d1;
+    b->d[2] = d2;
+    b->m2[0] = s00;
+    b->m2[1] = s11;
+    b->m2[2] = s22;
+    b->m2[3] = s01;
+    b->m2[4] = s02;
+    b->m2[5] = s12;
+    b->m3[0] = t0;
+    b->m3[1] = t1;
+    b->m3[2] = t2;
+    b->n += k;
+    if (b->n >= SFIT_SUM_BLOCK) {
+        prv_flush(m);
+    }
+}
+
+/* 1 when every coordinate of x is finite and inside the coordinate range:
+ * one test of the exponent field per coordinate (NaN, Inf and too large
+ * all have it at or above 127 + SFIT_COORD_MAX_EXP). */
+SFIT_INLINE int prv_sample_ok(const float x[3])
+{
+    const uint32_t lim = (uint32_t)(127 + SFIT_COORD_MAX_EXP) << 24u; /* exponent, sign out */
+    uint32_t u0, u1, u2;
+    memcpy(&u0, &x[0], sizeof u0);
+    memcpy(&u1, &x[1], sizeof u1);
+    memcpy(&u2, &x[2], sizeof u2);
+    u0 <<= 1; /* sign out: |x| in the order of its bits */
+    u1 <<= 1;
+    u2 <<= 1;
+    u0 = (u0 > u1) ? u0 : u1; /* the largest, without a branch */
+    u0 = (u0 > u2) ? u0 : u2;
+    return u0 < lim;
+}
+
 sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, size_t n,
                                      size_t *bad)
 {
@@ -253,21 +338,29 @@ sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, 
     if (m == NULL || (pts == NULL && n > 0u)) {
         return SFIT_E_ARG;
     }
-    /* Validate everything first so that a rejection leaves m untouched. */
+    /* Validate everything first so that a rejection leaves m untouched;
+     * the full check (which status) only for a sample the fast one fails. */
     for (i = 0; i < n; i++) {
-        const sfit_status_t st = sfit_i_check_sample(pts[i].v);
-        if (st != SFIT_OK) {
-            if (bad != NULL) {
-                *bad = i;
+        if (!prv_sample_ok(pts[i].v)) {
+            const sfit_status_t st = sfit_i_check_sample(pts[i].v);
+            if (st != SFIT_OK) {
+                if (bad != NULL) {
+                    *bad = i;
+                }
+                return st;
             }
-            return st;
         }
     }
     if ((uint64_t)sfit_moments_count(m) + (uint64_t)n > (uint64_t)UINT32_MAX) {
         return SFIT_E_RANGE;
     }
-    for (i = 0; i < n; i++) {
-        prv_add(m, pts[i].v);
+    i = 0u;
+    while (i < n) {
+        const size_t room = (size_t)(SFIT_SUM_BLOCK - m->blk.n); /* >= 1: a full block is flushed */
+        const size_t k = (n - i < room) ? (n - i) : room;
+        prv_open(m, pts[i].v);
+        prv_add_run(m, &pts[i], (uint32_t)k);
+        i += k;
     }
     return SFIT_OK;
 }

@@ -374,6 +374,26 @@ static void fc_add_one(void)
     fc_keep(sfit_moments_add(&fc_acc, &fc_pts[FC_NPTS - 1u]));
 }
 
+/* The batch entry: the same FC_NAMORT samples in one call. */
+static void fc_add_batch(void)
+{
+    fc_keep(sfit_moments_add_block(&fc_acc, fc_pts, FC_NAMORT, NULL));
+}
+
+/* N = 500 samples: not a whole number of blocks (the open block holds
+ * 500 mod SFIT_SUM_BLOCK samples at the solve). */
+#define FC_N500 500u
+static void fc_prep_500(void)
+{
+    fc_moments_of(&fc_acc, fc_pts, FC_N500);
+}
+
+static void fc_solve_gdke_500(void)
+{
+    fc_keep(sfit_fit_moments(&fc_acc, NULL, &fc_res));
+    fc_keep((!fc_res.exact) ? SFIT_OK : SFIT_E_RANGE);
+}
+
 static void fc_batch_n(void)
 {
     fc_keep(sfit_fit_points(fc_pts, FC_NPTS, NULL, &fc_res));
@@ -874,10 +894,12 @@ static const fc_op_t fc_ops[] = {
     {"moments_add", "sfit_moments_add", fc_prep_empty, fc_add_amortised, NULL, NULL, FC_NAMORT},
     {"moments_add_call", "sfit_moments_add", fc_prep_mid_block, fc_add_one, NULL, NULL, 1u},
     {"moments_add_flush", "sfit_moments_add", fc_prep_block_end, fc_add_one, NULL, NULL, 1u},
+    {"moments_add_batch", "sfit_moments_add_block", fc_prep_empty, fc_add_batch, NULL, NULL, FC_NAMORT},
     {"moments_stats", "sfit_moments_stats", NULL, fc_stats, NULL, NULL, 1u},
     {"batch_per_point", "sfit_fit_points", NULL, fc_batch_n, NULL, fc_batch_half, FC_NPTS - FC_NHALF},
     {"batch_total", "sfit_fit_points", NULL, fc_batch_n, NULL, NULL, 1u},
     {"solve_gdke", "sfit_fit_moments", NULL, fc_solve_gdke, NULL, NULL, 1u},
+    {"solve_gdke_500", "sfit_fit_moments", fc_prep_500, fc_solve_gdke_500, NULL, NULL, 1u},
     {"solve_ugdk", "sfit_fit_moments", NULL, fc_solve_ugdk, NULL, NULL, 1u},
     {"solve_gdke_eigen", "sfit_fit_moments", NULL, fc_solve_gdke_eigen, NULL, NULL, 1u},
     {"solve_ugdk_eigen", "sfit_fit_moments", NULL, fc_solve_ugdk_eigen, NULL, NULL, 1u},

@@ -42,6 +42,29 @@ static int frame_dist(const sfit_vec3_t *xyz, long f, int stride, int off, int m
     return n;
 }
 
+/* The distances of a frame packed (pairs u < v in order) and back: the
+ * frames' distances are computed once and kept (dc). */
+static void dist_put(dist_t d, int m, double *row)
+{
+    int u, v, k = 0;
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            row[k++] = d[u][v];
+        }
+    }
+}
+
+static void dist_get(const double *row, int m, dist_t d)
+{
+    int u, v, k = 0;
+    for (u = 0; u < m; u++) {
+        d[u][u] = 0.0;
+        for (v = u + 1; v < m; v++) {
+            d[u][v] = d[v][u] = row[k++];
+        }
+    }
+}
+
 /* The candidates: as given, every exchange of two labels, both rotations
  * of every three labels (lab[u]: the marker the point labelled u is). */
 static int make_cands(int m, cli_swap_cand_t *c)
@@ -107,39 +130,136 @@ static double pair_ss(dist_t d, dist_t ref, int m, const unsigned char *la,
     return s;
 }
 
-static int cmp_double(const void *a, const void *b)
+/* The k-th smallest of x[0..n-1] (0-based; x reordered so that x[k] holds
+ * it, smaller values before, larger after): Hoare's selection, expected
+ * O(n) where a sort was O(n log n). The values hold no NaN. */
+static double select_kth(double *x, size_t n, size_t k)
 {
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    size_t lo = 0u, hi = n - 1u;
+    while (lo < hi) {
+        const double pivot = x[lo + (hi - lo) / 2u];
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (x[i] < pivot) {
+                i++;
+            }
+            while (x[j] > pivot) {
+                j--;
+            }
+            if (i <= j) {
+                const double t = x[i];
+                x[i] = x[j];
+                x[j] = t;
+                i++;
+                if (j == 0u) {
+                    break;
+                }
+                j--;
+            }
+        }
+        /* [lo, j] <= pivot <= [i, hi]; between them: the pivot's value */
+        if (k <= j && j != (size_t)-1) {
+            hi = j;
+        } else if (k >= i) {
+            lo = i;
+        } else {
+            break;
+        }
+    }
+    return x[k];
 }
 
-/* Median of n values (sorted in place); NaN when n == 0. */
+/* Median of n values (reordered in place); NaN when n == 0. The same
+ * order statistics as a sort gives, so the same value. */
 static double median(double *x, size_t n)
 {
+    double hi, lo;
+    size_t i;
     if (n == 0u) {
         return (double)NAN;
     }
-    qsort(x, n, sizeof *x, cmp_double);
-    return (n % 2u) ? x[n / 2u] : 0.5 * (x[n / 2u - 1u] + x[n / 2u]);
+    hi = select_kth(x, n, n / 2u);
+    if (n % 2u) {
+        return hi;
+    }
+    lo = x[0]; /* the largest of the lower half x[0 .. n/2 - 1] */
+    for (i = 1u; i < n / 2u; i++) {
+        if (x[i] > lo) {
+            lo = x[i];
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Which relabellings a frame can tell from the labels as given depends
+ * only on its markers seen (against a fixed reference and threshold):
+ * computed once per set of markers seen and kept here. */
+typedef struct ok_cache {
+    int prune; /* every pair of the reference known: see best_label */
+    unsigned char known[1u << CLI_SWAPS_MAX_MARKERS];
+    /* squared distance of each relabelling's pattern from the labels as
+     * given, over the pairs seen */
+    double pat[1u << CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_CAND];
+} ok_cache_t;
+
+/* Start the cache for reference ref. */
+static void cache_reset(ok_cache_t *oc, dist_t ref, int m)
+{
+    int u, v;
+    memset(oc->known, 0, sizeof oc->known);
+    oc->prune = 1;
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            oc->prune &= !isnan(ref[u][v]);
+        }
+    }
+}
+
+/* The markers of d that are in a pair seen (a pair is seen when both are). */
+static unsigned seen_mask(dist_t d, int m)
+{
+    unsigned mask = 0u;
+    int u, v;
+    for (u = 0; u < m; u++) {
+        for (v = u + 1; v < m; v++) {
+            if (!isnan(d[u][v])) {
+                mask |= (1u << u) | (1u << v);
+            }
+        }
+    }
+    return mask;
 }
 
 /* Best labelling of frame d against ref: the least cost among the labels
  * as given and the relabellings whose pattern (over the pairs seen) is at
  * least `decide` from it. Returns the candidate index; *cost its cost,
  * *np the pairs, *rival 1 if another decidable relabelling lies within
- * `decide` of the winner. */
+ * `decide` of the winner. oc: the cache for this ref and decide. */
 static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
-                      int nc, double decide, double *cost, int *np, int *rival)
+                      int nc, double decide, ok_cache_t *oc, double *cost, int *np,
+                      int *rival)
 {
-    unsigned char ok[CLI_SWAPS_MAX_CAND];
+    const unsigned mask = seen_mask(d, m);
+    double *pat = oc->pat[mask];
     double best_cost = pair_ss(d, ref, m, NULL, c[0].lab, 1, np);
     int best = 0, k;
     const double dd = decide * decide;
-    ok[0] = 1u;
+    /* no need to compute a cost that cannot win: with every pair of ref
+     * known, the three sums run over the same pairs (those d sees) and
+     * the triangle inequality sqrt(e_k) >= sqrt(pat_k) - sqrt(e_0) holds,
+     * so pat_k > 4.5 e_0 (a margin far beyond rounding) gives e_k > e_0
+     * >= the best so far */
+    const double far = oc->prune ? 4.5 * best_cost : (double)INFINITY;
+    if (!oc->known[mask]) {
+        pat[0] = 0.0;
+        for (k = 1; k < nc; k++) {
+            pat[k] = pair_ss(d, ref, m, c[k].lab, c[0].lab, 0, NULL);
+        }
+        oc->known[mask] = 1u;
+    }
     for (k = 1; k < nc; k++) {
         double e;
-        ok[k] = (unsigned char)(pair_ss(d, ref, m, c[k].lab, c[0].lab, 0, NULL) >= dd);
-        if (!ok[k]) {
+        if (!(pat[k] >= dd) || pat[k] > far) {
             continue;
         }
         e = pair_ss(d, ref, m, NULL, c[k].lab, 1, NULL);
@@ -151,7 +271,8 @@ static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
     *rival = 0;
     if (best != 0) {
         for (k = 1; k < nc && !*rival; k++) {
-            if (k != best && ok[k] && pair_ss(d, ref, m, c[k].lab, c[best].lab, 0, NULL) < dd) {
+            if (k != best && pat[k] >= dd
+                && pair_ss(d, ref, m, c[k].lab, c[best].lab, 0, NULL) < dd) {
                 *rival = 1;
             }
         }
@@ -163,9 +284,8 @@ static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
 /* Per-pair median of the frames' distances, relabelled by lab[k] (NULL:
  * as given), over frames fr[0..n-1]; buf holds n * CLI_SWAPS_MAX_PAIRS
  * values. Pairs never seen get NaN. */
-static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
-                         size_t n, const int *lab, const cli_swap_cand_t *c, double *buf,
-                         dist_t ref)
+static void pair_medians(const double *dc, int m, size_t n, const int *lab,
+                         const cli_swap_cand_t *c, double *buf, dist_t ref)
 {
     size_t cnt[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
     size_t k;
@@ -174,7 +294,7 @@ static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, con
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 if (!isnan(d[u][v])) { /* true labels (l[u], l[v]), in order */
@@ -197,9 +317,8 @@ static void pair_medians(const sfit_vec3_t *xyz, int stride, int off, int m, con
 
 /* Pooled robust scale: 1.4826 median |d - R| over the frames' pairs seen,
  * relabelled by lab (NULL: as given); at least the floor. */
-static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, const long *fr,
-                           size_t n, const int *lab, const cli_swap_cand_t *c, dist_t ref,
-                           double *buf)
+static double pooled_scale(const double *dc, int m, size_t n, const int *lab,
+                           const cli_swap_cand_t *c, dist_t ref, double *buf)
 {
     size_t k, cnt = 0;
     double med_ref, s;
@@ -209,7 +328,7 @@ static double pooled_scale(const sfit_vec3_t *xyz, int stride, int off, int m, c
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 const double r = ref[l[u]][l[v]];
@@ -282,6 +401,8 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     long *fr = NULL, f;
     int *lab = NULL;
     double *buf = NULL;
+    ok_cache_t *oc = NULL;
+    double *dc = NULL; /* the distances of frame fr[k] at dc + k MAX_PAIRS */
     size_t n = 0, na, k;
     dist_t anchor;
     double s0;
@@ -322,15 +443,20 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     fr = malloc(((size_t)(last - first) + 1u) * sizeof *fr);
     lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
     buf = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *buf);
-    if (fr == NULL || lab == NULL || buf == NULL) {
+    oc = malloc(sizeof *oc);
+    dc = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *dc);
+    if (fr == NULL || lab == NULL || buf == NULL || oc == NULL || dc == NULL) {
         free(fr);
         free(lab);
         free(buf);
+        free(oc);
+        free(dc);
         return -1;
     }
     for (f = first; f <= last; f++) {
         dist_t d;
         if (frame_dist(xyz, f, stride, off, m, d) >= 3) {
+            dist_put(d, m, dc + n * CLI_SWAPS_MAX_PAIRS);
             fr[n++] = f;
         }
     }
@@ -338,11 +464,13 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         free(fr);
         free(lab);
         free(buf);
+        free(oc);
+        free(dc);
         return 0;
     }
     /* 1. the anchor: the start of the range, as given */
     na = (n < (size_t)CLI_SWAPS_ANCHOR) ? n : (size_t)CLI_SWAPS_ANCHOR;
-    pair_medians(xyz, stride, off, m, fr, na, NULL, out->cand, buf, anchor);
+    pair_medians(dc, m, na, NULL, out->cand, buf, anchor);
     {
         dist_t all; /* pairs the anchor never sees: their median over all frames */
         int u, v, gap = 0;
@@ -352,7 +480,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
             }
         }
         if (gap) {
-            pair_medians(xyz, stride, off, m, fr, n, NULL, out->cand, buf, all);
+            pair_medians(dc, m, n, NULL, out->cand, buf, all);
             for (u = 0; u < m; u++) {
                 for (v = u + 1; v < m; v++) {
                     if (isnan(anchor[u][v])) {
@@ -362,30 +490,35 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
             }
         }
     }
-    s0 = pooled_scale(xyz, stride, off, m, fr, na, NULL, out->cand, anchor, buf);
+    s0 = pooled_scale(dc, m, na, NULL, out->cand, anchor, buf);
     if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
         out->why = CLI_SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
+        free(oc);
+        free(dc);
         return 0;
     }
     /* 2. provisional labels, reference and scale */
+    cache_reset(oc, anchor, m);
     for (k = 0; k < n; k++) {
         dist_t d;
         double cost;
         int np, rival;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
-        lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * CLI_SWAPS_Z * s0, &cost,
-                            &np, &rival);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
+        lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * CLI_SWAPS_Z * s0, oc,
+                            &cost, &np, &rival);
     }
-    pair_medians(xyz, stride, off, m, fr, n, lab, out->cand, buf, out->ref);
-    out->scale = pooled_scale(xyz, stride, off, m, fr, n, lab, out->cand, out->ref, buf);
+    pair_medians(dc, m, n, lab, out->cand, buf, out->ref);
+    out->scale = pooled_scale(dc, m, n, lab, out->cand, out->ref, buf);
     if (!(out->scale > 0.0) || !isfinite(out->scale)) {
         out->why = CLI_SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
+        free(oc);
+        free(dc);
         return 0;
     }
     out->decide = 2.0 * CLI_SWAPS_Z * out->scale;
@@ -411,6 +544,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     }
     out->misfit *= 0.5;
     /* 3. the decision, frame by frame */
+    cache_reset(oc, out->ref, m); /* another reference and threshold */
     out->checked = 1;
     out->why = CLI_SWAPS_WHY_CHECKED;
     out->repaired = repair != 0;
@@ -419,8 +553,9 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         double cost;
         int np, rival, b;
         sfit_vec3_t *row = xyz + (size_t)fr[k] * (size_t)stride + (size_t)off;
-        (void)frame_dist(xyz, fr[k], stride, off, m, d);
-        b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, &cost, &np, &rival);
+        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
+        b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, oc, &cost, &np,
+                       &rival);
         out->frames_checked++;
         if (np > 0 && cost > (double)np * CLI_SWAPS_Z * CLI_SWAPS_Z * out->scale * out->scale
             && cost > out->misfit * out->misfit) {
@@ -459,5 +594,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     free(fr);
     free(lab);
     free(buf);
+    free(oc);
+    free(dc);
     return 0;
 }

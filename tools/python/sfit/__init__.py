@@ -825,19 +825,8 @@ def _pair_center(parent, child_arr, cl, child_template, method, mode, marker_noi
         e.status, e.code, e.message, e.n, e.rejected = (_sfit.status_name(code), code,
                                                         str(e), None, rejected)
         raise e
-    par = _np.asarray(parent, dtype=_np.float64)
-    nf = par.shape[0]
-    cg = _np.full((nf, 3), _np.nan)
-    ag = _np.full((nf, 3), _np.nan)
-    valid = _np.zeros(nf, bool)
-    for f in range(nf):
-        try:
-            pose = cl.register(par[f])
-        except Error:
-            continue
-        cg[f] = pose.rotation @ d["center"] + pose.translation
-        ag[f] = pose.rotation @ d["axis"]
-        valid[f] = True
+    # R c + t and R a of the parent's pose in every frame, in one C loop
+    cg, ag, valid = cl._place(parent, tuple(d["center"]), tuple(d["axis"]))
     d.update(method=method, rejected_frames=rejected, center_global=cg, axis_global=ag,
              valid=valid, cluster=cl, child_cluster=ccl, label_swaps=label_swaps,
              zero_missing=zero_missing, note=None)

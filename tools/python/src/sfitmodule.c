@@ -837,6 +837,56 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kw)
 /* fit_multi()                                                              */
 /* ------------------------------------------------------------------------ */
 
+/* The most items fit_multi reads from a sequence: far more markers than
+ * any cluster has, few enough that their states stay small (about 50 MB). */
+#define PY_MULTI_MAX_ITEMS 262144
+
+/* A tuple of the items of obj, read one by one from its iterator: the
+ * tuple grows with the items actually read, never with what __len__ (or
+ * __length_hint__) claims, and stops with an ArgError past max items. A
+ * non-iterable obj or an error while iterating is an ArgError too. */
+static PyObject *items_read(PyObject *obj, Py_ssize_t max, const char *what)
+{
+    PyObject *it, *list, *item, *tup;
+    if (PyTuple_Check(obj) || PyList_Check(obj)) {
+        if (PySequence_Fast_GET_SIZE(obj) > max) {
+            return raise_arg("%s: more than %zd items", what, max);
+        }
+        return PySequence_Tuple(obj); /* the size is the items held */
+    }
+    it = PyObject_GetIter(obj);
+    if (it == NULL) {
+        PyErr_Clear();
+        return raise_arg("%s must be a sequence of (N, 3) arrays", what);
+    }
+    list = PyList_New(0);
+    if (list == NULL) {
+        Py_DECREF(it);
+        return NULL;
+    }
+    while ((item = PyIter_Next(it)) != NULL) {
+        const int rc = (PyList_GET_SIZE(list) >= max) ? -2 : PyList_Append(list, item);
+        Py_DECREF(item);
+        if (rc != 0) {
+            Py_DECREF(it);
+            Py_DECREF(list);
+            if (rc == -2) {
+                return raise_arg("%s: more than %zd items", what, max);
+            }
+            return NULL;
+        }
+    }
+    Py_DECREF(it);
+    if (PyErr_Occurred()) {
+        Py_DECREF(list);
+        PyErr_Clear();
+        return raise_arg("%s must be a sequence of (N, 3) arrays", what);
+    }
+    tup = PyList_AsTuple(list);
+    Py_DECREF(list);
+    return tup;
+}
+
 static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
 {
     static char *kwlist[] = {"markers", "noise_var", "noise_cov", "mode", "weight",
@@ -873,10 +923,9 @@ static PyObject *py_fit_multi(PyObject *self, PyObject *args, PyObject *kw)
     }
     /* a tuple of our own: PySequence_Fast would hand back the caller's list
      * itself, whose items an item's __array__ may remove while we use them */
-    seq = PySequence_Tuple(markers);
+    seq = items_read(markers, PY_MULTI_MAX_ITEMS, "fit_multi: markers");
     if (seq == NULL) {
-        PyErr_Clear();
-        return raise_arg("fit_multi: markers must be a sequence of (N, 3) arrays");
+        return NULL;
     }
     count = PyTuple_GET_SIZE(seq);
     if (count == 0) {
@@ -1901,6 +1950,70 @@ static PyObject *Cluster_register(ClusterObject *self, PyObject *arg)
     return pose_out(&pose, &fit);
 }
 
+/* Cluster._place(frames, center, axis) -> (centers (F, 3), axes (F, 3),
+ * valid (F,)): a point and a direction of the segment frame in the global
+ * frame of every (M, 3) frame of frames, R center + t and R axis (double,
+ * as numpy's R @ c + t of the pose); NaN rows and valid False where the
+ * frame cannot be registered. One C loop instead of F register() calls. */
+static PyObject *Cluster_place(ClusterObject *self, PyObject *args)
+{
+    PyObject *fo, *ca, *aa, *va;
+    double c[3], ax[3];
+    frames_t f;
+    npy_intp dim[2];
+    size_t i;
+    if (!PyArg_ParseTuple(args, "O(ddd)(ddd)", &fo, &c[0], &c[1], &c[2], &ax[0], &ax[1],
+                          &ax[2])
+        || frames_get(fo, &f, "Cluster._place", 1) < 0) {
+        return NULL;
+    }
+    if (f.count != (size_t)self->cl.count) {
+        Py_DECREF(f.arr);
+        return raise_arg("Cluster._place: %zu markers, the template has %lu", f.count,
+                         (unsigned long)self->cl.count);
+    }
+    dim[0] = (npy_intp)f.nframes;
+    dim[1] = 3;
+    ca = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
+    aa = PyArray_SimpleNew(2, dim, NPY_FLOAT64);
+    va = PyArray_SimpleNew(1, dim, NPY_BOOL);
+    if (ca == NULL || aa == NULL || va == NULL) {
+        Py_XDECREF(ca);
+        Py_XDECREF(aa);
+        Py_XDECREF(va);
+        Py_DECREF(f.arr);
+        return NULL;
+    }
+    {
+        double *cd = (double *)PyArray_DATA((PyArrayObject *)ca);
+        double *ad = (double *)PyArray_DATA((PyArrayObject *)aa);
+        npy_bool *vd = (npy_bool *)PyArray_DATA((PyArrayObject *)va);
+        Py_BEGIN_ALLOW_THREADS
+        for (i = 0; i < f.nframes; i++) {
+            sfit_pose_t pose;
+            sfit_cluster_fit_t fit;
+            const sfit_status_t st =
+                sfit_cluster_register(&self->cl, f.v + i * f.count, f.count, &pose, &fit);
+            int r;
+            vd[i] = (npy_bool)(st == SFIT_OK);
+            for (r = 0; r < 3; r++) {
+                double pc = NAN, pa = NAN;
+                if (st == SFIT_OK) {
+                    const float *row = &pose.r.m[3 * r];
+                    pc = (double)row[0] * c[0] + (double)row[1] * c[1] + (double)row[2] * c[2];
+                    pa = (double)row[0] * ax[0] + (double)row[1] * ax[1] + (double)row[2] * ax[2];
+                    pc += (double)pose.t.v[r];
+                }
+                cd[3 * i + (size_t)r] = pc;
+                ad[3 * i + (size_t)r] = pa;
+            }
+        }
+        Py_END_ALLOW_THREADS
+    }
+    Py_DECREF(f.arr);
+    return Py_BuildValue("(NNN)", ca, aa, va);
+}
+
 static PyObject *Cluster_get_positions(ClusterObject *self, void *closure)
 {
     npy_intp dim[2];
@@ -1948,6 +2061,8 @@ static PyMethodDef Cluster_methods[] = {
     {"_from_frames", (PyCFunction)Cluster_from_frames, METH_O | METH_CLASS,
      "Internal: see Cluster.from_frames."},
     {"_register", (PyCFunction)Cluster_register, METH_O, "Internal: see Cluster.register."},
+    {"_place", (PyCFunction)Cluster_place, METH_VARARGS,
+     "Internal: a segment-frame point and direction in every frame (joint_center)."},
     {NULL, NULL, 0, NULL}};
 
 static PyGetSetDef Cluster_getset[] = {

@@ -1382,3 +1382,59 @@ if __name__ == "__main__":
                                                  sum(len(c) for c in build_cases().values())))
     else:
         run_child(sys.argv[1])
+
+
+_LYING_CHILD = r"""
+import resource, sys
+import numpy as np
+import sfit
+
+class Lying:
+    '''Claims 10**9 markers; holds two good ones.'''
+    def __init__(self, items):
+        self.items = items
+    def __len__(self):
+        return 10 ** 9
+    def __length_hint__(self):
+        return 10 ** 9
+    def __getitem__(self, i):
+        if i >= len(self.items):
+            raise IndexError(i)
+        return self.items[i]
+
+rng = np.random.default_rng(1)
+def sphere(c):
+    u = rng.normal(size=(200, 3))
+    return c + 50.0 * u / np.linalg.norm(u, axis=1)[:, None]
+good = [sphere(np.zeros(3)), sphere(np.zeros(3))]
+out = []
+try:
+    sfit.fit_multi(Lying([[1.0, 2.0, 3.0]] * 2))
+    out.append("bad items: no error")
+except sfit.ArgError:
+    out.append("bad items: ArgError")
+r = sfit.fit_multi(Lying(good))
+out.append("good items: %d markers" % len(r.radii))
+try:
+    sfit.fit_multi(good[0] for _ in range(10 ** 9))
+    out.append("endless: no error")
+except sfit.ArgError:
+    out.append("endless: ArgError")
+print(";".join(out))
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)  # kB on Linux
+"""
+
+
+def test_fit_multi_never_trusts_a_length():
+    """A sequence whose __len__ claims 10**9 markers: fit_multi reads the
+    items there are (an ArgError for bad ones, a fit for good ones), an
+    endless generator stops at the item cap; the process stays small."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
+    out = subprocess.run([sys.executable, "-c", _LYING_CHILD], capture_output=True, text=True,
+                         env=env, timeout=300)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.split()
+    res, peak_kb = " ".join(lines[:-1]), int(lines[-1])
+    assert res == "bad items: ArgError;good items: 2 markers;endless: ArgError", res
+    assert peak_kb < 500 * 1024, "peak %d kB" % peak_kb
