@@ -17,6 +17,7 @@
  */
 #include "test_cmocka.h"
 
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -531,12 +532,62 @@ static void test_errors(void **state)
     assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
 }
 
-int main(void)
+/* test_imu --write-csv FILE ball|hinge|still [SEED]: one noisy trial as the
+ * CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
+ * and the worked example of docs/imu.md). */
+static int write_csv(const char *path, const char *kind, unsigned long seed)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    FILE *f;
+    int k, s, i;
+    const int kd = (strcmp(kind, "hinge") == 0) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
+    tu_rng_seed(&g, seed);
+    make_motion(&g, kd, &m);
+    make_signals(&g, &m, 1);
+    f = fopen(path, "w");
+    if (f == NULL) {
+        return 3;
+    }
+    fprintf(f, "time,acc1_x,acc1_y,acc1_z,gyr1_x,gyr1_y,gyr1_z,acc2_x,acc2_y,acc2_z,gyr2_x,"
+               "gyr2_y,gyr2_z\n");
+    for (k = 0; k < NS; k++) {
+        fprintf(f, "%.4f", (double)k / RATE);
+        for (s = 0; s < 2; s++) {
+            for (i = 0; i < 3; i++) {
+                fprintf(f, ",%.5f", g_acc[s][k][i]);
+            }
+            for (i = 0; i < 3; i++) {
+                fprintf(f, ",%.6f", g_gyr[s][k][i]);
+            }
+        }
+        fprintf(f, "\n");
+    }
+    fclose(f);
+    printf("{\"r1\":[%.6f,%.6f,%.6f],\"r2\":[%.6f,%.6f,%.6f]", m.r1[0], m.r1[1], m.r1[2],
+           m.r2[0], m.r2[1], m.r2[2]);
+    if (kd == 1) {
+        double p1[3], p2[3];
+        axis_point(m.r1, g_j1, p1);
+        axis_point(m.r2, g_j2, p2);
+        printf(",\"axis1\":[%.6f,%.6f,%.6f],\"axis2\":[%.6f,%.6f,%.6f],"
+               "\"point1\":[%.6f,%.6f,%.6f],\"point2\":[%.6f,%.6f,%.6f]",
+               g_j1[0], g_j1[1], g_j1[2], g_j2[0], g_j2[1], g_j2[2], p1[0], p1[1], p1[2], p2[0],
+               p2[1], p2[2]);
+    }
+    printf("}\n");
+    return 0;
+}
+
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
         cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_errors),
     };
+    if (argc >= 4 && strcmp(argv[1], "--write-csv") == 0) {
+        return write_csv(argv[2], argv[3], argc >= 5 ? strtoul(argv[4], NULL, 10) : 4242ul);
+    }
     return cmocka_run_group_tests_name("imu", tests, NULL, NULL);
 }
