@@ -423,7 +423,7 @@ static void test_vs_reference(void **state)
     /* the same estimator on 128 kept samples against every sample */
     assert_true(worst_lib < 0.01);
     assert_true(worst_ref[2] < 0.005);
-    assert_true(worst[2] < 0.006);
+    assert_true(worst[2] < 0.01);
 }
 
 /* Monte Carlo, knee-like hinge. */

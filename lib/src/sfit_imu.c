@@ -40,6 +40,7 @@
 #define IMU_STEP_R 1e-5f    /* Gauss-Newton settled: position step (m) */
 #define IMU_STEP_B 1e-4f    /* ... bias step (m/s^2) */
 #define IMU_STEP_J 1e-6f    /* ... axis step (rad) */
+#define IMU_UPHILL_TOL 1e-4f /* a rise of the objective below this (relative) is rounding */
 #define IMU_WEIGHT_FLOOR 1e-3f /* added to |w1|^2 + |w2|^2 (rad^2/s^2): quiet samples count */
 #define IMU_RNG_SEED 0x9E3779B9u
 
@@ -138,21 +139,33 @@ static float prv_uniform(sfit_imu_t *s)
     return (float)(x >> 8) * (1.0f / 16777216.0f);
 }
 
-/* Buffer full: merge adjacent windows (one of the two samples stays, with
- * the probability of its window's weight, so that the kept sample is still
- * drawn from the merged window in proportion to the weights), the freed
- * slots go after them, windows twice as long. */
+/* A pair of windows (2j, 2j+1) just closed: draw which of the two samples
+ * stays when the buffer is next compacted, with the probability of its
+ * window's weight (the kept sample is then still drawn from the merged
+ * window in proportion to the weights); the winner goes first, with the
+ * merged weight. Done at once, so that the compaction only moves bytes. */
+static void prv_pair_decide(sfit_imu_t *s, uint32_t j)
+{
+    const uint8_t a = s->order[2u * j], b = s->order[2u * j + 1u];
+    const float wsum = s->score[a] + s->score[b];
+    if (prv_uniform(s) * wsum < s->score[b]) {
+        s->order[2u * j] = b;
+        s->order[2u * j + 1u] = a;
+        s->score[b] = wsum;
+    } else {
+        s->score[a] = wsum;
+    }
+}
+
+/* Buffer full: the winners of the decided pairs first (in time order), the
+ * freed slots after them, windows twice as long. */
 static void prv_compact(sfit_imu_t *s)
 {
     uint8_t lose[SFIT_IMU_KEEP / 2];
     uint32_t j;
     for (j = 0u; j < (uint32_t)SFIT_IMU_KEEP / 2u; j++) {
-        const uint8_t a = s->order[2u * j], b = s->order[2u * j + 1u];
-        const float wsum = s->score[a] + s->score[b];
-        const int bwins = prv_uniform(s) * wsum < s->score[b];
-        s->order[j] = bwins ? b : a;
-        lose[j] = bwins ? a : b;
-        s->score[s->order[j]] = wsum;
+        lose[j] = s->order[2u * j + 1u];
+        s->order[j] = s->order[2u * j];
     }
     for (j = 0u; j < (uint32_t)SFIT_IMU_KEEP / 2u; j++) {
         s->order[(uint32_t)SFIT_IMU_KEEP / 2u + j] = lose[j];
@@ -235,6 +248,9 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x)
     if (s->wpos == s->stride) {
         s->wpos = 0u;
         s->nfull++;
+        if ((s->nfull & 1u) == 0u) {
+            prv_pair_decide(s, s->nfull / 2u - 1u);
+        }
         if (s->nfull == (uint32_t)SFIT_IMU_KEEP) {
             prv_compact(s);
         }
@@ -427,20 +443,26 @@ static float prv_pred(const sfit_imu_t *s, const prv_used_t *u, const float x[IM
 static SFIT_I_NOINLINE sfit_status_t prv_ball_solve(const sfit_imu_t *s, const prv_used_t *u,
                                                     prv_ball_t *b)
 {
-    float a[IMU_NP * IMU_NP], g[IMU_NP], pr[IMU_NP], prev[IMU_NP], s2 = 0.0f, ssr;
+    float a[IMU_NP * IMU_NP], g[IMU_NP], pr[IMU_NP], prev[IMU_NP], xprev[IMU_NP];
+    float s2 = 0.0f, s2prev, ssr = 0.0f, fprev = 0.0f;
     const uint32_t np = (s->cfg.acc_bias_sd > 0.0f) ? 12u : 6u;
     uint32_t it, i;
     int settled = 0;
     memset(b, 0, sizeof *b);
     memset(prev, 0, sizeof prev);
+    memset(xprev, 0, sizeof xprev);
     for (i = 0u; i < np; i++) {
         pr[i] = (i < 6u) ? 1.0f / (IMU_R_PRIOR * IMU_R_PRIOR)
                          : 1.0f / (s->cfg.acc_bias_sd * s->cfg.acc_bias_sd);
     }
     for (it = 0u; it <= (uint32_t)SFIT_IMU_GN_ITERS; it++) {
-        float step_r = 0.0f, step_b = 0.0f;
+        float step_r = 0.0f, step_b = 0.0f, f;
         ssr = prv_ball_normal(u, b->x, np, a, g);
         b->pred = prv_pred(s, u, b->x);
+        /* the priors' weight: the residual variance, never below the noise's
+         * prediction (strong while the fit is far off: a continuation that
+         * keeps the first steps near the priors) */
+        s2prev = s2;
         s2 = ssr / (float)(u->n - 6u);
         if (!(s2 >= b->pred)) {
             s2 = b->pred;
@@ -449,6 +471,20 @@ static SFIT_I_NOINLINE sfit_status_t prv_ball_solve(const sfit_imu_t *s, const p
             return SFIT_E_RANGE;
         }
         b->ssr = ssr;
+        f = ssr;
+        for (i = 0u; i < np; i++) {
+            f += s2 * pr[i] * b->x[i] * b->x[i];
+        }
+        if (it > 0u && !settled && f > fprev * (1.0f + IMU_UPHILL_TOL) &&
+            SFIT_FABSF(s2 - s2prev) <= IMU_UPHILL_TOL * s2) {
+            /* the last step went uphill (on the same objective): back to half of it */
+            for (i = 0u; i < np; i++) {
+                b->x[i] = 0.5f * (b->x[i] + xprev[i]);
+            }
+            continue;
+        }
+        fprev = f;
+        memcpy(xprev, b->x, sizeof xprev);
         for (i = 0u; i < np; i++) {
             a[i * IMU_NP + i] += s2 * pr[i];
             g[i] = -(g[i] + s2 * pr[i] * b->x[i]);

@@ -401,12 +401,12 @@
 #error "SFIT_IMU_DIFF_MAX must be in 1..16"
 #endif
 
-/** @brief Gauss-Newton iterations of each IMU joint solve. Range 3..50. */
+/** @brief Gauss-Newton iterations of each IMU joint solve. Range 8..60. */
 #ifndef SFIT_IMU_GN_ITERS
-#define SFIT_IMU_GN_ITERS 20
+#define SFIT_IMU_GN_ITERS 30
 #endif
-#if (SFIT_IMU_GN_ITERS < 3) || (SFIT_IMU_GN_ITERS > 50)
-#error "SFIT_IMU_GN_ITERS must be in 3..50"
+#if (SFIT_IMU_GN_ITERS < 8) || (SFIT_IMU_GN_ITERS > 60)
+#error "SFIT_IMU_GN_ITERS must be in 8..60"
 #endif
 
 #endif /* SFIT_CONFIG_H */
