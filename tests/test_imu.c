@@ -486,6 +486,42 @@ static void test_no_motion(void **state)
                                             (r.flags & SFIT_IMU_FLAG_LOW_ROTATION)));
 }
 
+/* A sensor that slips on its segment halfway (5 cm and 20 degrees): the
+ * rigid model no longer holds, the residual is far above the noise. */
+static void test_slip(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m, m2;
+    sfit_imu_result_t r;
+    double ax[3] = {0.3, -0.5, 0.8}, rot[9], c[9];
+    static double a2[NS][3], w2[NS][3];
+    int k, i;
+    (void)state;
+    tu_rng_seed(&g, 4208u);
+    make_motion(&g, 0, &m);
+    m2 = m;
+    m2.r2[0] += 0.05;
+    tu_rot_axis_angle(ax, 20.0 * DEG, rot);
+    for (i = 0; i < 9; i++) {
+        c[i] = m.c2[3 * (i / 3)] * rot[i % 3] + m.c2[3 * (i / 3) + 1] * rot[3 + i % 3] +
+               m.c2[3 * (i / 3) + 2] * rot[6 + i % 3];
+    }
+    memcpy(m2.c2, c, sizeof c);
+    make_signals(&g, &m2, 1);
+    memcpy(a2, g_acc[1], sizeof a2);
+    memcpy(w2, g_gyr[1], sizeof w2);
+    make_signals(&g, &m, 1);
+    for (k = NS / 2; k < NS; k++) {
+        memcpy(g_acc[1][k], a2[k], sizeof a2[k]);
+        memcpy(g_gyr[1][k], w2[k], sizeof w2[k]);
+    }
+    assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+    print_message("slip: resid %.4f, noise %.4f m/s^2, flags 0x%x\n", (double)r.resid_rms,
+                  (double)r.noise_rms, (unsigned)r.flags);
+    assert_true((r.flags & SFIT_IMU_FLAG_SLIP) != 0u);
+    assert_true((r.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+}
+
 /* Every status; a rejected sample leaves the state's bytes unchanged. */
 static void test_errors(void **state)
 {
@@ -584,7 +620,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
         cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
-        cmocka_unit_test(test_no_motion), cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
     if (argc >= 4 && strcmp(argv[1], "--write-csv") == 0) {
         return write_csv(argv[2], argv[3], argc >= 5 ? strtoul(argv[4], NULL, 10) : 4242ul);

@@ -837,12 +837,14 @@ static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
         }
     }
     for (i = 0u; i < 3u; i++) {
-        for (k = 0u; k < 3u; k++) {
-            float acc = 0.0f;
+        for (k = 0u; k <= i; k++) {
+            float acc = 0.0f, acc2 = 0.0f;
             for (l = 0u; l < 3u; l++) {
                 acc += t[3u * i + l] * pm[3u * k + l];
+                acc2 += t[3u * k + l] * pm[3u * i + l];
             }
-            c->m[3u * i + k] = acc;
+            c->m[3u * i + k] = 0.5f * (acc + acc2); /* symmetric to the last bit */
+            c->m[3u * k + i] = c->m[3u * i + k];
         }
     }
 }
