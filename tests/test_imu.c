@@ -229,7 +229,7 @@ static void axis_point(const double r[3], const double j[3], double p[3])
 
 static double axis_angle_deg(const sfit_vec3_t *a, const double j[3])
 {
-    double v[3] = {a->v[0], a->v[1], a->v[2]};
+    double v[3] = {(double)a->v[0], (double)a->v[1], (double)a->v[2]};
     double c = fabs(tu_dot3(v, j)) / tu_norm3(v);
     return acos(c > 1.0 ? 1.0 : c) / DEG;
 }
@@ -398,8 +398,8 @@ static void test_vs_reference(void **state)
         worst_lib = fmax(worst_lib, fmax(err3(&r.r1, m.r1, e), err3(&r.r2, m.r2, e)));
         for (v = 0; v < 3; v++) {
             double q1[3], q2[3], cov[36], rms;
-            const double f1[3] = {r.r1.v[0], r.r1.v[1], r.r1.v[2]},
-                         f2[3] = {r.r2.v[0], r.r2.v[1], r.r2.v[2]};
+            const double f1[3] = {(double)r.r1.v[0], (double)r.r1.v[1], (double)r.r1.v[2]},
+                         f2[3] = {(double)r.r2.v[0], (double)r.r2.v[1], (double)r.r2.v[2]};
             c0 = clock();
             assert_int_equal(ref_imu_ball_gn((const double(*)[3])g_acc[0],
                                              (const double(*)[3])g_gyr[0],
