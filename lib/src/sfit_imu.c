@@ -920,7 +920,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
         /* the SD of the joint position along the line (j1, +-j2): where the
          * axes would let the joint slide. Of the two signs of j2, the one
          * of the same physical axis is the freer line. */
-        float best = -1.0f;
+        float best = 0.0f;
         int sg;
         for (sg = 0; sg < 2; sg++) {
             float v[IMU_NP], w[IMU_NP], var;
