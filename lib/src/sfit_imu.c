@@ -770,6 +770,8 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
     float a[4u * IMU_NP], g[4], t[4][3], st[4][2][3], best = -1.0f, ww = 0.0f, ssr;
     uint32_t k, i, big = 0u, ns = 0u;
     memset(h, 0, sizeof *h);
+    memset(t, 0, sizeof t);
+    memset(a, 0, sizeof a);
     /* starts: the lifted solution, the main rotation axis of each sensor, mixed */
     prv_rate_axis(u, 3u, st[0][0]);
     prv_rate_axis(u, 12u, st[0][1]);
