@@ -31,7 +31,7 @@
 #include "sfit/sfit_mat3.h"
 #include "sfit_float.h"
 
-#define IMU_NP 12           /* unknowns of the ball solve (row stride of the matrices) */
+#define IMU_NP 12u          /* unknowns of the ball solve (row stride of the matrices) */
 #define IMU_NREC 18         /* floats of a kept sample */
 #define IMU_MIN_USED 32u    /* kept samples a solve needs */
 #define IMU_R_PRIOR 0.1f    /* prior SD of a joint position (m): holds a hinge's free line */
@@ -75,7 +75,7 @@ static int prv_cfg_ok(const sfit_imu_cfg_t *c)
 /* The counters and indices a call relies on (a garbage state is refused). */
 static int prv_state_ok(const sfit_imu_t *s)
 {
-    return prv_pos(s->rate) && prv_pos(s->dscale) && s->h >= 1u && s->h <= SFIT_IMU_DIFF_MAX &&
+    return prv_pos(s->rate) && prv_pos(s->dscale) && s->h >= 1u && s->h <= (uint32_t)SFIT_IMU_DIFF_MAX &&
            s->head < 2u * s->h + 1u && s->stride >= 1u && s->wpos < s->stride &&
            s->nfull < (uint32_t)SFIT_IMU_KEEP && s->order[s->nfull] < (uint8_t)SFIT_IMU_KEEP &&
            s->nd <= s->n && s->rng != 0u && prv_cfg_ok(&s->cfg);
@@ -185,9 +185,9 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x)
         return SFIT_E_ARG;
     }
     memcpy(v, x->acc1.v, sizeof x->acc1.v);
-    memcpy(v + 3, x->gyr1.v, sizeof x->gyr1.v);
-    memcpy(v + 6, x->acc2.v, sizeof x->acc2.v);
-    memcpy(v + 9, x->gyr2.v, sizeof x->gyr2.v);
+    memcpy(&v[3], x->gyr1.v, sizeof x->gyr1.v);
+    memcpy(&v[6], x->acc2.v, sizeof x->acc2.v);
+    memcpy(&v[9], x->gyr2.v, sizeof x->gyr2.v);
     for (i = 0u; i < 12u; i++) {
         if (!sfit_i_isfinite(v[i])) {
             return SFIT_E_NONFINITE;
@@ -225,8 +225,8 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x)
             rec[15u + i] += s->dw[k - 1u] * (pa[9u + i] - pb[9u + i]);
         }
     }
-    q1 = prv_dot(rec + 3, rec + 3);
-    q2 = prv_dot(rec + 12, rec + 12);
+    q1 = prv_dot(&rec[3], &rec[3]);
+    q2 = prv_dot(&rec[12], &rec[12]);
     sc = q1 + q2 + IMU_WEIGHT_FLOOR;
     s->wsum1 += q1;
     s->wsum2 += q2;
@@ -297,7 +297,7 @@ static int prv_chol(float *a, uint32_t n)
 /* L L^T x = b, in place */
 static void prv_chol_solve(const float *l, uint32_t n, float *b)
 {
-    uint32_t i, k;
+    uint32_t i, k, ii;
     for (i = 0u; i < n; i++) {
         float t = b[i];
         for (k = 0u; k < i; k++) {
@@ -305,8 +305,10 @@ static void prv_chol_solve(const float *l, uint32_t n, float *b)
         }
         b[i] = t / l[i * IMU_NP + i];
     }
-    for (i = n; i-- > 0u;) {
-        float t = b[i];
+    for (ii = 0u; ii < n; ii++) {
+        float t;
+        i = n - 1u - ii;
+        t = b[i];
         for (k = i + 1u; k < n; k++) {
             t -= l[k * IMU_NP + i] * b[k];
         }
@@ -355,8 +357,8 @@ static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP
 {
     float v1[3], v2[3], n1, n2, i1, i2;
     uint32_t i;
-    prv_g(k + 3, k + 6, x, 1.0f, v1);
-    prv_g(k + 12, k + 15, x + 3, 1.0f, v2);
+    prv_g(&k[3], &k[6], x, 1.0f, v1);
+    prv_g(&k[12], &k[15], &x[3], 1.0f, v2);
     for (i = 0u; i < 3u; i++) {
         v1[i] += k[i] - x[6u + i];
         v2[i] += k[9u + i] - x[9u + i];
@@ -373,8 +375,8 @@ static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP
         v1[i] *= i1;
         v2[i] *= i2;
     }
-    prv_g(k + 3, k + 6, v1, -1.0f, jr);
-    prv_g(k + 12, k + 15, v2, -1.0f, jr + 3);
+    prv_g(&k[3], &k[6], v1, -1.0f, jr);
+    prv_g(&k[12], &k[15], v2, -1.0f, &jr[3]);
     for (i = 0u; i < 3u; i++) {
         jr[3u + i] = -jr[3u + i];
         jr[6u + i] = -v1[i];
@@ -429,14 +431,14 @@ static float prv_pred(const sfit_imu_t *s, const prv_used_t *u, const float x[IM
     }
     sd = c->gyr_noise * SFIT_SQRTF(q);
     for (t = 0u; t < u->n; t++) {
-        w1 += prv_dot(u->k[t] + 3, u->k[t] + 3);
-        w2 += prv_dot(u->k[t] + 12, u->k[t] + 12);
+        w1 += prv_dot(&u->k[t][3], &u->k[t][3]);
+        w2 += prv_dot(&u->k[t][12], &u->k[t][12]);
     }
     w1 /= (float)u->n;
     w2 /= (float)u->n;
     return 2.0f * c->acc_noise * c->acc_noise +
            (2.0f / 3.0f) * (prv_dot(x, x) * (sd * sd + 4.0f * c->gyr_noise * c->gyr_noise * w1) +
-                            prv_dot(x + 3, x + 3) *
+                            prv_dot(&x[3], &x[3]) *
                                 (sd * sd + 4.0f * c->gyr_noise * c->gyr_noise * w2));
 }
 
@@ -582,10 +584,10 @@ static SFIT_I_NOINLINE int prv_hinge_lift(const prv_used_t *u, float j1[3], floa
     memset(a, 0, sizeof a);
     memset(b, 0, sizeof b);
     for (t = 0u; t < u->n; t++) {
-        const float *w1 = u->k[t] + 3, *w2 = u->k[t] + 12;
+        const float *w1 = &u->k[t][3], *w2 = &u->k[t][12];
         const float rhs = prv_dot(w1, w1) - prv_dot(w2, w2);
         prv_phi(w1, 1.0f, row);
-        prv_phi(w2, -1.0f, row + 6);
+        prv_phi(w2, -1.0f, &row[6]);
         for (i = 0u; i < IMU_NP; i++) {
             b[i] += row[i] * rhs;
             for (k = 0u; k <= i; k++) {
@@ -613,7 +615,7 @@ static SFIT_I_NOINLINE int prv_hinge_lift(const prv_used_t *u, float j1[3], floa
     }
     prv_chol_solve(a, IMU_NP, b);
     prv_top_axis(b, j1);
-    prv_top_axis(b + 6, j2);
+    prv_top_axis(&b[6], j2);
     return 1;
 }
 
@@ -692,7 +694,7 @@ static float prv_hinge_pass(const prv_used_t *u, const float j1[3], const float 
     memset(g, 0, 4u * sizeof(float));
     for (k = 0u; k < u->n; k++) {
         float g1[3], g2[3], jr[4];
-        const float e = prv_wxj(u->k[k] + 3, j1, g1) - prv_wxj(u->k[k] + 12, j2, g2);
+        const float e = prv_wxj(&u->k[k][3], j1, g1) - prv_wxj(&u->k[k][12], j2, g2);
         jr[0] = prv_dot(g1, t[0]);
         jr[1] = prv_dot(g1, t[1]);
         jr[2] = -prv_dot(g2, t[2]);
@@ -754,7 +756,7 @@ static void prv_rate_axis(const prv_used_t *u, uint32_t off, float j[3])
     float q[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
     uint32_t k;
     for (k = 0u; k < u->n; k++) {
-        const float *w = u->k[k] + off;
+        const float *w = &u->k[k][off];
         q[0] += w[0] * w[0];
         q[1] += w[1] * w[1];
         q[2] += w[2] * w[2];
@@ -792,7 +794,7 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
         }
     }
     for (k = 0u; k < u->n; k++) {
-        ww += 0.5f * (prv_dot(u->k[k] + 3, u->k[k] + 3) + prv_dot(u->k[k] + 12, u->k[k] + 12));
+        ww += 0.5f * (prv_dot(&u->k[k][3], &u->k[k][3]) + prv_dot(&u->k[k][12], &u->k[k][12]));
     }
     ssr = (best >= 0.0f) ? prv_hinge_pass(u, h->j1, h->j2, t, a, g) : 0.0f;
     if (best < 0.0f || !(ww > 0.0f) || !prv_chol(a, 4u)) {
@@ -908,9 +910,9 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     r.n = s->n;
     r.used = u.n;
     memcpy(r.r1.v, b.x, sizeof r.r1.v);
-    memcpy(r.r2.v, b.x + 3, sizeof r.r2.v);
-    memcpy(r.acc_bias1.v, b.x + 6, sizeof r.acc_bias1.v);
-    memcpy(r.acc_bias2.v, b.x + 9, sizeof r.acc_bias2.v);
+    memcpy(r.r2.v, &b.x[3], sizeof r.r2.v);
+    memcpy(r.acc_bias1.v, &b.x[6], sizeof r.acc_bias1.v);
+    memcpy(r.acc_bias2.v, &b.x[9], sizeof r.acc_bias2.v);
     r.r1_cov = b.c1;
     r.r2_cov = b.c2;
     memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
@@ -934,7 +936,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
             }
             memcpy(w, v, sizeof w);
             prv_chol_solve(b.l, b.np, w);
-            var = SFIT_FABSF(b.s2 * (prv_dot(v, w) + prv_dot(v + 3, w + 3)));
+            var = SFIT_FABSF(b.s2 * (prv_dot(v, w) + prv_dot(&v[3], &w[3])));
             if (var > best) {
                 best = var;
                 if (sg == 1) {
