@@ -71,13 +71,19 @@ static void test_pair(void **state)
     run_programs(107u, 1500, 6u, 2048u);
 }
 
+static void test_imu(void **state)
+{
+    (void)state;
+    run_programs(108u, 300, 7u, 4096u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_moments), cmocka_unit_test(test_incr),
         cmocka_unit_test(test_gate),    cmocka_unit_test(test_cluster),
         cmocka_unit_test(test_joint),   cmocka_unit_test(test_multi),
-        cmocka_unit_test(test_pair),
+        cmocka_unit_test(test_pair),    cmocka_unit_test(test_imu),
     };
     return cmocka_run_group_tests_name("garbage", tests, NULL, NULL);
 }

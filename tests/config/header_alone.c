@@ -32,6 +32,9 @@
 #if SFIT_CLUSTER_MAX_MARKERS != 12 || SFIT_JOINT_MAX_CHILD != 6 || SFIT_CLUSTER_TRACK_STEPS != 4
 #error "user configuration not seen (cluster / joint knobs)"
 #endif
+#if SFIT_IMU_KEEP != 64 || SFIT_IMU_DIFF_MAX != 4 || SFIT_IMU_GN_ITERS != 15
+#error "user configuration not seen (IMU joint knobs)"
+#endif
 
 /* The float knobs, read once so that a typo in a default is compiled. */
 float sfit_test_float_knobs(void);

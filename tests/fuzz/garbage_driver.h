@@ -13,8 +13,9 @@
  * SFIT_OK and then finite, the gate's noise_var finite and >= 0.
  *
  * Program: [target] [fill] state bytes ... [ops]...
- *   target % 7: 0 accumulator, 1 incremental, 2 gate, 3 cluster + pose,
- *               4 joint, 5 accumulator array for sfit_multi_fit, 6 pair
+ *   target % 8: 0 accumulator, 1 incremental, 2 gate, 3 cluster + pose,
+ *               4 joint, 5 accumulator array for sfit_multi_fit, 6 pair,
+ *               7 IMU joint
  *   fill % 3:   0 every byte of the state from the input;
  *               1 a valid state (a few samples), then `k` patches: an
  *                 aligned word offset (2 bytes) and a value from a table of
@@ -29,6 +30,7 @@
 
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_gate.h"
+#include "sfit/sfit_imu.h"
 #include "sfit/sfit_incr.h"
 #include "sfit/sfit_joint.h"
 #include "sfit/sfit_multi.h"
@@ -665,11 +667,62 @@ static inline void fz_g_pair(fz_in_t *in, uint8_t fill)
     }
 }
 
+static inline void fz_g_imu(fz_in_t *in, uint8_t fill)
+{
+    static sfit_imu_t s, before;
+    int ops;
+    (void)sfit_imu_init(&s, 200.0f, NULL);
+    if (fill == 1u) {
+        /* a valid state that has kept samples, then patched */
+        int i;
+        for (i = 0; i < 200; i++) {
+            const float t = (float)i * 0.005f;
+            sfit_imu_sample_t x = {{{sinf(t), 0.5f, 9.8f}}, {{cosf(3.0f * t), 1.0f, 0.2f}},
+                                   {{0.3f, cosf(t), 9.7f}}, {{0.1f, sinf(2.0f * t), 2.0f}}};
+            (void)sfit_imu_add(&s, &x);
+        }
+    }
+    fz_g_fill(in, &s, sizeof s, fill);
+    for (ops = 0; ops < 32 && fz_more(in); ops++) {
+        const uint8_t op = fz_u8(in);
+        sfit_status_t st;
+        before = s;
+        if ((op % 3u) != 2u) {
+            sfit_imu_sample_t x;
+            int k;
+            for (k = 0; k < 3; k++) {
+                x.acc1.v[k] = fz_float(in);
+                x.gyr1.v[k] = fz_float(in);
+                x.acc2.v[k] = fz_float(in);
+                x.gyr2.v[k] = fz_float(in);
+            }
+            st = sfit_imu_add(&s, &x);
+            FZ_CHECK(fz_status_defined(st), "garbage: imu add status");
+            if (st != SFIT_OK) {
+                FZ_CHECK(memcmp(&s, &before, sizeof s) == 0, "garbage: imu add changed the state");
+            }
+        } else {
+            sfit_imu_result_t r;
+            memset(&r, FZ_SENTINEL, sizeof r);
+            st = sfit_imu_solve(&s, &r);
+            FZ_CHECK_OUT(st, r, "garbage: imu solve");
+            if (st == SFIT_OK) {
+                FZ_CHECK(fz_all_finite(r.r1.v, 3) && fz_all_finite(r.r2.v, 3)
+                             && fz_all_finite(r.r1_cov.m, 9) && fz_all_finite(r.r2_cov.m, 9)
+                             && fz_all_finite(r.axis1.v, 3) && fz_all_finite(r.axis2.v, 3)
+                             && fz_finite(r.resid_rms) && fz_finite(r.line_ratio),
+                         "garbage: imu solve OK with a non-finite output");
+            }
+            FZ_CHECK(memcmp(&s, &before, sizeof s) == 0, "garbage: imu solve changed the state");
+        }
+    }
+}
+
 /** Run one garbage-state program. */
 static inline void fz_garbage_run(const uint8_t *data, size_t size)
 {
     fz_in_t in = {data, size, 0u};
-    const uint8_t target = (uint8_t)(fz_u8(&in) % 7u);
+    const uint8_t target = (uint8_t)(fz_u8(&in) % 8u);
     const uint8_t fill = (uint8_t)(fz_u8(&in) % 3u);
     switch (target) {
     case 0:
@@ -690,8 +743,11 @@ static inline void fz_garbage_run(const uint8_t *data, size_t size)
     case 5:
         fz_g_multi(&in, fill);
         break;
-    default:
+    case 6:
         fz_g_pair(&in, fill);
+        break;
+    default:
+        fz_g_imu(&in, fill);
         break;
     }
 }

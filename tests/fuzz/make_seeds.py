@@ -569,10 +569,10 @@ def garbage_seeds():
     Every target with each fill mode, from a fixed-seed generator."""
     import random
     rnd = random.Random(19)
-    names = ["moments", "incr", "gate", "cluster", "joint", "multi", "pair"]
+    names = ["moments", "incr", "gate", "cluster", "joint", "multi", "pair", "imu"]
     out = {}
     for t, name in enumerate(names):
-        size = 2600 if name in ("gate", "joint", "pair") else 700
+        size = 2600 if name in ("gate", "joint", "pair", "imu") else 700
         for fill, how in enumerate(("bytes", "patched", "repeated")):
             body = bytes(rnd.getrandbits(8) for _ in range(size))
             out[f"{name}_{how}"] = bytes([t, fill]) + body
@@ -662,6 +662,21 @@ def skeleton_seeds():
         + raw(7, 2, 3e38, 2) + raw(8, 3, -1e12) + raw(9, 4, 1e-40),
         "short": rec([2, 2], frames=12),
     }
+def imu_seeds():
+    """fuzz_imu.c programs: [op][operands]... (enum fz_iop)."""
+    I_INIT, I_ADD, I_MOTION, I_SOLVE, I_GARB, I_NULLS = range(6)
+    out = {}
+    motion = b"".join(bytes([I_MOTION, 250, 40, 20]) for _ in range(12))
+    out["motion_solve"] = motion + bytes([I_SOLVE])
+    out["still_solve"] = b"".join(bytes([I_MOTION, 250, 0, 20]) for _ in range(4)) + bytes([I_SOLVE])
+    out["rate_100"] = bytes([I_INIT, 1]) + f(100.0) + motion + bytes([I_SOLVE])
+    out["bad_rate"] = bytes([I_INIT, 1]) + f(NAN) + bytes([I_INIT, 1]) + f(-5.0) + motion + bytes([I_SOLVE])
+    out["hostile_samples"] = motion + b"".join(bytes([I_ADD]) + f(v) * 12 for v in (NAN, INF, 1e30, -0.0)) \
+        + bytes([I_SOLVE])
+    out["options"] = bytes([I_INIT, 6]) + f(0.001) + f(0.0) + f(1e-6) + f(0.5) + f(2.0) + f(1.0) \
+        + f(1e-9) + motion + bytes([I_SOLVE])
+    out["garbage_solve"] = motion + bytes([I_GARB, 8, 0, 12]) + bytes(range(12)) + bytes([I_SOLVE, I_NULLS])
+    return out
 
 
 def main():
@@ -669,7 +684,8 @@ def main():
     for sub, seeds in (("stream", stream_seeds()), ("kernels", kernel_seeds()), ("beyond", beyond_seeds()),
                        ("joint", joint_seeds()), ("c3d", c3d_seeds()), ("table", table_seeds()),
                        ("garbage", garbage_seeds()), ("swaps", swaps_seeds()),
-                       ("pair", pair_seeds()), ("skeleton", skeleton_seeds())):
+                       ("pair", pair_seeds()), ("skeleton", skeleton_seeds()),
+                       ("imu", imu_seeds())):
         d = os.path.join(root, sub)
         os.makedirs(d, exist_ok=True)
         for name, data in sorted(seeds.items()):

@@ -21,6 +21,7 @@ void tt_beyond(void);
 void tt_joint(void);
 void tt_hostile(void);
 void tt_pair(void);
+void tt_imu(void);
 
 typedef void (*tt_suite_fn)(void);
 static const struct {
@@ -37,6 +38,7 @@ static const struct {
     {"joint", tt_joint},
     {"hostile", tt_hostile},
     {"pair", tt_pair},
+    {"imu", tt_imu},
 };
 
 static unsigned tt_pass;

@@ -28,6 +28,7 @@
  * DESIGN.md section 2), Gaussian-like noise sigma = 0.5 mm, from a fixed
  * LCG: identical on every run.
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -40,6 +41,7 @@
 #include "sfit/sfit_incr.h"
 #include "sfit/sfit_joint.h"
 #include "sfit/sfit_pair.h"
+#include "sfit/sfit_imu.h"
 #include "sfit/sfit_multi.h"
 #include "sfit/sfit_noise.h"
 
@@ -738,6 +740,125 @@ static void fc_pair_solve(void)
     fc_keep(sfit_pair_solve(&fc_pair, &fc_pres));
 }
 
+/* ---- the joint between two IMUs (sfit_imu.h): exact signals of a parent
+ * turning about its z axis and a child turning about its y axis on it,
+ * 200 Hz, generated in the driver (outside the counts). imu_add: per sample
+ * in the steady state (amortised over FC_NIMU samples, compactions
+ * included); imu_add_compact: the sample whose window fills the buffer;
+ * imu_solve: the solve of a full buffer. ---- */
+#define FC_NIMU 256u
+#define FC_IMU_TAB 512u /* one period of every signal: 2.56 s */
+static sfit_imu_sample_t fc_itab[FC_IMU_TAB];
+static sfit_imu_t fc_imu;
+static sfit_imu_result_t fc_ires;
+static unsigned fc_ik;
+
+static void fc_cross(const float a[3], const float b[3], float c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* G r = w x (w x r) + w' x r */
+static void fc_g(const float w[3], const float d[3], const float r[3], float o[3])
+{
+    float x[3], y[3], z[3];
+    int k;
+    fc_cross(w, r, x);
+    fc_cross(w, x, y);
+    fc_cross(d, r, z);
+    for (k = 0; k < 3; k++) {
+        o[k] = y[k] + z[k];
+    }
+}
+
+static void fc_imu_sample(unsigned k, sfit_imu_sample_t *x)
+{
+    static const float r1[3] = {0.12f, -0.2f, 0.05f}, r2[3] = {-0.03f, 0.08f, 0.27f};
+    const float t = (float)k * 0.005f, om = 4.9087385f, ob = 7.3631078f; /* 2, 3 periods */
+    const float al = 0.3f * sinf(om * t), ald = 0.3f * om * cosf(om * t),
+                aldd = -0.3f * om * om * sinf(om * t);
+    const float be = 0.5f * sinf(ob * t + 1.0f), bed = 0.5f * ob * cosf(ob * t + 1.0f),
+                bedd = -0.5f * ob * ob * sinf(ob * t + 1.0f);
+    const float ca = cosf(al), sa = sinf(al), cb = cosf(be), sb = sinf(be);
+    /* joint acceleration minus gravity, world: a sway and a bounce */
+    const float pw[3] = {-0.4f * sinf(om * t), -0.3f * cosf(0.5f * om * t), 9.81f - 0.5f * sinf(2.0f * om * t)};
+    float w1[3] = {0.0f, 0.0f, ald}, d1[3] = {0.0f, 0.0f, aldd};
+    float w2[3] = {-sb * ald, bed, cb * ald};
+    float d2[3] = {-sb * aldd - cb * bed * ald, bedd, cb * aldd - sb * bed * ald};
+    float f1[3], f2[3], g1[3], g2[3];
+    int i;
+    /* into the parent frame (R1 = Rz(al)), then the child's (R2 = R1 Ry(be)) */
+    f1[0] = ca * pw[0] + sa * pw[1];
+    f1[1] = -sa * pw[0] + ca * pw[1];
+    f1[2] = pw[2];
+    f2[0] = cb * f1[0] - sb * f1[2];
+    f2[1] = f1[1];
+    f2[2] = sb * f1[0] + cb * f1[2];
+    fc_g(w1, d1, r1, g1);
+    fc_g(w2, d2, r2, g2);
+    for (i = 0; i < 3; i++) {
+        x->acc1.v[i] = f1[i] - g1[i];
+        x->acc2.v[i] = f2[i] - g2[i];
+        x->gyr1.v[i] = w1[i];
+        x->gyr2.v[i] = w2[i];
+    }
+}
+
+static void fc_setup_imu(void)
+{
+    unsigned k;
+    for (k = 0; k < FC_IMU_TAB; k++) {
+        fc_imu_sample(k, &fc_itab[k]);
+    }
+}
+
+static void fc_imu_feed(unsigned n)
+{
+    unsigned i;
+    for (i = 0; i < n; i++) {
+        fc_keep(sfit_imu_add(&fc_imu, &fc_itab[fc_ik % FC_IMU_TAB]));
+        fc_ik++;
+    }
+}
+
+static void fc_prep_imu(void)
+{
+    fc_ik = 0u;
+    fc_keep(sfit_imu_init(&fc_imu, 200.0f, NULL));
+    fc_imu_feed(300u);
+}
+
+static void fc_imu_adds(void)
+{
+    fc_imu_feed(FC_NIMU);
+}
+
+static void fc_prep_imu_compact(void)
+{
+    fc_prep_imu();
+    while (!(fc_imu.nfull == (uint32_t)SFIT_IMU_KEEP - 1u && fc_imu.wpos == fc_imu.stride - 1u)) {
+        fc_imu_feed(1u);
+    }
+}
+
+static void fc_imu_add1(void)
+{
+    fc_imu_feed(1u);
+}
+
+static void fc_prep_imu_full(void)
+{
+    fc_prep_imu();
+    fc_imu_feed(400u);
+}
+
+static void fc_imu_solve(void)
+{
+    fc_keep(sfit_imu_solve(&fc_imu, &fc_ires));
+}
+
 /* ---- issue 30: the whole lower limb per frame -------------------------------
  * 7 segments (pelvis; right and left thigh, shank, foot: the left side the
  * right one mirrored, x -> -x) with 4 / 5 / 5 / 4 markers, 6 joints (hips,
@@ -932,6 +1053,9 @@ static const fc_op_t fc_ops[] = {
     {"pair_add_markers", "sfit_pair_add_markers", fc_prep_pair, fc_pair_frames_markers, NULL, NULL, FC_NJF},
     {"pair_solve", "sfit_pair_solve", fc_prep_pair_full, fc_pair_solve, NULL, NULL, 1u},
     {"pair_solve_score", "sfit_pair_solve", fc_prep_pair_full_score, fc_pair_solve, NULL, NULL, 1u},
+    {"imu_add", "sfit_imu_add", fc_prep_imu, fc_imu_adds, NULL, NULL, FC_NIMU},
+    {"imu_add_compact", "sfit_imu_add", fc_prep_imu_compact, fc_imu_add1, NULL, NULL, 1u},
+    {"imu_solve", "sfit_imu_solve", fc_prep_imu_full, fc_imu_solve, NULL, NULL, 1u},
     {"lower_limb_track_frame", "sfit_cluster_track", fc_prep_ll, fc_ll_track_frames, NULL, NULL, FC_LL_NF - 1u},
     {"lower_limb_calib_frame", "sfit_pair_add", fc_prep_ll, fc_ll_calib_frames, NULL, NULL, FC_LL_NF - 1u},
     {"lower_limb_register_frame", "sfit_cluster_register", fc_prep_ll, fc_ll_register_frames, NULL, NULL, FC_LL_NF - 1u},
@@ -961,6 +1085,7 @@ int main(void)
     fc_setup_joint();
     fc_setup_pair();
     fc_setup_lower_limb();
+    fc_setup_imu();
     printf("fcinfo sum_block %u\n", (unsigned)SFIT_SUM_BLOCK);
     printf("fcinfo npts %u\n", FC_NPTS);
     printf("fcinfo namort %u\n", (unsigned)FC_NAMORT);

@@ -39,3 +39,6 @@ FC_SIZE(sfit_joint_result_t);
 FC_SIZE(sfit_pair_t);
 FC_SIZE(sfit_pair_cfg_t);
 FC_SIZE(sfit_pair_result_t);
+FC_SIZE(sfit_imu_t);
+FC_SIZE(sfit_imu_cfg_t);
+FC_SIZE(sfit_imu_result_t);

@@ -44,6 +44,7 @@ ext = Extension(
     "sfit._sfit",
     sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
              os.path.join(HERE, "src", "swaps.c"), os.path.join(HERE, "src", "pair_py.c"),
+             os.path.join(HERE, "src", "imu_py.c"),
              os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c"),
              os.path.join(CLI_SRC, "cli_swaps.c")]
     # the lab session (session_py.c) and the CLI code it runs

@@ -205,5 +205,6 @@ int cli_cmd_skeleton(int argc, char **argv);
 int cli_cmd_c3d(int argc, char **argv);
 int cli_cmd_calibrate(int argc, char **argv); /* cmd_calibrate.c */
 int cli_cmd_apply(int argc, char **argv);     /* cmd_apply.c */
+int cli_cmd_imu(int argc, char **argv);       /* cmd_imu.c */
 
 #endif /* SFIT_CLI_H */

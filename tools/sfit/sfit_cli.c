@@ -26,6 +26,7 @@ static const cli_command_t commands[] = {
     {"calibrate", cli_cmd_calibrate, "every joint of a session model from its functional trial"},
     {"apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial"},
     {"c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table"},
+    {"imu-joint", cli_cmd_imu, "the joint between two IMUs: centre or hinge axis in each frame"},
 };
 
 /* The build system passes the project version (CMakeLists.txt project()). */

@@ -27,5 +27,6 @@
 #include "sfit_cluster.h"
 #include "sfit_joint.h"
 #include "sfit_pair.h"
+#include "sfit_imu.h"
 
 #endif /* SFIT_H */

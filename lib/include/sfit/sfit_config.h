@@ -378,4 +378,35 @@
 #error "SFIT_GATE_MAX_REJECT_PCT must be in 1..99"
 #endif
 
+/**
+ * @brief Samples the IMU joint keeps for its solve (sfit_imu.h): each one
+ * the most rotating sample of a window of the stream, the windows doubling
+ * as the stream grows. State: 76 bytes per sample. Range 32..254, even.
+ */
+#ifndef SFIT_IMU_KEEP
+#define SFIT_IMU_KEEP 128
+#endif
+#if (SFIT_IMU_KEEP < 32) || (SFIT_IMU_KEEP > 254) || (SFIT_IMU_KEEP % 2 != 0)
+#error "SFIT_IMU_KEEP must be even, in 32..254"
+#endif
+
+/**
+ * @brief Largest half-width, in samples, of the IMU joint's central
+ * difference of the angular rate (its ring holds 2 h + 1 samples). Range 1..16.
+ */
+#ifndef SFIT_IMU_DIFF_MAX
+#define SFIT_IMU_DIFF_MAX 8
+#endif
+#if (SFIT_IMU_DIFF_MAX < 1) || (SFIT_IMU_DIFF_MAX > 16)
+#error "SFIT_IMU_DIFF_MAX must be in 1..16"
+#endif
+
+/** @brief Gauss-Newton iterations of each IMU joint solve. Range 8..60. */
+#ifndef SFIT_IMU_GN_ITERS
+#define SFIT_IMU_GN_ITERS 30
+#endif
+#if (SFIT_IMU_GN_ITERS < 8) || (SFIT_IMU_GN_ITERS > 60)
+#error "SFIT_IMU_GN_ITERS must be in 8..60"
+#endif
+
 #endif /* SFIT_CONFIG_H */

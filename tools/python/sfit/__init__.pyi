@@ -304,3 +304,34 @@ def apply_session(session: Union[dict[str, Any], str, "os.PathLike[str]"],
                   trial: Union[str, "os.PathLike[str]", "Mapping[str, ArrayLike]"],
                   out: Optional[Union[str, "os.PathLike[str]"]] = None,
                   trc: Optional[Union[str, "os.PathLike[str]"]] = None) -> dict[str, Any]: ...
+
+# The joint between two IMUs (docs/imu.md)
+class ImuJointResult:
+    joint: Literal["ball", "hinge"]
+    r1: Vec3
+    r2: Vec3
+    r1_cov: Mat3
+    r2_cov: Mat3
+    axis1: Optional[Vec3]
+    axis2: Optional[Vec3]
+    axis1_cov: Optional[Mat3]
+    axis2_cov: Optional[Mat3]
+    acc_bias1: Vec3
+    acc_bias2: Vec3
+    resid_rms: float
+    noise_rms: float
+    hinge_ratio: float
+    line_sd: float
+    line_ratio: float
+    rate_rms1: float
+    rate_rms2: float
+    n: int
+    used: int
+    flags: list[str]
+    untrusted: bool
+    reason: Optional[str]
+    flags_mask: int
+    def to_dict(self) -> dict[str, Any]: ...
+
+def imu_joint(acc1: ArrayLike, gyr1: ArrayLike, acc2: ArrayLike, gyr2: ArrayLike,
+              rate: float) -> ImuJointResult: ...

@@ -33,6 +33,7 @@
 #include "sfit/sfit.h"
 #include "swaps.h" /* _label_swaps: tools/sfit/cli_swaps.c, for joint_center */
 #include "pair_py.h" /* the pair of segments: pair_py.c */
+#include "imu_py.h"  /* the joint between two IMUs: imu_py.c */
 #include "cli_refine.h" /* the recipe's flat result as the CLI prints it: tools/sfit */
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
@@ -2444,6 +2445,7 @@ static PyMethodDef module_methods[] = {
     {"_label_swaps", sfit_py_label_swaps, METH_VARARGS,
      "Internal: label swaps within one cluster (see sfit.joint_center)."},
     {"_pair_solve", sfit_py_pair_solve, METH_VARARGS, "Internal: see sfit.joint_center (pair_py.c)."},
+    {"_imu_joint", sfit_py_imu_joint, METH_VARARGS, "Internal: see sfit.imu_joint (imu_py.c)."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {
@@ -2456,7 +2458,7 @@ PyMODINIT_FUNC PyInit__sfit(void)
     PyObject *m;
     int i;
     import_array();
-    if (sfit_py_pair_import() < 0) {
+    if (sfit_py_pair_import() < 0 || sfit_py_imu_import() < 0) {
         return NULL;
     }
     if (PyType_Ready(&MomentsType) < 0 || PyType_Ready(&IncrType) < 0) {

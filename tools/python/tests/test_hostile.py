@@ -653,6 +653,7 @@ def build_cases():
            "Uncertainty": sfit.uncertainty(P, c0, 10.0, 1e-3), "RefineResult": sfit.refine(P, c0),
            "Estimate": fresh_i().estimate(), "Track": sfit.Incremental().track(P)}
     res["C3D"] = sfit.read_c3d(_C3D_HIP)
+    _imu_cases(T, res)
     if HAVE_JOINT:
         tpl, par, chi = _joint_data()
         res["Pose"] = sfit.Cluster(tpl).register(par[0])
@@ -676,6 +677,43 @@ def build_cases():
     _c3d_cases(T)
     _session_cases(T)
     return T
+
+
+def _imu_cases(T, res):
+    """imu_joint and ImuJointResult: shapes, types, rates, garbage values."""
+    t = np.arange(400) / 200.0
+    w = np.stack([np.sin(3 * t), np.cos(2 * t), np.sin(t)], axis=1) * 2.0
+    a = np.stack([np.cos(t), np.sin(2 * t), 9.81 + 0 * t], axis=1)
+
+    def call(x=None, which=0, rate=200.0):
+        args = [a, w, a[:, ::-1], w[:, ::-1]]
+        if x is not None:
+            args[which] = x
+        return sfit.imu_joint(*args, rate)
+    T["imu_joint"] = (
+        [("plain", lambda: call(), None),
+         ("(N, 2)", lambda: call(a[:, :2]), sfit.ArgError),
+         ("(N, 3, 1)", lambda: call(a[:, :, None]), sfit.ArgError),
+         ("(3,)", lambda: call(a[0]), sfit.ArgError),
+         ("lengths differ", lambda: call(w[:-1], 1), sfit.ArgError),
+         ("None", lambda: call(None, 2) if False else sfit.imu_joint(None, w, a, w, 200.0),
+          sfit.ArgError),
+         ("str", lambda: sfit.imu_joint("abc", w, a, w, 200.0), sfit.ArgError),
+         ("complex", lambda: call(a.astype(complex)), sfit.ArgError),
+         ("object", lambda: sfit.imu_joint(a, w, a, object(), 200.0), sfit.ArgError),
+         ("empty", lambda: sfit.imu_joint(*(np.zeros((0, 3)),) * 4, 200.0), sfit.TooFewError),
+         ("NaN sample", lambda: call(np.where(np.arange(400)[:, None] == 7, np.nan, a)),
+          sfit.NonFiniteError),
+         ("1e30 sample", lambda: call(a * 1e30), sfit.RangeError),
+         ("int32", lambda: call(np.rint(a).astype(np.int32)), None),
+         ("float16", lambda: call(a.astype(np.float16)), None),
+         ("big-endian", lambda: call(a.astype(">f8")), None),
+         ("list", lambda: call(a.tolist()), None),
+         ("all zero", lambda: sfit.imu_joint(*(np.zeros((400, 3)),) * 4, 200.0), None),
+         ("1e4 rates", lambda: call(np.full((400, 3), 1e4), 1), None),
+         ("unknown keyword", lambda: sfit.imu_joint(a, w, a, w, 200.0, bogus=1), TypeError)]
+        + number_cases(lambda v: call(rate=v)))
+    res["ImuJointResult"] = call()
 
 
 _SRC = os.environ.get("SFIT_SOURCE_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)),

@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# `sfit imu-joint` on synthetic trials with known truth (written by
+# test_imu --write-csv: 20 s at 200 Hz, noise and biases of tests/test_imu.c):
+#  1. a hip-like ball joint: JSON fields, both centres within 10 mm, trusted;
+#  2. a knee-like hinge: joint "hinge", axes within 3 degrees, axis points
+#     within 10 mm; the text output says it in words;
+#  3. no motion: untrusted, with the reason in words;
+#  4. errors: NaN, time going backwards, unknown column, missing file, usage.
+# Usage: test_cli_imu.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1 src=$2
+# shellcheck source=tests/scripts/common.sh
+. "$(dirname "$0")/common.sh"
+cli_setup test_cli_imu "$build" "$src"
+gen="$build/tests/test_imu"
+[ -x "$gen" ] || missing "$gen not built"
+
+# 1. ball
+"$gen" --write-csv "$tmp/hip.csv" ball 4242 > "$tmp/hip_truth.json"
+expect_rc 0 "$sfit" imu-joint --json "$tmp/hip.csv"
+echo "$out" > "$tmp/hip.json"
+py '
+import json, sys, math
+o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
+assert o["status"] == "ok" and o["joint"] == "ball", o
+assert o["n"] == 4000 and abs(o["rate"] - 200.0) < 1e-3, o
+for k in ("r1_cov", "r2_cov"):
+    assert len(o[k]) == 3 and all(len(r) == 3 for r in o[k]), o
+assert o["axis1"] is None and o["axis2"] is None, o
+assert o["flags"]["untrusted"] is False and o["flags"]["reason"] is None, o
+for k in ("r1", "r2"):
+    d = math.dist(o[k], t[k])
+    assert d < 0.01, (k, d)
+print("ball: r1 %.4f m, r2 %.4f m from the truth" % (math.dist(o["r1"], t["r1"]), math.dist(o["r2"], t["r2"])))
+' "$tmp/hip.json" "$tmp/hip_truth.json"
+
+# 2. hinge
+"$gen" --write-csv "$tmp/knee.csv" hinge 4243 > "$tmp/knee_truth.json"
+expect_rc 0 "$sfit" imu-joint --json "$tmp/knee.csv"
+echo "$out" > "$tmp/knee.json"
+py '
+import json, sys, math
+o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
+assert o["status"] == "ok" and o["joint"] == "hinge", o
+def ang(a, b):
+    c = abs(sum(x * y for x, y in zip(a, b))) / math.hypot(*a) / math.hypot(*b)
+    return math.degrees(math.acos(min(1.0, c)))
+for k in ("axis1", "axis2"):
+    assert ang(o[k], t[k]) < 3.0, (k, ang(o[k], t[k]))
+    assert len(o[k + "_cov"]) == 3, o
+assert math.dist(o["r1"], t["point1"]) < 0.01 and math.dist(o["r2"], t["point2"]) < 0.01, o
+print("hinge: axes %.2f, %.2f deg" % (ang(o["axis1"], t["axis1"]), ang(o["axis2"], t["axis2"])))
+' "$tmp/knee.json" "$tmp/knee_truth.json"
+expect_rc 0 "$sfit" imu-joint "$tmp/knee.csv"
+grep -q "^joint         hinge" <<<"$out" || fail "text output: no hinge line: $out"
+grep -q "^axis in sensor 1" <<<"$out" || fail "text output: no axis: $out"
+
+# 3. no motion
+"$gen" --write-csv "$tmp/still.csv" still 4244 > /dev/null
+expect_rc 0 "$sfit" imu-joint --json "$tmp/still.csv"
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["flags"]["untrusted"] is True, o
+assert "low_rotation" in o["flags"]["names"] and "hardly rotates" in o["flags"]["reason"], o
+' "$out"
+expect_rc 0 "$sfit" imu-joint "$tmp/still.csv"
+grep -q "^UNTRUSTED" <<<"$out" || fail "text output: no UNTRUSTED line: $out"
+grep -q "hardly rotates" <<<"$out" || fail "text output: no reason: $out"
+
+# 4. errors
+head -n 50 "$tmp/hip.csv" > "$tmp/nan.csv"
+sed -i '30s/^\([^,]*\),[^,]*,/\1,nan,/' "$tmp/nan.csv"
+expect_rc 3 "$sfit" imu-joint --json "$tmp/nan.csv"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"]=="format_error" and "acc1_x" in o["message"] and "line 30" in o["message"], o' "$out"
+head -n 50 "$tmp/hip.csv" > "$tmp/back.csv"
+sed -i '40s/^[^,]*,/0.01,/' "$tmp/back.csv"
+expect_rc 3 "$sfit" imu-joint "$tmp/back.csv"
+grep -q "time does not increase (line 40)" "$tmp/stderr" || fail "backwards time: $(cat "$tmp/stderr")"
+sed '1s/gyr2_z/gyro2_z/' "$tmp/hip.csv" > "$tmp/col.csv"
+expect_rc 3 "$sfit" imu-joint --json "$tmp/col.csv"
+py 'import json,sys; o=json.loads(sys.argv[1]); assert o["status"]=="format_error" and "unknown column" in o["message"] and "gyro2_z" in o["message"], o' "$out"
+expect_rc 3 "$sfit" imu-joint --json "$tmp/none.csv"
+expect_usage "unknown option '--bogus'" imu-joint --bogus "$tmp/hip.csv"
+expect_help imu-joint --help
+echo "test_cli_imu: ok"

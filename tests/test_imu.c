@@ -1,0 +1,629 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_imu.c
+ * @brief Tests of the joint between two IMUs (sfit_imu.h).
+ *
+ * Synthetic trials with known truth (tests/ref/sfit_ref_imu.c generates
+ * exact signals): a hip-like ball joint (the parent walking and turning
+ * 8-15 degrees, the child swinging over 30-60 degrees with 8-15 degrees of
+ * abduction and rotation), a knee-like hinge (0-70 degrees of flexion,
+ * 2 degrees of wobble), sensors 0.1-0.35 m from the joint, 20 s at 200 Hz,
+ * gyroscope noise 0.005 rad/s, accelerometer noise 0.02 m/s^2, biases up to
+ * 0.01 rad/s and 0.05 m/s^2 per sensor.
+ *
+ * Oracles: the physics (both sides of the constraint equal on exact
+ * signals), the double-precision batch Gauss-Newton of Seel et al. over
+ * every sample (tests/ref), and the truth by Monte Carlo with fixed seeds.
+ */
+#include "test_cmocka.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sfit/sfit_imu.h"
+#include "sfit_ref_imu.h"
+
+#define RATE 200.0
+#define NS 4000 /* 20 s */
+#define DEG (3.14159265358979323846 / 180.0)
+#define CHI2_3_95 7.814727903251178
+
+static double g_acc[2][NS][3], g_gyr[2][NS][3], g_dgyr[2][NS][3];
+static double g_j1[3], g_j2[3]; /* hinge truth (sensor frames) */
+static double g_wobble = 2.0;   /* hinge wobble amplitude (degrees) */
+static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and 1.6 g_wobble_f times the gait */
+
+static void rand_unit(tu_rng_t *g, double u[3])
+{
+    double n;
+    do {
+        u[0] = tu_rng_gauss(g);
+        u[1] = tu_rng_gauss(g);
+        u[2] = tu_rng_gauss(g);
+        n = tu_norm3(u);
+    } while (n < 1e-3);
+    u[0] /= n;
+    u[1] /= n;
+    u[2] /= n;
+}
+
+static double uni(tu_rng_t *g, double a, double b)
+{
+    return a + (b - a) * tu_rng_uniform(g);
+}
+
+static void set_factor(ref_imu_motion_t *m, int i, double ax, double ay, double az, double off,
+                       double a0, double f0, double p0, double a1, double f1, double p1)
+{
+    const double n = sqrt(ax * ax + ay * ay + az * az);
+    m->axis[i][0] = ax / n;
+    m->axis[i][1] = ay / n;
+    m->axis[i][2] = az / n;
+    m->off[i] = off;
+    m->amp[i][0] = a0;
+    m->freq[i][0] = f0;
+    m->ph[i][0] = p0;
+    m->amp[i][1] = a1;
+    m->freq[i][1] = f1;
+    m->ph[i][1] = p1;
+}
+
+/* kind 0: hip-like ball, 1: knee-like hinge, 2: no motion */
+static void make_motion(tu_rng_t *g, int kind, ref_imu_motion_t *m)
+{
+    const double f = uni(g, 0.8, 1.1), tp = 2.0 * 3.14159265358979;
+    double u[3];
+    int i;
+    memset(m, 0, sizeof *m);
+    m->nf1 = 3;
+    m->nf2 = 3;
+    rand_unit(g, u);
+    tu_rot_axis_angle(u, uni(g, 0.0, tp / 2.0), m->c1);
+    rand_unit(g, u);
+    tu_rot_axis_angle(u, uni(g, 0.0, tp / 2.0), m->c2);
+    rand_unit(g, m->r1);
+    rand_unit(g, m->r2);
+    {
+        const double l1 = uni(g, 0.1, 0.35), l2 = uni(g, 0.1, 0.35);
+        for (i = 0; i < 3; i++) {
+            m->r1[i] *= l1;
+            m->r2[i] *= l2;
+        }
+    }
+    m->pos0[2] = 0.9;
+    if (kind == 2) {
+        for (i = 0; i < 6; i++) {
+            set_factor(m, i, i % 3 == 0, i % 3 == 1, i % 3 == 2, uni(g, -0.3, 0.3), 0, 1, 0, 0,
+                       1, 0);
+        }
+        return;
+    }
+    m->vel[0] = 1.2;
+    m->pamp[0][0] = 0.03;
+    m->pfreq[0][0] = 2.0 * f;
+    m->pamp[1][0] = 0.04;
+    m->pfreq[1][0] = f;
+    m->pamp[2][0] = 0.03;
+    m->pfreq[2][0] = 2.0 * f;
+    m->pph[2][0] = uni(g, 0, tp);
+    if (kind == 0) {
+        /* pelvis: rotation, obliquity, tilt */
+        set_factor(m, 0, 0, 0, 1, uni(g, -3, 3), uni(g, 8, 15) * DEG, f, uni(g, 0, tp),
+                   3 * DEG, 2 * f, uni(g, 0, tp));
+        set_factor(m, 1, 1, 0, 0, 0, uni(g, 8, 15) * DEG, f, uni(g, 0, tp), 3 * DEG, 2 * f,
+                   uni(g, 0, tp));
+        set_factor(m, 2, 0, 1, 0, 0, uni(g, 8, 15) * DEG, 2 * f, uni(g, 0, tp), 0, f, 0);
+        /* hip: flexion over 30-60 degrees, abduction, rotation */
+        set_factor(m, 3, 0, 1, 0, 10 * DEG, uni(g, 15, 30) * DEG, f, uni(g, 0, tp), 3 * DEG,
+                   2 * f, uni(g, 0, tp));
+        set_factor(m, 4, 1, 0, 0, 0, uni(g, 8, 15) * DEG, f, uni(g, 0, tp), 4 * DEG, 2 * f,
+                   uni(g, 0, tp));
+        set_factor(m, 5, 0, 0, 1, 0, uni(g, 8, 15) * DEG, f, uni(g, 0, tp), 4 * DEG, 2 * f,
+                   uni(g, 0, tp));
+    } else {
+        /* thigh swinging, knee flexion 0-70 degrees about a fixed axis, 2 degrees of wobble */
+        double ax[3], w1[3], w2[3], t[3];
+        set_factor(m, 0, 0, 1, 0, 0, uni(g, 18, 25) * DEG, f, uni(g, 0, tp), 3 * DEG, 2 * f,
+                   uni(g, 0, tp));
+        set_factor(m, 1, 1, 0, 0, 0, uni(g, 15, 25) * DEG, 0.7 * f, uni(g, 0, tp), 5 * DEG,
+                   1.6 * f, uni(g, 0, tp));
+        set_factor(m, 2, 0, 0, 1, 0, uni(g, 15, 25) * DEG, 0.45 * f, uni(g, 0, tp), 5 * DEG,
+                   1.3 * f, uni(g, 0, tp));
+        ax[0] = uni(g, -0.2, 0.2);
+        ax[1] = 1.0;
+        ax[2] = uni(g, -0.2, 0.2);
+        tu_frame(ax, t, w1, w2);
+        set_factor(m, 3, w1[0], w1[1], w1[2], 0, g_wobble * DEG, g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
+        set_factor(m, 4, w2[0], w2[1], w2[2], 0, g_wobble * DEG, 1.6 * g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
+        set_factor(m, 5, ax[0], ax[1], ax[2], 35 * DEG, 35 * DEG, f, uni(g, 0, tp), 0, f, 0);
+        /* truth: the axis in each sensor's frame (c^T ax) */
+        for (i = 0; i < 3; i++) {
+            g_j1[i] = m->c1[i] * t[0] + m->c1[3 + i] * t[1] + m->c1[6 + i] * t[2];
+            g_j2[i] = m->c2[i] * t[0] + m->c2[3 + i] * t[1] + m->c2[6 + i] * t[2];
+        }
+    }
+}
+
+static void add_vec(tu_rng_t *g, double sd, const double b[3], double v[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        v[i] += b[i] + sd * tu_rng_gauss(g);
+    }
+}
+
+/* Signals of a trial (noise and biases when noisy), in g_acc, g_gyr (exact w' in g_dgyr). */
+static void make_signals(tu_rng_t *g, const ref_imu_motion_t *m, int noisy)
+{
+    double bg[2][3] = {{0}}, ba[2][3] = {{0}};
+    int s, k, i;
+    if (noisy == 1) { /* 2: noise without biases */
+        for (s = 0; s < 2; s++) {
+            const double mg = uni(g, 0, 0.01), ma = uni(g, 0, 0.05);
+            rand_unit(g, bg[s]);
+            rand_unit(g, ba[s]);
+            for (i = 0; i < 3; i++) {
+                bg[s][i] *= mg;
+                ba[s][i] *= ma;
+            }
+        }
+    }
+    for (k = 0; k < NS; k++) {
+        double a[2][3], w[2][3], d[2][3];
+        ref_imu_synth(m, (double)k / RATE, a, w, d);
+        for (s = 0; s < 2; s++) {
+            if (noisy) {
+                add_vec(g, 0.02, ba[s], a[s]);
+                add_vec(g, 0.005, bg[s], w[s]);
+            }
+            memcpy(g_acc[s][k], a[s], sizeof a[s]);
+            memcpy(g_gyr[s][k], w[s], sizeof w[s]);
+            memcpy(g_dgyr[s][k], d[s], sizeof d[s]);
+        }
+    }
+}
+
+static void to_sample(int k, sfit_imu_sample_t *x)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        x->acc1.v[i] = (float)g_acc[0][k][i];
+        x->gyr1.v[i] = (float)g_gyr[0][k][i];
+        x->acc2.v[i] = (float)g_acc[1][k][i];
+        x->gyr2.v[i] = (float)g_gyr[1][k][i];
+    }
+}
+
+static sfit_status_t run_lib(const sfit_imu_cfg_t *cfg, sfit_imu_result_t *r)
+{
+    static sfit_imu_t s;
+    sfit_imu_sample_t x;
+    int k;
+    assert_int_equal(sfit_imu_init(&s, (float)RATE, cfg), SFIT_OK);
+    for (k = 0; k < NS; k++) {
+        to_sample(k, &x);
+        assert_int_equal(sfit_imu_add(&s, &x), SFIT_OK);
+    }
+    return sfit_imu_solve(&s, r);
+}
+
+static double err3(const sfit_vec3_t *a, const double b[3], double e[3])
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        e[i] = (double)a->v[i] - b[i];
+    }
+    return tu_norm3(e);
+}
+
+/* The point of the hinge axis nearest the sensor: r - (r.j) j */
+static void axis_point(const double r[3], const double j[3], double p[3])
+{
+    const double d = tu_dot3(r, j);
+    int i;
+    for (i = 0; i < 3; i++) {
+        p[i] = r[i] - d * j[i];
+    }
+}
+
+static double axis_angle_deg(const sfit_vec3_t *a, const double j[3])
+{
+    double v[3] = {(double)a->v[0], (double)a->v[1], (double)a->v[2]};
+    double c = fabs(tu_dot3(v, j)) / tu_norm3(v);
+    return acos(c > 1.0 ? 1.0 : c) / DEG;
+}
+
+/* Physics: on exact signals |a1 + G1 r1| = |a2 + G2 r2| to rounding, and
+ * the generator's w' is the derivative of its w. */
+static void test_physics(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    int kind, k, s, i;
+    (void)state;
+    tu_rng_seed(&g, 4201u);
+    for (kind = 0; kind < 2; kind++) {
+        double worst = 0.0, dworst = 0.0;
+        make_motion(&g, kind, &m);
+        make_signals(&g, &m, 0);
+        for (k = 1; k + 1 < NS; k++) {
+            const double gap = ref_imu_gap(g_acc[0][k], g_gyr[0][k], g_dgyr[0][k], m.r1,
+                                           g_acc[1][k], g_gyr[1][k], g_dgyr[1][k], m.r2);
+            worst = fmax(worst, fabs(gap));
+            for (s = 0; s < 2; s++) {
+                for (i = 0; i < 3; i++) {
+                    const double fd = (g_gyr[s][k + 1][i] - g_gyr[s][k - 1][i]) * RATE / 2.0;
+                    dworst = fmax(dworst, fabs(fd - g_dgyr[s][k][i]));
+                }
+            }
+        }
+        print_message("physics kind %d: worst gap %.3g m/s^2, worst w' vs difference %.3g\n",
+                      kind, worst, dworst);
+        assert_true(worst < 1e-12);
+        assert_true(dworst < 0.05); /* O(dt^2 w''') of the central difference */
+        /* a wrong joint position breaks the equality */
+        {
+            double r1[3] = {m.r1[0] + 0.01, m.r1[1], m.r1[2]};
+            double off = 0.0;
+            for (k = 1; k + 1 < NS; k++) {
+                off = fmax(off, fabs(ref_imu_gap(g_acc[0][k], g_gyr[0][k], g_dgyr[0][k], r1,
+                                                 g_acc[1][k], g_gyr[1][k], g_dgyr[1][k], m.r2)));
+            }
+            assert_true(off > 1e-3);
+        }
+    }
+}
+
+/* Noise-free signals: the library and the batch reference find the truth. */
+static void test_exact(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    sfit_imu_result_t r;
+    sfit_imu_cfg_t cfg = sfit_imu_cfg_default;
+    double r1[3], r2[3], e[3], cov[36], rms;
+    (void)state;
+    tu_rng_seed(&g, 4202u);
+    make_motion(&g, 0, &m);
+    make_signals(&g, &m, 0);
+    assert_int_equal(run_lib(&cfg, &r), SFIT_OK);
+    assert_false(r.hinge);
+    print_message("exact: lib |e1| %.3g |e2| %.3g m, rms %.3g\n", err3(&r.r1, m.r1, e),
+                  err3(&r.r2, m.r2, e), (double)r.resid_rms);
+    assert_true(err3(&r.r1, m.r1, e) < 1e-3);
+    assert_true(err3(&r.r2, m.r2, e) < 1e-3);
+    assert_int_equal(ref_imu_ball_gn((const double(*)[3])g_acc[0], (const double(*)[3])g_gyr[0],
+                                     (const double(*)[3])g_acc[1], (const double(*)[3])g_gyr[1],
+                                     NS, RATE, 1, r1, r2, cov, &rms),
+                     0);
+    assert_true(tu_dist3(r1, m.r1) < 1e-3);
+    assert_true(tu_dist3(r2, m.r2) < 1e-3);
+}
+
+/* Noise-free hinge without wobble: the axes and the axis points exactly. */
+static void test_exact_hinge(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    sfit_imu_result_t r;
+    double j1[3], j2[3], rms, p1[3], p2[3], e[3];
+    (void)state;
+    tu_rng_seed(&g, 4206u);
+    g_wobble = 0.0;
+    make_motion(&g, 1, &m);
+    g_wobble = 2.0;
+    make_signals(&g, &m, 0);
+    assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+    assert_int_equal(ref_imu_hinge_gn((const double(*)[3])g_gyr[0], (const double(*)[3])g_gyr[1],
+                                      NS, j1, j2, &rms),
+                     0);
+    axis_point(m.r1, g_j1, p1);
+    axis_point(m.r2, g_j2, p2);
+    print_message("exact hinge: lib %.4f %.4f deg, ref %.4f %.4f deg, points %.4f %.4f m, "
+                  "ratio %.4f\n",
+                  axis_angle_deg(&r.axis1, g_j1), axis_angle_deg(&r.axis2, g_j2),
+                  acos(fmin(1.0, fabs(tu_dot3(j1, g_j1)))) / DEG,
+                  acos(fmin(1.0, fabs(tu_dot3(j2, g_j2)))) / DEG, err3(&r.r1, p1, e),
+                  err3(&r.r2, p2, e), (double)r.hinge_ratio);
+    assert_true(r.hinge);
+    assert_true(axis_angle_deg(&r.axis1, g_j1) < 0.1 && axis_angle_deg(&r.axis2, g_j2) < 0.1);
+    assert_true(tu_dot3(j1, g_j1) > cos(0.01 * DEG) || tu_dot3(j1, g_j1) < -cos(0.01 * DEG));
+    /* the central difference's truncation (h = 4 at 200 Hz) */
+    assert_true(err3(&r.r1, p1, e) < 3e-3 && err3(&r.r2, p2, e) < 3e-3);
+}
+
+/* Monte Carlo, hip-like ball joint with noise and biases. */
+static void test_mc_ball(void **state)
+{
+    enum { T = 100 };
+    tu_rng_t g;
+    int t, flagged = 0, unfl = 0, good = 0, cover = 0;
+    double d2sum = 0.0;
+    (void)state;
+    tu_rng_seed(&g, 4203u);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double e1[3], e2[3], d1, d2;
+        make_motion(&g, 0, &m);
+        make_signals(&g, &m, 1);
+        assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+        d1 = err3(&r.r1, m.r1, e1);
+        d2 = err3(&r.r2, m.r2, e2);
+        if (r.flags & SFIT_FLAG_UNTRUSTED) {
+            flagged++;
+            continue;
+        }
+        unfl++;
+        assert_false(r.hinge);
+        good += (d1 < 0.01 && d2 < 0.01);
+        cover += (tu_mahal(r.r1_cov.m, e1) <= CHI2_3_95);
+        d2sum += tu_mahal(r.r1_cov.m, e1);
+        (void)d1;
+        (void)d2;
+    }
+    print_message("ball MC: %d trials, %d flagged, %d/%d unflagged within 10 mm, "
+                  "r1 95%% ellipsoid covers %d/%d (mean d2 %.2f)\n",
+                  T, flagged, good, unfl, cover, unfl, d2sum / unfl);
+    assert_true(flagged <= 15 * T / 100);
+    assert_true(good >= (9 * unfl + 9) / 10);
+    assert_true(cover >= (85 * unfl + 99) / 100 && cover <= (99 * unfl) / 100);
+}
+
+/* The library against the batch reference over every sample (Seel's
+ * Gauss-Newton, three-point difference), on noisy trials without biases
+ * (the reference does not model them): both near the truth, and near each
+ * other; the time of each, for docs/imu.md (printed, not asserted). */
+static void test_vs_reference(void **state)
+{
+    enum { T = 12 };
+    static const int hs[3] = {1, 4, -8};
+    tu_rng_t g;
+    int t, v;
+    double worst[3] = {0.0, 0.0, 0.0}, worst_ref[3] = {0.0, 0.0, 0.0}, t_ref[3] = {0.0, 0.0, 0.0};
+    double worst_lib = 0.0, t_lib = 0.0;
+    (void)state;
+    tu_rng_seed(&g, 4207u);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double e[3];
+        clock_t c0;
+        make_motion(&g, 0, &m);
+        make_signals(&g, &m, 2);
+        c0 = clock();
+        assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+        t_lib += (double)(clock() - c0) / CLOCKS_PER_SEC;
+        worst_lib = fmax(worst_lib, fmax(err3(&r.r1, m.r1, e), err3(&r.r2, m.r2, e)));
+        for (v = 0; v < 3; v++) {
+            double q1[3], q2[3], cov[36], rms;
+            const double f1[3] = {(double)r.r1.v[0], (double)r.r1.v[1], (double)r.r1.v[2]},
+                         f2[3] = {(double)r.r2.v[0], (double)r.r2.v[1], (double)r.r2.v[2]};
+            c0 = clock();
+            assert_int_equal(ref_imu_ball_gn((const double(*)[3])g_acc[0],
+                                             (const double(*)[3])g_gyr[0],
+                                             (const double(*)[3])g_acc[1],
+                                             (const double(*)[3])g_gyr[1], NS, RATE, hs[v], q1,
+                                             q2, cov, &rms),
+                             0);
+            t_ref[v] += (double)(clock() - c0) / CLOCKS_PER_SEC;
+            worst[v] = fmax(worst[v], fmax(tu_dist3(f1, q1), tu_dist3(f2, q2)));
+            worst_ref[v] = fmax(worst_ref[v], fmax(tu_dist3(q1, m.r1), tu_dist3(q2, m.r2)));
+        }
+    }
+    print_message("vs reference: %d trials (noise, no bias), worst error of r1, r2: library "
+                  "%.4f m (%.2f ms per trial on the host); batch GN with the 3-point "
+                  "difference %.4f m (%.2f ms), with (w[k+4] - w[k-4]) / 8 dt %.4f m (%.2f ms), with "
+                  "the library's derivative (cubic over 17 samples) %.4f m (%.2f ms); "
+                  "library - batch: %.4f m, %.4f m, %.4f m\n",
+                  T, worst_lib, 1e3 * t_lib / T, worst_ref[0], 1e3 * t_ref[0] / T, worst_ref[1],
+                  1e3 * t_ref[1] / T, worst_ref[2], 1e3 * t_ref[2] / T, worst[0], worst[1],
+                  worst[2]);
+    /* the same estimator on 128 kept samples against every sample */
+    assert_true(worst_lib < 0.01);
+    assert_true(worst_ref[2] < 0.005);
+    assert_true(worst[2] < 0.01);
+}
+
+/* Monte Carlo, knee-like hinge. */
+static void test_mc_hinge(void **state)
+{
+    enum { T = 60 };
+    tu_rng_t g;
+    int t, hinge = 0, ax_ok = 0, pt_ok = 0, flagged = 0;
+    double worst_ref = 0.0;
+    (void)state;
+    tu_rng_seed(&g, 4204u);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double p1[3], p2[3], e[3];
+        make_motion(&g, 1, &m);
+        make_signals(&g, &m, 1);
+        assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+        flagged += (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
+        hinge += r.hinge;
+        axis_point(m.r1, g_j1, p1);
+        axis_point(m.r2, g_j2, p2);
+        if (r.hinge) {
+            ax_ok += axis_angle_deg(&r.axis1, g_j1) < 3.0 && axis_angle_deg(&r.axis2, g_j2) < 3.0;
+            pt_ok += err3(&r.r1, p1, e) < 0.01 && err3(&r.r2, p2, e) < 0.01;
+        }
+        if (t < 3) {
+            double j1[3], j2[3], rms;
+            assert_int_equal(ref_imu_hinge_gn((const double(*)[3])g_gyr[0],
+                                              (const double(*)[3])g_gyr[1], NS, j1, j2, &rms),
+                             0);
+            worst_ref = fmax(worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
+                                             axis_angle_deg(&r.axis2, j2)));
+        }
+    }
+    print_message("hinge MC: %d trials, %d reported hinge, %d flagged, axes within 3 deg %d, "
+                  "axis points within 10 mm %d; worst angle to the reference %.3f deg\n",
+                  T, hinge, flagged, ax_ok, pt_ok, worst_ref);
+    assert_true(hinge >= (9 * T + 9) / 10);
+    assert_true(ax_ok >= (9 * T + 9) / 10);
+    assert_true(pt_ok >= (9 * T + 9) / 10);
+    assert_true(worst_ref < 1.0);
+}
+
+/* No motion: refused or untrusted. */
+static void test_no_motion(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    sfit_imu_result_t r;
+    sfit_status_t st;
+    (void)state;
+    tu_rng_seed(&g, 4205u);
+    make_motion(&g, 2, &m);
+    make_signals(&g, &m, 1);
+    st = run_lib(NULL, &r);
+    print_message("no motion: status %s flags 0x%x\n", sfit_status_str(st),
+                  st == SFIT_OK ? (unsigned)r.flags : 0u);
+    assert_true(st == SFIT_E_DEGENERATE || (st == SFIT_OK && (r.flags & SFIT_FLAG_UNTRUSTED) &&
+                                            (r.flags & SFIT_IMU_FLAG_LOW_ROTATION)));
+}
+
+/* A sensor that slips on its segment halfway (5 cm and 20 degrees): the
+ * rigid model no longer holds, the residual is far above the noise. */
+static void test_slip(void **state)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m, m2;
+    sfit_imu_result_t r;
+    double ax[3] = {0.3, -0.5, 0.8}, rot[9], c[9];
+    static double a2[NS][3], w2[NS][3];
+    int k, i;
+    (void)state;
+    tu_rng_seed(&g, 4208u);
+    make_motion(&g, 0, &m);
+    m2 = m;
+    m2.r2[0] += 0.05;
+    tu_rot_axis_angle(ax, 20.0 * DEG, rot);
+    for (i = 0; i < 9; i++) {
+        c[i] = m.c2[3 * (i / 3)] * rot[i % 3] + m.c2[3 * (i / 3) + 1] * rot[3 + i % 3] +
+               m.c2[3 * (i / 3) + 2] * rot[6 + i % 3];
+    }
+    memcpy(m2.c2, c, sizeof c);
+    make_signals(&g, &m2, 1);
+    memcpy(a2, g_acc[1], sizeof a2);
+    memcpy(w2, g_gyr[1], sizeof w2);
+    make_signals(&g, &m, 1);
+    for (k = NS / 2; k < NS; k++) {
+        memcpy(g_acc[1][k], a2[k], sizeof a2[k]);
+        memcpy(g_gyr[1][k], w2[k], sizeof w2[k]);
+    }
+    assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+    print_message("slip: resid %.4f, noise %.4f m/s^2, flags 0x%x\n", (double)r.resid_rms,
+                  (double)r.noise_rms, (unsigned)r.flags);
+    assert_true((r.flags & SFIT_IMU_FLAG_SLIP) != 0u);
+    assert_true((r.flags & SFIT_FLAG_UNTRUSTED) != 0u);
+}
+
+/* Every status; a rejected sample leaves the state's bytes unchanged. */
+static void test_errors(void **state)
+{
+    static sfit_imu_t s, copy;
+    sfit_imu_sample_t x;
+    sfit_imu_result_t r;
+    sfit_imu_cfg_t cfg = sfit_imu_cfg_default;
+    const float nan = (float)NAN;
+    int k;
+    (void)state;
+    assert_int_equal(sfit_imu_init(NULL, 200.0f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_init(&s, 0.0f, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_init(&s, nan, NULL), SFIT_E_ARG);
+    cfg.hinge_line = 1.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg = sfit_imu_cfg_default;
+    cfg.gyr_noise = -1.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_init(&s, 200.0f, NULL), SFIT_OK);
+    memset(&x, 0, sizeof x);
+    assert_int_equal(sfit_imu_add(NULL, &x), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_add(&s, NULL), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_TOO_FEW);
+    assert_int_equal(sfit_imu_solve(NULL, &r), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_solve(&s, NULL), SFIT_E_ARG);
+    for (k = 0; k < 50; k++) {
+        x.gyr1.v[0] = (float)k * 0.01f;
+        assert_int_equal(sfit_imu_add(&s, &x), SFIT_OK);
+    }
+    copy = s;
+    x.acc2.v[1] = nan;
+    assert_int_equal(sfit_imu_add(&s, &x), SFIT_E_NONFINITE);
+    x.acc2.v[1] = (float)INFINITY;
+    assert_int_equal(sfit_imu_add(&s, &x), SFIT_E_NONFINITE);
+    x.acc2.v[1] = 2e4f;
+    assert_int_equal(sfit_imu_add(&s, &x), SFIT_E_RANGE);
+    assert_memory_equal(&s, &copy, sizeof s);
+    /* a corrupted state is refused */
+    s.h = 0u;
+    assert_int_equal(sfit_imu_add(&s, &x), SFIT_E_ARG);
+    assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
+    s = copy;
+    s.nfull = 999u;
+    assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
+}
+
+/* test_imu --write-csv FILE ball|hinge|still [SEED]: one noisy trial as the
+ * CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
+ * and the worked example of docs/imu.md). */
+static int write_csv(const char *path, const char *kind, unsigned long seed)
+{
+    tu_rng_t g;
+    ref_imu_motion_t m;
+    FILE *f;
+    int k, s, i;
+    const int kd = (strcmp(kind, "hinge") == 0) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
+    tu_rng_seed(&g, seed);
+    make_motion(&g, kd, &m);
+    make_signals(&g, &m, 1);
+    f = fopen(path, "w");
+    if (f == NULL) {
+        return 3;
+    }
+    fprintf(f, "time,acc1_x,acc1_y,acc1_z,gyr1_x,gyr1_y,gyr1_z,acc2_x,acc2_y,acc2_z,gyr2_x,"
+               "gyr2_y,gyr2_z\n");
+    for (k = 0; k < NS; k++) {
+        fprintf(f, "%.4f", (double)k / RATE);
+        for (s = 0; s < 2; s++) {
+            for (i = 0; i < 3; i++) {
+                fprintf(f, ",%.5f", g_acc[s][k][i]);
+            }
+            for (i = 0; i < 3; i++) {
+                fprintf(f, ",%.6f", g_gyr[s][k][i]);
+            }
+        }
+        fprintf(f, "\n");
+    }
+    fclose(f);
+    printf("{\"r1\":[%.6f,%.6f,%.6f],\"r2\":[%.6f,%.6f,%.6f]", m.r1[0], m.r1[1], m.r1[2],
+           m.r2[0], m.r2[1], m.r2[2]);
+    if (kd == 1) {
+        double p1[3], p2[3];
+        axis_point(m.r1, g_j1, p1);
+        axis_point(m.r2, g_j2, p2);
+        printf(",\"axis1\":[%.6f,%.6f,%.6f],\"axis2\":[%.6f,%.6f,%.6f],"
+               "\"point1\":[%.6f,%.6f,%.6f],\"point2\":[%.6f,%.6f,%.6f]",
+               g_j1[0], g_j1[1], g_j1[2], g_j2[0], g_j2[1], g_j2[2], p1[0], p1[1], p1[2], p2[0],
+               p2[1], p2[2]);
+    }
+    printf("}\n");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
+        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
+        cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
+    };
+    if (argc >= 4 && strcmp(argv[1], "--write-csv") == 0) {
+        return write_csv(argv[2], argv[3], argc >= 5 ? strtoul(argv[4], NULL, 10) : 4242ul);
+    }
+    return cmocka_run_group_tests_name("imu", tests, NULL, NULL);
+}

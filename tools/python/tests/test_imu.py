@@ -1,0 +1,83 @@
+# SPDX-License-Identifier: MIT
+"""sfit.imu_joint (sfit_imu.h) against `sfit imu-joint` on the same trials
+(written by the C test's generator, test_imu --write-csv: noise, biases and
+the truth of tests/test_imu.c): the same numbers, the truth within the
+documented tolerances, and the errors."""
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import sfit
+
+CLI = os.environ.get("SFIT_CLI")
+GEN = os.path.join(os.path.dirname(os.path.dirname(CLI)), "tests", "test_imu") if CLI else None
+
+pytestmark = pytest.mark.skipif(not GEN or not os.path.exists(GEN),
+                                reason="needs the build's sfit and tests/test_imu (SFIT_CLI)")
+
+
+def _trial(tmp_path, kind, seed):
+    path = str(tmp_path / ("%s.csv" % kind))
+    truth = json.loads(subprocess.run([GEN, "--write-csv", path, kind, str(seed)], check=True,
+                                      capture_output=True, text=True).stdout)
+    a = np.loadtxt(path, delimiter=",", skiprows=1)
+    cli = json.loads(subprocess.run([CLI, "imu-joint", "--json", path], check=True,
+                                    capture_output=True, text=True).stdout)
+    rate = 1.0 / np.mean(np.diff(a[:, 0]))
+    return a, rate, truth, cli
+
+
+def _angle(a, b):
+    c = abs(np.dot(a, b)) / np.linalg.norm(a) / np.linalg.norm(b)
+    return math.degrees(math.acos(min(1.0, c)))
+
+
+def test_ball_matches_cli_and_truth(tmp_path):
+    a, rate, truth, cli = _trial(tmp_path, "ball", 4242)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.joint == "ball" == cli["joint"]
+    assert r.axis1 is None and cli["axis1"] is None
+    assert r.untrusted is False and r.reason is None and r.flags == []
+    for k in ("r1", "r2", "r1_cov", "r2_cov", "acc_bias1", "acc_bias2"):
+        assert np.allclose(getattr(r, k), cli[k], rtol=1e-5, atol=1e-9), k
+    assert np.linalg.norm(r.r1 - truth["r1"]) < 0.01 and np.linalg.norm(r.r2 - truth["r2"]) < 0.01
+    assert r.n == 4000 and r.used >= 64
+    assert "ImuJointResult(joint=ball" in repr(r)
+
+
+def test_hinge(tmp_path):
+    a, rate, truth, cli = _trial(tmp_path, "hinge", 4243)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.joint == "hinge" == cli["joint"]
+    assert _angle(r.axis1, truth["axis1"]) < 3.0 and _angle(r.axis2, truth["axis2"]) < 3.0
+    assert np.allclose(r.axis1, cli["axis1"], rtol=1e-5, atol=1e-7)
+    assert np.linalg.norm(r.r1 - truth["point1"]) < 0.01
+    assert r.axis1_cov.shape == (3, 3)
+
+
+def test_still_is_untrusted(tmp_path):
+    a, rate, _, cli = _trial(tmp_path, "still", 4244)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.untrusted is True and "low_rotation" in r.flags
+    assert r.reason == cli["flags"]["reason"]
+    assert r.flags == cli["flags"]["names"]
+
+
+def test_errors():
+    z = np.zeros((100, 3))
+    with pytest.raises(sfit.ArgError):
+        sfit.imu_joint(z, z, z, z, 0.0)
+    with pytest.raises(ValueError):
+        sfit.imu_joint(z, z, z, np.zeros((99, 3)), 200.0)
+    with pytest.raises(ValueError):
+        sfit.imu_joint(z, z, z, np.zeros((100, 2)), 200.0)
+    bad = z.copy()
+    bad[42, 1] = np.nan
+    with pytest.raises(sfit.NonFiniteError, match="sample 42"):
+        sfit.imu_joint(bad, z, z, z, 200.0)
+    with pytest.raises(sfit.TooFewError):
+        sfit.imu_joint(z[:10], z[:10], z[:10], z[:10], 200.0)
