@@ -5,7 +5,7 @@ data) against the true segments: the adjusted Rand index (Hubert and Arabie
 1985) of the groups `grouping.groups[].markers`, the true segments found
 exactly, and whether named segments (hands, feet) are exact.
 
-    skeleton_ari.py OUT.json --truth names|sequential:4,2,3
+    skeleton_ari.py OUT.json --truth names|sequential:4,2,3|file:TABLE.tsv
                     [--min ARI] [--exact SEG,SEG,...] [--quiet]
 
 --truth names: the true segment of a marker from its label (a prefix
@@ -14,6 +14,9 @@ CMU and Plug-in Gait marker sets (the table SEGMENT_OF below, documented
 in docs/skeleton.md); a label not in the table is left out of the index.
 --truth sequential:4,2,3: the markers in file order, 4 on the first
 segment, 2 on the second, 3 on the third (the unlabelled arm recordings).
+--truth file:TABLE.tsv: lines `label<TAB>segment` ('#' comments), e.g. the
+hand-labelled unlabelled full body (tests/data/c3d/unlabeled/
+fullbody_44Markers_segments.tsv, segment names as in the table below).
 
 Exit 1 when the index is below --min or a segment of --exact is not found
 exactly (one group holding that segment's markers and nothing else).
@@ -183,6 +186,16 @@ def main():
 
         def truth_of(label):
             return seq.get(label)
+    elif a.truth.startswith('file:'):
+        table = {}
+        for line in open(a.truth.split(':', 1)[1]):
+            line = line.strip()
+            if line and not line.startswith('#'):
+                lab, seg = line.split('\t')
+                table[lab] = seg
+
+        def truth_of(label):
+            return table.get(label.split(':')[-1])
     else:
         sys.exit('unknown --truth ' + a.truth)
     r, exact, segs, nm = evaluate(groups, truth_of)

@@ -99,6 +99,7 @@ typedef struct skel_groups {
     double threshold;                  /**< the merge threshold used */
     double noise;                      /**< the noise level it came from */
     double gap_lo, gap_hi;             /**< the spreads either side of the threshold */
+    int nsplit;                        /**< groups split in two by the two-cores test */
 } skel_groups_t;
 
 /**

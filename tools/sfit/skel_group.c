@@ -30,6 +30,8 @@
 #define SKEL_GROUP_MIN_COMMON 10
 #define SKEL_GROUP_CUT 4.0
 #define SKEL_GROUP_FLOOR 1e-3
+#define SKEL_GROUP_SPLIT 4.0 /* two cores: merge height over the larger core's spread */
+#define SKEL_GROUP_CORE 2    /* markers of a core */
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -57,8 +59,9 @@ static double dist(const float *a, const float *b)
 }
 
 /* Average linkage: merge the closest two clusters while their spread is at
- * most `limit`; heights of the merges into h (at most n - 1). */
-static int linkage(const double *spread, int n, double limit, int *cl, double *h)
+ * most `limit` and more than `stop` clusters remain; heights of the merges
+ * into h (at most n - 1). A cluster is named by its lowest marker (cl). */
+static int linkage(const double *spread, int n, double limit, int stop, int *cl, double *h)
 {
     int i, j, a, b, nh = 0;
     for (i = 0; i < n; i++) {
@@ -95,7 +98,7 @@ static int linkage(const double *spread, int n, double limit, int *cl, double *h
                 }
             }
         }
-        if (ba < 0 || best > limit) {
+        if (ba < 0 || best > limit || n - nh <= stop) {
             return nh;
         }
         h[nh++] = best;
@@ -103,6 +106,103 @@ static int linkage(const double *spread, int n, double limit, int *cl, double *h
             if (cl[a] == bb) {
                 cl[a] = ba;
             }
+        }
+    }
+}
+
+/* Mean spread of the pairs (with a spread) inside the markers mk[0..m-1]
+ * whose side[] equals `which`; NaN without such a pair. */
+static double inner_mean(const double *spread, int n, const int *mk, const int *side, int m,
+                         int which)
+{
+    double sum = 0.0;
+    long known = 0;
+    int a, b;
+    for (a = 0; a < m; a++) {
+        for (b = a + 1; b < m; b++) {
+            if (side[a] == which && side[b] == which && isfinite(spread[mk[a] * n + mk[b]])) {
+                sum += spread[mk[a] * n + mk[b]];
+                known++;
+            }
+        }
+    }
+    return known > 0 ? sum / (double)known : (double)NAN;
+}
+
+/* The two-cores test: a group whose last merge (average linkage inside the
+ * group) joins two parts of at least SKEL_GROUP_CORE markers each, at a
+ * height above SKEL_GROUP_SPLIT times the larger of the two parts' own mean
+ * pair spread, is two rigid bodies: split it there, and test both parts
+ * again. sub: scratch of n * n doubles; cl, h: of n. */
+static void split_cores(const double *spread, int n, skel_groups_t *g, double *sub, int *cl,
+                        double *h)
+{
+    int c;
+    for (c = 0; c < g->n; c++) {
+        int *mk = g->member[c];
+        const int m = g->size[c];
+        int a, b, np = 0, side[SKEL_MAX_MARK];
+        double sum = 0.0, ip, iq, lim;
+        long known = 0;
+        if (m < 2 * SKEL_GROUP_CORE) {
+            continue;
+        }
+        for (a = 0; a < m; a++) {
+            for (b = 0; b < m; b++) {
+                sub[a * m + b] = spread[mk[a] * n + mk[b]];
+            }
+        }
+        (void)linkage(sub, m, HUGE_VAL, 2, cl, h);
+        for (a = 0; a < m; a++) {
+            side[a] = (cl[a] == cl[0]) ? 0 : 1;
+            np += side[a] == 0;
+        }
+        if (np < SKEL_GROUP_CORE || m - np < SKEL_GROUP_CORE) {
+            continue;
+        }
+        for (a = 0; a < m; a++) {
+            for (b = 0; b < m; b++) {
+                if (side[a] == 0 && side[b] == 1 && isfinite(sub[a * m + b])) {
+                    sum += sub[a * m + b];
+                    known++;
+                }
+            }
+        }
+        ip = inner_mean(spread, n, mk, side, m, 0);
+        iq = inner_mean(spread, n, mk, side, m, 1);
+        if (known == 0 || !isfinite(ip) || !isfinite(iq)) {
+            continue;
+        }
+        lim = SKEL_GROUP_SPLIT * (ip > iq ? ip : iq);
+        if (sum / (double)known <= lim || g->n >= SKEL_MAX_MARK) {
+            continue;
+        }
+        { /* part 1 becomes a new group; part 0 stays in place (test again) */
+            const int d = g->n++;
+            int k0 = 0;
+            g->size[d] = 0;
+            for (a = 0; a < m; a++) {
+                if (side[a] == 1) {
+                    g->member[d][g->size[d]++] = mk[a];
+                } else {
+                    mk[k0++] = mk[a];
+                }
+            }
+            g->size[c] = k0;
+            g->nsplit++;
+            c--;
+        }
+    }
+    /* groups in order of their first marker (members are ascending) */
+    for (c = 1; c < g->n; c++) {
+        int d;
+        for (d = c; d > 0 && g->member[d][0] < g->member[d - 1][0]; d--) {
+            int t[SKEL_MAX_MARK], ts = g->size[d];
+            memcpy(t, g->member[d], sizeof t);
+            memcpy(g->member[d], g->member[d - 1], sizeof t);
+            memcpy(g->member[d - 1], t, sizeof t);
+            g->size[d] = g->size[d - 1];
+            g->size[d - 1] = ts;
         }
     }
 }
@@ -189,7 +289,7 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
             free(med);
         }
     }
-    nh = linkage(spread, n, HUGE_VAL, cl, h);
+    nh = linkage(spread, n, HUGE_VAL, 1, cl, h);
     g->threshold = SKEL_GROUP_CUT * g->noise;
     g->gap_lo = g->gap_hi = (double)NAN;
     for (k = 0; k < nh; k++) { /* the merge heights either side of the cut */
@@ -202,7 +302,7 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
     if (!isfinite(g->gap_lo) || !isfinite(g->gap_hi)) {
         g->gap_lo = g->gap_hi = (double)NAN;
     }
-    (void)linkage(spread, n, g->threshold, cl, h);
+    (void)linkage(spread, n, g->threshold, 1, cl, h);
     for (i = 0; i < n; i++) {
         if (cl[i] == i) {
             const int c = g->n++;
@@ -218,6 +318,27 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
                         }
                     }
                     g->member[c][g->size[c]++] = k;
+                }
+            }
+        }
+    }
+    {
+        double *sub = malloc((size_t)n * (size_t)n * sizeof *sub);
+        if (sub == NULL) {
+            (void)snprintf(why, SKEL_ERR, "out of memory");
+            goto fail;
+        }
+        split_cores(spread, n, g, sub, cl, h);
+        free(sub);
+    }
+    for (i = 0; i < g->n; i++) { /* each group's largest pair spread */
+        int q, u;
+        g->spread[i] = 0.0;
+        for (q = 0; q < g->size[i]; q++) {
+            for (u = q + 1; u < g->size[i]; u++) {
+                const double sp = spread[g->member[i][q] * n + g->member[i][u]];
+                if (isfinite(sp) && sp > g->spread[i]) {
+                    g->spread[i] = sp;
                 }
             }
         }
