@@ -190,7 +190,7 @@ static const double *pose_at(const skel_t *s, long f, int k)
 
 /* Sphere route of group g's markers in segment a's frame: centre and cost. */
 static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c[3],
-                        double *cost, double *radius)
+                        double *cost, double *radius, double *near)
 {
     const skel_rec_t *r = s->rec;
     const skel_seg_t *ga = &s->seg[a];
@@ -276,8 +276,10 @@ static int sphere_route(const skel_t *s, int a, const int *mk, int nmk, double c
     }
     *cost = sqrt(sum2 / tot);
     *radius = 0.0;
+    *near = HUGE_VAL;
     for (k = 0; k < nmk; k++) {
         *radius = sum[k] > *radius ? sum[k] : *radius;
+        *near = sum[k] < *near ? sum[k] : *near;
     }
     return 0;
 }
@@ -317,6 +319,32 @@ double skel_seg_reach(const skel_seg_t *g, const double c[3])
     return sqrt(best);
 }
 
+static int cmp_dbl(const void *a, const void *b);
+
+/* Median distance between markers i and j over the frames with both (NaN: none). */
+static double pair_length(const skel_rec_t *r, int i, int j)
+{
+    double *d = malloc((size_t)r->nframes * sizeof *d), med = (double)NAN;
+    long f, m = 0;
+    if (d == NULL) {
+        return med;
+    }
+    for (f = 0; f < r->nframes; f++) {
+        const float *p = skel_rec_at(r, f, i), *q = skel_rec_at(r, f, j);
+        const double dx = (double)p[0] - (double)q[0], dy = (double)p[1] - (double)q[1],
+                     dz = (double)p[2] - (double)q[2], v = sqrt(dx * dx + dy * dy + dz * dz);
+        if (isfinite(v)) {
+            d[m++] = v;
+        }
+    }
+    if (m > 0) {
+        qsort(d, (size_t)m, sizeof *d, cmp_dbl);
+        med = d[m / 2];
+    }
+    free(d);
+    return med;
+}
+
 int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
 {
     const int nposed = s->nseg;
@@ -327,17 +355,24 @@ int skel_attach(skel_t *s, const skel_groups_t *g, char *why)
         if (g->size[k] != 2 || nposed + added >= SKEL_MAX_SEG) {
             continue;
         }
+        const double len = pair_length(s->rec, g->member[k][0], g->member[k][1]);
         for (a = 0; a < nposed; a++) {
-            double c[3], cost, radius;
+            double c[3], cost, radius, near, ext;
             /* what a joint can be: the markers keep their distance to the centre
              * within SKEL_ATTACH_COST times the rigid level, and the centre lies
-             * within reach of a's markers and of the pair's (SKEL_TRUST_REACH
-             * times a's marker extent); else the group is left out */
-            if (s->seg[a].tpl_ok && s->seg[a].vpar < 0
-                && sphere_route(s, a, g->member[k], 2, c, &cost, &radius) == 0
+             * within reach of a's markers and of the pair's: no further from the
+             * nearest marker of either than SKEL_TRUST_REACH times the larger
+             * marker extent (a's, or the pair's length), the rule of the tree's
+             * joints; else the group is left out */
+            if (!(s->seg[a].tpl_ok && s->seg[a].vpar < 0)) {
+                continue;
+            }
+            ext = skel_seg_extent(&s->seg[a]);
+            ext = (isfinite(len) && len > ext) ? len : ext;
+            if (sphere_route(s, a, g->member[k], 2, c, &cost, &radius, &near) == 0
                 && isfinite(cost) && cost <= SKEL_ATTACH_COST * g->noise
-                && radius <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
-                && skel_seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * skel_seg_extent(&s->seg[a])
+                && near <= SKEL_TRUST_REACH * ext
+                && skel_seg_reach(&s->seg[a], c) <= SKEL_TRUST_REACH * ext
                 && cost < bcost) {
                 bcost = cost;
                 best = a;
