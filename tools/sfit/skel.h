@@ -100,6 +100,7 @@ typedef struct skel_groups {
     double noise;                      /**< the noise level it came from */
     double gap_lo, gap_hi;             /**< the spreads either side of the threshold */
     int nsplit;                        /**< groups split in two by the two-cores test */
+    int nmoved;                        /**< joint markers moved to the proximal group */
 } skel_groups_t;
 
 /**

@@ -353,7 +353,7 @@ int skel_cmd(int argc, char **argv)
             } else {
                 printf("null");
             }
-            printf(",\"splits\":%d,\"groups\":[", grp->nsplit);
+            printf(",\"splits\":%d,\"joint_markers_moved\":%d,\"groups\":[", grp->nsplit, grp->nmoved);
             for (k = 0; k < grp->n; k++) {
                 printf("%s{\"spread\":%.6g,\"markers\":[", k ? "," : "", grp->spread[k]);
                 for (i = 0; i < grp->size[k]; i++) {
@@ -536,8 +536,9 @@ int skel_cmd(int argc, char **argv)
         }
         if (map == NULL) {
             printf("groups       found from the data: rigid level %.3g, threshold %.3g %s (spread "
-                   "of pair distances), %d split as two rigid cores\n",
-                   grp->noise, grp->threshold, rec.units, grp->nsplit);
+                   "of pair distances), %d split as two rigid cores, %d joint markers to the "
+                   "proximal group\n",
+                   grp->noise, grp->threshold, rec.units, grp->nsplit, grp->nmoved);
             for (k = 0; k < grp->n; k++) {
                 printf("  group %-4d", k + 1);
                 for (i = 0; i < grp->size[k]; i++) {

@@ -32,6 +32,7 @@
 #define SKEL_GROUP_FLOOR 1e-3
 #define SKEL_GROUP_SPLIT 4.0 /* two cores: merge height over the larger core's spread */
 #define SKEL_GROUP_CORE 2    /* markers of a core */
+#define SKEL_GROUP_JOINT 0.5 /* a joint marker: spread to the other group, over its own, in rigid levels */
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -193,9 +194,22 @@ static void split_cores(const double *spread, int n, skel_groups_t *g, double *s
             c--;
         }
     }
-    /* groups in order of their first marker (members are ascending) */
+}
+
+/* Groups in order of their first marker, members ascending. */
+static void sort_groups(skel_groups_t *g)
+{
+    int c, d, q;
+    for (c = 0; c < g->n; c++) {
+        for (q = 1; q < g->size[c]; q++) {
+            const int v = g->member[c][q];
+            for (d = q; d > 0 && g->member[c][d - 1] > v; d--) {
+                g->member[c][d] = g->member[c][d - 1];
+            }
+            g->member[c][d] = v;
+        }
+    }
     for (c = 1; c < g->n; c++) {
-        int d;
         for (d = c; d > 0 && g->member[d][0] < g->member[d - 1][0]; d--) {
             int t[SKEL_MAX_MARK], ts = g->size[d];
             memcpy(t, g->member[d], sizeof t);
@@ -205,6 +219,171 @@ static void split_cores(const double *spread, int n, skel_groups_t *g, double *s
             g->size[d - 1] = ts;
         }
     }
+}
+
+/* Mean spread between the markers x[0..nx-1] and y[0..ny-1] (pairs with a
+ * spread); NaN without one. */
+static double cross_mean(const double *spread, int n, const int *x, int nx, const int *y, int ny)
+{
+    double sum = 0.0;
+    long known = 0;
+    int a, b;
+    for (a = 0; a < nx; a++) {
+        for (b = 0; b < ny; b++) {
+            if (x[a] != y[b] && isfinite(spread[x[a] * n + y[b]])) {
+                sum += spread[x[a] * n + y[b]];
+                known++;
+            }
+        }
+    }
+    return known > 0 ? sum / (double)known : (double)NAN;
+}
+
+/* Median over the frames of the distance from the group's centroid to the
+ * centroid of all markers seen (HUGE_VAL when never seen). buf: nframes. */
+static double centre_offset(const skel_rec_t *r, const int *mk, int m, double *buf)
+{
+    long f, nb = 0;
+    for (f = 0; f < r->nframes; f++) {
+        double all[3] = {0.0, 0.0, 0.0}, gc[3] = {0.0, 0.0, 0.0}, na = 0.0, ng = 0.0, d2 = 0.0;
+        int i, k;
+        for (i = 0; i < r->nmark; i++) {
+            const float *p = skel_rec_at(r, f, i);
+            if (isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])) {
+                for (k = 0; k < 3; k++) {
+                    all[k] += (double)p[k];
+                }
+                na += 1.0;
+            }
+        }
+        for (i = 0; i < m; i++) {
+            const float *p = skel_rec_at(r, f, mk[i]);
+            if (isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])) {
+                for (k = 0; k < 3; k++) {
+                    gc[k] += (double)p[k];
+                }
+                ng += 1.0;
+            }
+        }
+        if (ng > 0.0) {
+            for (k = 0; k < 3; k++) {
+                const double d = gc[k] / ng - all[k] / na;
+                d2 += d * d;
+            }
+            buf[nb++] = sqrt(d2);
+        }
+    }
+    if (nb == 0) {
+        return HUGE_VAL;
+    }
+    qsort(buf, (size_t)nb, sizeof *buf, cmp_double);
+    return quantile(buf, nb, 0.5);
+}
+
+/* Joint markers (docs/skeleton.md): a marker of a group of 2 or more whose
+ * mean spread to a group of 1 or 2 markers is within the threshold and at
+ * most SKEL_GROUP_JOINT rigid levels above its mean spread to the rest of
+ * its own group keeps its distances to both about equally well: it sits at
+ * their joint, and goes to the proximal one (the lower depth in the
+ * minimum spanning tree of the groups' mean spreads, grown from the group
+ * nearest the centre of all markers), as anatomical landmarks at a joint
+ * (epicondyles, malleoli) belong to the proximal bone. Decided on the
+ * groups as they are, then applied. Returns the markers moved. */
+static int joint_markers(const skel_rec_t *r, const double *spread, int n, skel_groups_t *g,
+                         double *buf)
+{
+    int depth[SKEL_MAX_MARK], in[SKEL_MAX_MARK], dest[SKEL_MAX_MARK], of[SKEL_MAX_MARK];
+    int c, d, i, root = 0, moved = 0;
+    double best = HUGE_VAL;
+    for (c = 0; c < g->n; c++) {
+        const double off = centre_offset(r, g->member[c], g->size[c], buf);
+        if (off < best) {
+            best = off;
+            root = c;
+        }
+        depth[c] = -1;
+        in[c] = 0;
+        for (i = 0; i < g->size[c]; i++) {
+            of[g->member[c][i]] = c;
+        }
+    }
+    depth[root] = 0;
+    in[root] = 1;
+    for (;;) { /* Prim: the cheapest link from the tree to a group outside */
+        int bp = -1, bc = -1;
+        double bw = HUGE_VAL;
+        for (c = 0; c < g->n; c++) {
+            if (!in[c]) {
+                continue;
+            }
+            for (d = 0; d < g->n; d++) {
+                double w;
+                if (in[d]) {
+                    continue;
+                }
+                w = cross_mean(spread, n, g->member[c], g->size[c], g->member[d], g->size[d]);
+                if (isfinite(w) && w < bw) {
+                    bw = w;
+                    bp = c;
+                    bc = d;
+                }
+            }
+        }
+        if (bc < 0) {
+            break;
+        }
+        in[bc] = 1;
+        depth[bc] = depth[bp] + 1;
+    }
+    for (i = 0; i < n; i++) {
+        const int c0 = of[i];
+        double own, bw = HUGE_VAL;
+        dest[i] = -1;
+        if (g->size[c0] < 2 || depth[c0] < 0) {
+            continue;
+        }
+        own = cross_mean(spread, n, &i, 1, g->member[c0], g->size[c0]);
+        if (!isfinite(own)) {
+            continue;
+        }
+        for (d = 0; d < g->n; d++) {
+            double w;
+            if (d == c0 || g->size[d] > 2 || depth[d] < 0 || depth[d] >= depth[c0]) {
+                continue;
+            }
+            w = cross_mean(spread, n, &i, 1, g->member[d], g->size[d]);
+            if (isfinite(w) && w <= g->threshold && w <= own + SKEL_GROUP_JOINT * g->noise
+                && w < bw) {
+                bw = w;
+                dest[i] = d;
+            }
+        }
+    }
+    for (i = 0; i < n; i++) { /* apply */
+        if (dest[i] >= 0) {
+            const int c0 = of[i];
+            int k0 = 0, q;
+            for (q = 0; q < g->size[c0]; q++) {
+                if (g->member[c0][q] != i) {
+                    g->member[c0][k0++] = g->member[c0][q];
+                }
+            }
+            g->size[c0] = k0;
+            g->member[dest[i]][g->size[dest[i]]++] = i;
+            moved++;
+        }
+    }
+    for (c = 0, d = 0; c < g->n; c++) { /* drop emptied groups */
+        if (g->size[c] > 0) {
+            if (d != c) {
+                memcpy(g->member[d], g->member[c], sizeof g->member[d]);
+                g->size[d] = g->size[c];
+            }
+            d++;
+        }
+    }
+    g->n = d;
+    return moved;
 }
 
 int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
@@ -331,6 +510,8 @@ int skel_group(const skel_rec_t *r, skel_groups_t *g, char *why)
         split_cores(spread, n, g, sub, cl, h);
         free(sub);
     }
+    g->nmoved = joint_markers(r, spread, n, g, buf);
+    sort_groups(g);
     for (i = 0; i < g->n; i++) { /* each group's largest pair spread */
         int q, u;
         g->spread[i] = 0.0;
