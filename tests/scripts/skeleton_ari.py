@@ -34,10 +34,10 @@ def _table():
         seg[n] = 'head'
     for n in 'C7 T1 T6 T10 CLAV STRN RBAC RBAK'.split():
         seg[n] = 'thorax'
-    for n in 'LFWT RFWT LBWT RBWT LASI RASI LPSI RPSI S1 S3'.split():
+    for n in 'LFWT RFWT LBWT RBWT LASI RASI LPSI RPSI S1 S3 SACR'.split():
         seg[n] = 'pelvis'
     per_side = {
-        'shoulder': 'SHO', 'upperarm': 'UPA ELB', 'forearm': 'FRM WRA WRB', 'hand': 'FIN',
+        'shoulder': 'SHO', 'upperarm': 'UPA ELB', 'forearm': 'FRM FRA WRA WRB', 'hand': 'FIN',
         'thigh': 'THI THIB THID KNE KNEM', 'shank': 'SHN TIB TIBF TIBD ANK ANKM',
         'foot': 'HEE TOE MT5 NAV TOE5',
     }

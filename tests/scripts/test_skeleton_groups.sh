@@ -6,13 +6,17 @@
 # names, which sfit ignores when it groups; docs/skeleton.md).
 #  1. skeleton_ari.py itself on a partition computed by hand;
 #  2. the two unlabelled arm recordings: every segment exact (index 1);
-#  3. the two CMU full-body trials (41 markers, 17 segments): the index at
-#     least the figure docs/skeleton.md gives (rounded down to 0.01), both
-#     hands exact on 85_12, the left foot exact on 135_02;
-#  4. the tree on the same trials (skeleton_ari.py --joints): no joint
+#  3. the two CMU full-body trials (41 markers, 17 segments) and the
+#     unlabelled 44-marker full body (truth labelled by hand,
+#     tests/data/c3d/unlabeled/fullbody_44Markers_segments.tsv): the index at
+#     least the figure docs/skeleton.md gives (rounded down to 0.01; each at
+#     least 0.80, the 44-marker body at least 0.85), both hands exact on
+#     85_12, the left foot on 135_02, both hands and both feet on the 44-marker
+#     body;
+#  4. the tree on the same recordings (skeleton_ari.py --joints): no joint
 #     without `untrusted` between two segments that are not neighbours in
-#     the body, and at least the 5 body joints docs/skeleton.md gives found
-#     by a joint without it;
+#     the body, and at least the body joints docs/skeleton.md gives found
+#     by a joint without it (10 of 16 on 85_12 and on the 44-marker body);
 #  5. the BVH's distance to the joint centres the JSON reports, recomputed.
 # Usage: test_skeleton_groups.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -32,13 +36,16 @@ ari "$tmp/a423.json" --truth sequential:4,2,3 --min 1.0 --quiet || fail "arm-4-2
 "$sfit" skeleton "$D/unlabeled/arm-4-4-4_clean_30fps.c3d" --json > "$tmp/a444.json"
 ari "$tmp/a444.json" --truth sequential:4,4,4 --min 1.0 --quiet || fail "arm-4-4-4"
 
-# 3. CMU full body
+# 3. CMU full body and the unlabelled 44-marker full body
 "$sfit" skeleton "$D/cmu/85_12.c3d" --json --bvh "$tmp/85.bvh" --centres "$tmp/85.csv" > "$tmp/85.json"
-ari "$tmp/85.json" --truth names --min 0.71 --exact Lhand,Rhand --joints --min-joints 5 --quiet \
+ari "$tmp/85.json" --truth names --min 0.85 --exact Lhand,Rhand --joints --min-joints 10 --quiet \
   || fail "CMU 85_12"
 "$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
-ari "$tmp/135.json" --truth names --min 0.77 --exact Lfoot --joints --min-joints 5 --quiet \
+ari "$tmp/135.json" --truth names --min 0.80 --exact Lfoot --joints --min-joints 6 --quiet \
   || fail "CMU 135_02"
+"$sfit" skeleton "$D/unlabeled/fullbody_44Markers_clean_120fps.c3d" --json > "$tmp/fb44.json"
+ari "$tmp/fb44.json" --truth "file:$D/unlabeled/fullbody_44Markers_segments.tsv" --min 0.92 \
+  --exact Lhand,Rhand,Lfoot,Rfoot --joints --min-joints 10 --quiet || fail "44-marker full body"
 # the members tools read keep their names and types
 py 'import json, sys
 d = json.load(open(sys.argv[1]))
