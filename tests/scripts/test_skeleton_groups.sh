@@ -17,6 +17,7 @@
 #     without `untrusted` between two segments that are not neighbours in
 #     the body, and at least the body joints docs/skeleton.md gives found
 #     by a joint without it (10 of 16 on 85_12 and on the 44-marker body);
+#     the 44-marker body's SVG drawn with +Z up (its floor found);
 #  5. the BVH's distance to the joint centres the JSON reports, recomputed.
 # Usage: test_skeleton_groups.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -43,9 +44,13 @@ ari "$tmp/85.json" --truth names --min 0.85 --exact Lhand,Rhand --joints --min-j
 "$sfit" skeleton "$D/cmu/135_02.c3d" --json > "$tmp/135.json"
 ari "$tmp/135.json" --truth names --min 0.80 --exact Lfoot --joints --min-joints 6 --quiet \
   || fail "CMU 135_02"
-"$sfit" skeleton "$D/unlabeled/fullbody_44Markers_clean_120fps.c3d" --json > "$tmp/fb44.json"
+"$sfit" skeleton "$D/unlabeled/fullbody_44Markers_clean_120fps.c3d" --json --svg "$tmp/fb44.svg" \
+  --frame 2000 > "$tmp/fb44.json"
 ari "$tmp/fb44.json" --truth "file:$D/unlabeled/fullbody_44Markers_segments.tsv" --min 0.92 \
   --exact Lhand,Rhand,Lfoot,Rfoot --joints --min-joints 10 --quiet || fail "44-marker full body"
+# its picture upright: the recording's vertical is +Z (the feet's end of the
+# body is the steady one), though the hands are raised above the root
+grep -q 'view along X: Y right, Z up' "$tmp/fb44.svg" || fail "44-marker full body drawn upside down"
 # the members tools read keep their names and types
 py 'import json, sys
 d = json.load(open(sys.argv[1]))

@@ -3,7 +3,8 @@
 # The pictures a lab would show, looked at in headless Chromium:
 #  1. tools/docs/figures.sh makes every docs picture again (the SVG of
 #     `sfit apply`, its screenshot, the skeleton page orbited and not), and
-#     the pictures in docs/figures have the same sizes;
+#     the pictures in docs/figures have the same sizes, the skeleton SVGs
+#     without a map (CMU 135_02, the 44-marker body) the same bytes;
 #  2. the skeleton page (`sfit skeleton --html`) opened orbited: the view
 #     asked for is the view drawn, each of the 4 joints has its ellipsoid,
 #     no joint label overlaps another label or a joint, and the canvas
@@ -30,6 +31,9 @@ for n in ("lower_limb_session.png", "skeleton_viewer.png", "skeleton_page.png"):
     assert a == b, (n, a, b)
 print("docs pictures: made again, sizes as in docs/figures")
 ' "$tmp/fig" "$src/docs/figures" || fail "the docs pictures"
+for n in skeleton_cmu.svg skeleton_fullbody44.svg; do
+  cmp -s "$tmp/fig/$n" "$src/docs/figures/$n" || fail "docs/figures/$n is not what tools/docs/figures.sh makes"
+done
 
 # 2. the page, orbited
 "$sfit" skeleton "$src/docs/lower_limb_session.txt" "$L/Test_func_rankle.c3d" "$L/Test_func_rhip.c3d" \

@@ -63,30 +63,23 @@ static void esc(FILE *f, const char *t)
 }
 
 /* The picture's vertical: the lab axis along which the skeleton (its
- * nodes and end sites) spreads most, summed over (up to 500) frames; its
- * sign puts the end site of the leaf farthest from the root (in joints)
- * below the root on average. */
+ * nodes and end sites) spreads most, summed over (up to 500) frames. Its
+ * sign puts the floor below when the data show one: of the lowest and the
+ * highest marker along that axis per frame, one end whose standard
+ * deviation over the frames is under a fifth of the other's is the floor,
+ * where the feet stand while the top (head, raised hands) moves. Else (a
+ * partial body, an arm) the end site of the leaf farthest from the root
+ * (in joints) goes below the root on average. */
+#define SKEL_FLOOR_RATIO 5.0 /* the floor's end varies this many times less */
+
 static void view_up(const skel_t *s, int *up, double *sign)
 {
     const long nf = s->rec->nframes;
     const long step = nf > 500 ? nf / 500 : 1;
-    double ext[3] = {0.0, 0.0, 0.0}, below = 0.0;
+    double ext[3] = {0.0, 0.0, 0.0}, sum[2] = {0.0, 0.0}, sq[2] = {0.0, 0.0}, cnt = 0.0;
+    double below = 0.0;
     int k, i, deep = -1, best = -1;
     long f;
-    for (k = 0; k < s->nseg; k++) {
-        int d = 0, c = k;
-        if (!s->leaf[k]) {
-            continue;
-        }
-        while (s->parent_joint[c] >= 0 && d < SKEL_MAX_SEG) {
-            c = s->joint[s->parent_joint[c]].parent;
-            d++;
-        }
-        if (d > best) {
-            best = d;
-            deep = k;
-        }
-    }
     for (f = 0; f < nf; f += step) {
         double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
         for (k = 0; k < s->nseg; k++) {
@@ -109,6 +102,50 @@ static void view_up(const skel_t *s, int *up, double *sign)
     for (i = 0; i < 3; i++) {
         if (ext[i] > ext[*up]) {
             *up = i;
+        }
+    }
+    for (f = 0; f < nf; f += step) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (i = 0; i < s->rec->nmark; i++) {
+            const float *p = skel_rec_at(s->rec, f, i);
+            const double v = (double)p[*up];
+            if (isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])) {
+                lo = v < lo ? v : lo;
+                hi = v > hi ? v : hi;
+            }
+        }
+        if (lo <= hi) {
+            sum[0] += lo;
+            sum[1] += hi;
+            sq[0] += lo * lo;
+            sq[1] += hi * hi;
+            cnt += 1.0;
+        }
+    }
+    if (cnt > 0.0) {
+        const double vlo = sq[0] / cnt - (sum[0] / cnt) * (sum[0] / cnt);
+        const double vhi = sq[1] / cnt - (sum[1] / cnt) * (sum[1] / cnt);
+        if (vlo * SKEL_FLOOR_RATIO * SKEL_FLOOR_RATIO < vhi) {
+            *sign = 1.0;
+            return;
+        }
+        if (vhi * SKEL_FLOOR_RATIO * SKEL_FLOOR_RATIO < vlo) {
+            *sign = -1.0;
+            return;
+        }
+    }
+    for (k = 0; k < s->nseg; k++) {
+        int d = 0, c = k;
+        if (!s->leaf[k]) {
+            continue;
+        }
+        while (s->parent_joint[c] >= 0 && d < SKEL_MAX_SEG) {
+            c = s->joint[s->parent_joint[c]].parent;
+            d++;
+        }
+        if (d > best) {
+            best = d;
+            deep = k;
         }
     }
     for (f = 0; deep >= 0 && f < nf; f += step) {
