@@ -141,15 +141,19 @@ typedef struct sfit_pair_cfg {
                                      rotation seen, atan sqrt(lambda_1 / lambda_2), or the
                                      tilt an unseen out-of-axis rotation of size wobble
                                      could cause, atan(wobble / flexion spread). */
-    float wobble;               /**< Hinge: out-of-axis rotation (rms, rad) the joint may
-                                     have in step with its flexion (then the data are a
-                                     rotation about a tilted axis and cannot show it);
-                                     0 = default 2.5 degrees rms (a knee's 2-5 degrees of
-                                     ab/adduction in step with its flexion); a tiny value
-                                     (1e-6) for a mechanical hinge. The data cannot show
-                                     it: axis_cov carries the tilt it can cause (the
-                                     larger of it and the out-of-axis rotation seen,
-                                     axis_cov_model), and so does the AXIS_FREE test. */
+    float wobble;               /**< Hinge: out-of-axis rotation (rms, rad) a joint may have
+                                     in step with its flexion (then the data are a rotation
+                                     about a tilted axis and cannot show it). AXIS_FREE
+                                     when such a wobble could tilt the axis beyond
+                                     axis_tol, atan(wobble / flexion spread): the flexion
+                                     range is too small (0 = default 2.5 degrees rms, a
+                                     knee's 2-5 degrees; a tiny value, 1e-6, for a
+                                     mechanical hinge). axis_cov's model part comes from
+                                     the data: an out-of-axis rotation seen beyond its
+                                     noise (2 standard deviations) is taken to have an
+                                     unseen in-step share up to twice its size; a clean
+                                     hinge carries none. A value above 0 is also a floor
+                                     on that part (a knee known to wobble). */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
