@@ -47,15 +47,16 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 /* Hinge wobble: an out-of-axis rotation is seen when the corrected lambda_1
  * passes this many of its noise standard deviations (nz1 / sqrt(N)); its
  * part in step with the flexion, which no fit can see, is taken as up to
- * twice the seen part in amplitude (PRV_WOBBLE_K times in variance). No
- * floor by default (cfg.wobble 0): a clean hinge carries no model part. */
+ * twice the seen part in amplitude (PRV_WOBBLE_K times in variance). */
 #define PRV_WOBBLE_Z 2.0f
 #define PRV_WOBBLE_K 4.0f
-/* The in-step wobble the AXIS_FREE range test assumes when cfg.wobble is
- * 0: a knee's 2-5 degrees (2.5 degrees rms). It decides only whether the
- * flexion range can tell the axis from such a wobble; it does not enter
- * axis_cov. */
+/* cfg.wobble 0: the in-step wobble the AXIS_FREE range test assumes, a
+ * knee's 2-5 degrees (2.5 degrees rms; it decides only whether the flexion
+ * range can tell the axis from such a wobble), and the floor under the
+ * model part, 0.5 degrees rms: what a real knee hides below its noise (on
+ * the shared knee trial the block jackknife of the centre needs it). */
 #define PRV_WOBBLE_RANGE 0.0436332f
+#define PRV_WOBBLE_FLOOR 0.00872665f
 #define PRV_MIN_FRAMES 30u
 /* Ball: lambda_1 of the corrected S must be this many of its noise
  * standard deviations above zero for the centre to be fixed by the data. */
@@ -1540,7 +1541,8 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
         if (c.mode == SFIT_PAIR_MODE_BALL) {
             prv_sta(s, &c);
         }
-        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT), s->cfg.wobble);
+        prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT),
+                  prv_or(s->cfg.wobble, PRV_WOBBLE_FLOOR));
     }
     if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
         return SFIT_E_RANGE;

@@ -614,7 +614,9 @@ static const char *cname(const cell_t *c, char *buf, size_t n)
  *    RoM 30, sigma 0.5) at least 30 % unflagged;
  *  - hinge: the axis cone covers at least 92 % of the unflagged results
  *    (or fewer than 30 are unflagged); a clean hinge (no wobble) at least
- *    90 % unflagged and covered in 92-98 %. */
+ *    90 % unflagged. Its cone is not held to 98 %: it carries the default
+ *    floor of 0.5 degrees rms of unseen in-step wobble (a real knee's, see
+ *    docs/pair.md#model-error), far above a synthetic clean hinge's noise. */
 static int check_cell(const cell_t *c, const stat_t *s, double cov)
 {
     const int u = s->unflagged;
@@ -625,7 +627,7 @@ static int check_cell(const cell_t *c, const stat_t *s, double cov)
             printf("  FAIL: coverage %.3f below %.3f\n", cov, lo);
             fail = 1;
         }
-        if ((c->kind == K_BALL || c->clean) && cov > hi) {
+        if (c->kind == K_BALL && cov > hi) {
             printf("  FAIL: coverage %.3f above %.3f\n", cov, hi);
             fail = 1;
         }
