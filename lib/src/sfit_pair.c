@@ -44,16 +44,25 @@ const sfit_pair_cfg_t sfit_pair_cfg_default = {
 #define PRV_MAX_TRUST 0.25f
 #define PRV_MAX_MISFIT 2.0f
 #define PRV_AXIS_TOL 0.1745329f /* 10 degrees */
-#define PRV_WOBBLE 0.0436332f /* 2.5 degrees rms: a 2-5 degree out-of-axis rotation in step with the flexion */
+/* Hinge wobble: an out-of-axis rotation is seen when the corrected lambda_1
+ * passes this many of its noise standard deviations (nz1 / sqrt(N)); its
+ * part in step with the flexion, which no fit can see, is taken as up to
+ * twice the seen part in amplitude (PRV_WOBBLE_K times in variance). */
+#define PRV_WOBBLE_Z 2.0f
+#define PRV_WOBBLE_K 4.0f
+/* cfg.wobble 0: the in-step wobble the AXIS_FREE range test assumes, a
+ * knee's 2-5 degrees (2.5 degrees rms; it decides only whether the flexion
+ * range can tell the axis from such a wobble), and the floor under the
+ * model part, 0.5 degrees rms: what a real knee hides below its noise (on
+ * the shared knee trial the block jackknife of the centre needs it). */
+#define PRV_WOBBLE_RANGE 0.0436332f
+#define PRV_WOBBLE_FLOOR 0.00872665f
 #define PRV_MIN_FRAMES 30u
 /* Ball: lambda_1 of the corrected S must be this many of its noise
  * standard deviations above zero for the centre to be fixed by the data. */
 #define PRV_Z_BALL 5.0f
 /* chi^2(2 dof) 95 % quantile: the 95 % cone of a unit axis. */
 #define PRV_CHI2_2_95 5.991465f
-/* Skin motion: the translation of a cluster on its segment against its
- * rotation (times the lever to the joint) in the prior of the offset. */
-#define PRV_STA_TRANS 0.1f
 /* Skin motion: theta's directions whose spread is below this share of the
  * largest are left out of the regression (the motion does not excite them;
  * there theta is the rotation noise). */
@@ -602,13 +611,14 @@ typedef struct prv_ctx {
     sfit_mat3_t nm, sc, w_c, qinv, vec, scinv;
     sfit_vec3_t lam;
     float rhs[3], cpp[3], ccc[3], n1[3], n2[3], axc[3], b[3];
-    float ratio12, z, hratio, cost, expect, proj;
+    float ratio12, z, cost, expect, proj;
     uint32_t flags;
     sfit_pair_mode_t mode;
     int corrected;
     int weighted;       /* the ball centre is the weighted one (prv_weighted) */
     float sta_excess;   /* ball: angle-correlated residual beyond the noise (sum |r|^2) */
     float l1c;          /* corrected smallest eigenvalue of S (out-of-axis rotation) */
+    float nz1;          /* its noise expectation (the correction along n1) */
     sfit_mat3_t dpn;    /* hinge: d point / d axis */
     sfit_mat3_t w;      /* its weight (child frame, normalised to trace 3 of W^-1) */
 } prv_ctx_t;
@@ -712,12 +722,10 @@ static sfit_status_t prv_decide(const sfit_pair_t *s, prv_ctx_t *c, float hr)
         const float l1c = c->corrected ? c->lam.v[0] : c->lam.v[0] - nz1;
         const float l2c = c->corrected ? c->lam.v[1] : c->lam.v[1] - prv_quad(&c->nm, c->n2);
         c->l1c = l1c;
+        c->nz1 = nz1;
         c->ratio12 = (l2c > 0.0f) ? l1c / l2c : 1.0f;
-        c->hratio = 1.0f;
         if (nz1 > 0.0f) {
             c->z = SFIT_SQRTF(y->n) * l1c / nz1;
-            /* the hinge model's residual rotation against the noise's */
-            c->hratio = 1.0f + l1c / nz1;
         } else {
             c->z = (l1c > 0.0f) ? 1e30f : 0.0f;
         }
@@ -1012,7 +1020,8 @@ static sfit_status_t prv_solve_hinge(prv_ctx_t *c, float mt)
 
 /* Is the axis fixed? tan^2(at) (series, 1e-3 relative up to 30 degrees)
  * against the out-of-axis rotation seen and the one that cannot be seen
- * (wobble in step with a flexion of spread sqrt(lambda_2)). */
+ * (a wobble wb in step with a flexion of spread sqrt(lambda_2) tilts the
+ * axis by atan(wb / spread): a range test, the cone is prv_scale's). */
 static void prv_axis_seen(prv_ctx_t *c, float at, float wb)
 {
     const float a2 = at * at;
@@ -1304,18 +1313,15 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
     prv_bcov(&cm, &sig, &t1);
     sfit_i_mat3_mul(&minv, &t1, &h);
     noise = nk * trs - (h.m[0] + h.m[4] + h.m[8]);
-    /* The offset's prior: the child cluster turning on its segment by a
-     * random rotation Omega per unit joint angle moves the joint point by
-     * [c]x Omega theta (lever c: the point from the child's centroid), and
-     * its translation adds a little of every direction: L's rows have
-     * covariance P = (1 + PRV_STA_TRANS) |c|^2 I - c c^T per unit s^2. */
-    memset(&pm, 0, sizeof pm);
-    {
-        const float c2 = sfit_i_dot3(c->ccc, c->ccc);
-        for (i = 0; i < 9; i++) {
-            pm.m[i] = ((i % 4 == 0) ? c2 * (1.0f + PRV_STA_TRANS) : 0.0f)
-                      - c->ccc[i / 3] * c->ccc[i % 3];
-        }
+    /* The offset's prior: each child marker slides on the skin by its own
+     * displacement, linear in the joint angle and independent between
+     * markers; the registration turns them into a motion of the cluster
+     * whose effect on the joint point has the shape of the marker noise's:
+     * L's rows have covariance P = [c]x J_c^-1 [c]x^T + I / M_c per unit s^2
+     * (c: the point from the child's centroid). */
+    prv_cross_quad(c->ccc, &y->jc, &pm);
+    for (i = 0; i < 3; i++) {
+        pm.m[4 * i] += 1.0f / (float)s->n_c;
     }
     sfit_i_mat3_mul(&cm, &cm, &g2);
     prv_symmetrise(&g2);
@@ -1372,7 +1378,9 @@ static void prv_scale(prv_ctx_t *c, float at, float mm, float wb)
         sfit_mat3_t t;
         const float l1 = (c->l1c > 0.0f) ? c->l1c : 0.0f;
         const float pr = 0.5f * wb * wb * c->y.n;
-        const float q = (l1 > pr) ? l1 : pr;
+        const float lu =
+            (l1 > PRV_WOBBLE_Z * c->nz1 / SFIT_SQRTF(c->y.n)) ? PRV_WOBBLE_K * l1 : 0.0f;
+        const float q = (lu > pr) ? lu : pr;
         int i, j;
         r->wobble_rms = SFIT_SQRTF(l1 / c->y.n);
         for (i = 0; i < 3; i++) {
@@ -1527,14 +1535,14 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
     }
     {
         const float at = prv_or(s->cfg.axis_tol, PRV_AXIS_TOL);
-        prv_axis_seen(&c, at, prv_or(s->cfg.wobble, PRV_WOBBLE));
+        prv_axis_seen(&c, at, prv_or(s->cfg.wobble, PRV_WOBBLE_RANGE));
         prv_points(&c);
         prv_covariances(s, &c);
         if (c.mode == SFIT_PAIR_MODE_BALL) {
             prv_sta(s, &c);
         }
         prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT),
-                  prv_or(s->cfg.wobble, PRV_WOBBLE));
+                  prv_or(s->cfg.wobble, PRV_WOBBLE_FLOOR));
     }
     if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
         return SFIT_E_RANGE;

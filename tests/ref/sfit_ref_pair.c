@@ -936,12 +936,9 @@ int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
     rp_bcov(cmat, sig, t);
     rp_mm(minv, t, h);
     noise = nk * trs - (h[0] + h[4] + h[8]);
-    {
-        const double c2 = xc[0] * xc[0] + xc[1] * xc[1] + xc[2] * xc[2];
-        for (k = 0; k < 9; k++) {
-            pr[k] = ((k % 4 == 0) ? 1.1 * c2 : 0.0) - xc[k / 3] * xc[k % 3];
-        }
-    }
+    /* the offset's prior: independent per-marker slides of the child
+     * cluster, seen at the joint point: [xc] J_c^-1 [xc]^T + I / M_c */
+    rp_point_noise(tc, 1.0, xc, pr);
     rp_mm(cmat, cmat, g2);
     rp_bcov(g2, pr, t);
     rp_mm(minv, t, h);

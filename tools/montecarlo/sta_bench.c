@@ -144,6 +144,7 @@ typedef struct cell {
     double rom, sigma, amp; /* RoM / flexion (deg), sigma (mm), STA (mm at 30 deg) */
     int step;               /* hinge: wobble at the flexion's frequency */
     int autom;              /* hinge: mode auto instead of hinge */
+    int clean;              /* hinge: no wobble (noise only) */
 } cell_t;
 
 /* STA of one cluster: per-marker D_i (3x3, mm/rad), rigid a (rad/rad), b,
@@ -291,6 +292,10 @@ static void trial(const cell_t *c, tu_rng_t *g, res_t *out)
     memset(out, 0, sizeof *out);
     wob[0] = deg(2.0 + 3.0 * tu_rng_uniform(g));
     wob[1] = deg(2.0 + 3.0 * tu_rng_uniform(g));
+    if (c->clean) {
+        wob[0] = 0.0;
+        wob[1] = 0.0;
+    }
     for (k = 2; k < 6; k++) {
         wob[k] = 2.0 * TU_PI * tu_rng_uniform(g);
     }
@@ -530,6 +535,7 @@ static int g_nc;
 static void add(kind_t k, sta_kind_t st, double rom, double sig, double amp, int step, int autom)
 {
     cell_t *c = &g_cells[g_nc++];
+    c->clean = 0;
     c->kind = k;
     c->sta = st;
     c->rom = rom;
@@ -556,6 +562,10 @@ static void grid(int check)
         add(K_BALL, STA_NONE, 60, 1.0, 0, 0, 0);
         add(K_HINGE, STA_NONE, 90, 1.0, 0, 1, 0);
         add(K_HINGE, STA_NONE, 90, 1.0, 0, 0, 1);
+        add(K_HINGE, STA_NONE, 45, 1.0, 0, 0, 0);
+        g_cells[g_nc - 1].clean = 1;
+        add(K_HINGE, STA_NONE, 60, 0.5, 0, 0, 1);
+        g_cells[g_nc - 1].clean = 1;
         return;
     }
     for (m = STA_RIGID; m <= STA_MARKER; m++) {
@@ -578,6 +588,8 @@ static void grid(int check)
                 for (d = 0; d < 2; d++) {
                     add(K_HINGE, STA_NONE, flex[a], sigs[b], 0, d, m);
                 }
+                add(K_HINGE, STA_NONE, flex[a], sigs[b], 0, 0, m);
+                g_cells[g_nc - 1].clean = 1;
             }
         }
     }
@@ -588,7 +600,8 @@ static const char *cname(const cell_t *c, char *buf, size_t n)
     if (c->kind == K_BALL) {
         snprintf(buf, n, "ball %s", k_sta_name[c->sta]);
     } else {
-        snprintf(buf, n, "hinge %s %s", c->step ? "step" : "free", c->autom ? "auto" : "hinge");
+        snprintf(buf, n, "hinge %s %s", c->clean ? "clean" : (c->step ? "step" : "free"),
+                 c->autom ? "auto" : "hinge");
     }
     return buf;
 }
@@ -596,30 +609,38 @@ static const char *cname(const cell_t *c, char *buf, size_t n)
 /* The claims of the check grid (3 binomial standard errors around the
  * band, at least 30 unflagged results for a coverage):
  *  - ball: coverage of the 95 % ellipsoid among unflagged results in
- *    92-98 %; without skin motion also median d' C^-1 d >= 0.8 and at least
- *    90 % unflagged; with it the median at least 0.4 (the measured floor:
- *    the skin's size comes from 3 visible dof, docs/joint_benchmark.md);
- *    the mild cell (2 mm, RoM 30, sigma 0.5) at least 30 % unflagged;
+ *    92-98 % and median d' C^-1 d >= 0.8 (not inflated), with and without
+ *    skin motion; without it at least 90 % unflagged; the mild cell (2 mm,
+ *    RoM 30, sigma 0.5) at least 30 % unflagged;
  *  - hinge: the axis cone covers at least 92 % of the unflagged results
- *    (or none is unflagged). */
+ *    (or fewer than 30 are unflagged); a clean hinge (no wobble) at least
+ *    90 % unflagged. Its cone is not held to 98 %: it carries the default
+ *    floor of 0.5 degrees rms of unseen in-step wobble (a real knee's, see
+ *    docs/pair.md#model-error), far above a synthetic clean hinge's noise. */
 static int check_cell(const cell_t *c, const stat_t *s, double cov)
 {
     const int u = s->unflagged;
     int fail = 0;
     if (u >= 30) {
         const double lo = 0.92 - 3.0 * sqrt(0.92 * 0.08 / u), hi = 0.98 + 3.0 * sqrt(0.98 * 0.02 / u);
-        if (cov < lo || (c->kind == K_BALL && cov > hi)) {
-            printf("  FAIL: coverage %.3f outside %.3f-%.3f\n", cov, lo, hi);
+        if (cov < lo) {
+            printf("  FAIL: coverage %.3f below %.3f\n", cov, lo);
             fail = 1;
         }
-        if (c->kind == K_BALL && s->med_d2 < (c->sta == STA_NONE ? 0.8 : 0.4)) {
+        if (c->kind == K_BALL && cov > hi) {
+            printf("  FAIL: coverage %.3f above %.3f\n", cov, hi);
+            fail = 1;
+        }
+        if (c->kind == K_BALL && s->med_d2 < 0.8) {
             printf("  FAIL: median d'C^-1 d %.3f (inflated)\n", s->med_d2);
             fail = 1;
         }
     }
-    if (c->kind == K_BALL && c->sta == STA_NONE && u < (int)(0.9 * s->n)) {
-        printf("  FAIL: noise only, %d of %d unflagged\n", u, s->n);
-        fail = 1;
+    if ((c->kind == K_BALL && c->sta == STA_NONE) || c->clean) {
+        if (u < (int)(0.9 * s->n)) {
+            printf("  FAIL: noise only, %d of %d unflagged\n", u, s->n);
+            fail = 1;
+        }
     }
     if (c->kind == K_BALL && c->amp == 2.0 && c->rom == 30.0 && c->sigma == 0.5
         && u < (int)(0.3 * s->n)) {

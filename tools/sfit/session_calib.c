@@ -475,9 +475,9 @@ static void verdict(session_joint_t *j, const char *u)
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)
                && j->hinge && j->cone_model_deg > 0.0) {
         (void)snprintf(advice, sizeof advice,
-                       "untrusted: an out-of-axis rotation (%.1f degrees rms seen) in step with "
-                       "the flexion cannot be told from a tilted axis: axis uncertain by %.0f "
-                       "degrees (95 %%)",
+                       "untrusted: the joint turns out of its axis by %.1f degrees rms; up to "
+                       "twice that in step with the flexion would tilt the axis unseen: axis "
+                       "uncertain by %.0f degrees (95 %%)",
                        j->wobble_deg, j->cone_deg);
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)) {
         (void)snprintf(advice, sizeof advice,
@@ -510,10 +510,10 @@ static void verdict(session_joint_t *j, const char *u)
         (void)snprintf(j->verdict, sizeof j->verdict,
                        "%s (hinge): 95 %% ellipse normal to the axis %.1f x %.1f %s; axis "
                        "95 %% cone %.1f degrees (%.1f of it from an out-of-axis rotation in step "
-                       "with the flexion); flexion range %.0f degrees about the axis (lab x/y/z "
+                       "with the flexion; %.1f degrees rms seen); flexion range %.0f degrees about the axis (lab x/y/z "
                        "%.0f/%.0f/%.0f): %s",
                        j->name, j->semi95[0], j->semi95[1], u, j->cone_deg, j->cone_model_deg,
-                       j->flex_deg, j->range_deg[0], j->range_deg[1], j->range_deg[2], advice);
+                       j->wobble_deg, j->flex_deg, j->range_deg[0], j->range_deg[1], j->range_deg[2], advice);
     } else {
         (void)snprintf(j->verdict, sizeof j->verdict,
                        "%s (ball): 95 %% ellipsoid %.1f x %.1f x %.1f %s; rotation range about "

@@ -141,15 +141,19 @@ typedef struct sfit_pair_cfg {
                                      rotation seen, atan sqrt(lambda_1 / lambda_2), or the
                                      tilt an unseen out-of-axis rotation of size wobble
                                      could cause, atan(wobble / flexion spread). */
-    float wobble;               /**< Hinge: out-of-axis rotation (rms, rad) the joint may
-                                     have in step with its flexion (then the data are a
-                                     rotation about a tilted axis and cannot show it);
-                                     0 = default 2.5 degrees rms (a knee's 2-5 degrees of
-                                     ab/adduction in step with its flexion); a tiny value
-                                     (1e-6) for a mechanical hinge. The data cannot show
-                                     it: axis_cov carries the tilt it can cause (the
-                                     larger of it and the out-of-axis rotation seen,
-                                     axis_cov_model), and so does the AXIS_FREE test. */
+    float wobble;               /**< Hinge: out-of-axis rotation (rms, rad) a joint may have
+                                     in step with its flexion (then the data are a rotation
+                                     about a tilted axis and cannot show it). 0 = the
+                                     defaults: AXIS_FREE when a knee's 2.5 degrees rms
+                                     could tilt the axis beyond axis_tol,
+                                     atan(wobble / flexion spread) (the flexion range is
+                                     too small), and a floor of 0.5 degrees rms under
+                                     axis_cov's model part. Above 0: this value for both
+                                     (a tiny value, 1e-6, for a mechanical hinge). The
+                                     model part itself comes from the data: an
+                                     out-of-axis rotation seen beyond its noise (2
+                                     standard deviations) is taken to have an unseen
+                                     in-step share up to twice its size. */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
@@ -323,9 +327,9 @@ sfit_status_t sfit_pair_add_markers(sfit_pair_t *s, const sfit_cluster_t *parent
  *                            about one axis only)
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite (corrupted sums)
- * @par Cost ball, default method (weighted), with the skin-motion term: 9979
- * FLOPs (tools/flopcount "pair_solve", 61101 M4F instructions, 2824 B stack);
- * plain SCoRE 6584 FLOPs ("pair_solve_score"); independent of the number of
+ * @par Cost ball, default method (weighted), with the skin-motion term: 10039
+ * FLOPs (tools/flopcount "pair_solve", 61141 M4F instructions, 2816 B stack);
+ * plain SCoRE 6644 FLOPs ("pair_solve_score"); independent of the number of
  * frames (docs/cost.md).
  */
 sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out);
