@@ -615,6 +615,75 @@ static int write_csv(const char *path, const char *kind, unsigned long seed)
     return 0;
 }
 
+/* test_imu --ref-csv FILE: the double batch Gauss-Newton of Seel et al.
+ * (tests/ref, every sample, the library's cubic derivative) on the CSV of
+ * `sfit imu-joint`, as JSON on stdout: r1, r2 (m), their covariances, the
+ * hinge axes (test_imu --ref-csv FILE hinge) and the host time (s). For tests/scripts/imu_c3d_trials.py. */
+static int ref_csv(const char *path, int hinge)
+{
+    static double a[2][4 * NS][3], w[2][4 * NS][3];
+    static char line[1024];
+    double r1[3], r2[3], cov[36], rms, j1[3], j2[3], hrms, tb, th;
+    clock_t c0;
+    size_t n = 0;
+    int rc, rh, i;
+    FILE *f = fopen(path, "r");
+    if (f == NULL || fgets(line, sizeof line, f) == NULL) {
+        if (f != NULL) {
+            fclose(f);
+        }
+        return 3;
+    }
+    while (n < 4 * NS && fgets(line, sizeof line, f) != NULL) {
+        double v[13];
+        char *p = line, *e;
+        for (i = 0; i < 13; i++) {
+            v[i] = strtod(p, &e);
+            if (e == p) {
+                break;
+            }
+            p = (*e == ',') ? e + 1 : e;
+        }
+        if (i < 13) {
+            fclose(f);
+            return 3;
+        }
+        for (i = 0; i < 3; i++) {
+            a[0][n][i] = v[1 + i];
+            w[0][n][i] = v[4 + i];
+            a[1][n][i] = v[7 + i];
+            w[1][n][i] = v[10 + i];
+        }
+        n++;
+    }
+    fclose(f);
+    c0 = clock();
+    rc = ref_imu_ball_gn((const double(*)[3])a[0], (const double(*)[3])w[0],
+                         (const double(*)[3])a[1], (const double(*)[3])w[1], n, RATE, -8, r1, r2,
+                         cov, &rms);
+    tb = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    c0 = clock();
+    rh = -1;
+    memset(j1, 0, sizeof j1);
+    memset(j2, 0, sizeof j2);
+    hrms = 0.0;
+    if (hinge) {
+        rh = ref_imu_hinge_gn((const double(*)[3])w[0], (const double(*)[3])w[1], n, j1, j2,
+                              &hrms);
+    }
+    th = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    printf("{\"n\":%lu,\"status\":%d,\"r1\":[%.7f,%.7f,%.7f],\"r2\":[%.7f,%.7f,%.7f],"
+           "\"rms\":%.6g,\"time\":%.6f,\"cov\":[",
+           (unsigned long)n, rc, r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], rms, tb);
+    for (i = 0; i < 36; i++) {
+        printf("%s%.6e", i ? "," : "", cov[i]);
+    }
+    printf("],\"hinge_status\":%d,\"axis1\":[%.7f,%.7f,%.7f],\"axis2\":[%.7f,%.7f,%.7f],"
+           "\"hinge_rms\":%.6g,\"hinge_time\":%.6f}\n",
+           rh, j1[0], j1[1], j1[2], j2[0], j2[1], j2[2], hrms, th);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
@@ -622,6 +691,9 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
+    if (argc >= 3 && strcmp(argv[1], "--ref-csv") == 0) {
+        return ref_csv(argv[2], argc >= 4 && strcmp(argv[3], "hinge") == 0);
+    }
     if (argc >= 4 && strcmp(argv[1], "--write-csv") == 0) {
         return write_csv(argv[2], argv[3], argc >= 5 ? strtoul(argv[4], NULL, 10) : 4242ul);
     }
