@@ -32,6 +32,7 @@
 static double g_acc[2][NS][3], g_gyr[2][NS][3], g_dgyr[2][NS][3];
 static double g_j1[3], g_j2[3]; /* hinge truth (sensor frames) */
 static double g_wobble = 2.0;   /* hinge wobble amplitude (degrees) */
+static double g_gbias = -1.0;   /* >= 0: every gyroscope bias this large (rad/s) */
 static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and 1.6 g_wobble_f times the gait */
 
 static void rand_unit(tu_rng_t *g, double u[3])
@@ -160,7 +161,8 @@ static void make_signals(tu_rng_t *g, const ref_imu_motion_t *m, int noisy)
     int s, k, i;
     if (noisy == 1) { /* 2: noise without biases */
         for (s = 0; s < 2; s++) {
-            const double mg = uni(g, 0, 0.01), ma = uni(g, 0, 0.05);
+            const double mg0 = uni(g, 0, 0.01), ma = uni(g, 0, 0.05);
+            const double mg = (g_gbias >= 0.0) ? g_gbias : mg0;
             rand_unit(g, bg[s]);
             rand_unit(g, ba[s]);
             for (i = 0; i < 3; i++) {
@@ -369,6 +371,57 @@ static void test_mc_ball(void **state)
     assert_true(flagged <= 15 * T / 100);
     assert_true(good >= (9 * unfl + 9) / 10);
     assert_true(cover >= (85 * unfl + 99) / 100 && cover <= (99 * unfl) / 100);
+}
+
+/* Gyroscope biases: the same 40 hip-like trials (motion, noise, accelerometer
+ * biases) with a gyroscope bias of 0.01 rad/s on each sensor (the most the
+ * datasheet allows, random directions) and without. A bias b changes
+ * w x (w x r) by about 2 |w| |b| |r| (0.02 m/s^2 at 3 rad/s and 0.3 m), as
+ * much as the accelerometer's noise but not at random: the test asks that
+ * the paired increase of the squared error be no larger than three of its
+ * standard errors, and that the demands of the ball trials hold with it. */
+static void test_gyro_bias(void **state)
+{
+    enum { T = 40 };
+    tu_rng_t g;
+    int t, v, good[2] = {0, 0}, unfl[2] = {0, 0};
+    double dsum = 0.0, dsq = 0.0, esq[2] = {0.0, 0.0}, mean, se;
+    (void)state;
+    tu_rng_seed(&g, 4209u);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double e1[3], e2[3], e[2];
+        tu_rng_t keep;
+        make_motion(&g, 0, &m);
+        keep = g;
+        for (v = 0; v < 2; v++) {
+            g = keep;
+            g_gbias = (v == 0) ? 0.0 : 0.01;
+            make_signals(&g, &m, 1);
+            assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+            e[v] = fmax(err3(&r.r1, m.r1, e1), err3(&r.r2, m.r2, e2));
+            esq[v] += e[v] * e[v];
+            if (!(r.flags & SFIT_FLAG_UNTRUSTED)) {
+                unfl[v]++;
+                good[v] += (e[v] < 0.01);
+            }
+        }
+        g_gbias = -1.0;
+        dsum += e[1] * e[1] - e[0] * e[0];
+        dsq += (e[1] * e[1] - e[0] * e[0]) * (e[1] * e[1] - e[0] * e[0]);
+    }
+    mean = dsum / T;
+    se = sqrt((dsq / T - mean * mean) / (T - 1));
+    print_message("gyroscope bias 0.01 rad/s: %d trials, rms of the worse position error %.2f "
+                  "mm without, %.2f mm with; paired increase of the squared error %.3g mm^2 "
+                  "(standard error %.3g mm^2); unflagged within 10 mm %d/%d without, %d/%d "
+                  "with\n",
+                  T, 1e3 * sqrt(esq[0] / T), 1e3 * sqrt(esq[1] / T), 1e6 * mean, 1e6 * se,
+                  good[0], unfl[0], good[1], unfl[1]);
+    assert_true(mean <= 3.0 * se);
+    assert_true(unfl[1] >= T - 15 * T / 100);
+    assert_true(good[1] >= (9 * unfl[1] + 9) / 10);
 }
 
 /* The library against the batch reference over every sample (Seel's
@@ -688,7 +741,7 @@ int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
-        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
+        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
     if (argc >= 3 && strcmp(argv[1], "--ref-csv") == 0) {
