@@ -2,12 +2,13 @@
 """`sfit imu-joint` and the batch Gauss-Newton of tests/ref on IMU signals
 made from real motion (tests/scripts/imu_from_c3d.py), with fixed seeds.
 
-    imu_c3d_trials.py BUILD_DIR [--check] [--markdown]
+    imu_c3d_trials.py BUILD_DIR [--check] [--markdown] [--docs docs/imu.md]
 
 Per case: the trials, how many the module flags, the errors of r1, r2 (mm)
 of the unflagged ones, the coverage of r1's 95 % ellipsoid, for a hinge
 trial the error of the axes, and the batch reference's errors and times.
---check asserts (test_imu_c3d.sh); --markdown prints the table of docs/imu.md.
+--check asserts (test_imu_c3d.sh); --markdown prints the table of docs/imu.md;
+--docs FILE checks that FILE has that table's rows (the host times aside).
 """
 import json
 import math
@@ -137,6 +138,17 @@ def main(argv):
             fails.append('%s: a parent turning %.2f rad/s rms not flagged' % (row['name'], row['rate1']))
     if markdown:
         print_markdown(rows)
+    if '--docs' in argv:  # the table of docs/imu.md, but for the host times
+        doc = open(argv[argv.index('--docs') + 1]).read().splitlines()
+        import io
+        import contextlib
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            print_markdown(rows)
+        for line in buf.getvalue().splitlines()[2:2 + len(rows)]:
+            cells = line.split('|')[:-2]
+            if not any(d.split('|')[:-2] == cells for d in doc):
+                fails.append('docs/imu.md lacks the row (but for the time): %s' % line)
     if check and fails:
         print('\n'.join(fails))
         return 1

@@ -8,7 +8,7 @@
 # tests/scripts/imu_c3d_trials.py --check asserts the physics of the
 # signals, the accuracy and coverage of the hip with a walking pelvis, and
 # that a parent which hardly turns is flagged. It prints the table of
-# docs/imu.md (--markdown).
+# docs/imu.md (--markdown) and checks that the page has it (--docs).
 # Usage: test_imu_c3d.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1 src=$2
@@ -20,4 +20,4 @@ name=test_imu_c3d
 for f in "$build/bin/sfit" "$build/tests/test_imu"; do
     [ -x "$f" ] || missing "$f not built"
 done
-/usr/bin/python3 "$src/tests/scripts/imu_c3d_trials.py" "$build" --check --markdown
+/usr/bin/python3 "$src/tests/scripts/imu_c3d_trials.py" "$build" --check --markdown --docs "$src/docs/imu.md"
