@@ -33,7 +33,8 @@ static double g_acc[2][NS][3], g_gyr[2][NS][3], g_dgyr[2][NS][3];
 static double g_j1[3], g_j2[3]; /* hinge truth (sensor frames) */
 static double g_wobble = 2.0;   /* hinge wobble amplitude (degrees) */
 static double g_gbias = -1.0;   /* >= 0: every gyroscope bias this large (rad/s) */
-static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and 1.6 g_wobble_f times the gait */
+static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and g_wobble_f2 times the gait */
+static double g_wobble_f2 = 0.24;
 
 static void rand_unit(tu_rng_t *g, double u[3])
 {
@@ -136,7 +137,7 @@ static void make_motion(tu_rng_t *g, int kind, ref_imu_motion_t *m)
         ax[2] = uni(g, -0.2, 0.2);
         tu_frame(ax, t, w1, w2);
         set_factor(m, 3, w1[0], w1[1], w1[2], 0, g_wobble * DEG, g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
-        set_factor(m, 4, w2[0], w2[1], w2[2], 0, g_wobble * DEG, 1.6 * g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
+        set_factor(m, 4, w2[0], w2[1], w2[2], 0, g_wobble * DEG, g_wobble_f2 * f, uni(g, 0, tp), 0, f, 0);
         set_factor(m, 5, ax[0], ax[1], ax[2], 35 * DEG, 35 * DEG, f, uni(g, 0, tp), 0, f, 0);
         /* truth: the axis in each sensor's frame (c^T ax) */
         for (i = 0; i < 3; i++) {
@@ -479,15 +480,24 @@ static void test_vs_reference(void **state)
     assert_true(worst[2] < 0.01);
 }
 
-/* Monte Carlo, knee-like hinge. */
-static void test_mc_hinge(void **state)
+typedef struct hinge_mc {
+    int hinge, ax_ok, pt_ok, flagged, axis_off;
+    int wrong, wrong_flagged; /* hinges off by > 3 deg or 10 mm; of them flagged */
+    int ok_bad;   /* unflagged hinges off by > 3 deg or 10 mm */
+    int ball_bad; /* unflagged balls whose centre (the joint's fixed point) is 10 mm off */
+    double worst_ref, worst_ax;                /* ... to the batch reference (first 3), to the truth */
+} hinge_mc_t;
+
+/* T knee-like hinge trials from seed, the wobble at fa and fb times the gait
+ * frequency; ref: the batch reference on the first 3 trials. */
+static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, hinge_mc_t *o)
 {
-    enum { T = 60 };
     tu_rng_t g;
-    int t, hinge = 0, ax_ok = 0, pt_ok = 0, flagged = 0;
-    double worst_ref = 0.0;
-    (void)state;
-    tu_rng_seed(&g, 4204u);
+    int t;
+    memset(o, 0, sizeof *o);
+    g_wobble_f = fa;
+    g_wobble_f2 = fb;
+    tu_rng_seed(&g, seed);
     for (t = 0; t < T; t++) {
         ref_imu_motion_t m;
         sfit_imu_result_t r;
@@ -495,30 +505,105 @@ static void test_mc_hinge(void **state)
         make_motion(&g, 1, &m);
         make_signals(&g, &m, 1);
         assert_int_equal(run_lib(NULL, &r), SFIT_OK);
-        flagged += (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
-        hinge += r.hinge;
+        o->flagged += (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
+        o->hinge += r.hinge;
         axis_point(m.r1, g_j1, p1);
         axis_point(m.r2, g_j2, p2);
         if (r.hinge) {
-            ax_ok += axis_angle_deg(&r.axis1, g_j1) < 3.0 && axis_angle_deg(&r.axis2, g_j2) < 3.0;
-            pt_ok += err3(&r.r1, p1, e) < 0.01 && err3(&r.r2, p2, e) < 0.01;
+            const double a = fmax(axis_angle_deg(&r.axis1, g_j1), axis_angle_deg(&r.axis2, g_j2));
+            const int ax = a < 3.0, pt = err3(&r.r1, p1, e) < 0.01 && err3(&r.r2, p2, e) < 0.01;
+            o->ax_ok += ax;
+            o->pt_ok += pt;
+            o->worst_ax = fmax(o->worst_ax, a);
+            o->ok_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) && !(ax && pt);
+            o->wrong += !(ax && pt);
+            o->wrong_flagged += !(ax && pt) && (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
+        } else {
+            o->ball_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) &&
+                           !(err3(&r.r1, m.r1, e) < 0.01 && err3(&r.r2, m.r2, e) < 0.01);
         }
-        if (t < 3) {
+        o->axis_off += (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
+        if (ref && t < 3) {
             double j1[3], j2[3], rms;
             assert_int_equal(ref_imu_hinge_gn((const double(*)[3])g_gyr[0],
                                               (const double(*)[3])g_gyr[1], NS, j1, j2, &rms),
                              0);
-            worst_ref = fmax(worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
-                                             axis_angle_deg(&r.axis2, j2)));
+            o->worst_ref = fmax(o->worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
+                                                   axis_angle_deg(&r.axis2, j2)));
         }
     }
+    g_wobble_f = 0.15;
+    g_wobble_f2 = 0.24;
+}
+
+/* Monte Carlo, knee-like hinge (a slow wobble). */
+static void test_mc_hinge(void **state)
+{
+    enum { T = 60 };
+    hinge_mc_t o;
+    (void)state;
+    hinge_mc(T, 4204u, 0.15, 0.24, 1, &o);
     print_message("hinge MC: %d trials, %d reported hinge, %d flagged, axes within 3 deg %d, "
                   "axis points within 10 mm %d; worst angle to the reference %.3f deg\n",
-                  T, hinge, flagged, ax_ok, pt_ok, worst_ref);
-    assert_true(hinge >= (9 * T + 9) / 10);
-    assert_true(ax_ok >= (9 * T + 9) / 10);
-    assert_true(pt_ok >= (9 * T + 9) / 10);
-    assert_true(worst_ref < 1.0);
+                  T, o.hinge, o.flagged, o.ax_ok, o.pt_ok, o.worst_ref);
+    assert_true(o.hinge >= (9 * T + 9) / 10);
+    assert_true(o.ax_ok >= (9 * T + 9) / 10);
+    assert_true(o.pt_ok >= (9 * T + 9) / 10);
+    assert_true(o.flagged <= 15 * T / 100);
+    assert_true(o.worst_ref < 1.0);
+}
+
+/* A wobble of 2 degrees off the slow range: at the flexion's frequency
+ * (and its harmonic), rates off the axis in step with the flexion bias the
+ * axes that |w1 x j1| = |w2 x j2| finds (in the batch reference as in the
+ * library). Such trials must not give a confident wrong answer: of the
+ * unflagged results at least 90 % right (a hinge: both axes within 3
+ * degrees and both axis points within 10 mm; a ball: both centres, the
+ * joint's fixed point, within 10 mm), and at least 90 % of the wrong hinges
+ * flagged (SFIT_IMU_FLAG_AXIS_OFF catches them). A wobble at 0.3 and 0.45 times the
+ * flexion's frequency still meets what the slow one does (reported as a
+ * hinge, axes and points right, in at least 90 %); at 0.5 and 0.8 times,
+ * the hinge is told in about 90 % (printed). Both wobbles at the flexion's
+ * own frequency (printed, not asserted): their part in phase with the
+ * flexion makes the relative motion close to a hinge about another axis,
+ * which a method that sees only the two sensors' motion cannot tell from
+ * the generator's axis: the batch reference (Seel's cost, double
+ * precision) lands near the library's axes (worst difference printed),
+ * neither near the truth, and the flags catch only some. A known limit. */
+static void test_wobble(void **state)
+{
+    enum { T = 60 };
+    static const double fr[5][2] = {{1.0, 2.0}, {1.0, 1.6}, {2.0, 3.0}, {0.5, 0.8}, {0.3, 0.45}};
+    hinge_mc_t o;
+    int v, wrong = 0, wrong_flagged = 0;
+    (void)state;
+    hinge_mc(T, 4216u, 1.0, 1.0, 1, &o);
+    print_message("wobble in step with the flexion (both at its frequency): %d trials, %d "
+                  "reported hinge, %d flagged (%d axis_off), hinges with axes within 3 deg %d, "
+                  "worst axis error %.2f deg; worst angle between the library's and the batch "
+                  "reference's axes %.2f deg (first 3 trials)\n",
+                  T, o.hinge, o.flagged, o.axis_off, o.ax_ok, o.worst_ax, o.worst_ref);
+    for (v = 0; v < 5; v++) {
+        int unfl;
+        hinge_mc(T, 4210u + (unsigned long)v, fr[v][0], fr[v][1], 0, &o);
+        unfl = T - o.flagged;
+        print_message("wobble at %.2g and %.2g times the flexion's frequency: %d trials, %d "
+                      "reported hinge, %d flagged (%d axis_off); unflagged %d, of them wrong "
+                      "hinges %d, wrong balls %d; hinges with axes within 3 deg %d, points "
+                      "within 10 mm %d; all wrong hinges %d, flagged %d\n",
+                      fr[v][0], fr[v][1], T, o.hinge, o.flagged, o.axis_off, unfl, o.ok_bad,
+                      o.ball_bad, o.ax_ok, o.pt_ok, o.wrong, o.wrong_flagged);
+        wrong += o.wrong;
+        wrong_flagged += o.wrong_flagged;
+        assert_true(10 * (o.ok_bad + o.ball_bad) <= unfl);
+        if (v == 4) {
+            assert_true(o.hinge >= (9 * T + 9) / 10);
+            assert_true(o.ax_ok >= (9 * T + 9) / 10);
+            assert_true(o.pt_ok >= (9 * T + 9) / 10);
+        }
+    }
+    /* the wrong hinges (axes off by more than 3 degrees or points by 10 mm) flagged */
+    assert_true(10 * wrong_flagged >= 9 * wrong);
 }
 
 /* No motion: refused or untrusted. */
@@ -741,9 +826,18 @@ int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
-        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
+        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge), cmocka_unit_test(test_wobble),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
+    if (argc >= 6 && strcmp(argv[1], "--hinge-mc") == 0) { /* FA FB T SEED */
+        hinge_mc_t o;
+        hinge_mc(atoi(argv[4]), strtoul(argv[5], NULL, 10), atof(argv[2]), atof(argv[3]), 1, &o);
+        printf("hinge %d flagged %d (axis_off %d) ax_ok %d pt_ok %d unflagged_bad %d ball_bad %d "
+               "worst_ax %.2f ref %.2f\n",
+               o.hinge, o.flagged, o.axis_off, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad, o.worst_ax,
+               o.worst_ref);
+        return 0;
+    }
     if (argc >= 3 && strcmp(argv[1], "--ref-csv") == 0) {
         return ref_csv(argv[2], argc >= 4 && strcmp(argv[3], "hinge") == 0);
     }
