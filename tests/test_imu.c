@@ -579,10 +579,11 @@ static void test_wobble(void **state)
     (void)state;
     hinge_mc(T, 4216u, 1.0, 1.0, 1, &o);
     print_message("wobble in step with the flexion (both at its frequency): %d trials, %d "
-                  "reported hinge, %d flagged (%d axis_off), hinges with axes within 3 deg %d, "
-                  "worst axis error %.2f deg; worst angle between the library's and the batch "
-                  "reference's axes %.2f deg (first 3 trials)\n",
-                  T, o.hinge, o.flagged, o.axis_off, o.ax_ok, o.worst_ax, o.worst_ref);
+                  "reported hinge, %d flagged (%d axis_off), unflagged and wrong %d; hinges "
+                  "with axes within 3 deg %d, worst axis error %.2f deg; worst angle between the "
+                  "library's and the batch reference's axes %.2f deg (first 3 trials)\n",
+                  T, o.hinge, o.flagged, o.axis_off, o.ok_bad + o.ball_bad, o.ax_ok, o.worst_ax,
+                  o.worst_ref);
     for (v = 0; v < 5; v++) {
         int unfl;
         hinge_mc(T, 4210u + (unsigned long)v, fr[v][0], fr[v][1], 0, &o);
