@@ -679,6 +679,15 @@ static void test_errors(void **state)
     cfg = sfit_imu_cfg_default;
     cfg.gyr_noise = -1.0f;
     assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg = sfit_imu_cfg_default; /* hinge_off in (0, 1] */
+    cfg.hinge_off = 0.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = 1.5f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = nan;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = 1.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_OK);
     assert_int_equal(sfit_imu_init(&s, 200.0f, NULL), SFIT_OK);
     memset(&x, 0, sizeof x);
     assert_int_equal(sfit_imu_add(NULL, &x), SFIT_E_ARG);
@@ -707,17 +716,23 @@ static void test_errors(void **state)
     assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
 }
 
-/* test_imu --write-csv FILE ball|hinge|still [SEED]: one noisy trial as the
+/* test_imu --write-csv FILE ball|hinge|wobble|still [SEED]: one noisy trial as the
  * CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
- * and the worked example of docs/imu.md). */
+ * and the worked example of docs/imu.md); wobble: a hinge whose wobbles are at
+ * 1 and 2 times the flexion's frequency (test_wobble's first case). */
 static int write_csv(const char *path, const char *kind, unsigned long seed)
 {
     tu_rng_t g;
     ref_imu_motion_t m;
     FILE *f;
     int k, s, i;
-    const int kd = (strcmp(kind, "hinge") == 0) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
+    const int wob = strcmp(kind, "wobble") == 0;
+    const int kd = (strcmp(kind, "hinge") == 0 || wob) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
     tu_rng_seed(&g, seed);
+    if (wob) {
+        g_wobble_f = 1.0;
+        g_wobble_f2 = 2.0;
+    }
     make_motion(&g, kd, &m);
     make_signals(&g, &m, 1);
     f = fopen(path, "w");
