@@ -32,7 +32,9 @@
 static double g_acc[2][NS][3], g_gyr[2][NS][3], g_dgyr[2][NS][3];
 static double g_j1[3], g_j2[3]; /* hinge truth (sensor frames) */
 static double g_wobble = 2.0;   /* hinge wobble amplitude (degrees) */
-static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and 1.6 g_wobble_f times the gait */
+static double g_gbias = -1.0;   /* >= 0: every gyroscope bias this large (rad/s) */
+static double g_wobble_f = 0.15; /* its frequencies: g_wobble_f and g_wobble_f2 times the gait */
+static double g_wobble_f2 = 0.24;
 
 static void rand_unit(tu_rng_t *g, double u[3])
 {
@@ -135,7 +137,7 @@ static void make_motion(tu_rng_t *g, int kind, ref_imu_motion_t *m)
         ax[2] = uni(g, -0.2, 0.2);
         tu_frame(ax, t, w1, w2);
         set_factor(m, 3, w1[0], w1[1], w1[2], 0, g_wobble * DEG, g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
-        set_factor(m, 4, w2[0], w2[1], w2[2], 0, g_wobble * DEG, 1.6 * g_wobble_f * f, uni(g, 0, tp), 0, f, 0);
+        set_factor(m, 4, w2[0], w2[1], w2[2], 0, g_wobble * DEG, g_wobble_f2 * f, uni(g, 0, tp), 0, f, 0);
         set_factor(m, 5, ax[0], ax[1], ax[2], 35 * DEG, 35 * DEG, f, uni(g, 0, tp), 0, f, 0);
         /* truth: the axis in each sensor's frame (c^T ax) */
         for (i = 0; i < 3; i++) {
@@ -160,7 +162,8 @@ static void make_signals(tu_rng_t *g, const ref_imu_motion_t *m, int noisy)
     int s, k, i;
     if (noisy == 1) { /* 2: noise without biases */
         for (s = 0; s < 2; s++) {
-            const double mg = uni(g, 0, 0.01), ma = uni(g, 0, 0.05);
+            const double mg0 = uni(g, 0, 0.01), ma = uni(g, 0, 0.05);
+            const double mg = (g_gbias >= 0.0) ? g_gbias : mg0;
             rand_unit(g, bg[s]);
             rand_unit(g, ba[s]);
             for (i = 0; i < 3; i++) {
@@ -371,6 +374,57 @@ static void test_mc_ball(void **state)
     assert_true(cover >= (85 * unfl + 99) / 100 && cover <= (99 * unfl) / 100);
 }
 
+/* Gyroscope biases: the same 40 hip-like trials (motion, noise, accelerometer
+ * biases) with a gyroscope bias of 0.01 rad/s on each sensor (the most the
+ * datasheet allows, random directions) and without. A bias b changes
+ * w x (w x r) by about 2 |w| |b| |r| (0.02 m/s^2 at 3 rad/s and 0.3 m), as
+ * much as the accelerometer's noise but not at random: the test asks that
+ * the paired increase of the squared error be no larger than three of its
+ * standard errors, and that the demands of the ball trials hold with it. */
+static void test_gyro_bias(void **state)
+{
+    enum { T = 40 };
+    tu_rng_t g;
+    int t, v, good[2] = {0, 0}, unfl[2] = {0, 0};
+    double dsum = 0.0, dsq = 0.0, esq[2] = {0.0, 0.0}, mean, se;
+    (void)state;
+    tu_rng_seed(&g, 4209u);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double e1[3], e2[3], e[2];
+        tu_rng_t keep;
+        make_motion(&g, 0, &m);
+        keep = g;
+        for (v = 0; v < 2; v++) {
+            g = keep;
+            g_gbias = (v == 0) ? 0.0 : 0.01;
+            make_signals(&g, &m, 1);
+            assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+            e[v] = fmax(err3(&r.r1, m.r1, e1), err3(&r.r2, m.r2, e2));
+            esq[v] += e[v] * e[v];
+            if (!(r.flags & SFIT_FLAG_UNTRUSTED)) {
+                unfl[v]++;
+                good[v] += (e[v] < 0.01);
+            }
+        }
+        g_gbias = -1.0;
+        dsum += e[1] * e[1] - e[0] * e[0];
+        dsq += (e[1] * e[1] - e[0] * e[0]) * (e[1] * e[1] - e[0] * e[0]);
+    }
+    mean = dsum / T;
+    se = sqrt((dsq / T - mean * mean) / (T - 1));
+    print_message("gyroscope bias 0.01 rad/s: %d trials, rms of the worse position error %.2f "
+                  "mm without, %.2f mm with; paired increase of the squared error %.3g mm^2 "
+                  "(standard error %.3g mm^2); unflagged within 10 mm %d/%d without, %d/%d "
+                  "with\n",
+                  T, 1e3 * sqrt(esq[0] / T), 1e3 * sqrt(esq[1] / T), 1e6 * mean, 1e6 * se,
+                  good[0], unfl[0], good[1], unfl[1]);
+    assert_true(mean <= 3.0 * se);
+    assert_true(unfl[1] >= T - 15 * T / 100);
+    assert_true(good[1] >= (9 * unfl[1] + 9) / 10);
+}
+
 /* The library against the batch reference over every sample (Seel's
  * Gauss-Newton, three-point difference), on noisy trials without biases
  * (the reference does not model them): both near the truth, and near each
@@ -426,15 +480,25 @@ static void test_vs_reference(void **state)
     assert_true(worst[2] < 0.01);
 }
 
-/* Monte Carlo, knee-like hinge. */
-static void test_mc_hinge(void **state)
+typedef struct hinge_mc {
+    int hinge, ax_ok, pt_ok, flagged, axis_off;
+    int wrong, wrong_flagged, wrong_axis_off; /* hinges off by > 3 deg or 10 mm; of them
+                                                 flagged, flagged axis_off */
+    int ok_bad;   /* unflagged hinges off by > 3 deg or 10 mm */
+    int ball_bad; /* unflagged balls whose centre (the joint's fixed point) is 10 mm off */
+    double worst_ref, worst_ax;                /* ... to the batch reference (first 3), to the truth */
+} hinge_mc_t;
+
+/* T knee-like hinge trials from seed, the wobble at fa and fb times the gait
+ * frequency; ref: the batch reference on the first 3 trials. */
+static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, hinge_mc_t *o)
 {
-    enum { T = 60 };
     tu_rng_t g;
-    int t, hinge = 0, ax_ok = 0, pt_ok = 0, flagged = 0;
-    double worst_ref = 0.0;
-    (void)state;
-    tu_rng_seed(&g, 4204u);
+    int t;
+    memset(o, 0, sizeof *o);
+    g_wobble_f = fa;
+    g_wobble_f2 = fb;
+    tu_rng_seed(&g, seed);
     for (t = 0; t < T; t++) {
         ref_imu_motion_t m;
         sfit_imu_result_t r;
@@ -442,30 +506,111 @@ static void test_mc_hinge(void **state)
         make_motion(&g, 1, &m);
         make_signals(&g, &m, 1);
         assert_int_equal(run_lib(NULL, &r), SFIT_OK);
-        flagged += (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
-        hinge += r.hinge;
+        o->flagged += (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
+        o->hinge += r.hinge;
         axis_point(m.r1, g_j1, p1);
         axis_point(m.r2, g_j2, p2);
         if (r.hinge) {
-            ax_ok += axis_angle_deg(&r.axis1, g_j1) < 3.0 && axis_angle_deg(&r.axis2, g_j2) < 3.0;
-            pt_ok += err3(&r.r1, p1, e) < 0.01 && err3(&r.r2, p2, e) < 0.01;
+            const double a = fmax(axis_angle_deg(&r.axis1, g_j1), axis_angle_deg(&r.axis2, g_j2));
+            const int ax = a < 3.0, pt = err3(&r.r1, p1, e) < 0.01 && err3(&r.r2, p2, e) < 0.01;
+            o->ax_ok += ax;
+            o->pt_ok += pt;
+            o->worst_ax = fmax(o->worst_ax, a);
+            o->ok_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) && !(ax && pt);
+            o->wrong += !(ax && pt);
+            o->wrong_flagged += !(ax && pt) && (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
+            o->wrong_axis_off += !(ax && pt) && (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
+        } else {
+            o->ball_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) &&
+                           !(err3(&r.r1, m.r1, e) < 0.01 && err3(&r.r2, m.r2, e) < 0.01);
         }
-        if (t < 3) {
+        o->axis_off += (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
+        if (ref && t < 3) {
             double j1[3], j2[3], rms;
             assert_int_equal(ref_imu_hinge_gn((const double(*)[3])g_gyr[0],
                                               (const double(*)[3])g_gyr[1], NS, j1, j2, &rms),
                              0);
-            worst_ref = fmax(worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
-                                             axis_angle_deg(&r.axis2, j2)));
+            o->worst_ref = fmax(o->worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
+                                                   axis_angle_deg(&r.axis2, j2)));
         }
     }
+    g_wobble_f = 0.15;
+    g_wobble_f2 = 0.24;
+}
+
+/* Monte Carlo, knee-like hinge (a slow wobble). */
+static void test_mc_hinge(void **state)
+{
+    enum { T = 60 };
+    hinge_mc_t o;
+    (void)state;
+    hinge_mc(T, 4204u, 0.15, 0.24, 1, &o);
     print_message("hinge MC: %d trials, %d reported hinge, %d flagged, axes within 3 deg %d, "
                   "axis points within 10 mm %d; worst angle to the reference %.3f deg\n",
-                  T, hinge, flagged, ax_ok, pt_ok, worst_ref);
-    assert_true(hinge >= (9 * T + 9) / 10);
-    assert_true(ax_ok >= (9 * T + 9) / 10);
-    assert_true(pt_ok >= (9 * T + 9) / 10);
-    assert_true(worst_ref < 1.0);
+                  T, o.hinge, o.flagged, o.ax_ok, o.pt_ok, o.worst_ref);
+    assert_true(o.hinge >= (9 * T + 9) / 10);
+    assert_true(o.ax_ok >= (9 * T + 9) / 10);
+    assert_true(o.pt_ok >= (9 * T + 9) / 10);
+    assert_true(o.flagged <= 15 * T / 100);
+    assert_true(o.axis_off <= T / 20); /* the flag stays off a slow wobble's hinges */
+    assert_true(o.worst_ref < 1.0);
+}
+
+/* A wobble of 2 degrees off the slow range: at the flexion's frequency
+ * (and its harmonic), rates off the axis in step with the flexion bias the
+ * axes that |w1 x j1| = |w2 x j2| finds (in the batch reference as in the
+ * library). Such trials must not give a confident wrong answer: of the
+ * unflagged results at least 90 % right (a hinge: both axes within 3
+ * degrees and both axis points within 10 mm; a ball: both centres, the
+ * joint's fixed point, within 10 mm); SFIT_IMU_FLAG_AXIS_OFF catches some
+ * of the few wrong hinges (printed). A wobble at 0.3 and 0.45 times the
+ * flexion's frequency still meets what the slow one does (reported as a
+ * hinge, axes and points right, in at least 90 %); at 0.5 and 0.8 times,
+ * the hinge is told in about 90 % (printed). Both wobbles at the flexion's
+ * own frequency (printed, not asserted): their part in phase with the
+ * flexion makes the relative motion close to a hinge about another axis,
+ * which a method that sees only the two sensors' motion cannot tell from
+ * the generator's axis: the batch reference (Seel's cost, double
+ * precision) lands near the library's axes (worst difference printed),
+ * neither near the truth, and the flags catch only some. A known limit;
+ * asserted: SFIT_IMU_FLAG_AXIS_OFF flags at least 10 % of its wrong
+ * hinges (about a quarter seen with gcc and clang, about 50 wrong hinges:
+ * 10 % is more than 2 binomial SDs below), which it cannot without the
+ * flag, and test_mc_hinge asks it to stay off the slow wobble's hinges. */
+static void test_wobble(void **state)
+{
+    enum { T = 60 };
+    static const double fr[5][2] = {{1.0, 2.0}, {1.0, 1.6}, {2.0, 3.0}, {0.5, 0.8}, {0.3, 0.45}};
+    hinge_mc_t o;
+    int v;
+    (void)state;
+    hinge_mc(T, 4216u, 1.0, 1.0, 1, &o);
+    print_message("wobble in step with the flexion (both at its frequency): %d trials, %d "
+                  "reported hinge, %d flagged (%d axis_off), unflagged and wrong %d; hinges "
+                  "with axes within 3 deg %d, wrong hinges %d (axis_off %d), worst axis error "
+                  "%.2f deg; worst angle between the library's and the batch reference's axes "
+                  "%.2f deg (first 3 trials)\n",
+                  T, o.hinge, o.flagged, o.axis_off, o.ok_bad + o.ball_bad, o.ax_ok, o.wrong,
+                  o.wrong_axis_off, o.worst_ax, o.worst_ref);
+    assert_true(10 * o.wrong_axis_off >= o.wrong);
+    for (v = 0; v < 5; v++) {
+        int unfl;
+        hinge_mc(T, 4210u + (unsigned long)v, fr[v][0], fr[v][1], 0, &o);
+        unfl = T - o.flagged;
+        print_message("wobble at %.2g and %.2g times the flexion's frequency: %d trials, %d "
+                      "reported hinge, %d flagged (%d axis_off); unflagged %d, of them wrong "
+                      "hinges %d, wrong balls %d; hinges with axes within 3 deg %d, points "
+                      "within 10 mm %d; all wrong hinges %d, flagged %d (axis_off %d)\n",
+                      fr[v][0], fr[v][1], T, o.hinge, o.flagged, o.axis_off, unfl, o.ok_bad,
+                      o.ball_bad, o.ax_ok, o.pt_ok, o.wrong, o.wrong_flagged,
+                      o.wrong_axis_off);
+        assert_true(10 * (o.ok_bad + o.ball_bad) <= unfl);
+        if (v == 4) {
+            assert_true(o.hinge >= (9 * T + 9) / 10);
+            assert_true(o.ax_ok >= (9 * T + 9) / 10);
+            assert_true(o.pt_ok >= (9 * T + 9) / 10);
+        }
+    }
 }
 
 /* No motion: refused or untrusted. */
@@ -540,6 +685,15 @@ static void test_errors(void **state)
     cfg = sfit_imu_cfg_default;
     cfg.gyr_noise = -1.0f;
     assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg = sfit_imu_cfg_default; /* hinge_off in (0, 1] */
+    cfg.hinge_off = 0.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = 1.5f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = nan;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_off = 1.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_OK);
     assert_int_equal(sfit_imu_init(&s, 200.0f, NULL), SFIT_OK);
     memset(&x, 0, sizeof x);
     assert_int_equal(sfit_imu_add(NULL, &x), SFIT_E_ARG);
@@ -568,17 +722,23 @@ static void test_errors(void **state)
     assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
 }
 
-/* test_imu --write-csv FILE ball|hinge|still [SEED]: one noisy trial as the
+/* test_imu --write-csv FILE ball|hinge|wobble|still [SEED]: one noisy trial as the
  * CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
- * and the worked example of docs/imu.md). */
+ * and the worked example of docs/imu.md); wobble: a hinge whose wobbles are at
+ * 1 and 2 times the flexion's frequency (test_wobble's first case). */
 static int write_csv(const char *path, const char *kind, unsigned long seed)
 {
     tu_rng_t g;
     ref_imu_motion_t m;
     FILE *f;
     int k, s, i;
-    const int kd = (strcmp(kind, "hinge") == 0) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
+    const int wob = strcmp(kind, "wobble") == 0;
+    const int kd = (strcmp(kind, "hinge") == 0 || wob) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
     tu_rng_seed(&g, seed);
+    if (wob) {
+        g_wobble_f = 1.0;
+        g_wobble_f2 = 2.0;
+    }
     make_motion(&g, kd, &m);
     make_signals(&g, &m, 1);
     f = fopen(path, "w");
@@ -615,13 +775,94 @@ static int write_csv(const char *path, const char *kind, unsigned long seed)
     return 0;
 }
 
+/* test_imu --ref-csv FILE: the double batch Gauss-Newton of Seel et al.
+ * (tests/ref, every sample, the library's cubic derivative) on the CSV of
+ * `sfit imu-joint`, as JSON on stdout: r1, r2 (m), their covariances, the
+ * hinge axes (test_imu --ref-csv FILE hinge) and the host time (s). For tests/scripts/imu_c3d_trials.py. */
+static int ref_csv(const char *path, int hinge)
+{
+    static double a[2][4 * NS][3], w[2][4 * NS][3];
+    static char line[1024];
+    double r1[3], r2[3], cov[36], rms, j1[3], j2[3], hrms, tb, th;
+    clock_t c0;
+    size_t n = 0;
+    int rc, rh, i;
+    FILE *f = fopen(path, "r");
+    if (f == NULL || fgets(line, sizeof line, f) == NULL) {
+        if (f != NULL) {
+            fclose(f);
+        }
+        return 3;
+    }
+    while (n < 4 * NS && fgets(line, sizeof line, f) != NULL) {
+        double v[13];
+        char *p = line, *e;
+        for (i = 0; i < 13; i++) {
+            v[i] = strtod(p, &e);
+            if (e == p) {
+                break;
+            }
+            p = (*e == ',') ? e + 1 : e;
+        }
+        if (i < 13) {
+            fclose(f);
+            return 3;
+        }
+        for (i = 0; i < 3; i++) {
+            a[0][n][i] = v[1 + i];
+            w[0][n][i] = v[4 + i];
+            a[1][n][i] = v[7 + i];
+            w[1][n][i] = v[10 + i];
+        }
+        n++;
+    }
+    fclose(f);
+    c0 = clock();
+    rc = ref_imu_ball_gn((const double(*)[3])a[0], (const double(*)[3])w[0],
+                         (const double(*)[3])a[1], (const double(*)[3])w[1], n, RATE, -8, r1, r2,
+                         cov, &rms);
+    tb = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    c0 = clock();
+    rh = -1;
+    memset(j1, 0, sizeof j1);
+    memset(j2, 0, sizeof j2);
+    hrms = 0.0;
+    if (hinge) {
+        rh = ref_imu_hinge_gn((const double(*)[3])w[0], (const double(*)[3])w[1], n, j1, j2,
+                              &hrms);
+    }
+    th = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    printf("{\"n\":%lu,\"status\":%d,\"r1\":[%.7f,%.7f,%.7f],\"r2\":[%.7f,%.7f,%.7f],"
+           "\"rms\":%.6g,\"time\":%.6f,\"cov\":[",
+           (unsigned long)n, rc, r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], rms, tb);
+    for (i = 0; i < 36; i++) {
+        printf("%s%.6e", i ? "," : "", cov[i]);
+    }
+    printf("],\"hinge_status\":%d,\"axis1\":[%.7f,%.7f,%.7f],\"axis2\":[%.7f,%.7f,%.7f],"
+           "\"hinge_rms\":%.6g,\"hinge_time\":%.6f}\n",
+           rh, j1[0], j1[1], j1[2], j2[0], j2[1], j2[2], hrms, th);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
-        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge),
+        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge), cmocka_unit_test(test_wobble),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
+    if (argc >= 6 && strcmp(argv[1], "--hinge-mc") == 0) { /* FA FB T SEED */
+        hinge_mc_t o;
+        hinge_mc(atoi(argv[4]), strtoul(argv[5], NULL, 10), atof(argv[2]), atof(argv[3]), 1, &o);
+        printf("hinge %d flagged %d (axis_off %d) ax_ok %d pt_ok %d unflagged_bad %d ball_bad %d "
+               "worst_ax %.2f ref %.2f\n",
+               o.hinge, o.flagged, o.axis_off, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad, o.worst_ax,
+               o.worst_ref);
+        return 0;
+    }
+    if (argc >= 3 && strcmp(argv[1], "--ref-csv") == 0) {
+        return ref_csv(argv[2], argc >= 4 && strcmp(argv[3], "hinge") == 0);
+    }
     if (argc >= 4 && strcmp(argv[1], "--write-csv") == 0) {
         return write_csv(argv[2], argv[3], argc >= 5 ? strtoul(argv[4], NULL, 10) : 4242ul);
     }

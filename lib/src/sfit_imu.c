@@ -43,9 +43,10 @@
 #define IMU_UPHILL_TOL 1e-4f /* a rise of the objective below this (relative) is rounding */
 #define IMU_WEIGHT_FLOOR 1e-3f /* added to |w1|^2 + |w2|^2 (rad^2/s^2): quiet samples count */
 #define IMU_RNG_SEED 0x9E3779B9u
+#define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
 
 const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f, 0.006f,
-                                             3.0f,  0.05f,  8.0f,  5.0f};
+                                             3.0f,  0.05f,  8.0f,  5.0f, 0.0523f};
 
 SFIT_INLINE void prv_cross(const float a[3], const float b[3], float c[3])
 {
@@ -69,7 +70,8 @@ static int prv_cfg_ok(const sfit_imu_cfg_t *c)
     return prv_pos(c->diff_span) && prv_pos(c->gyr_noise) && prv_pos(c->acc_noise) &&
            sfit_i_isfinite(c->acc_bias_sd) && c->acc_bias_sd >= 0.0f && prv_pos(c->min_rate) &&
            prv_pos(c->max_pos_sd) && prv_pos(c->slip_ratio) && prv_pos(c->hinge_ratio) &&
-           prv_pos(c->ball_line) && sfit_i_isfinite(c->hinge_line) && c->hinge_line >= c->ball_line;
+           prv_pos(c->ball_line) && sfit_i_isfinite(c->hinge_line) && c->hinge_line >= c->ball_line &&
+           prv_pos(c->hinge_off) && c->hinge_off <= 1.0f;
 }
 
 /* The counters and indices a call relies on (a garbage state is refused). */
@@ -853,6 +855,54 @@ static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
     }
 }
 
+/* The sine of the angle between the line of the axes (j1, j2)/sqrt(2) and the
+ * freest line of the joint position: the top eigenvector of the 6x6
+ * covariance of (r1, r2) (power iteration from the axes' line). For a
+ * hinge the accelerometers leave the position free along the true axis;
+ * rates that break the hinge constraint in step with the flexion (a
+ * wobble at the gait's frequency) turn the axes that |w1 x j1| = |w2 x j2|
+ * finds away from it. */
+static float prv_free_line_off(const prv_ball_t *b, const float j1[3], const float j2[3])
+{
+    float c[36], v[6], w[6], n, d;
+    uint32_t i, k, it;
+    for (k = 0u; k < 6u; k++) {
+        float e[IMU_NP];
+        memset(e, 0, sizeof e);
+        e[k] = 1.0f;
+        prv_chol_solve(b->l, b->np, e);
+        for (i = 0u; i < 6u; i++) {
+            c[6u * i + k] = e[i];
+        }
+    }
+    for (i = 0u; i < 3u; i++) {
+        v[i] = 0.70710678f * j1[i];
+        v[3u + i] = 0.70710678f * j2[i];
+    }
+    memcpy(w, v, sizeof w);
+    for (it = 0u; it < IMU_LINE_ITERS; it++) {
+        float t[6];
+        n = 0.0f;
+        for (i = 0u; i < 6u; i++) {
+            t[i] = 0.0f;
+            for (k = 0u; k < 6u; k++) {
+                t[i] += c[6u * i + k] * w[k];
+            }
+            n += t[i] * t[i];
+        }
+        if (!(n > 0.0f)) {
+            return 0.0f;
+        }
+        n = 1.0f / SFIT_SQRTF(n);
+        for (i = 0u; i < 6u; i++) {
+            w[i] = t[i] * n;
+        }
+    }
+    d = SFIT_FABSF(prv_dot(v, w) + prv_dot(&v[3], &w[3]));
+    d = (d < 1.0f) ? d : 1.0f;
+    return SFIT_SQRTF(1.0f - d * d);
+}
+
 static int prv_result_finite(const sfit_imu_result_t *r)
 {
     const float *f[] = {r->r1.v, r->r2.v, r->axis1.v, r->axis2.v, r->acc_bias1.v, r->acc_bias2.v};
@@ -947,6 +997,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
             }
         }
         r.line_sd = SFIT_SQRTF(best);
+        r.line_off = prv_free_line_off(&b, h.j1, r.axis2.v);
         {
             /* the other five directions' mean variance */
             const float rest = (b.c1.m[0] + b.c1.m[4] + b.c1.m[8] + b.c2.m[0] + b.c2.m[4] +
@@ -965,6 +1016,9 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
         if (!r.hinge) {
             r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
         }
+    }
+    if (r.hinge && r.line_off > s->cfg.hinge_off) {
+        r.flags |= (uint32_t)SFIT_IMU_FLAG_AXIS_OFF;
     }
     if (r.hinge) {
         prv_project(h.j1, &r.r1, &r.r1_cov);

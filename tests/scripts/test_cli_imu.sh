@@ -5,6 +5,7 @@
 #  1. a hip-like ball joint: JSON fields, both centres within 10 mm, trusted;
 #  2. a knee-like hinge: joint "hinge", axes within 3 degrees, axis points
 #     within 10 mm; the text output says it in words;
+#  2b. a hinge with a wobble at the flexion's frequency: axis_off, untrusted;
 #  3. no motion: untrusted, with the reason in words;
 #  4. errors: NaN, time going backwards, unknown column, missing file, usage.
 # Usage: test_cli_imu.sh BUILD_DIR SOURCE_DIR
@@ -55,6 +56,26 @@ print("hinge: axes %.2f, %.2f deg" % (ang(o["axis1"], t["axis1"]), ang(o["axis2"
 expect_rc 0 "$sfit" imu-joint "$tmp/knee.csv"
 grep -q "^joint         hinge" <<<"$out" || fail "text output: no hinge line: $out"
 grep -q "^axis in sensor 1" <<<"$out" || fail "text output: no axis: $out"
+
+# 2b. a hinge whose wobble is at 1 and 2 times the flexion's frequency
+# (test_imu --write-csv ... wobble): its axis 1 is 3.4 degrees and its axis
+# point 20 mm off, and the rate axes and the freest line of the position
+# disagree by more than hinge_off (0.0523): untrusted, axis_off, in JSON
+# and in words.
+"$gen" --write-csv "$tmp/wobble.csv" wobble 4325 > /dev/null
+expect_rc 0 "$sfit" imu-joint --json "$tmp/wobble.csv"
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["joint"] == "hinge", o
+assert o["line_off"] > 0.0523, o
+assert o["flags"]["untrusted"] is True and o["flags"]["names"] == ["axis_off"], o
+assert "wobble" in o["flags"]["reason"], o
+print("wobble: line_off %.4f, flagged axis_off" % o["line_off"])
+' "$out"
+expect_rc 0 "$sfit" imu-joint "$tmp/wobble.csv"
+grep -q "^UNTRUSTED" <<<"$out" || fail "text output: wobble not untrusted: $out"
+grep -q "leave the joint free" <<<"$out" || fail "text output: no axis_off reason: $out"
 
 # 3. no motion
 "$gen" --write-csv "$tmp/still.csv" still 4244 > /dev/null

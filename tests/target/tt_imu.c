@@ -147,6 +147,9 @@ void tt_imu(void)
     tt_signals(&m);
     TT_EQ_INT(tt_run(&r), SFIT_OK);
     TT_TRUE(r.hinge);
+    /* exact hinge: the freest line of the position is the axes' line */
+    TT_TRUE((r.flags & SFIT_IMU_FLAG_AXIS_OFF) == 0u);
+    TT_TRUE(r.line_off >= 0.0f && r.line_off < 0.0523f);
     {
         /* the axis in sensor 1: c1^T times the hinge factor's axis */
         double j[3], d;

@@ -38,6 +38,9 @@ static const struct {
     {SFIT_IMU_FLAG_SLIP, "slip",
      "the residual is far above the sensors' noise: a sensor slips, or the joint is not one"},
     {SFIT_IMU_FLAG_AMBIGUOUS, "ambiguous", "ball and hinge cannot be told apart"},
+    {SFIT_IMU_FLAG_AXIS_OFF, "axis_off",
+     "the hinge axes from the rates disagree with the line along which the accelerometers "
+     "leave the joint free: a wobble in step with the flexion biases them"},
 };
 
 static void imu_usage(FILE *f)
@@ -206,9 +209,9 @@ static void imu_print_json(const sfit_imu_result_t *r, double rate)
     imu_vec_json("acc_bias1", &r->acc_bias1);
     imu_vec_json("acc_bias2", &r->acc_bias2);
     printf(",\"resid_rms\":%.9g,\"noise_rms\":%.9g,\"hinge_ratio\":%.9g,\"line_sd\":%.9g,"
-           "\"line_ratio\":%.9g,\"rate_rms1\":%.9g,\"rate_rms2\":%.9g",
+           "\"line_ratio\":%.9g,\"line_off\":%.9g,\"rate_rms1\":%.9g,\"rate_rms2\":%.9g",
            (double)r->resid_rms, (double)r->noise_rms, (double)r->hinge_ratio,
-           (double)r->line_sd, (double)r->line_ratio, (double)r->rate_rms1,
+           (double)r->line_sd, (double)r->line_ratio, (double)r->line_off, (double)r->rate_rms1,
            (double)r->rate_rms2);
     printf(",\"flags\":{\"untrusted\":%s,\"names\":[",
            (r->flags & SFIT_FLAG_UNTRUSTED) ? "true" : "false");

@@ -51,11 +51,17 @@ enum sfit_imu_flag {
     SFIT_IMU_FLAG_SLIP = 0x40000u,         /**< The residual is cfg.slip_ratio times the
                                                 noise the sensors' noise predicts: a
                                                 sensor slips, or the joint is not one. */
-    SFIT_IMU_FLAG_AMBIGUOUS = 0x80000u     /**< Ball and hinge cannot be told apart: the
+    SFIT_IMU_FLAG_AMBIGUOUS = 0x80000u,    /**< Ball and hinge cannot be told apart: the
                                                 position along the axes' line is neither
                                                 as certain as the others (line_ratio <
                                                 cfg.ball_line) nor free with the hinge
                                                 constraint holding. */
+    SFIT_IMU_FLAG_AXIS_OFF = 0x100000u     /**< A hinge whose axes (from the rates) and the
+                                                line along which the accelerometers leave the
+                                                joint free (result line_off) disagree by more
+                                                than cfg.hinge_off: rates off the axis in step
+                                                with the flexion (a wobble at the gait's
+                                                frequency) bias the axes. */
 };
 
 /** @brief Options. Defaults: ::sfit_imu_cfg_default. */
@@ -79,6 +85,9 @@ typedef struct sfit_imu_cfg {
                             (result line_ratio) is a hinge, when hinge_ratio holds too; 8. */
     float ball_line;   /**< ... below this a ball; between, or a free line without the
                             hinge constraint: ::SFIT_IMU_FLAG_AMBIGUOUS; 5. */
+    float hinge_off;   /**< Largest sine of the angle between a hinge's axes and the freest
+                            line of the joint position (result line_off), in (0, 1]; above
+                            it ::SFIT_IMU_FLAG_AXIS_OFF; 0.0523 (3 degrees). */
 } sfit_imu_cfg_t;
 
 /** @brief The default options. */
@@ -132,6 +141,9 @@ typedef struct sfit_imu_result {
                                   axes (m): large for a hinge, small for a ball. */
     float line_ratio;        /**< line_sd over the rms SD of the other five directions
                                   of (r1, r2). */
+    float line_off;          /**< Sine of the angle between the line of the hinge axes
+                                  and the freest line of the joint position (the top
+                                  eigenvector of the covariance of (r1, r2)). */
     float rate_rms1, rate_rms2; /**< rms angular rate of each sensor (rad/s). */
     uint32_t flags;          /**< ::SFIT_FLAG_UNTRUSTED and SFIT_IMU_FLAG_* bits. */
 } sfit_imu_result_t;
@@ -145,7 +157,7 @@ typedef struct sfit_imu_result {
  * @retval SFIT_E_ARG  NULL s, rate not a positive finite number, or an option out of
  *                     range (negative or non-finite; diff_span, gyr_noise, acc_noise,
  *                     min_rate, max_pos_sd, slip_ratio, hinge_ratio, ball_line <= 0;
- *                     hinge_line < ball_line)
+ *                     hinge_line < ball_line; hinge_off not in (0, 1])
  */
 sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg);
 
@@ -173,7 +185,7 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x);
  * @retval SFIT_E_DEGENERATE      the normal matrix is singular (no motion at all)
  * @retval SFIT_E_NO_CONVERGENCE  Gauss-Newton still moving after SFIT_IMU_GN_ITERS
  * @retval SFIT_E_RANGE           a non-finite intermediate (a corrupted state)
- * @par Cost about 0.3 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.4 kB stack.
+ * @par Cost about 0.3 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.5 kB stack.
  */
 sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out);
 
