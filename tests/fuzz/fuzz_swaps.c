@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fuzz_swaps.c
- * @brief libFuzzer harness of the CLI's label-swap check
- * (tools/sfit/cli_swaps.c, compiled into the harness). Input: a header
+ * @brief libFuzzer harness of the host library's label-swap check
+ * (tools/lab/swaps.c, compiled into the harness). Input: a header
  * (markers 1..8, repair flag, range), a template of signed bytes, then one
  * opcode per frame: the template moved and jittered, with two labels
  * exchanged, three rotated, a marker hostile (NaN, Inf, huge, raw bits) or
@@ -14,7 +14,7 @@
  * frame as given (or not checked) is unchanged, a swapped frame is its
  * relabelling of the original, a rejected frame is all NaN.
  */
-#include "../../tools/sfit/cli_swaps.c"
+#include "../../tools/lab/swaps.c"
 
 #include "fuzz_common.h"
 

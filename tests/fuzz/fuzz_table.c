@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fuzz_table.c
- * @brief libFuzzer harness of the CLI's delimited-text reader
- * (tools/sfit/table.c). Input: one selector byte, then the text.
+ * @brief libFuzzer harness of the host library's delimited-text reader
+ * (tools/formats/table.c). Input: one selector byte, then the text.
  * Selector % 6: column choice NULL (x,y,z by name or the only three),
  * "x,y,z", "2,3,4", "1", "A,b,3" (names and an index, any count), or the
  * columns of marker "M" (M_X / M.x / M:X ...). Contract: tab_start and the
@@ -11,7 +11,7 @@
  * value per selected column, NaN for each blank cell; line numbers grow.
  * The reader is host code; it is compiled into the harness here.
  */
-#include "../../tools/sfit/table.c"
+#include "../../tools/formats/table.c"
 
 #include "fuzz_common.h"
 

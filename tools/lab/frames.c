@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_frames.c  Named marker trajectories from C3D or a wide table (cli_frames.h). */
-#include "cli_frames.h"
+/** @file frames.c  Named marker trajectories from C3D or a wide table (frames.h). */
+#include "frames.h"
 
 #include <errno.h>
 #include <math.h>

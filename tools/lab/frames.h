@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_frames.h
+ * @file frames.h
  * @brief Marker trajectories for `sfit joint` and `sfit skeleton`: named
  * markers loaded from a C3D file (c3d.h) or a wide delimited table with one
  * x,y,z column triple per marker (table.h), frame by frame.

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_joint.c  The joint centre over loaded trajectories (cli_joint.h). */
-#include "cli_joint.h"
+/** @file joint_run.c  The joint centre over loaded trajectories (joint_run.h). */
+#include "joint_run.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -291,45 +291,13 @@ static void mgdk_cov(const cli_frames_t *fr, int np, int nc, long first, long la
     free(cb);
 }
 
-const char *cli_joint_pair_reason(sfit_pair_reason_t r)
-{
-    switch (r) {
-    case SFIT_PAIR_REASON_FEW_FRAMES: return "few_frames";
-    case SFIT_PAIR_REASON_SMALL_MOTION: return "small_motion";
-    case SFIT_PAIR_REASON_AXIS_FREE: return "axis_free";
-    case SFIT_PAIR_REASON_AMBIGUOUS: return "ambiguous";
-    case SFIT_PAIR_REASON_MISFIT: return "misfit";
-    case SFIT_PAIR_REASON_NO_NOISE: return "no_noise";
-    case SFIT_PAIR_REASON_NONE:
-    default: return "none";
-    }
-}
-
 void cli_joint_print_flags_json(const cli_joint_out_t *out)
 {
-    static const struct {
-        uint32_t bit;
-        const char *name;
-    } names[] = {
-        {SFIT_FLAG_UNTRUSTED, "untrusted"},         {SFIT_FLAG_FEW_SAMPLES, "few_frames"},
-        {SFIT_PAIR_FLAG_SMALL_MOTION, "small_motion"}, {SFIT_PAIR_FLAG_AXIS_FREE, "axis_free"},
-        {SFIT_PAIR_FLAG_AMBIGUOUS, "ambiguous"},    {SFIT_PAIR_FLAG_MISFIT, "misfit"},
-        {SFIT_PAIR_FLAG_NO_NOISE, "no_noise"},
-    };
-    const char *sep = "";
-    size_t k;
     if (!out->pair_used) {
-        cli_print_flags_json(out->res.fit.flags);
+        names_flags_json(stdout, NAMES_FIT, out->res.fit.flags);
         return;
     }
-    printf("[");
-    for (k = 0; k < sizeof names / sizeof names[0]; k++) {
-        if ((out->pair.flags & names[k].bit) != 0u) {
-            printf("%s\"%s\"", sep, names[k].name);
-            sep = ",";
-        }
-    }
-    printf("]");
+    names_flags_json(stdout, NAMES_PAIR, out->pair.flags);
 }
 
 void cli_joint_print_pair_json(const cli_joint_out_t *out)
@@ -337,14 +305,14 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
     const sfit_pair_result_t *p = &out->pair;
     if (out->note != NULL) {
         printf(",\"note\":");
-        cli_print_json_string(out->note);
+        json_out_str(stdout, out->note, 0);
     }
     if (!out->pair_used) {
         /* the multi-marker fit: its covariance (null when it has none) */
         const int untrusted = (out->res.fit.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u;
         printf(",\"center_cov\":");
         if (out->mgdk_cov_ok) {
-            cli_print_mat(&out->mgdk_cov);
+            json_out_mat(stdout, &out->mgdk_cov);
         } else {
             printf("null");
         }
@@ -355,16 +323,16 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
         return;
     }
     printf(",\"center_cov\":");
-    cli_print_mat(&p->center_cov);
+    json_out_mat(stdout, &p->center_cov);
     if (p->mode == SFIT_PAIR_MODE_HINGE) {
         printf(",\"axis_cov\":");
-        cli_print_mat(&p->axis_cov);
+        json_out_mat(stdout, &p->axis_cov);
     }
     printf(",\"center_cov_model\":");
-    cli_print_mat(&p->center_cov_model);
+    json_out_mat(stdout, &p->center_cov_model);
     if (p->mode == SFIT_PAIR_MODE_HINGE) {
         printf(",\"axis_cov_model\":");
-        cli_print_mat(&p->axis_cov_model);
+        json_out_mat(stdout, &p->axis_cov_model);
     }
     printf(",\"skin\":{\"rms\":%.9g,\"ratio\":%.9g},\"wobble_rms\":%.9g,\"info\":[",
            (double)p->sta_rms, (double)p->sta_ratio, (double)p->wobble_rms);
@@ -380,11 +348,12 @@ void cli_joint_print_pair_json(const cli_joint_out_t *out)
     }
     printf("]");
     printf(",\"center_child\":");
-    cli_print_vec(p->center_c.v);
+    json_out_vec(stdout, p->center_c.v);
     printf(",\"untrusted\":%s,\"reason\":\"%s\",\"marker_noise\":{\"var\":%.9g,"
            "\"parent\":%.9g,\"child\":%.9g,\"source\":\"%s\"},\"misfit\":%.9g,"
            "\"model_rms\":%.9g,\"frames_pair\":%lu,\"frames_pair_rejected\":%ld",
-           (p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? "true" : "false", cli_joint_pair_reason(p->reason),
+           (p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? "true" : "false",
+           names_pair_reason(p->reason),
            (double)p->marker_var, (double)p->marker_var_p, (double)p->marker_var_c,
            p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "registration_residuals",
            (double)p->misfit, (double)p->rms, (unsigned long)p->frames, out->pair_rejected);
@@ -439,7 +408,8 @@ void cli_joint_print_pair_text(const cli_joint_out_t *out, const char *units, co
            sqrt((double)p->marker_var_c),
            p->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "from the registration residuals");
     if ((p->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u) {
-        printf("%swarning      untrusted: %s (docs/pair.md)\n", indent, cli_joint_pair_reason(p->reason));
+        printf("%swarning      untrusted: %s (docs/pair.md)\n", indent,
+               names_pair_reason(p->reason));
     }
 }
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_joint.h
+ * @file joint_run.h
  * @brief The functional joint centre over loaded trajectories, shared by
  * `sfit joint` and `sfit skeleton` (library: sfit_cluster.h, sfit_joint.h).
  *
@@ -16,7 +16,7 @@
 #include <stdio.h>
 
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "sfit/sfit_joint.h"
 #include "sfit/sfit_pair.h"
 
@@ -35,7 +35,7 @@ typedef struct cli_joint_opts {
     int noise;          /**< 0 none (MGDK), 1 given (noise_var), 2 auto (estimated) */
     float noise_var;    /**< noise == 1: sigma^2 per coordinate of every measured marker
                              (unit^2), SFIT_JOINT_NOISE_MARKER */
-    int no_repair_swaps; /**< 1: label swaps reported only (cli_swaps.h) */
+    int no_repair_swaps; /**< 1: label swaps reported only (swaps.h) */
     int method;         /**< enum cli_joint_method */
 } cli_joint_opts_t;
 
@@ -103,9 +103,6 @@ const char *cli_joint_method_opt(void *dst, const char *v);
 sfit_status_t cli_joint_mgdk_cov(const sfit_joint_t *j, const sfit_joint_result_t *res,
                                  const sfit_vec3_t *parent, const sfit_vec3_t *child, size_t nf,
                                  float var_given, sfit_mat3_t *cov, float *var);
-
-/** The name of a pair result's reason (JSON and Python: "none", "misfit", ...). */
-const char *cli_joint_pair_reason(sfit_pair_reason_t r);
 
 /** The JSON members after "center"...: the pair's center_cov, axis_cov, noise, reason;
  *  for the multi-marker fit (mgdk) its center_cov, the marker noise used, reason. */

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_refine.h
+ * @file refine.h
  * @brief The recipe's one flat result (sfit_refine_fit) as the sphere fit
  * and uncertainty a front end prints: shared by `sfit fit --refine`
  * (cmd_fit.c) and the Python binding's fit(refine=True) (sfitmodule.c), so

@@ -11,8 +11,8 @@
 #include <string.h>
 
 #include "cli.h"
-#include "cli_joint.h"
-#include "cli_swaps.h"
+#include "joint_run.h"
+#include "swaps.h"
 #include "sfit/sfit_cluster.h"
 
 #define CHI2_3_95 7.814727903251178 /* 95 % quantile of chi^2 with 3 degrees of freedom */
@@ -552,7 +552,7 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
                                  : (mj->type == SM_HINGE ? SFIT_MODE_PLANAR : SFIT_MODE_AUTO);
     if (cli_joint_run(fr, np, nc, &o, &jo) != SFIT_OK) {
         (void)snprintf(err, SM_ERR_MAX, "the joint failed at the %s stage (%s): %s", jo.stage,
-                       sfit_status_str(jo.st), cli_status_message(jo.st));
+                       sfit_status_str(jo.st), names_status_message(jo.st, NAMES_CLI));
         cli_joint_free(&jo);
         cli_swaps_joint_free(&sw);
         return -1;

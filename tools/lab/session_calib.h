@@ -10,7 +10,7 @@
 
 #include <stdio.h>
 
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_model.h"
 #include "sfit/sfit_types.h"

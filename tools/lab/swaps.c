@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_swaps.c  Label swaps within a rigid cluster (cli_swaps.h). No I/O. */
-#include "cli_swaps.h"
+/** @file swaps.c  Label swaps within a rigid cluster (swaps.h). No I/O. */
+#include "swaps.h"
 
 #include <math.h>
 #include <stdlib.h>

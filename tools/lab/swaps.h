@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_swaps.h
+ * @file swaps.h
  * @brief Label swaps within a rigid marker cluster, found from its
  * inter-marker distances, repaired or rejected (host tools: `sfit joint`,
  * `sfit skeleton`, the Python binding's joint_center).
@@ -130,7 +130,7 @@ void cli_swaps_free(cli_swaps_t *s);
  */
 long cli_swaps_runs(const cli_swaps_t *s, int st, long (*runs)[2], long max);
 
-/* ---- The CLI side (cli_swaps_print.c): both clusters of a joint ---- */
+/* ---- The CLI side (swaps_joint.c): both clusters of a joint ---- */
 
 struct cli_frames;
 

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_swaps_print.c  Label swaps of a joint's two clusters: run and report (cli_swaps.h). */
+/** @file swaps_joint.c  Label swaps of a joint's two clusters: run and report (swaps.h). */
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
-#include "cli_frames.h"
-#include "cli_swaps.h"
+#include "frames.h"
+#include "swaps.h"
 
 #define RUNS_JSON_MAX 64 /* runs listed per swap in the JSON */
 #define RUNS_TEXT_MAX 4  /* in the text */
@@ -41,7 +41,7 @@ static void json_moved(const cli_swap_cand_t *c, int m, const char *const *names
     for (u = 0; u < m; u++) {
         if (c->lab[u] != u) {
             printf("%s", k++ > 0 ? "," : "");
-            cli_print_json_string(names[u]);
+            json_out_str(stdout, names[u], 0);
         }
     }
     printf("],\"true\":[");
@@ -49,7 +49,7 @@ static void json_moved(const cli_swap_cand_t *c, int m, const char *const *names
     for (u = 0; u < m; u++) {
         if (c->lab[u] != u) {
             printf("%s", k++ > 0 ? "," : "");
-            cli_print_json_string(names[c->lab[u]]);
+            json_out_str(stdout, names[c->lab[u]], 0);
         }
     }
     printf("]");
@@ -73,7 +73,7 @@ static void json_cluster(const cli_swaps_t *s, const char *const *names, int rep
     printf("{\"markers\":[");
     for (u = 0; u < s->m; u++) {
         printf("%s", u > 0 ? "," : "");
-        cli_print_json_string(names[u]);
+        json_out_str(stdout, names[u], 0);
     }
     printf("],\"checked\":%s", s->checked ? "true" : "false");
     if (!s->checked) {

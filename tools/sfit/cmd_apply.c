@@ -15,7 +15,7 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_calib.h"
 
@@ -657,12 +657,12 @@ int cli_cmd_apply(int argc, char **argv)
     }
     if (json) {
         printf("{\"status\":\"ok\",\"trial\":");
-        cli_print_json_string(pos[1]);
+        json_out_str(stdout, pos[1], 0);
         printf(",\"frames\":%ld,\"storage\":\"%s\",\"joints\":[", c.nframes,
                to_float ? "float (converted)" : "kept");
         for (i = 0; i < s.njoint; i++) {
             printf("%s{\"name\":", i > 0 ? "," : "");
-            cli_print_json_string(s.joint[i].name);
+            json_out_str(stdout, s.joint[i].name, 0);
             printf(",\"placed\":%ld,\"invalid\":%ld,\"parent_in_trial\":%s", aj[i].placed,
                    aj[i].missing, aj[i].loaded ? "true" : "false");
             printf(",\"placement\":");

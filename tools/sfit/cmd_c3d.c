@@ -18,7 +18,7 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "table.h"
 
 typedef struct c3d_opts {
@@ -163,7 +163,7 @@ static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
 static void json_src(const char *key, const char *src)
 {
     printf(",\"%s\":", key);
-    cli_print_json_string(src != NULL ? src : "");
+    json_out_str(stdout, src != NULL ? src : "", 0);
 }
 
 static void print_c3d_json(const c3d_t *c)
@@ -179,9 +179,9 @@ static void print_c3d_json(const c3d_t *c)
            c->analog_channels, c->analog_per_frame, c->analog_words, (double)c->analog_rate,
            c->frames_in_file, (unsigned long)c->data_start, c->nentries > 0 ? "true" : "false",
            c->zero_samples);
-    cli_print_json_string(c->units);
+    json_out_str(stdout, c->units, 0);
     printf(",\"sources\":{\"processor\":");
-    cli_print_json_string(c->src_processor);
+    json_out_str(stdout, c->src_processor, 0);
     json_src("points", c->src_points);
     json_src("frames", c->src_frames);
     json_src("scale", c->src_scale);
@@ -192,14 +192,14 @@ static void print_c3d_json(const c3d_t *c)
         if (k > 0) {
             putchar(',');
         }
-        cli_print_json_string(c->warnings[k]);
+        json_out_str(stdout, c->warnings[k], 0);
     }
     printf("],\"warnings_dropped\":%d,\"labels\":[", c->nwarn_dropped);
     for (k = 0; k < c->npoints; k++) {
         if (k > 0) {
             putchar(',');
         }
-        cli_print_json_string(c->labels[k]);
+        json_out_str(stdout, c->labels[k], 0);
     }
     printf("]}\n");
 }

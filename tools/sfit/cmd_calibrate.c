@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_calib.h"
 #include "session_model.h"
@@ -82,6 +82,8 @@ int cli_cmd_calibrate(int argc, char **argv)
     const char *pos[CAL_FILES_MAX + 1];
     const char *out = NULL;
     int npos = 0, json = 0, k, i, failed = 0;
+    const json_out_flag_t *sflags;
+    size_t nsflags = 0;
     const cli_opt_t opts[] = {
         {.name = "-o", .kind = CLI_OPT_STRING, .dst = &out, .required = 1},
         {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &json},
@@ -148,18 +150,19 @@ int cli_cmd_calibrate(int argc, char **argv)
         }
         return CLI_FAIL;
     }
+    sflags = names_flags(NAMES_SESSION, &nsflags);
     f = fopen(out, "w");
     if (f == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", out, strerror(errno));
         return CLI_IO;
     }
-    session_write_json(f, &s);
+    session_write_json(f, &s, sflags, nsflags);
     if (fclose(f) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", out);
         return CLI_IO;
     }
     if (json) {
-        session_write_json(stdout, &s);
+        session_write_json(stdout, &s, sflags, nsflags);
     } else {
         for (k = 0; k < s.njoint; k++) {
             const session_joint_t *j = &s.joint[k];

@@ -7,12 +7,12 @@
  *              [--noise-var V|auto] [--mode auto|sphere|planar]
  *              [--no-repair-swaps] [--trajectory OUT.csv] [--json]
  *
- * FILE is a C3D file or a wide table (cli_frames.h). The parent cluster is
+ * FILE is a C3D file or a wide table (frames.h). The parent cluster is
  * registered frame by frame on its template, every child marker is mapped
  * into the parent frame and accumulated, and the multi-marker solve gives
- * the centre (and the axis of a hinge) in the parent frame (cli_joint.h).
+ * the centre (and the axis of a hinge) in the parent frame (joint_run.h).
  * Before that, label swaps within the parent and within the child markers
- * are found from their distances and repaired (cli_swaps.h).
+ * are found from their distances and repaired (swaps.h).
  * --trajectory writes frame,x,y,z: the centre in the lab frame at every
  * frame used (frame = 0-based index in the file).
  *
@@ -27,8 +27,8 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_joint.h"
-#include "cli_swaps.h"
+#include "joint_run.h"
+#include "swaps.h"
 
 typedef struct joint_opts {
     const char *file;
@@ -132,19 +132,19 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
            o->j.first, last, jo->used, jo->rejected, fr->bad_rows, fr->zero_missing,
            jo->template_frames,
            (unsigned long)r->n_total);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     printf(",\"center_lab_reference\":");
     if (lab_ref != NULL) {
-        cli_print_vec(lab_ref->v);
+        json_out_vec(stdout, lab_ref->v);
     } else {
         printf("null");
     }
     if (r->mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
+        json_out_vec(stdout, r->axis.v);
     }
     printf(",\"eigenvalues\":");
-    cli_print_vec(r->eigenvalues.v);
+    json_out_vec(stdout, r->eigenvalues.v);
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
            (double)r->leontief_ratio);
     cli_joint_print_flags_json(jo);
@@ -152,19 +152,19 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     cli_joint_print_pair_json(jo);
     printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
            (double)jo->res.residual_mean, (double)jo->res.residual_max);
-    cli_print_json_string(fr->units);
+    json_out_str(stdout, fr->units, 0);
     printf(",\"rate\":%.9g,\"parent\":[", (double)fr->rate);
     for (k = 0; k < o->np; k++) {
         printf("%s{\"name\":", k > 0 ? "," : "");
-        cli_print_json_string(o->names[k]);
+        json_out_str(stdout, o->names[k], 0);
         printf(",\"template\":");
-        cli_print_vec(jo->j.parent.pos[k].v);
+        json_out_vec(stdout, jo->j.parent.pos[k].v);
         printf("}");
     }
     printf("],\"markers\":[");
     for (k = 0; k < o->nc; k++) {
         printf("%s{\"name\":", k > 0 ? "," : "");
-        cli_print_json_string(o->names[o->np + k]);
+        json_out_str(stdout, o->names[o->np + k], 0);
         printf(",\"n\":%lu,\"radius\":", jo->child_n[k]);
         if (jo->radii[k] > 0.0f) {
             printf("%.9g}", (double)jo->radii[k]);
@@ -416,7 +416,7 @@ int cli_cmd_joint(int argc, char **argv)
                    sfit_status_str(st),
                    (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
                        ? "no frame sees every parent marker"
-                       : cli_status_message(st),
+                       : names_status_message(st, NAMES_CLI),
                    jo.stage, jo.used, jo.rejected);
         } else {
             fprintf(stderr, "sfit: joint failed at the %s stage (%s): %s (%ld frames used, %ld "
@@ -424,7 +424,7 @@ int cli_cmd_joint(int argc, char **argv)
                     jo.stage, sfit_status_str(st),
                     (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
                         ? "no frame sees every parent marker"
-                        : cli_status_message(st),
+                        : names_status_message(st, NAMES_CLI),
                     jo.used, jo.rejected);
         }
         cli_joint_free(&jo);

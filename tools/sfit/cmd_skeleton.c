@@ -12,8 +12,8 @@
  *   joint NAME PARENT_MARKERS CHILD_MARKERS [auto|sphere|planar]
  * with comma-separated marker lists. Two joints whose lists are the same
  * share that segment. The joints are computed as `sfit joint` computes
- * them (cli_joint.h), each over FILE, after the label swaps within each
- * joint's parent and child markers are found and repaired (cli_swaps.h).
+ * them (joint_run.h), each over FILE, after the label swaps within each
+ * joint's parent and child markers are found and repaired (swaps.h).
  *
  * The picture (--svg): two orthographic views of frame K side by side,
  * the lab's vertical axis (the one along which the markers spread most at
@@ -30,8 +30,8 @@
 #include <string.h>
 
 #include "cli.h"
-#include "cli_joint.h"
-#include "cli_swaps.h"
+#include "joint_run.h"
+#include "swaps.h"
 #include "skel.h"
 
 #define SK_MAX_JOINTS 32
@@ -537,10 +537,10 @@ static void print_joint_json(const sk_joint_t *j)
     const sfit_multi_result_t *r = &j->out.res.fit;
     int k;
     printf("{\"name\":");
-    cli_print_json_string(j->name);
+    json_out_str(stdout, j->name, 0);
     if (j->st != SFIT_OK) {
         printf(",\"status\":\"%s\",\"message\":\"%s\",\"stage\":\"%s\"}", sfit_status_str(j->st),
-               cli_status_message(j->st), j->stage);
+               names_status_message(j->st, NAMES_CLI), j->stage);
         return;
     }
     printf(",\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frames_used\":%ld,"
@@ -548,14 +548,14 @@ static void print_joint_json(const sk_joint_t *j)
            j->out.pair_used ? j->out.method_name : r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke",
            r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", j->out.used, j->out.rejected,
            j->out.ref_frame);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     if (r->mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
+        json_out_vec(stdout, r->axis.v);
     }
     printf(",\"center_lab\":");
     if (j->lab_ok) {
-        cli_print_vec(j->lab.v);
+        json_out_vec(stdout, j->lab.v);
     } else {
         printf("null");
     }
@@ -578,7 +578,7 @@ static void print_joint_human(const sk_joint_t *j, long frame, const char *units
     const sfit_multi_result_t *r = &j->out.res.fit;
     if (j->st != SFIT_OK) {
         printf("%-12s failed at the %s stage (%s): %s\n", j->name, j->stage,
-               sfit_status_str(j->st), cli_status_message(j->st));
+               sfit_status_str(j->st), names_status_message(j->st, NAMES_CLI));
         return;
     }
     printf("%-12s %s, %ld frames used, %ld rejected, registration residual %.3g\n", j->name,
@@ -799,7 +799,7 @@ int cli_cmd_skeleton(int argc, char **argv)
         printf("]");
         if (o.svg != NULL) {
             printf(",\"svg\":");
-            cli_print_json_string(o.svg);
+            json_out_str(stdout, o.svg, 0);
         }
         printf("}\n");
     } else {
