@@ -8,7 +8,7 @@
 
 /* Distances of one frame: d[u][v] (NaN = a marker not seen). Passed without
  * const: C99 does not convert double (*)[8] to const double (*)[8]. */
-typedef double dist_t[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
+typedef double dist_t[SWAPS_MAX_MARKERS][SWAPS_MAX_MARKERS];
 
 static int seen(const sfit_vec3_t *p)
 {
@@ -67,10 +67,10 @@ static void dist_get(const double *row, int m, dist_t d)
 
 /* The candidates: as given, every exchange of two labels, both rotations
  * of every three labels (lab[u]: the marker the point labelled u is). */
-static int make_cands(int m, cli_swap_cand_t *c)
+static int make_cands(int m, swaps_cand_t *c)
 {
     int n = 0, i, j, k, u;
-    memset(c, 0, sizeof *c * CLI_SWAPS_MAX_CAND);
+    memset(c, 0, sizeof *c * SWAPS_MAX_CAND);
     for (u = 0; u < m; u++) {
         c[0].lab[u] = (unsigned char)u;
     }
@@ -196,10 +196,10 @@ static double median(double *x, size_t n)
  * computed once per set of markers seen and kept here. */
 typedef struct ok_cache {
     int prune; /* every pair of the reference known: see best_label */
-    unsigned char known[1u << CLI_SWAPS_MAX_MARKERS];
+    unsigned char known[1u << SWAPS_MAX_MARKERS];
     /* squared distance of each relabelling's pattern from the labels as
      * given, over the pairs seen */
-    double pat[1u << CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_CAND];
+    double pat[1u << SWAPS_MAX_MARKERS][SWAPS_MAX_CAND];
 } ok_cache_t;
 
 /* Start the cache for reference ref. */
@@ -235,7 +235,7 @@ static unsigned seen_mask(dist_t d, int m)
  * least `decide` from it. Returns the candidate index; *cost its cost,
  * *np the pairs, *rival 1 if another decidable relabelling lies within
  * `decide` of the winner. oc: the cache for this ref and decide. */
-static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
+static int best_label(dist_t d, dist_t ref, int m, const swaps_cand_t *c,
                       int nc, double decide, ok_cache_t *oc, double *cost, int *np,
                       int *rival)
 {
@@ -282,19 +282,19 @@ static int best_label(dist_t d, dist_t ref, int m, const cli_swap_cand_t *c,
 }
 
 /* Per-pair median of the frames' distances, relabelled by lab[k] (NULL:
- * as given), over frames fr[0..n-1]; buf holds n * CLI_SWAPS_MAX_PAIRS
+ * as given), over frames fr[0..n-1]; buf holds n * SWAPS_MAX_PAIRS
  * values. Pairs never seen get NaN. */
 static void pair_medians(const double *dc, int m, size_t n, const int *lab,
-                         const cli_swap_cand_t *c, double *buf, dist_t ref)
+                         const swaps_cand_t *c, double *buf, dist_t ref)
 {
-    size_t cnt[CLI_SWAPS_MAX_MARKERS][CLI_SWAPS_MAX_MARKERS];
+    size_t cnt[SWAPS_MAX_MARKERS][SWAPS_MAX_MARKERS];
     size_t k;
     int a, b, u, v;
     memset(cnt, 0, sizeof cnt);
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
+        dist_get(dc + k * SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 if (!isnan(d[u][v])) { /* true labels (l[u], l[v]), in order */
@@ -318,17 +318,17 @@ static void pair_medians(const double *dc, int m, size_t n, const int *lab,
 /* Pooled robust scale: 1.4826 median |d - R| over the frames' pairs seen,
  * relabelled by lab (NULL: as given); at least the floor. */
 static double pooled_scale(const double *dc, int m, size_t n, const int *lab,
-                           const cli_swap_cand_t *c, dist_t ref, double *buf)
+                           const swaps_cand_t *c, dist_t ref, double *buf)
 {
     size_t k, cnt = 0;
     double med_ref, s;
-    double rd[CLI_SWAPS_MAX_PAIRS];
+    double rd[SWAPS_MAX_PAIRS];
     size_t nr = 0;
     int u, v;
     for (k = 0; k < n; k++) {
         dist_t d;
         const unsigned char *l = c[lab != NULL ? lab[k] : 0].lab;
-        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
+        dist_get(dc + k * SWAPS_MAX_PAIRS, m, d);
         for (u = 0; u < m; u++) {
             for (v = u + 1; v < m; v++) {
                 const double r = ref[l[u]][l[v]];
@@ -347,33 +347,33 @@ static double pooled_scale(const double *dc, int m, size_t n, const int *lab,
     }
     med_ref = median(rd, nr);
     s = 1.4826 * median(buf, cnt);
-    if (!(s >= CLI_SWAPS_SCALE_FLOOR * med_ref)) {
-        s = CLI_SWAPS_SCALE_FLOOR * med_ref;
+    if (!(s >= SWAPS_SCALE_FLOOR * med_ref)) {
+        s = SWAPS_SCALE_FLOOR * med_ref;
     }
     return s;
 }
 
-const char *cli_swaps_why(int why)
+const char *swaps_why(int why)
 {
     switch (why) {
-    case CLI_SWAPS_WHY_CHECKED:
+    case SWAPS_WHY_CHECKED:
         return "checked";
-    case CLI_SWAPS_WHY_FEW_MARKERS:
+    case SWAPS_WHY_FEW_MARKERS:
         return "fewer than 3 markers";
-    case CLI_SWAPS_WHY_FEW_FRAMES:
+    case SWAPS_WHY_FEW_FRAMES:
         return "too few frames with 3 markers seen";
     default:
         return "degenerate: the markers keep no distance apart";
     }
 }
 
-void cli_swaps_free(cli_swaps_t *s)
+void swaps_free(swaps_t *s)
 {
     free(s->status);
     s->status = NULL;
 }
 
-long cli_swaps_runs(const cli_swaps_t *s, int st, long (*runs)[2], long max)
+long swaps_runs(const swaps_t *s, int st, long (*runs)[2], long max)
 {
     long f, n = 0, start = -1;
     if (s->status == NULL) {
@@ -395,8 +395,8 @@ long cli_swaps_runs(const cli_swaps_t *s, int st, long (*runs)[2], long max)
     return n;
 }
 
-int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long first,
-                  long last, int repair, cli_swaps_t *out)
+int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long first,
+                  long last, int repair, swaps_t *out)
 {
     long *fr = NULL, f;
     int *lab = NULL;
@@ -410,7 +410,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
 
     memset(out, 0, sizeof *out);
     out->m = m;
-    if (xyz == NULL || nframes < 0 || m < 1 || m > CLI_SWAPS_MAX_MARKERS || off < 0
+    if (xyz == NULL || nframes < 0 || m < 1 || m > SWAPS_MAX_MARKERS || off < 0
         || off + m > stride) {
         return -1;
     }
@@ -428,23 +428,23 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         return -1;
     }
     for (f = 0; f < nframes; f++) {
-        out->status[f] = CLI_SWAPS_UNCHECKED;
+        out->status[f] = SWAPS_UNCHECKED;
     }
     out->ncand = make_cands(m, out->cand);
-    out->why = CLI_SWAPS_WHY_FEW_MARKERS;
+    out->why = SWAPS_WHY_FEW_MARKERS;
     if (m < 3) {
         return 0;
     }
-    out->why = CLI_SWAPS_WHY_FEW_FRAMES;
+    out->why = SWAPS_WHY_FEW_FRAMES;
     if (first > last) {
         return 0;
     }
     /* the frames with >= 3 markers seen */
     fr = malloc(((size_t)(last - first) + 1u) * sizeof *fr);
     lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
-    buf = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *buf);
+    buf = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *buf);
     oc = malloc(sizeof *oc);
-    dc = malloc(((size_t)(last - first) + 1u) * CLI_SWAPS_MAX_PAIRS * sizeof *dc);
+    dc = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *dc);
     if (fr == NULL || lab == NULL || buf == NULL || oc == NULL || dc == NULL) {
         free(fr);
         free(lab);
@@ -456,11 +456,11 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     for (f = first; f <= last; f++) {
         dist_t d;
         if (frame_dist(xyz, f, stride, off, m, d) >= 3) {
-            dist_put(d, m, dc + n * CLI_SWAPS_MAX_PAIRS);
+            dist_put(d, m, dc + n * SWAPS_MAX_PAIRS);
             fr[n++] = f;
         }
     }
-    if ((long)n < CLI_SWAPS_MIN_FRAMES) {
+    if ((long)n < SWAPS_MIN_FRAMES) {
         free(fr);
         free(lab);
         free(buf);
@@ -469,7 +469,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         return 0;
     }
     /* 1. the anchor: the start of the range, as given */
-    na = (n < (size_t)CLI_SWAPS_ANCHOR) ? n : (size_t)CLI_SWAPS_ANCHOR;
+    na = (n < (size_t)SWAPS_ANCHOR) ? n : (size_t)SWAPS_ANCHOR;
     pair_medians(dc, m, na, NULL, out->cand, buf, anchor);
     {
         dist_t all; /* pairs the anchor never sees: their median over all frames */
@@ -492,7 +492,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     }
     s0 = pooled_scale(dc, m, na, NULL, out->cand, anchor, buf);
     if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
-        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        out->why = SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
@@ -506,14 +506,14 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         dist_t d;
         double cost;
         int np, rival;
-        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
-        lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * CLI_SWAPS_Z * s0, oc,
+        dist_get(dc + k * SWAPS_MAX_PAIRS, m, d);
+        lab[k] = best_label(d, anchor, m, out->cand, out->ncand, 2.0 * SWAPS_Z * s0, oc,
                             &cost, &np, &rival);
     }
     pair_medians(dc, m, n, lab, out->cand, buf, out->ref);
     out->scale = pooled_scale(dc, m, n, lab, out->cand, out->ref, buf);
     if (!(out->scale > 0.0) || !isfinite(out->scale)) {
-        out->why = CLI_SWAPS_WHY_DEGENERATE;
+        out->why = SWAPS_WHY_DEGENERATE;
         free(fr);
         free(lab);
         free(buf);
@@ -521,7 +521,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
         free(dc);
         return 0;
     }
-    out->decide = 2.0 * CLI_SWAPS_Z * out->scale;
+    out->decide = 2.0 * SWAPS_Z * out->scale;
     for (c = 0; c < out->ncand; c++) {
         dist_t full;
         int u, v;
@@ -546,23 +546,23 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
     /* 3. the decision, frame by frame */
     cache_reset(oc, out->ref, m); /* another reference and threshold */
     out->checked = 1;
-    out->why = CLI_SWAPS_WHY_CHECKED;
+    out->why = SWAPS_WHY_CHECKED;
     out->repaired = repair != 0;
     for (k = 0; k < n; k++) {
         dist_t d;
         double cost;
         int np, rival, b;
         sfit_vec3_t *row = xyz + (size_t)fr[k] * (size_t)stride + (size_t)off;
-        dist_get(dc + k * CLI_SWAPS_MAX_PAIRS, m, d);
+        dist_get(dc + k * SWAPS_MAX_PAIRS, m, d);
         b = best_label(d, out->ref, m, out->cand, out->ncand, out->decide, oc, &cost, &np,
                        &rival);
         out->frames_checked++;
-        if (np > 0 && cost > (double)np * CLI_SWAPS_Z * CLI_SWAPS_Z * out->scale * out->scale
+        if (np > 0 && cost > (double)np * SWAPS_Z * SWAPS_Z * out->scale * out->scale
             && cost > out->misfit * out->misfit) {
-            out->status[fr[k]] = CLI_SWAPS_NO_FIT;
+            out->status[fr[k]] = SWAPS_NO_FIT;
             out->frames_no_fit++;
         } else if (rival) {
-            out->status[fr[k]] = CLI_SWAPS_AMBIGUOUS;
+            out->status[fr[k]] = SWAPS_AMBIGUOUS;
             out->frames_ambiguous++;
         } else {
             out->status[fr[k]] = (signed short)b;
@@ -582,7 +582,7 @@ int cli_swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, lo
                 }
             }
         } else if (b != 0) {
-            sfit_vec3_t tmp[CLI_SWAPS_MAX_MARKERS];
+            sfit_vec3_t tmp[SWAPS_MAX_MARKERS];
             int u;
             memcpy(tmp, row, (size_t)m * sizeof *row); /* lab is a permutation: all rewritten */
             for (u = 0; u < m; u++) {

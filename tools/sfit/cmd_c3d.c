@@ -53,7 +53,7 @@ static void c3d_usage(FILE *f)
 static const char *c3d_frames(void *dst, const char *v)
 {
     c3d_opts_t *o = (c3d_opts_t *)dst;
-    const int rc = cli_parse_frames(v, &o->first, &o->last);
+    const int rc = frames_parse_range(v, &o->first, &o->last);
     if (rc != 0) {
         return (rc == 1) ? "--frames needs F:L" : "--frames needs F:L, 0 <= F <= L";
     }
@@ -107,7 +107,7 @@ static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
         return -2;
     }
     if (o->markers != NULL) {
-        n = cli_split_list(o->markers, names, (int)room);
+        n = frames_split_list(o->markers, names, (int)room);
         if (n < 1) {
             (void)snprintf(why, C3D_ERR_MAX, "--markers: a comma-separated list of names");
             free(idx);

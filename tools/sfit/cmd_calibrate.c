@@ -51,8 +51,8 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     const sm_segment_t *ps = &m->seg[mj->parent], *cs = &m->seg[mj->child];
     const char *names[2 * SM_MARKERS_MAX];
     const int np = ps->nmarkers, nc = cs->nmarkers;
-    cli_frames_t fr;
-    char why[CLI_FRAMES_ERR_MAX], err[SM_ERR_MAX];
+    frames_data_t fr;
+    char why[FRAMES_ERR_MAX], err[SM_ERR_MAX];
     int i, rc;
 
     for (i = 0; i < np; i++) {
@@ -61,7 +61,7 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     for (i = 0; i < nc; i++) {
         names[np + i] = cs->markers[i];
     }
-    rc = cli_frames_load(path, names, np + nc, &fr, why);
+    rc = frames_load(path, names, np + nc, &fr, why);
     if (rc != 0) {
         fprintf(stderr, "sfit: %s: %s: %s\n", mj->name, path, rc == -1 ? strerror(errno) : why);
         return -1;
@@ -73,7 +73,7 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     if (rc != 0) {
         fprintf(stderr, "sfit: %s: %s: %s\n", mj->name, path, err);
     }
-    cli_frames_free(&fr);
+    frames_free(&fr);
     return rc;
 }
 

@@ -549,7 +549,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         if (st != SFIT_OK) {
             return st;
         }
-        cli_refine_parts(&rf, r, &x->u);
+        refine_parts(&rf, r, &x->u);
         x->refined = 1;
         x->has_noise = 1;
         x->noise_var = rf.noise_var;

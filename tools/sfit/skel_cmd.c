@@ -11,7 +11,7 @@
 
 #include "c3d.h"
 #include "cli.h"
-#include "joint_run.h"
+#include "cli_joint.h"
 #include "skel.h"
 
 typedef struct sk2_opts {
@@ -150,7 +150,7 @@ static void print_flags(unsigned fl)
  * reason by name, misfit. */
 static void pair_json(const skel_pair_res_t *p)
 {
-    static cli_joint_out_t jo;
+    static joint_run_out_t jo;
     memset(&jo, 0, sizeof jo);
     jo.pair_used = 1;
     jo.pair = p->lib;
