@@ -161,48 +161,48 @@ static int load_c3d(const char *path, const char *const *names, int n, frames_da
 static int load_table(const char *path, const char *const *names, int n, frames_data_t *out,
                       char *why)
 {
-    tab_t t;
+    table_t t;
     int cols[3 * FRAMES_MARKERS_MAX];
     float vals[3 * FRAMES_MARKERS_MAX];
     size_t cap = 0;
     int k, rc;
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         return -1;
     }
-    if (tab_start(&t) != 0) {
+    if (table_start(&t) != 0) {
         (void)snprintf(why, FRAMES_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+        table_close(&t);
         return -2;
     }
     if (!t.header) {
         (void)snprintf(why, FRAMES_ERR_MAX,
                        "neither a C3D file nor a table with a header naming the markers' "
                        "columns (NAME_X, NAME_Y, NAME_Z)");
-        tab_close(&t);
+        table_close(&t);
         return -2;
     }
     for (k = 0; k < n; k++) {
-        if (tab_find_marker(&t, names[k], &cols[3 * k]) != 0) {
+        if (table_find_marker(&t, names[k], &cols[3 * k]) != 0) {
             (void)snprintf(why, FRAMES_ERR_MAX,
                            "no columns %s_X, %s_Y, %s_Z (or %s.x, %s:X, ...) in the header",
                            names[k], names[k], names[k], names[k], names[k]);
-            tab_close(&t);
+            table_close(&t);
             return -2;
         }
     }
-    if (tab_select_idx(&t, cols, 3 * n) != 0) {
+    if (table_select_idx(&t, cols, 3 * n) != 0) {
         (void)snprintf(why, FRAMES_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+        table_close(&t);
         return -2;
     }
     out->nmarkers = n;
-    while ((rc = tab_next(&t, vals)) != TAB_EOF) {
+    while ((rc = table_next(&t, vals)) != TABLE_EOF) {
         sfit_vec3_t *row;
         if ((size_t)out->nframes == cap) {
             const size_t nc = (cap == 0u) ? 1024u : 2u * cap;
             sfit_vec3_t *nx = realloc(out->xyz, nc * (size_t)n * sizeof *nx);
             if (nx == NULL) {
-                tab_close(&t);
+                table_close(&t);
                 (void)snprintf(why, FRAMES_ERR_MAX, "out of memory");
                 return -2;
             }
@@ -211,14 +211,14 @@ static int load_table(const char *path, const char *const *names, int n, frames_
         }
         row = &out->xyz[(size_t)out->nframes * (size_t)n];
         for (k = 0; k < 3 * n; k++) {
-            row[k / 3].v[k % 3] = (rc == TAB_ROW_OK) ? vals[k] : NAN;
+            row[k / 3].v[k % 3] = (rc == TABLE_ROW_OK) ? vals[k] : NAN;
         }
-        if (rc != TAB_ROW_OK) {
+        if (rc != TABLE_ROW_OK) {
             out->bad_rows++;
         }
         out->nframes++;
     }
-    tab_close(&t);
+    table_close(&t);
     return 0;
 }
 

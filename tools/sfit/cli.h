@@ -60,7 +60,7 @@ int cli_parse_floats(const char *s, float *out, int n);
  * samples fn rejects are counted in `in` (rejected), rows with a blank
  * selected cell too (missing). Returns 0; -1 if the file cannot be opened
  * (errno kept); -2 if its columns cannot be selected (message in `why`,
- * TAB_ERR_MAX bytes).
+ * TABLE_ERR_MAX bytes).
  */
 int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
                  cli_input_t *in, char *why);

@@ -60,24 +60,24 @@ int cli_input_opt(int argc, char **argv, int *i, cli_src_t *src)
 int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
                  cli_input_t *in, char *why)
 {
-    tab_t t;
+    table_t t;
     float v[3];
     int rc;
 
     memset(in, 0, sizeof *in);
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         return -1;
     }
-    if (tab_start(&t) != 0 || tab_select(&t, src->cols, 3) != 0) {
-        (void)snprintf(why, TAB_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+    if (table_start(&t) != 0 || table_select(&t, src->cols, 3) != 0) {
+        (void)snprintf(why, TABLE_ERR_MAX, "%s", t.err);
+        table_close(&t);
         return -2;
     }
-    while ((rc = tab_next(&t, v)) != TAB_EOF) {
+    while ((rc = table_next(&t, v)) != TABLE_EOF) {
         sfit_status_t st;
         sfit_vec3_t x;
         in->lines++;
-        if (rc == TAB_ROW_BAD) {
+        if (rc == TABLE_ROW_BAD) {
             note_reject(in, t.lineno, t.why);
             continue;
         }
@@ -98,7 +98,7 @@ int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void 
                                                : sfit_status_str(st));
         }
     }
-    tab_close(&t);
+    table_close(&t);
     return 0;
 }
 
@@ -311,7 +311,7 @@ int cli_parse(int argc, char **argv, const cli_args_t *a)
 int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,
                      cli_input_t *in)
 {
-    char why[TAB_ERR_MAX];
+    char why[TABLE_ERR_MAX];
     int rc;
     (void)sfit_moments_init(acc);
     rc = cli_read_xyz(file, src, cli_add_to_moments, acc, in, why);

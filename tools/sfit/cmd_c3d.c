@@ -227,20 +227,20 @@ static void common_prefix(const c3d_t *c, char *out, size_t size)
 static int read_added(const char *path, const c3d_t *c, char ***names, int *n, float **xyz,
                       char *why)
 {
-    tab_t t;
+    table_t t;
     int *cols = NULL, k, m = 0, rc;
     float *vals = NULL;
     *names = NULL;
     *xyz = NULL;
     *n = 0;
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         (void)snprintf(why, C3D_ERR_MAX, "cannot open %s: %s", path, strerror(errno));
         return -1;
     }
-    if (tab_start(&t) != 0 || !t.header || t.ncols < 4) {
+    if (table_start(&t) != 0 || !t.header || t.ncols < 4) {
         (void)snprintf(why, C3D_ERR_MAX,
                        "%s: a table with a header frame,NAME_X,NAME_Y,NAME_Z,... is needed", path);
-        tab_close(&t);
+        table_close(&t);
         return -1;
     }
     cols = malloc((size_t)t.ncols * sizeof *cols);
@@ -279,29 +279,29 @@ static int read_added(const char *path, const c3d_t *c, char ***names, int *n, f
     *n = m;
     vals = malloc((size_t)t.ncols * sizeof *vals);
     *xyz = malloc(((size_t)c->nframes * (size_t)m * 3u + 1u) * sizeof **xyz);
-    if (vals == NULL || *xyz == NULL || tab_select_idx(&t, cols, t.ncols) != 0) {
+    if (vals == NULL || *xyz == NULL || table_select_idx(&t, cols, t.ncols) != 0) {
         goto oom;
     }
     for (k = 0; (size_t)k < (size_t)c->nframes * (size_t)m * 3u; k++) {
         (*xyz)[k] = NAN;
     }
-    while ((rc = tab_next(&t, vals)) != TAB_EOF) {
+    while ((rc = table_next(&t, vals)) != TABLE_EOF) {
         const float fr = vals[0];
-        if (rc != TAB_ROW_OK || !(fr >= 0.0f) || fr != floorf(fr) || fr >= (float)c->nframes) {
+        if (rc != TABLE_ROW_OK || !(fr >= 0.0f) || fr != floorf(fr) || fr >= (float)c->nframes) {
             (void)snprintf(why, C3D_ERR_MAX, "%s line %lu: a frame 0 to %ld and numbers expected",
                            path, t.lineno, c->nframes - 1);
             goto bad;
         }
         memcpy(*xyz + (size_t)fr * (size_t)m * 3u, vals + 1, (size_t)m * 3u * sizeof *vals);
     }
-    tab_close(&t);
+    table_close(&t);
     free(cols);
     free(vals);
     return 0;
 oom:
     (void)snprintf(why, C3D_ERR_MAX, "out of memory");
 bad:
-    tab_close(&t);
+    table_close(&t);
     free(cols);
     free(vals);
     free(*xyz);

@@ -636,7 +636,7 @@ int cli_cmd_fit(int argc, char **argv)
         sink.gate = &gate;
     }
     {
-        char why[TAB_ERR_MAX];
+        char why[TABLE_ERR_MAX];
         const int rrc = cli_read_xyz(o.file, &o.src, fit_sink_add, &sink, &in, why);
         if (rrc != 0) {
             free(sink.pts);

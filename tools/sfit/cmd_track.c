@@ -137,7 +137,7 @@ int cli_cmd_track(int argc, char **argv)
         printf("# n center_x center_y center_z radius\n");
     }
     {
-        char why[TAB_ERR_MAX];
+        char why[TABLE_ERR_MAX];
         const int rrc = cli_read_xyz(o.file, &o.src, track_sample, &ctx, &in, why);
         if (rrc != 0) {
             return cli_input_failed(rrc, o.file, why, o.json);
