@@ -327,8 +327,8 @@ static int lab_ellipsoid(const skel_t *s, long fr, int k, double e[6])
     return 0;
 }
 
-/* The player's script, one string per line (tools/sfit/skel_view.js,
- * embedded by the build: tools/sfit/embed_js.cmake). */
+/* The player's script, one string per line (tools/lab/skel_view.js,
+ * embedded by the build: tools/lab/embed_js.cmake). */
 #include "skel_view_js.h"
 
 int skel_write_html(const skel_t *s, const char *path)
