@@ -28,6 +28,8 @@ fresh; printf '#include "../../tools/%s/cli_common.c"\n' "$cli" >> "$tmp/t/tests
 must_fail "a fuzzer compiling a CLI file"
 fresh; sed -i 's/frames_free(/cli_frames_free(/' "$tmp/t/tools/lab/frames.c"
 must_fail "a cli_ name in lab"
+fresh; printf 'static void say(void) { printf("x\\n"); }\n' >> "$tmp/t/tools/lab/names.c"
+must_fail "printing to stdout in lab"
 fresh; printf 'static void esc2(FILE *f, unsigned c) { fprintf(f, "\\\\u%%04x", c); }\n' >> "$tmp/t/tools/lab/swaps.c"
 must_fail "a second JSON string escaper"
 fresh; printf 'static void svg2(FILE *f) { fputs("<svg xmlns=\\"x\\">", f); }\n' >> "$tmp/t/tools/lab/skel_write.c"

@@ -8,6 +8,7 @@ Usage: tools_layout.py SRC [BUILD]
   types (sfit/sfit_types.h); tools/lab its own, formats' and the
   library's; the CLI (tools/sfit) and the binding (tools/python/src) any
   of those; nothing outside the CLI includes a CLI header or a CLI path.
+- formats and lab write nothing to stdout.
 - No `cli_` / `CLI_` name in code (comments aside) of formats, lab, the
   binding or the fuzzers; with BUILD, no `cli_` symbol in the host
   library (libsfit_host.a), and every name it exports carries its file's
@@ -165,6 +166,14 @@ for p in c_files(FORMATS) + c_files(LAB) + c_files(BINDING) + c_files("tests/fuz
         m = CLI_NAME.search(line)
         if m:
             fail("%s:%d: CLI name %s outside the CLI" % (p, k, m.group(1)))
+
+# formats and lab print nothing on stdout (their callers do)
+STDOUT = re.compile(r"\b(printf|puts|putchar|vprintf)\s*\(|\bstdout\b")
+for p in c_files(FORMATS) + c_files(LAB):
+    for k, line in enumerate(strip_comments(read(p)).split("\n"), 1):
+        m = STDOUT.search(line)
+        if m:
+            fail("%s:%d: %s in the host library (stdout is the CLI's)" % (p, k, m.group(0)))
 
 # the host library: no cli_ symbol; exported names carry the file's prefix
 TWO_WORDS = {"json_out", "joint_run"}
