@@ -237,8 +237,9 @@ def one(what, regex, expect, code_only=False):
 one("command table", r'(\{|\bX\()\s*"[\w-]+"\s*,\s*cli_cmd_\w+\s*,', CLI + "/cli.h")
 # the status texts: SFIT_E_* next to its words
 one("status-text table", r"\{\s*SFIT_E_\w+\s*,\s*\{?\s*\"", LAB + "/names.c")
-# flag names: a flag bit next to its name
-one("flag-name table", r"\{\s*\(?\s*(?:uint32_t\)\s*)?(?:SFIT_\w*FLAG\w*|SKEL_[FU]_\w+)\s*,\s*\"",
+# flag names: a flag or information bit next to its name
+one("flag-name table",
+    r"\{\s*\(?\s*(?:uint32_t\)\s*)?(?:SFIT_\w*(?:FLAG|INFO)\w*|SKEL_[FU]_\w+)\s*,\s*\"",
     LAB + "/names.c")
 # the JSON string escaper: the \u escape of a control character
 one("JSON string escaper", r"u%04x", FORMATS + "/json_out.c")

@@ -79,6 +79,10 @@ static const json_out_flag_t g_skel_why[] = {
     {SKEL_U_MODULE, "module"},
 };
 
+static const json_out_flag_t g_pair_info[] = {
+    {SFIT_PAIR_INFO_AXIS_FREE, "axis_free"},
+    {SFIT_PAIR_INFO_SKIN, "skin_motion"},
+};
 static const json_out_flag_t g_noise[] = {
     {SFIT_NOISE_FLAG_NEGATIVE, "negative"},
     {SFIT_NOISE_FLAG_IMPRECISE, "imprecise"},
@@ -93,6 +97,7 @@ const json_out_flag_t *names_flags(names_family_t fam, size_t *n)
     case NAMES_SESSION: return NAMES_TAB(g_session);
     case NAMES_SKEL: return NAMES_TAB(g_skel);
     case NAMES_SKEL_WHY: return NAMES_TAB(g_skel_why);
+    case NAMES_PAIR_INFO: return NAMES_TAB(g_pair_info);
     case NAMES_NOISE: return NAMES_TAB(g_noise);
     case NAMES_NFAMILY:
     default: *n = 0; return NULL;

@@ -30,6 +30,7 @@ typedef enum names_family {
     NAMES_SESSION,   /**< a calibrated session's joint (the session file) */
     NAMES_SKEL,      /**< a skeleton's pair or joint (SKEL_F_*) */
     NAMES_SKEL_WHY,  /**< why a skeleton's joint is untrusted (SKEL_U_*) */
+    NAMES_PAIR_INFO, /**< a pair's information bits (SFIT_PAIR_INFO_*: facts about the data) */
     NAMES_NOISE,     /**< a noise estimate (SFIT_NOISE_FLAG_*; Python's names, the CLI prints booleans) */
     NAMES_NFAMILY
 } names_family_t;

@@ -89,19 +89,9 @@ void cli_joint_print_pair_json(const joint_run_out_t *out)
         printf(",\"axis_cov_model\":");
         json_out_mat(stdout, &p->axis_cov_model);
     }
-    printf(",\"skin\":{\"rms\":%.9g,\"ratio\":%.9g},\"wobble_rms\":%.9g,\"info\":[",
+    printf(",\"skin\":{\"rms\":%.9g,\"ratio\":%.9g},\"wobble_rms\":%.9g,\"info\":",
            (double)p->sta_rms, (double)p->sta_ratio, (double)p->wobble_rms);
-    {
-        const char *sep = "";
-        if ((p->info & (uint32_t)SFIT_PAIR_INFO_AXIS_FREE) != 0u) {
-            printf("\"axis_free\"");
-            sep = ",";
-        }
-        if ((p->info & (uint32_t)SFIT_PAIR_INFO_SKIN) != 0u) {
-            printf("%s\"skin_motion\"", sep);
-        }
-    }
-    printf("]");
+    names_flags_json(stdout, NAMES_PAIR_INFO, p->info);
     printf(",\"center_child\":");
     json_out_vec(stdout, p->center_c.v);
     printf(",\"untrusted\":%s,\"reason\":\"%s\",\"marker_noise\":{\"var\":%.9g,"
