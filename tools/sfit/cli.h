@@ -10,6 +10,8 @@
 
 #include <stdio.h>
 
+#include "json_out.h"
+#include "names.h"
 #include "sfit/sfit.h"
 
 #define CLI_LINE_MAX 1024
@@ -58,7 +60,7 @@ int cli_parse_floats(const char *s, float *out, int n);
  * samples fn rejects are counted in `in` (rejected), rows with a blank
  * selected cell too (missing). Returns 0; -1 if the file cannot be opened
  * (errno kept); -2 if its columns cannot be selected (message in `why`,
- * TAB_ERR_MAX bytes).
+ * TABLE_ERR_MAX bytes).
  */
 int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
                  cli_input_t *in, char *why);
@@ -76,23 +78,8 @@ sfit_status_t cli_add_to_moments(void *ctx, const sfit_vec3_t *x);
 /** List the rejected lines of `in` on stderr. */
 void cli_report_rejects(const char *file, const cli_input_t *in);
 
-/** A readable explanation of a status, for "message" and stderr. */
-const char *cli_status_message(sfit_status_t st);
-
-/** Print a JSON string literal (quotes, backslashes, control characters escaped). */
-void cli_print_json_string(const char *str);
-
-/** Print the JSON array of a result's flag names (sfit_flag, SFIT_MULTI_FLAG_SKIPPED). */
-void cli_print_flags_json(uint32_t flags);
-
 /** Print ,"noise_var":V,"noise_estimated":B (V null without a noise model). */
 void cli_print_noise_json(int has_noise, float noise_var, int estimated);
-
-/** Print a JSON array of 3 floats (round-trip precision). */
-void cli_print_vec(const float *v);
-
-/** Print a 3x3 matrix as a JSON array of its 3 rows (round-trip precision). */
-void cli_print_mat(const sfit_mat3_t *m);
 
 /** Print {"status":...,"message":...} for a failure and return CLI_FAIL. */
 int cli_json_error(const char *status, const char *message);
@@ -108,7 +95,7 @@ int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_mome
 
 /**
  * Report a failed computation: JSON {"status","message","n","rejected"} or a
- * line on stderr naming `what`. message NULL = cli_status_message(st).
+ * line on stderr naming `what`. message NULL = names_status_message(st, NAMES_CLI).
  * Returns CLI_FAIL.
  */
 int cli_report_failure(sfit_status_t st, const char *what, const char *message, int json,
@@ -195,16 +182,30 @@ typedef struct cli_args {
  */
 int cli_parse(int argc, char **argv, const cli_args_t *a);
 
-/** Sub-commands: argv[0] is the sub-command name. */
-int cli_cmd_fit(int argc, char **argv);
-int cli_cmd_noise(int argc, char **argv);
-int cli_cmd_coverage(int argc, char **argv);
-int cli_cmd_track(int argc, char **argv);
-int cli_cmd_joint(int argc, char **argv);
-int cli_cmd_skeleton(int argc, char **argv);
-int cli_cmd_c3d(int argc, char **argv);
-int cli_cmd_calibrate(int argc, char **argv); /* cmd_calibrate.c */
-int cli_cmd_apply(int argc, char **argv);     /* cmd_apply.c */
-int cli_cmd_imu(int argc, char **argv);       /* cmd_imu.c */
+/**
+ * The command table: X(NAME, ENTRY, HELP) per command, in the order `sfit
+ * --help` lists them. It declares each entry point `int ENTRY(int argc,
+ * char **argv)` (argv[0] is the command's name; defined in cmd_*.c) and is
+ * the only dispatcher (sfit_cli.c); tools/README.md says how to add one.
+ */
+#define CLI_COMMANDS(X)                                                                       \
+    X("fit", cli_cmd_fit, "fit a sphere (or a circle) to x,y,z samples")                      \
+    X("noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point")     \
+    X("track", cli_cmd_track, "incremental estimate: a new centre every K samples")           \
+    X("coverage", cli_cmd_coverage,                                                           \
+      "covered half-angle, largest tolerable noise, rotate further?")                         \
+    X("joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table")      \
+    X("skeleton", cli_cmd_skeleton,                                                           \
+      "the skeleton of a session model or found in the data:\n"                               \
+      "            segments, joints, tree; --bvh --trc --svg --html --json")                  \
+    X("calibrate", cli_cmd_calibrate,                                                         \
+      "every joint of a session model from its functional trial")                             \
+    X("apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial")    \
+    X("c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table")               \
+    X("imu-joint", cli_cmd_imu, "the joint between two IMUs: centre or hinge axis in each frame")
+
+#define CLI_DECLARE_COMMAND(name, entry, help) int entry(int argc, char **argv);
+CLI_COMMANDS(CLI_DECLARE_COMMAND)
+#undef CLI_DECLARE_COMMAND
 
 #endif /* SFIT_CLI_H */

@@ -15,9 +15,10 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_calib.h"
+#include "svg.h"
 
 #define CHI2_3_95 7.814727903251178
 
@@ -52,26 +53,26 @@ static int place_joint(const char *trial, const session_joint_t *j, float d, lon
                        float *pts, int ntot, int col, apply_joint_t *aj)
 {
     const char *names[SM_MARKERS_MAX];
-    cli_frames_t fr;
-    char why[CLI_FRAMES_ERR_MAX];
+    frames_data_t fr;
+    char why[FRAMES_ERR_MAX];
     long placed;
     int i;
     for (i = 0; i < j->nmarkers; i++) {
         names[i] = j->markers[i];
     }
     aj->missing = nframes;
-    if (cli_frames_load(trial, names, j->nmarkers, &fr, why) != 0) {
+    if (frames_load(trial, names, j->nmarkers, &fr, why) != 0) {
         fprintf(stderr, "sfit: %s: %s: not placed in any frame\n", j->name, why);
         return 0;
     }
     if (fr.nframes != nframes) {
-        cli_frames_free(&fr);
+        frames_free(&fr);
         fprintf(stderr, "sfit: %s: the file changed while read\n", trial);
         return -1;
     }
     aj->loaded = 1;
     placed = session_place_frames(j, &fr, d, pts + (size_t)col * 3u, ntot, aj->rot, &aj->pc);
-    cli_frames_free(&fr);
+    frames_free(&fr);
     if (placed < 0) {
         fprintf(stderr, "sfit: %s: the session's template is degenerate\n", j->name);
         return -1;
@@ -342,17 +343,14 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
             }
         }
     }
-    o = fopen(path, "w");
+    o = svg_open(path, W, H);
     if (o == NULL) {
-        fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
         free(in_model);
         return -1;
     }
 #define PX(q) ((dot3((q), v.ex) - v.x0) * v.s + M)
 #define PY(q) ((v.y0 - dot3((q), v.ey)) * v.s + M + 50)
-    fprintf(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-               "viewBox=\"0 0 %.0f %.0f\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
+    fprintf(o, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
                "<text x=\"%.0f\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\" "
                "font-weight=\"bold\">%s, frame %ld</text>\n"
                "<text x=\"%.0f\" y=\"37\" font-family=\"sans-serif\" font-size=\"12\" "
@@ -361,7 +359,7 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
                "<text x=\"%.0f\" y=\"52\" font-family=\"sans-serif\" font-size=\"12\" "
                "fill=\"#555\">markers of the model (dark grey), other markers (light grey)"
                "</text>\n",
-            W, H, W, H, M, trial, f, M, mag, M);
+            M, trial, f, M, mag, M);
     {
         /* the view: its direction and vertical in lab axes, and a scale bar */
         double toward[3], len = nice_len(110.0 / v.s);
@@ -495,13 +493,8 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     }
 #undef PX
 #undef PY
-    fprintf(o, "</svg>\n");
     free(in_model);
-    if (fclose(o) != 0) {
-        fprintf(stderr, "sfit: cannot write %s\n", path);
-        return -1;
-    }
-    return 0;
+    return svg_close(o, path);
 }
 
 int cli_cmd_apply(int argc, char **argv)
@@ -657,12 +650,12 @@ int cli_cmd_apply(int argc, char **argv)
     }
     if (json) {
         printf("{\"status\":\"ok\",\"trial\":");
-        cli_print_json_string(pos[1]);
+        json_out_str(stdout, pos[1], 0);
         printf(",\"frames\":%ld,\"storage\":\"%s\",\"joints\":[", c.nframes,
                to_float ? "float (converted)" : "kept");
         for (i = 0; i < s.njoint; i++) {
             printf("%s{\"name\":", i > 0 ? "," : "");
-            cli_print_json_string(s.joint[i].name);
+            json_out_str(stdout, s.joint[i].name, 0);
             printf(",\"placed\":%ld,\"invalid\":%ld,\"parent_in_trial\":%s", aj[i].placed,
                    aj[i].missing, aj[i].loaded ? "true" : "false");
             printf(",\"placement\":");

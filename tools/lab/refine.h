@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_refine.h
+ * @file refine.h
  * @brief The recipe's one flat result (sfit_refine_fit) as the sphere fit
  * and uncertainty a front end prints: shared by `sfit fit --refine`
  * (cmd_fit.c) and the Python binding's fit(refine=True) (sfitmodule.c), so
  * that both print the same values.
  */
-#ifndef SFIT_CLI_REFINE_H
-#define SFIT_CLI_REFINE_H
+#ifndef SFIT_TOOLS_REFINE_H
+#define SFIT_TOOLS_REFINE_H
 
 #include <string.h>
 
@@ -15,7 +15,7 @@
 
 /** The geometric sphere with the start's eigenvalues, trust and verdict (a
  *  UGDK sphere), and the covariance of the geometric centre. */
-static inline void cli_refine_parts(const sfit_refine_result_t *rf, sfit_result_t *r,
+static inline void refine_parts(const sfit_refine_result_t *rf, sfit_result_t *r,
                                     sfit_uncert_t *u)
 {
     memset(r, 0, sizeof *r);
@@ -35,4 +35,4 @@ static inline void cli_refine_parts(const sfit_refine_result_t *rf, sfit_result_
     u->noise_var = rf->cov_noise_var;
 }
 
-#endif /* SFIT_CLI_REFINE_H */
+#endif /* SFIT_TOOLS_REFINE_H */
