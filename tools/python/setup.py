@@ -42,14 +42,12 @@ def _version():
 lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
 ext = Extension(
     "sfit._sfit",
-    sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
-             os.path.join(HERE, "src", "swaps.c"), os.path.join(HERE, "src", "pair_py.c"),
-             os.path.join(HERE, "src", "imu_py.c"),
-             os.path.join(CLI_SRC, "c3d.c"), os.path.join(CLI_SRC, "c3d_write.c"),
-             os.path.join(CLI_SRC, "cli_swaps.c")]
-    # the lab session (session_py.c) and the CLI code it runs
-    + [os.path.join(HERE, "src", "session_py.c")]
-    + [os.path.join(CLI_SRC, f + ".c") for f in ("session_model", "session", "session_calib",
+    # the binding: every tools/python/src/py_*.c (py_module.c registers them)
+    sources=sorted(glob.glob(os.path.join(HERE, "src", "py_*.c")))
+    # the host code it binds: the C3D reader and writer, the label-swap
+    # check, and the lab session with the CLI code it runs
+    + [os.path.join(CLI_SRC, f + ".c") for f in ("c3d", "c3d_write", "cli_swaps",
+                                                  "session_model", "session", "session_calib",
                                                   "cli_swaps_print", "cli_joint", "cli_frames",
                                                   "cli_common", "table")]
     + lib_sources,

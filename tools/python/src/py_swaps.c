@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file swaps.c
+ * @file py_swaps.c
  * @brief sfit._sfit._label_swaps: the label-swap check of the CLI
  * (tools/sfit/cli_swaps.c, compiled into the extension) over one cluster's
- * frames, for sfit.joint_center. Registered in sfitmodule.c.
+ * frames, for sfit.joint_center. Registered in py_module.c.
  *
  * _label_swaps(buf, frames, markers, repair) -> dict
  *   buf: a writable C-contiguous float32 buffer of frames * markers * 3
@@ -14,11 +14,9 @@
  *   (list of (labels tuple, moved, count, pattern, decidable); [0] = the
  *   labels as given).
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
+#include "py_sfit.h"
 
 #include "cli_swaps.h"
-#include "swaps.h"
 
 static PyObject *cand_list(const cli_swaps_t *s)
 {

@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file session_py.c
+ * @file py_session.c
  * @brief A lab session for the Python package: the CLI's session model
  * parser, calibration and placement (tools/sfit/session_model.c,
  * session.c, session_calib.c and what they use, compiled into the
  * extension by setup.py) behind three functions of sfit._sfit, wrapped by
  * sfit.session_model, sfit.calibrate and sfit.apply_session
- * (sfit/__init__.py). Registered in sfitmodule.c.
+ * (sfit/_session.py). Registered in py_module.c.
  *
  *   _session_model(text) -> str            the model as JSON
  *   _session_calibrate(model_text, joint, buf, frames, units, trial) -> str
@@ -22,8 +22,7 @@
  * A bad model or session raises ValueError with the parser's message; a
  * joint that cannot be calibrated raises ValueError with the reason.
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
+#include "py_sfit.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -34,8 +33,6 @@
 #include "session.h"
 #include "session_calib.h"
 #include "session_model.h"
-
-PyMethodDef *sfit_py_session_methods(void);
 
 /* The text written to a temporary file, as a Python str. */
 static PyObject *file_text(FILE *f)
@@ -85,7 +82,7 @@ static int parse_model(const char *text, Py_ssize_t len, session_model_t *m)
     return 0;
 }
 
-static PyObject *py_session_model(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_model(PyObject *self, PyObject *args)
 {
     const char *text;
     Py_ssize_t len;
@@ -164,7 +161,7 @@ static int float_buffer(PyObject *o, Py_buffer *b, Py_ssize_t n)
     return 0;
 }
 
-static PyObject *py_session_calibrate(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_calibrate(PyObject *self, PyObject *args)
 {
     const char *text, *units, *trial;
     Py_ssize_t len, frames;
@@ -240,7 +237,7 @@ fail:
     return NULL;
 }
 
-static PyObject *py_session_place(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_place(PyObject *self, PyObject *args)
 {
     const char *text;
     Py_ssize_t len, frames;
@@ -301,7 +298,8 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     free(s);
     if (placed < 0) {
         free(pts);
-        return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate", k);
+        return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate",
+                            k);
     }
     f = tmpfile();
     if (f == NULL) {
@@ -317,15 +315,4 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     out = Py_BuildValue("(y#N)", (const char *)pts, (Py_ssize_t)(n * sizeof *pts), js);
     free(pts);
     return out;
-}
-
-static PyMethodDef methods[] = {
-    {"_session_model", py_session_model, METH_VARARGS, "Internal: see sfit.session_model."},
-    {"_session_calibrate", py_session_calibrate, METH_VARARGS, "Internal: see sfit.calibrate."},
-    {"_session_place", py_session_place, METH_VARARGS, "Internal: see sfit.apply_session."},
-    {NULL, NULL, 0, NULL}};
-
-PyMethodDef *sfit_py_session_methods(void)
-{
-    return methods;
 }
