@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fuzz_c3d.c
- * @brief libFuzzer harness of the CLI's C3D reader (tools/sfit/c3d.c): the
+ * @brief libFuzzer harness of the host library's C3D reader (tools/formats/c3d.c): the
  * input is the file. Contract: c3d_parse returns 0 or -1; -1 leaves a
  * non-empty message and an empty result; 0 gives labels that are
  * NUL-terminated and printable, nframes * npoints points every one of which
@@ -11,8 +11,8 @@
  * point, written to /dev/null: 0 or -1 with a message, never a crash.
  * The reader and writer are host code; they are compiled into the harness.
  */
-#include "../../tools/sfit/c3d.c"
-#include "../../tools/sfit/c3d_write.c"
+#include "../../tools/formats/c3d.c"
+#include "../../tools/formats/c3d_write.c"
 
 #include "fuzz_common.h"
 

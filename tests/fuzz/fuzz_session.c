@@ -3,16 +3,18 @@
  * @file fuzz_session.c
  * @brief libFuzzer harness of the lab session's two parsers (host code,
  * compiled into the harness): the session model text
- * (tools/sfit/session_model.c) and the calibrated session JSON
- * (tools/sfit/session.c). Input: one selector byte (even: model, odd:
+ * (tools/formats/session_model.c) and the calibrated session JSON
+ * (tools/formats/session.c). Input: one selector byte (even: model, odd:
  * session), then the text. Contract: 0, or -1 with a message; a model
  * read has 1..32 segments of 3..8 markers, joints between two different
  * segments in range, the point count of its type and a root that is no
  * joint's child; a session read has finite templates and centres, a unit
  * hinge axis, and reads back the same after session_write_json.
  */
-#include "../../tools/sfit/session_model.c"
-#include "../../tools/sfit/session.c"
+#include "../../tools/formats/session_model.c"
+#include "../../tools/formats/session.c"
+#include "../../tools/formats/json_out.c"
+#include "../../tools/lab/names.c"
 
 #include "fuzz_common.h"
 
@@ -91,11 +93,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FILE *f = tmpfile();
         char *buf;
         long n;
+        size_t nfl = 0;
+        const json_out_flag_t *fl = names_flags(NAMES_SESSION, &nfl);
         check_session(&g_s);
         if (f == NULL) {
             return 0;
         }
-        session_write_json(f, &g_s);
+        session_write_json(f, &g_s, fl, nfl);
         n = ftell(f);
         buf = (n > 0) ? malloc((size_t)n) : NULL;
         if (buf != NULL && fseek(f, 0L, SEEK_SET) == 0 && fread(buf, 1, (size_t)n, f) == (size_t)n) {

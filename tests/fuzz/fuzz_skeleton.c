@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fuzz_skeleton.c
- * @brief libFuzzer harness of the CLI's skeleton from unlabelled markers
- * (`sfit skeleton FILE...` without a map: tools/sfit/skel_*.c, compiled into
+ * @brief libFuzzer harness of the host library's skeleton from unlabelled markers
+ * (`sfit skeleton FILE...` without a map: tools/lab/skel_*.c, compiled into
  * the harness). The input describes a recording: a chain of 2 to 6 rigid
  * segments with 1 to 4 markers each (so groups of 1, 2 and more markers),
  * turning about joints with amplitudes and frequencies from the input,
@@ -15,13 +15,14 @@
  * centre and cost are finite, and the joint centres of the motion are
  * finite in every frame; every writer returns 0.
  */
-#include "../../tools/sfit/c3d.c"
-#include "../../tools/sfit/c3d_write.c"
-#include "../../tools/sfit/skel_draw.c"
-#include "../../tools/sfit/skel_group.c"
-#include "../../tools/sfit/skel_pair.c"
-#include "../../tools/sfit/skel_tree.c"
-#include "../../tools/sfit/skel_write.c"
+#include "../../tools/formats/c3d.c"
+#include "../../tools/formats/c3d_write.c"
+#include "../../tools/formats/json_out.c"
+#include "../../tools/lab/skel_draw.c"
+#include "../../tools/lab/skel_group.c"
+#include "../../tools/lab/skel_pair.c"
+#include "../../tools/lab/skel_tree.c"
+#include "../../tools/lab/skel_write.c"
 
 #include "fuzz_common.h"
 

@@ -1,20 +1,20 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fuzz_swaps.c
- * @brief libFuzzer harness of the CLI's label-swap check
- * (tools/sfit/cli_swaps.c, compiled into the harness). Input: a header
+ * @brief libFuzzer harness of the host library's label-swap check
+ * (tools/lab/swaps.c, compiled into the harness). Input: a header
  * (markers 1..8, repair flag, range), a template of signed bytes, then one
  * opcode per frame: the template moved and jittered, with two labels
  * exchanged, three rotated, a marker hostile (NaN, Inf, huge, raw bits) or
  * missing, or a frame of raw floats.
- * Contract: cli_swaps_run returns 0; every status is in range and only
+ * Contract: swaps_run returns 0; every status is in range and only
  * frames of the range are checked; the counts add up (per candidate, per
  * status, the runs); a checked cluster has a finite positive noise and
  * decision distance 2 z s; without repair no byte changes; with repair a
  * frame as given (or not checked) is unchanged, a swapped frame is its
  * relabelling of the original, a rejected frame is all NaN.
  */
-#include "../../tools/sfit/cli_swaps.c"
+#include "../../tools/lab/swaps.c"
 
 #include "fuzz_common.h"
 
@@ -24,12 +24,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static sfit_vec3_t xyz[FZ_SW_FRAMES * CLI_SWAPS_MAX_MARKERS];
-    static sfit_vec3_t orig[FZ_SW_FRAMES * CLI_SWAPS_MAX_MARKERS];
-    static cli_swaps_t s;
+    static sfit_vec3_t xyz[FZ_SW_FRAMES * SWAPS_MAX_MARKERS];
+    static sfit_vec3_t orig[FZ_SW_FRAMES * SWAPS_MAX_MARKERS];
+    static swaps_t s;
     fz_in_t in = {data, size, 0u};
-    float tpl[CLI_SWAPS_MAX_MARKERS][3];
-    const int m = 1 + fz_u8(&in) % CLI_SWAPS_MAX_MARKERS;
+    float tpl[SWAPS_MAX_MARKERS][3];
+    const int m = 1 + fz_u8(&in) % SWAPS_MAX_MARKERS;
     const uint8_t flags = fz_u8(&in);
     const int repair = flags & 1u;
     long nf = 0, f, first, last, counted;
@@ -90,9 +90,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     first = (flags & 2u) ? (long)(fz_u8(&in) % (nf + 1)) : 0;
     last = (flags & 4u) ? first + (long)(fz_u8(&in) % (nf + 1)) - 1 : -1;
     memcpy(orig, xyz, (size_t)nf * (size_t)m * sizeof *xyz);
-    rc = cli_swaps_run(xyz, nf, m, 0, m, first, last, repair, &s);
-    FZ_CHECK(rc == 0, "cli_swaps_run returns 0");
-    FZ_CHECK(s.m == m && s.ncand >= 1 && s.ncand <= CLI_SWAPS_MAX_CAND, "candidates");
+    rc = swaps_run(xyz, nf, m, 0, m, first, last, repair, &s);
+    FZ_CHECK(rc == 0, "swaps_run returns 0");
+    FZ_CHECK(s.m == m && s.ncand >= 1 && s.ncand <= SWAPS_MAX_CAND, "candidates");
     if (last < 0 || last >= nf) {
         last = nf - 1;
     }
@@ -100,14 +100,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (f = 0; f < nf; f++) {
         const int st = s.status[f];
         const sfit_vec3_t *a = xyz + (size_t)f * (size_t)m, *o = orig + (size_t)f * (size_t)m;
-        FZ_CHECK(st >= CLI_SWAPS_AMBIGUOUS && st < s.ncand, "status in range");
-        FZ_CHECK(st == CLI_SWAPS_UNCHECKED || (s.checked && f >= first && f <= last),
+        FZ_CHECK(st >= SWAPS_AMBIGUOUS && st < s.ncand, "status in range");
+        FZ_CHECK(st == SWAPS_UNCHECKED || (s.checked && f >= first && f <= last),
                  "only frames of the range of a checked cluster are checked");
-        if (st != CLI_SWAPS_UNCHECKED) {
+        if (st != SWAPS_UNCHECKED) {
             counted++;
-            per_status[st == 0 ? 0 : (st > 0 ? 1 : (st == CLI_SWAPS_NO_FIT ? 2 : 3))]++;
+            per_status[st == 0 ? 0 : (st > 0 ? 1 : (st == SWAPS_NO_FIT ? 2 : 3))]++;
         }
-        if (!repair || st == CLI_SWAPS_UNCHECKED || st == CLI_SWAPS_AS_GIVEN) {
+        if (!repair || st == SWAPS_UNCHECKED || st == SWAPS_AS_GIVEN) {
             FZ_CHECK(memcmp(a, o, (size_t)m * sizeof *a) == 0, "frame unchanged");
         } else if (st > 0) {
             for (u = 0; u < m; u++) {
@@ -133,7 +133,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             sum += s.cand[c].count;
             FZ_CHECK(s.cand[c].count == 0 || s.cand[c].decidable,
                      "only decidable relabellings are applied");
-            n = cli_swaps_runs(&s, c, runs, nf + 1);
+            n = swaps_runs(&s, c, runs, nf + 1);
             for (r = 0; r < n; r++) {
                 FZ_CHECK(runs[r][0] <= runs[r][1] && (r == 0 || runs[r][0] > runs[r - 1][1] + 1),
                          "runs ordered and maximal");
@@ -145,11 +145,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         free(runs);
     }
     if (s.checked) {
-        FZ_CHECK(isfinite(s.scale) && s.scale > 0.0 && s.decide == 2.0 * CLI_SWAPS_Z * s.scale,
+        FZ_CHECK(isfinite(s.scale) && s.scale > 0.0 && s.decide == 2.0 * SWAPS_Z * s.scale,
                  "noise and decision distance");
     } else {
-        FZ_CHECK(s.frames_checked == 0 && s.why != CLI_SWAPS_WHY_CHECKED, "not checked: why");
+        FZ_CHECK(s.frames_checked == 0 && s.why != SWAPS_WHY_CHECKED, "not checked: why");
     }
-    cli_swaps_free(&s);
+    swaps_free(&s);
     return 0;
 }

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """An independent BVH reader and forward kinematics for the tests (shares
-no code with tools/sfit/skel_write.c): the BVH format as Biovision
+no code with tools/lab/skel_write.c): the BVH format as Biovision
 published it and Blender's importer reads it -- HIERARCHY of ROOT / JOINT /
 End Site blocks with OFFSET and CHANNELS, then MOTION (Frames, Frame Time,
 one line of channel values per frame). Rotation channels compose in the

@@ -3,7 +3,7 @@
 (tests/scripts/test_cli_c3d.sh, tools/python/tests/test_c3d.py; not a test).
 
 Written from the format description with struct and numpy; shares no code
-with tools/sfit/c3d.c or c3d_write.c. It returns everything a file holds:
+with tools/formats/c3d.c or c3d_write.c. It returns everything a file holds:
 the header words, every group and parameter (type, dimensions, decoded
 values, description, locked flag), every point sample (x, y, z, residual as
 stored, scaled) and every analog word, so a test can compare two files

@@ -3,7 +3,7 @@
 (imported by tests/scripts/test_cli_input.sh and test_cli_joint.sh; not a test).
 
 - read_c3d / write_c3d: a C3D reader and writer written from the format
-  description with `struct`, independently of tools/sfit/c3d.c (Intel, DEC
+  description with `struct`, independently of tools/formats/c3d.c (Intel, DEC
   and MIPS processor types; float or scaled 16-bit integer points).
 - kabsch / template / register_all / mgdk: double-precision rigid
   registration (SVD Kabsch with the reflection correction) and the

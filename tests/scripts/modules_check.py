@@ -12,7 +12,7 @@ begin/end -->), and fails when:
 - a module's test tests/<file> does not exist or calls no sfit_<m>_
   function; the same for its fuzz harness (tests/fuzz), garbage driver
   (tests/fuzz), on-target suite (tests/target), binding (tools/python/src)
-  and CLI file (tools/sfit);
+  and CLI file (tools/sfit, or the lab code it runs in tools/lab);
 - a reference function is not defined in tests/ref/*.c or not called by
   the module's test;
 - a module with sfit_<m>_init has no garbage-state entry;
@@ -115,6 +115,9 @@ for row in rows:
                   "target": "tests/target", "python": "tools/python/src", "cli": "tools/sfit"}[col]
         for name in re.split(r",\s*", v):
             path = os.path.join(folder, name)
+            if col == "cli":  # a command of tools/sfit, or the lab code it runs (tools/lab)
+                path = next((os.path.join(d, name) for d in ("tools/sfit", "tools/lab")
+                             if os.path.exists(os.path.join(src, d, name))), path)
             if not os.path.exists(os.path.join(src, path)):
                 problems.append("%s: %s does not exist" % (where, path))
             elif not calls(path, m):

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Label swaps within a cluster (tools/sfit/cli_swaps.c) in `sfit joint` and
+# Label swaps within a cluster (tools/lab/swaps.c) in `sfit joint` and
 # `sfit skeleton`, against references computed here (numpy, the C3D
 # reader/writer of tests/scripts/mocap_ref.py), never by the code under test:
 #  1. biobuddy's hip trial (issue 28, must-show 3): the RLFE/RMFE exchange

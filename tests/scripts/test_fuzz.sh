@@ -68,7 +68,7 @@ for h in "$src"/tests/fuzz/fuzz_*.c; do
   # tools/gen: headers the build generates for the host tools (the skeleton
   # page's script, tools/CMakeLists.txt) that a harness including a tool
   # source needs
-  "$CLANG" "${common[@]}" "${warn[@]}" "${san[@]}" -I"$src/tests/fuzz" -I"$build/tools/gen" \
+  "$CLANG" "${common[@]}" "${warn[@]}" "${san[@]}" -I"$src/tests/fuzz" -I"$src/tools/formats" -I"$src/tools/lab" -I"$build/tools/gen" \
     "$h" "${libobjs[@]}" -lm -o "$out/$hn"
   harnesses+=("$hn")
 done

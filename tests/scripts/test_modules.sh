@@ -13,7 +13,7 @@ rule_setup "$src/tests/scripts/modules_check.py"
 fresh() {
   rm -rf "$tmp/t"; mkdir -p "$tmp/t"
   (cd "$src" && tar cf - --exclude=tests/data --exclude='tests/fuzz/corpus' docs lib tests \
-     tools/flopcount/footprint_budget.txt tools/python/src tools/sfit) | tar xf - -C "$tmp/t"
+     tools/flopcount/footprint_budget.txt tools/python/src tools/sfit tools/lab) | tar xf - -C "$tmp/t"
 }
 fresh; sed -i '/^code_os sfit_gate /d' "$tmp/t/tools/flopcount/footprint_budget.txt"
 must_fail "no code-size budget for gate"

@@ -72,7 +72,7 @@ if [ -d "$src/tests/fuzz" ]; then
     [ -d "$corpus" ] || continue
     # shellcheck disable=SC2086
     "$cc" -std=c99 -D_POSIX_C_SOURCE=200809L -g -O1 $san -Wall -Wextra -Werror \
-      -I"$src/lib/include" -I"$src/lib/src" -I"$src/port" -I"$src/port/host" -I"$src/tests/fuzz" \
+      -I"$src/lib/include" -I"$src/lib/src" -I"$src/port" -I"$src/port/host" -I"$src/tests/fuzz" -I"$src/tools/formats" -I"$src/tools/lab" \
       -I"$build/tools/gen" -I"$out/tools/gen" \
       "$h" "$src/tests/fuzz/replay_main.c" "$src"/lib/src/*.c -lm -o "$out/fuzz-replay/$hn"
     if ! "$out/fuzz-replay/$hn" "$corpus" >"$out/fuzz-replay/$hn.log" 2>&1; then

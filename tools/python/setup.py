@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Build the sfit Python package: a CPython extension compiled from the
 library's own sources (../../lib/src, ../../lib/include, ../../port/host)
-and the CLI's C3D reader and writer (../../tools/sfit/c3d*.c), with no copy. Needs Debian 12's python3-dev, python3-numpy and
+and the host library (../../tools/formats, ../../tools/lab: the C3D reader
+and writer, the session, the label-swap check), with no copy. Needs Debian 12's python3-dev, python3-numpy and
 python3-setuptools only (no network).
 
     /usr/bin/python3 -m pip install --user --break-system-packages \\
@@ -23,7 +24,8 @@ LIB_SRC = os.path.join(ROOT, "lib", "src")
 LIB_INC = os.path.join(ROOT, "lib", "include")
 PORT = os.path.join(ROOT, "port")
 PORT_HOST = os.path.join(PORT, "host")
-CLI_SRC = os.path.join(ROOT, "tools", "sfit")  # the CLI's C3D reader/writer and label-swap check
+FORMATS = os.path.join(ROOT, "tools", "formats")  # the host library (tools/README.md): bytes <-> structs
+LAB = os.path.join(ROOT, "tools", "lab")  # and computations on loaded trajectories
 
 if not os.path.isfile(os.path.join(LIB_INC, "sfit", "sfit.h")):
     raise SystemExit("sfit: lib/include not found at %s (build from a full sfit checkout)" % LIB_INC)
@@ -40,18 +42,20 @@ def _version():
 # Absolute paths: the objects of ../../lib/src go under build/temp.*/<abs path>,
 # never next to the sources.
 lib_sources = sorted(glob.glob(os.path.join(LIB_SRC, "*.c")))
+# The host library the CLI links (tools/CMakeLists.txt, sfit_host): every
+# source of tools/formats and tools/lab but the skeleton's (not bound; its
+# page needs a header the CMake build generates).
+host_sources = sorted(f for d in (FORMATS, LAB) for f in glob.glob(os.path.join(d, "*.c"))
+                      if not os.path.basename(f).startswith("skel_"))
 ext = Extension(
     "sfit._sfit",
     # the binding: every tools/python/src/py_*.c (py_module.c registers them)
     sources=sorted(glob.glob(os.path.join(HERE, "src", "py_*.c")))
-    # the host code it binds: the C3D reader and writer, the label-swap
-    # check, and the lab session with the CLI code it runs
-    + [os.path.join(CLI_SRC, f + ".c") for f in ("c3d", "c3d_write", "cli_swaps",
-                                                  "session_model", "session", "session_calib",
-                                                  "cli_swaps_print", "cli_joint", "cli_frames",
-                                                  "cli_common", "table")]
+    # the host library it binds: the C3D reader and writer, the session,
+    # the label-swap check
+    + host_sources
     + lib_sources,
-    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, CLI_SRC, numpy.get_include()],
+    include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, FORMATS, LAB, numpy.get_include()],
     # C99 like the library; -fno-math-errno as on target (sqrtf inline), no fast-math
     extra_compile_args=["-std=c99", "-O2", "-fno-math-errno", "-Wall", "-Wextra"],
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],

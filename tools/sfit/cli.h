@@ -10,6 +10,8 @@
 
 #include <stdio.h>
 
+#include "json_out.h"
+#include "names.h"
 #include "sfit/sfit.h"
 
 #define CLI_LINE_MAX 1024
@@ -58,7 +60,7 @@ int cli_parse_floats(const char *s, float *out, int n);
  * samples fn rejects are counted in `in` (rejected), rows with a blank
  * selected cell too (missing). Returns 0; -1 if the file cannot be opened
  * (errno kept); -2 if its columns cannot be selected (message in `why`,
- * TAB_ERR_MAX bytes).
+ * TABLE_ERR_MAX bytes).
  */
 int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
                  cli_input_t *in, char *why);
@@ -76,23 +78,8 @@ sfit_status_t cli_add_to_moments(void *ctx, const sfit_vec3_t *x);
 /** List the rejected lines of `in` on stderr. */
 void cli_report_rejects(const char *file, const cli_input_t *in);
 
-/** A readable explanation of a status, for "message" and stderr. */
-const char *cli_status_message(sfit_status_t st);
-
-/** Print a JSON string literal (quotes, backslashes, control characters escaped). */
-void cli_print_json_string(const char *str);
-
-/** Print the JSON array of a result's flag names (sfit_flag, SFIT_MULTI_FLAG_SKIPPED). */
-void cli_print_flags_json(uint32_t flags);
-
 /** Print ,"noise_var":V,"noise_estimated":B (V null without a noise model). */
 void cli_print_noise_json(int has_noise, float noise_var, int estimated);
-
-/** Print a JSON array of 3 floats (round-trip precision). */
-void cli_print_vec(const float *v);
-
-/** Print a 3x3 matrix as a JSON array of its 3 rows (round-trip precision). */
-void cli_print_mat(const sfit_mat3_t *m);
 
 /** Print {"status":...,"message":...} for a failure and return CLI_FAIL. */
 int cli_json_error(const char *status, const char *message);
@@ -108,7 +95,7 @@ int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_mome
 
 /**
  * Report a failed computation: JSON {"status","message","n","rejected"} or a
- * line on stderr naming `what`. message NULL = cli_status_message(st).
+ * line on stderr naming `what`. message NULL = names_status_message(st, NAMES_CLI).
  * Returns CLI_FAIL.
  */
 int cli_report_failure(sfit_status_t st, const char *what, const char *message, int json,

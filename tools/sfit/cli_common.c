@@ -60,24 +60,24 @@ int cli_input_opt(int argc, char **argv, int *i, cli_src_t *src)
 int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void *ctx,
                  cli_input_t *in, char *why)
 {
-    tab_t t;
+    table_t t;
     float v[3];
     int rc;
 
     memset(in, 0, sizeof *in);
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         return -1;
     }
-    if (tab_start(&t) != 0 || tab_select(&t, src->cols, 3) != 0) {
-        (void)snprintf(why, TAB_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+    if (table_start(&t) != 0 || table_select(&t, src->cols, 3) != 0) {
+        (void)snprintf(why, TABLE_ERR_MAX, "%s", t.err);
+        table_close(&t);
         return -2;
     }
-    while ((rc = tab_next(&t, v)) != TAB_EOF) {
+    while ((rc = table_next(&t, v)) != TABLE_EOF) {
         sfit_status_t st;
         sfit_vec3_t x;
         in->lines++;
-        if (rc == TAB_ROW_BAD) {
+        if (rc == TABLE_ROW_BAD) {
             note_reject(in, t.lineno, t.why);
             continue;
         }
@@ -98,7 +98,7 @@ int cli_read_xyz(const char *path, const cli_src_t *src, cli_sample_fn fn, void 
                                                : sfit_status_str(st));
         }
     }
-    tab_close(&t);
+    table_close(&t);
     return 0;
 }
 
@@ -109,7 +109,7 @@ int cli_input_failed(int rc, const char *file, const char *why, int json)
     }
     if (json) {
         printf("{\"status\":\"format_error\",\"message\":");
-        cli_print_json_string(why);
+        json_out_str(stdout, why, 0);
         printf("}\n");
     } else {
         fprintf(stderr, "sfit: %s: %s\n", file, why);
@@ -137,66 +137,6 @@ void cli_report_rejects(const char *file, const cli_input_t *in)
     }
 }
 
-const char *cli_status_message(sfit_status_t st)
-{
-    switch (st) {
-    case SFIT_E_TOO_FEW: return "fewer than 4 valid samples";
-    case SFIT_E_DEGENERATE:
-        return "degenerate geometry: samples coincident, collinear, or planar "
-               "(try --mode planar)";
-    case SFIT_E_NOT_POSDEF:
-        return "C - Sigma_hat is not positive definite: the noise model is larger "
-               "than the spread of the samples";
-    case SFIT_E_NO_CONVERGENCE: return "the iteration did not converge within its bound";
-    case SFIT_E_RANGE: return "value out of the supported float range";
-    case SFIT_E_UNSUPPORTED: return "not in this build of the library (SFIT_FULL_SOLVER 0)";
-    case SFIT_E_ARG: return "invalid option value";
-    case SFIT_E_NONFINITE: return "non-finite value";
-    case SFIT_OK: return "ok";
-    default: return "unknown error";
-    }
-}
-
-/* A JSON string literal (quotes, backslashes and control characters escaped). */
-void cli_print_json_string(const char *str)
-{
-    const unsigned char *c = (const unsigned char *)str;
-    putchar('"');
-    for (; *c != '\0'; c++) {
-        if (*c == '"' || *c == '\\') {
-            printf("\\%c", *c);
-        } else if (*c < 0x20u) {
-            printf("\\u%04x", (unsigned)*c);
-        } else {
-            putchar(*c);
-        }
-    }
-    putchar('"');
-}
-
-void cli_print_flags_json(uint32_t flags)
-{
-    static const struct {
-        uint32_t bit;
-        const char *name;
-    } names[] = {
-        {SFIT_FLAG_UNTRUSTED, "untrusted"},       {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
-        {SFIT_FLAG_NEAR_PLANAR, "near_planar"},   {SFIT_FLAG_ROUNDING, "rounding"},
-        {SFIT_SELFCAL_FLAG_CAPPED, "noise_capped"}, {SFIT_FLAG_COV_LIMIT, "cov_limit"},
-        {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
-    };
-    const char *sep = "";
-    size_t k;
-    printf("[");
-    for (k = 0; k < sizeof names / sizeof names[0]; k++) {
-        if ((flags & names[k].bit) != 0u) {
-            printf("%s\"%s\"", sep, names[k].name);
-            sep = ",";
-        }
-    }
-    printf("]");
-}
-
 void cli_print_noise_json(int has_noise, float noise_var, int estimated)
 {
     if (has_noise) {
@@ -205,22 +145,6 @@ void cli_print_noise_json(int has_noise, float noise_var, int estimated)
     } else {
         printf(",\"noise_var\":null,\"noise_estimated\":false");
     }
-}
-
-void cli_print_vec(const float *v)
-{
-    printf("[%.9g,%.9g,%.9g]", (double)v[0], (double)v[1], (double)v[2]);
-}
-
-void cli_print_mat(const sfit_mat3_t *m)
-{
-    int r;
-    printf("[");
-    for (r = 0; r < 3; r++) {
-        printf("%s", r > 0 ? "," : "");
-        cli_print_vec(&m->m[3 * r]);
-    }
-    printf("]");
 }
 
 int cli_json_error(const char *status, const char *message)
@@ -387,7 +311,7 @@ int cli_parse(int argc, char **argv, const cli_args_t *a)
 int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_moments_t *acc,
                      cli_input_t *in)
 {
-    char why[TAB_ERR_MAX];
+    char why[TABLE_ERR_MAX];
     int rc;
     (void)sfit_moments_init(acc);
     rc = cli_read_xyz(file, src, cli_add_to_moments, acc, in, why);
@@ -403,7 +327,7 @@ int cli_read_moments(const char *file, const cli_src_t *src, int json, sfit_mome
 int cli_report_failure(sfit_status_t st, const char *what, const char *message, int json,
                        const cli_input_t *in)
 {
-    const char *msg = (message != NULL) ? message : cli_status_message(st);
+    const char *msg = (message != NULL) ? message : names_status_message(st, NAMES_CLI);
     if (json) {
         printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
                sfit_status_str(st), msg, in->accepted, in->rejected);

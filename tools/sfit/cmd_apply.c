@@ -15,7 +15,7 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_calib.h"
 
@@ -52,26 +52,26 @@ static int place_joint(const char *trial, const session_joint_t *j, float d, lon
                        float *pts, int ntot, int col, apply_joint_t *aj)
 {
     const char *names[SM_MARKERS_MAX];
-    cli_frames_t fr;
-    char why[CLI_FRAMES_ERR_MAX];
+    frames_data_t fr;
+    char why[FRAMES_ERR_MAX];
     long placed;
     int i;
     for (i = 0; i < j->nmarkers; i++) {
         names[i] = j->markers[i];
     }
     aj->missing = nframes;
-    if (cli_frames_load(trial, names, j->nmarkers, &fr, why) != 0) {
+    if (frames_load(trial, names, j->nmarkers, &fr, why) != 0) {
         fprintf(stderr, "sfit: %s: %s: not placed in any frame\n", j->name, why);
         return 0;
     }
     if (fr.nframes != nframes) {
-        cli_frames_free(&fr);
+        frames_free(&fr);
         fprintf(stderr, "sfit: %s: the file changed while read\n", trial);
         return -1;
     }
     aj->loaded = 1;
     placed = session_place_frames(j, &fr, d, pts + (size_t)col * 3u, ntot, aj->rot, &aj->pc);
-    cli_frames_free(&fr);
+    frames_free(&fr);
     if (placed < 0) {
         fprintf(stderr, "sfit: %s: the session's template is degenerate\n", j->name);
         return -1;
@@ -657,12 +657,12 @@ int cli_cmd_apply(int argc, char **argv)
     }
     if (json) {
         printf("{\"status\":\"ok\",\"trial\":");
-        cli_print_json_string(pos[1]);
+        json_out_str(stdout, pos[1], 0);
         printf(",\"frames\":%ld,\"storage\":\"%s\",\"joints\":[", c.nframes,
                to_float ? "float (converted)" : "kept");
         for (i = 0; i < s.njoint; i++) {
             printf("%s{\"name\":", i > 0 ? "," : "");
-            cli_print_json_string(s.joint[i].name);
+            json_out_str(stdout, s.joint[i].name, 0);
             printf(",\"placed\":%ld,\"invalid\":%ld,\"parent_in_trial\":%s", aj[i].placed,
                    aj[i].missing, aj[i].loaded ? "true" : "false");
             printf(",\"placement\":");

@@ -18,7 +18,7 @@
 #include "c3d.h"
 #include "c3d_write.h"
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "table.h"
 
 typedef struct c3d_opts {
@@ -53,7 +53,7 @@ static void c3d_usage(FILE *f)
 static const char *c3d_frames(void *dst, const char *v)
 {
     c3d_opts_t *o = (c3d_opts_t *)dst;
-    const int rc = cli_parse_frames(v, &o->first, &o->last);
+    const int rc = frames_parse_range(v, &o->first, &o->last);
     if (rc != 0) {
         return (rc == 1) ? "--frames needs F:L" : "--frames needs F:L, 0 <= F <= L";
     }
@@ -107,7 +107,7 @@ static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
         return -2;
     }
     if (o->markers != NULL) {
-        n = cli_split_list(o->markers, names, (int)room);
+        n = frames_split_list(o->markers, names, (int)room);
         if (n < 1) {
             (void)snprintf(why, C3D_ERR_MAX, "--markers: a comma-separated list of names");
             free(idx);
@@ -163,7 +163,7 @@ static int export_table(const c3d_opts_t *o, const c3d_t *c, char *why)
 static void json_src(const char *key, const char *src)
 {
     printf(",\"%s\":", key);
-    cli_print_json_string(src != NULL ? src : "");
+    json_out_str(stdout, src != NULL ? src : "", 0);
 }
 
 static void print_c3d_json(const c3d_t *c)
@@ -179,9 +179,9 @@ static void print_c3d_json(const c3d_t *c)
            c->analog_channels, c->analog_per_frame, c->analog_words, (double)c->analog_rate,
            c->frames_in_file, (unsigned long)c->data_start, c->nentries > 0 ? "true" : "false",
            c->zero_samples);
-    cli_print_json_string(c->units);
+    json_out_str(stdout, c->units, 0);
     printf(",\"sources\":{\"processor\":");
-    cli_print_json_string(c->src_processor);
+    json_out_str(stdout, c->src_processor, 0);
     json_src("points", c->src_points);
     json_src("frames", c->src_frames);
     json_src("scale", c->src_scale);
@@ -192,14 +192,14 @@ static void print_c3d_json(const c3d_t *c)
         if (k > 0) {
             putchar(',');
         }
-        cli_print_json_string(c->warnings[k]);
+        json_out_str(stdout, c->warnings[k], 0);
     }
     printf("],\"warnings_dropped\":%d,\"labels\":[", c->nwarn_dropped);
     for (k = 0; k < c->npoints; k++) {
         if (k > 0) {
             putchar(',');
         }
-        cli_print_json_string(c->labels[k]);
+        json_out_str(stdout, c->labels[k], 0);
     }
     printf("]}\n");
 }
@@ -227,20 +227,20 @@ static void common_prefix(const c3d_t *c, char *out, size_t size)
 static int read_added(const char *path, const c3d_t *c, char ***names, int *n, float **xyz,
                       char *why)
 {
-    tab_t t;
+    table_t t;
     int *cols = NULL, k, m = 0, rc;
     float *vals = NULL;
     *names = NULL;
     *xyz = NULL;
     *n = 0;
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         (void)snprintf(why, C3D_ERR_MAX, "cannot open %s: %s", path, strerror(errno));
         return -1;
     }
-    if (tab_start(&t) != 0 || !t.header || t.ncols < 4) {
+    if (table_start(&t) != 0 || !t.header || t.ncols < 4) {
         (void)snprintf(why, C3D_ERR_MAX,
                        "%s: a table with a header frame,NAME_X,NAME_Y,NAME_Z,... is needed", path);
-        tab_close(&t);
+        table_close(&t);
         return -1;
     }
     cols = malloc((size_t)t.ncols * sizeof *cols);
@@ -279,29 +279,29 @@ static int read_added(const char *path, const c3d_t *c, char ***names, int *n, f
     *n = m;
     vals = malloc((size_t)t.ncols * sizeof *vals);
     *xyz = malloc(((size_t)c->nframes * (size_t)m * 3u + 1u) * sizeof **xyz);
-    if (vals == NULL || *xyz == NULL || tab_select_idx(&t, cols, t.ncols) != 0) {
+    if (vals == NULL || *xyz == NULL || table_select_idx(&t, cols, t.ncols) != 0) {
         goto oom;
     }
     for (k = 0; (size_t)k < (size_t)c->nframes * (size_t)m * 3u; k++) {
         (*xyz)[k] = NAN;
     }
-    while ((rc = tab_next(&t, vals)) != TAB_EOF) {
+    while ((rc = table_next(&t, vals)) != TABLE_EOF) {
         const float fr = vals[0];
-        if (rc != TAB_ROW_OK || !(fr >= 0.0f) || fr != floorf(fr) || fr >= (float)c->nframes) {
+        if (rc != TABLE_ROW_OK || !(fr >= 0.0f) || fr != floorf(fr) || fr >= (float)c->nframes) {
             (void)snprintf(why, C3D_ERR_MAX, "%s line %lu: a frame 0 to %ld and numbers expected",
                            path, t.lineno, c->nframes - 1);
             goto bad;
         }
         memcpy(*xyz + (size_t)fr * (size_t)m * 3u, vals + 1, (size_t)m * 3u * sizeof *vals);
     }
-    tab_close(&t);
+    table_close(&t);
     free(cols);
     free(vals);
     return 0;
 oom:
     (void)snprintf(why, C3D_ERR_MAX, "out of memory");
 bad:
-    tab_close(&t);
+    table_close(&t);
     free(cols);
     free(vals);
     free(*xyz);

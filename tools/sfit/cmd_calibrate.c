@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_calib.h"
 #include "session_model.h"
@@ -51,8 +51,8 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     const sm_segment_t *ps = &m->seg[mj->parent], *cs = &m->seg[mj->child];
     const char *names[2 * SM_MARKERS_MAX];
     const int np = ps->nmarkers, nc = cs->nmarkers;
-    cli_frames_t fr;
-    char why[CLI_FRAMES_ERR_MAX], err[SM_ERR_MAX];
+    frames_data_t fr;
+    char why[FRAMES_ERR_MAX], err[SM_ERR_MAX];
     int i, rc;
 
     for (i = 0; i < np; i++) {
@@ -61,7 +61,7 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     for (i = 0; i < nc; i++) {
         names[np + i] = cs->markers[i];
     }
-    rc = cli_frames_load(path, names, np + nc, &fr, why);
+    rc = frames_load(path, names, np + nc, &fr, why);
     if (rc != 0) {
         fprintf(stderr, "sfit: %s: %s: %s\n", mj->name, path, rc == -1 ? strerror(errno) : why);
         return -1;
@@ -73,7 +73,7 @@ static int calibrate_joint(const session_model_t *m, int k, const char *path, se
     if (rc != 0) {
         fprintf(stderr, "sfit: %s: %s: %s\n", mj->name, path, err);
     }
-    cli_frames_free(&fr);
+    frames_free(&fr);
     return rc;
 }
 
@@ -82,6 +82,8 @@ int cli_cmd_calibrate(int argc, char **argv)
     const char *pos[CAL_FILES_MAX + 1];
     const char *out = NULL;
     int npos = 0, json = 0, k, i, failed = 0;
+    const json_out_flag_t *sflags;
+    size_t nsflags = 0;
     const cli_opt_t opts[] = {
         {.name = "-o", .kind = CLI_OPT_STRING, .dst = &out, .required = 1},
         {.name = "--json", .kind = CLI_OPT_FLAG, .dst = &json},
@@ -148,18 +150,19 @@ int cli_cmd_calibrate(int argc, char **argv)
         }
         return CLI_FAIL;
     }
+    sflags = names_flags(NAMES_SESSION, &nsflags);
     f = fopen(out, "w");
     if (f == NULL) {
         fprintf(stderr, "sfit: cannot write %s: %s\n", out, strerror(errno));
         return CLI_IO;
     }
-    session_write_json(f, &s);
+    session_write_json(f, &s, sflags, nsflags);
     if (fclose(f) != 0) {
         fprintf(stderr, "sfit: cannot write %s\n", out);
         return CLI_IO;
     }
     if (json) {
-        session_write_json(stdout, &s);
+        session_write_json(stdout, &s, sflags, nsflags);
     } else {
         for (k = 0; k < s.njoint; k++) {
             const session_joint_t *j = &s.joint[k];

@@ -20,7 +20,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "cli_refine.h"
+#include "refine.h"
 #include "table.h"
 #include "sfit/sfit_gate.h"
 #include "sfit/sfit_multi.h"
@@ -212,14 +212,14 @@ static void print_solution_json(const sfit_vec3_t *eig, float trust, float leont
                                 sfit_mode_t mode, const sfit_vec3_t *axis, uint32_t flags)
 {
     printf(",\"eigenvalues\":");
-    cli_print_vec(eig->v);
+    json_out_vec(stdout, eig->v);
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g", (double)trust, (double)leontief);
     if (mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
-        cli_print_vec(axis->v);
+        json_out_vec(stdout, axis->v);
     }
     printf(",\"flags\":");
-    cli_print_flags_json(flags);
+    names_flags_json(stdout, NAMES_FIT, flags);
 }
 
 static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_extra_t *x)
@@ -228,14 +228,14 @@ static void print_json(const sfit_result_t *r, const cli_input_t *in, const fit_
            "\"missing\":%lu,\"center\":",
            method_name(r, x), mode_name(r->mode), (unsigned long)r->n, in->rejected,
            in->missing);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     printf(",\"radius\":%.9g", (double)r->radius);
     print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
                         r->flags);
     cli_print_noise_json(x->has_noise, x->noise_var, x->noise_estimated);
     if (x->has_uncert) {
         printf(",\"center_cov\":");
-        cli_print_mat(&x->u.center_cov);
+        json_out_mat(stdout, &x->u.center_cov);
         printf(",\"radius_var\":%.9g", (double)x->u.radius_var);
     } else {
         printf(",\"center_cov\":null,\"radius_var\":null");
@@ -348,13 +348,13 @@ static void print_multi_json(const fit_opts_t *o, const sfit_multi_result_t *r,
            r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke", mode_name(r->mode),
            o->weight == SFIT_MULTI_WEIGHT_SAMPLES ? "samples" : "equal",
            (unsigned long)r->n_total, all->rejected, all->missing);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     print_solution_json(&r->eigenvalues, r->trust_ratio, r->leontief_ratio, r->mode, &r->axis,
                         r->flags);
     printf(",\"markers\":[");
     for (k = 0; k < o->nfiles; k++) {
         printf("%s{\"file\":", k > 0 ? "," : "");
-        cli_print_json_string(o->files[k]);
+        json_out_str(stdout, o->files[k], 0);
         printf(",\"n\":%lu,\"radius\":", (unsigned long)sfit_moments_count(&acc[k]));
         if (radii[k] > 0.0f) {
             printf("%.9g}", (double)radii[k]);
@@ -549,7 +549,7 @@ static sfit_status_t fit_single(const fit_opts_t *o, fit_sink_t *k, sfit_result_
         if (st != SFIT_OK) {
             return st;
         }
-        cli_refine_parts(&rf, r, &x->u);
+        refine_parts(&rf, r, &x->u);
         x->refined = 1;
         x->has_noise = 1;
         x->noise_var = rf.noise_var;
@@ -636,7 +636,7 @@ int cli_cmd_fit(int argc, char **argv)
         sink.gate = &gate;
     }
     {
-        char why[TAB_ERR_MAX];
+        char why[TABLE_ERR_MAX];
         const int rrc = cli_read_xyz(o.file, &o.src, fit_sink_add, &sink, &in, why);
         if (rrc != 0) {
             free(sink.pts);

@@ -65,9 +65,9 @@ static int imu_fail(int json, const char *status, const char *fmt, const char *a
     snprintf(msg, sizeof msg, fmt, a, line);
     if (json) {
         printf("{\"status\":");
-        cli_print_json_string(status);
+        json_out_str(stdout, status, 0);
         printf(",\"message\":");
-        cli_print_json_string(msg);
+        json_out_str(stdout, msg, 0);
         printf("}\n");
     } else {
         fprintf(stderr, "sfit imu-joint: %s\n", msg);
@@ -176,13 +176,13 @@ static int imu_read(FILE *fp, int json, imu_rows_t *rows)
 static void imu_vec_json(const char *key, const sfit_vec3_t *v)
 {
     printf(",\"%s\":", key);
-    cli_print_vec(v->v);
+    json_out_vec(stdout, v->v);
 }
 
 static void imu_mat_json(const char *key, const sfit_mat3_t *m)
 {
     printf(",\"%s\":", key);
-    cli_print_mat(m);
+    json_out_mat(stdout, m);
 }
 
 static void imu_print_json(const sfit_imu_result_t *r, double rate)
@@ -229,7 +229,7 @@ static void imu_print_json(const sfit_imu_result_t *r, double rate)
                 strncat(why, imu_flags[k].reason, sizeof why - strlen(why) - 1);
             }
         }
-        cli_print_json_string(why);
+        json_out_str(stdout, why, 0);
     } else {
         printf("null");
     }
@@ -362,7 +362,7 @@ int cli_cmd_imu(int argc, char **argv)
         st = sfit_imu_add(&s, &x);
         if (st != SFIT_OK) {
             char a[64];
-            snprintf(a, sizeof a, "%s", cli_status_message(st));
+            snprintf(a, sizeof a, "%s", names_status_message(st, NAMES_CLI));
             free(rows.v);
             return imu_fail(json, "format_error", "a sample is refused: %s (row %lu)", a,
                             (unsigned long)k + 2ul);

@@ -7,12 +7,12 @@
  *              [--noise-var V|auto] [--mode auto|sphere|planar]
  *              [--no-repair-swaps] [--trajectory OUT.csv] [--json]
  *
- * FILE is a C3D file or a wide table (cli_frames.h). The parent cluster is
+ * FILE is a C3D file or a wide table (frames.h). The parent cluster is
  * registered frame by frame on its template, every child marker is mapped
  * into the parent frame and accumulated, and the multi-marker solve gives
- * the centre (and the axis of a hinge) in the parent frame (cli_joint.h).
+ * the centre (and the axis of a hinge) in the parent frame (joint_run.h).
  * Before that, label swaps within the parent and within the child markers
- * are found from their distances and repaired (cli_swaps.h).
+ * are found from their distances and repaired (swaps.h).
  * --trajectory writes frame,x,y,z: the centre in the lab frame at every
  * frame used (frame = 0-based index in the file).
  *
@@ -28,16 +28,16 @@
 #include "c3d_write.h"
 #include "cli.h"
 #include "cli_joint.h"
-#include "cli_swaps.h"
+#include "swaps.h"
 
 typedef struct joint_opts {
     const char *file;
     char *trajectory;
     char *write, *trc, *name; /* --write OUT.c3d, --trc OUT.trc, --name JC */
     int json;
-    char *names[CLI_MARKERS_MAX]; /* parent markers, then child markers */
+    char *names[FRAMES_MARKERS_MAX]; /* parent markers, then child markers */
     int np, nc;
-    cli_joint_opts_t j;
+    joint_run_opts_t j;
 } joint_opts_t;
 
 static void joint_usage(FILE *f)
@@ -71,7 +71,7 @@ static void joint_usage(FILE *f)
 /* Split LIST into lo..room marker names; one message and -1 otherwise. */
 static int marker_list(char *arg, char **dst, int lo, int room, const char *what)
 {
-    const int n = cli_split_list(arg, dst, room);
+    const int n = frames_split_list(arg, dst, room);
     if (n < lo) {
         fprintf(stderr, "sfit: %s needs %d to %d comma-separated marker names\n", what, lo,
                 room);
@@ -102,7 +102,7 @@ static int joint_parse(int argc, char **argv, joint_opts_t *o)
                              .usage = joint_usage};
     int rc;
     memset(o, 0, sizeof *o);
-    cli_joint_opts_default(&o->j);
+    joint_run_opts_default(&o->j);
     rc = cli_parse(argc, argv, &args);
     if (rc >= 0) {
         return rc;
@@ -118,8 +118,8 @@ static const char *method_name(const sfit_multi_result_t *r)
     return r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke";
 }
 
-static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
-                       long last, const sfit_vec3_t *lab_ref, const cli_swaps_joint_t *sw)
+static void print_json(const joint_opts_t *o, const frames_data_t *fr, const joint_run_out_t *jo,
+                       long last, const sfit_vec3_t *lab_ref, const swaps_joint_t *sw)
 {
     const sfit_multi_result_t *r = &jo->res.fit;
     int k;
@@ -132,19 +132,19 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
            o->j.first, last, jo->used, jo->rejected, fr->bad_rows, fr->zero_missing,
            jo->template_frames,
            (unsigned long)r->n_total);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     printf(",\"center_lab_reference\":");
     if (lab_ref != NULL) {
-        cli_print_vec(lab_ref->v);
+        json_out_vec(stdout, lab_ref->v);
     } else {
         printf("null");
     }
     if (r->mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
+        json_out_vec(stdout, r->axis.v);
     }
     printf(",\"eigenvalues\":");
-    cli_print_vec(r->eigenvalues.v);
+    json_out_vec(stdout, r->eigenvalues.v);
     printf(",\"trust_ratio\":%.9g,\"leontief_ratio\":%.9g,\"flags\":", (double)r->trust_ratio,
            (double)r->leontief_ratio);
     cli_joint_print_flags_json(jo);
@@ -152,19 +152,19 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
     cli_joint_print_pair_json(jo);
     printf(",\"residual_mean\":%.9g,\"residual_max\":%.9g,\"units\":",
            (double)jo->res.residual_mean, (double)jo->res.residual_max);
-    cli_print_json_string(fr->units);
+    json_out_str(stdout, fr->units, 0);
     printf(",\"rate\":%.9g,\"parent\":[", (double)fr->rate);
     for (k = 0; k < o->np; k++) {
         printf("%s{\"name\":", k > 0 ? "," : "");
-        cli_print_json_string(o->names[k]);
+        json_out_str(stdout, o->names[k], 0);
         printf(",\"template\":");
-        cli_print_vec(jo->j.parent.pos[k].v);
+        json_out_vec(stdout, jo->j.parent.pos[k].v);
         printf("}");
     }
     printf("],\"markers\":[");
     for (k = 0; k < o->nc; k++) {
         printf("%s{\"name\":", k > 0 ? "," : "");
-        cli_print_json_string(o->names[o->np + k]);
+        json_out_str(stdout, o->names[o->np + k], 0);
         printf(",\"n\":%lu,\"radius\":", jo->child_n[k]);
         if (jo->radii[k] > 0.0f) {
             printf("%.9g}", (double)jo->radii[k]);
@@ -173,12 +173,12 @@ static void print_json(const joint_opts_t *o, const cli_frames_t *fr, const cli_
         }
     }
     printf("]");
-    cli_swaps_joint_json(sw, (const char *const *)o->names, o->np);
+    cli_swaps_json(sw, (const char *const *)o->names, o->np);
     printf("}\n");
 }
 
-static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli_joint_out_t *jo,
-                        long last, const sfit_vec3_t *lab_ref, const cli_swaps_joint_t *sw)
+static void print_human(const joint_opts_t *o, const frames_data_t *fr, const joint_run_out_t *jo,
+                        long last, const sfit_vec3_t *lab_ref, const swaps_joint_t *sw)
 {
     const sfit_multi_result_t *r = &jo->res.fit;
     const char *u = fr->units[0] != '\0' ? fr->units : "units";
@@ -207,7 +207,7 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
         printf("%s%s", k > 0 ? " " : "", o->names[o->np + k]);
     }
     printf("\n");
-    cli_swaps_joint_human(sw, (const char *const *)o->names, o->np, u, "label swaps  ",
+    cli_swaps_human(sw, (const char *const *)o->names, o->np, u, "label swaps  ",
                           "             ");
     printf("method       %s, %s\n",
            jo->pair_used ? (strcmp(jo->method_name, "default") == 0
@@ -263,8 +263,8 @@ static void print_human(const joint_opts_t *o, const cli_frames_t *fr, const cli
 }
 
 /* --trajectory: frame,x,y,z in the lab frame for every frame used. */
-static int write_trajectory(const joint_opts_t *o, const cli_frames_t *fr,
-                            const cli_joint_out_t *jo, long last)
+static int write_trajectory(const joint_opts_t *o, const frames_data_t *fr,
+                            const joint_run_out_t *jo, long last)
 {
     FILE *f = fopen(o->trajectory, "w");
     long k;
@@ -275,7 +275,7 @@ static int write_trajectory(const joint_opts_t *o, const cli_frames_t *fr,
     fprintf(f, "frame,x,y,z\n");
     for (k = o->j.first; k <= last; k++) {
         sfit_vec3_t c;
-        if (jo->ok[k] && cli_joint_lab(fr, o->np, jo, k, &c, NULL) == SFIT_OK) {
+        if (jo->ok[k] && joint_run_lab(fr, o->np, jo, k, &c, NULL) == SFIT_OK) {
             fprintf(f, "%ld,%.9g,%.9g,%.9g\n", k, (double)c.v[0], (double)c.v[1], (double)c.v[2]);
         }
     }
@@ -287,8 +287,8 @@ static int write_trajectory(const joint_opts_t *o, const cli_frames_t *fr,
 }
 
 /* --write / --trc: the recording with the centre (and a hinge's axis points). */
-static int write_c3d_points(const joint_opts_t *o, const cli_frames_t *fr,
-                            const cli_joint_out_t *jo, long last)
+static int write_c3d_points(const joint_opts_t *o, const frames_data_t *fr,
+                            const joint_run_out_t *jo, long last)
 {
     const int hinge = jo->res.fit.mode == SFIT_MODE_PLANAR;
     const int n = hinge ? 3 : 1;
@@ -334,7 +334,7 @@ static int write_c3d_points(const joint_opts_t *o, const cli_frames_t *fr,
         sfit_vec3_t ctr, ax;
         float *p = xyz + (size_t)k * (size_t)n * 3u;
         int i;
-        if (!jo->ok[k] || cli_joint_lab(fr, o->np, jo, k, &ctr, hinge ? &ax : NULL) != SFIT_OK) {
+        if (!jo->ok[k] || joint_run_lab(fr, o->np, jo, k, &ctr, hinge ? &ax : NULL) != SFIT_OK) {
             continue;
         }
         for (i = 0; i < 3; i++) {
@@ -374,10 +374,10 @@ out:
 int cli_cmd_joint(int argc, char **argv)
 {
     joint_opts_t o;
-    cli_frames_t fr;
-    cli_joint_out_t jo;
-    cli_swaps_joint_t sw;
-    char why[CLI_FRAMES_ERR_MAX];
+    frames_data_t fr;
+    joint_run_out_t jo;
+    swaps_joint_t sw;
+    char why[FRAMES_ERR_MAX];
     sfit_vec3_t lab;
     long last;
     int rc;
@@ -388,7 +388,7 @@ int cli_cmd_joint(int argc, char **argv)
             return prc;
         }
     }
-    rc = cli_frames_load(o.file, (const char *const *)o.names, o.np + o.nc, &fr, why);
+    rc = frames_load(o.file, (const char *const *)o.names, o.np + o.nc, &fr, why);
     if (rc != 0) {
         return cli_input_failed(rc, o.file, why, o.json);
     }
@@ -397,18 +397,18 @@ int cli_cmd_joint(int argc, char **argv)
         char msg[96];
         (void)snprintf(msg, sizeof msg, "--frames starts at %ld; the file has %ld frames",
                        o.j.first, fr.nframes);
-        cli_frames_free(&fr);
+        frames_free(&fr);
         return cli_input_failed(-2, o.file, msg, o.json);
     }
-    if (cli_swaps_joint_run(&fr, o.np, o.nc, o.j.first, last, !o.j.no_repair_swaps, &sw) != 0) {
-        cli_frames_free(&fr);
+    if (swaps_joint_run(&fr, o.np, o.nc, o.j.first, last, !o.j.no_repair_swaps, &sw) != 0) {
+        frames_free(&fr);
         if (o.json) {
             return cli_json_error("out_of_memory", "label swap check: out of memory");
         }
         fprintf(stderr, "sfit: label swap check: out of memory\n");
         return CLI_FAIL;
     }
-    if (cli_joint_run(&fr, o.np, o.nc, &o.j, &jo) != SFIT_OK) {
+    if (joint_run(&fr, o.np, o.nc, &o.j, &jo) != SFIT_OK) {
         const sfit_status_t st = jo.st;
         if (o.json) {
             printf("{\"status\":\"%s\",\"message\":\"%s\",\"stage\":\"%s\",\"frames_used\":%ld,"
@@ -416,7 +416,7 @@ int cli_cmd_joint(int argc, char **argv)
                    sfit_status_str(st),
                    (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
                        ? "no frame sees every parent marker"
-                       : cli_status_message(st),
+                       : names_status_message(st, NAMES_CLI),
                    jo.stage, jo.used, jo.rejected);
         } else {
             fprintf(stderr, "sfit: joint failed at the %s stage (%s): %s (%ld frames used, %ld "
@@ -424,15 +424,15 @@ int cli_cmd_joint(int argc, char **argv)
                     jo.stage, sfit_status_str(st),
                     (st == SFIT_E_TOO_FEW && strcmp(jo.stage, "template") == 0)
                         ? "no frame sees every parent marker"
-                        : cli_status_message(st),
+                        : names_status_message(st, NAMES_CLI),
                     jo.used, jo.rejected);
         }
-        cli_joint_free(&jo);
-        cli_swaps_joint_free(&sw);
-        cli_frames_free(&fr);
+        joint_run_free(&jo);
+        swaps_joint_free(&sw);
+        frames_free(&fr);
         return CLI_FAIL;
     }
-    rc = (jo.ref_frame >= 0 && cli_joint_lab(&fr, o.np, &jo, jo.ref_frame, &lab, NULL) == SFIT_OK);
+    rc = (jo.ref_frame >= 0 && joint_run_lab(&fr, o.np, &jo, jo.ref_frame, &lab, NULL) == SFIT_OK);
     if (o.json) {
         print_json(&o, &fr, &jo, last, rc ? &lab : NULL, &sw);
     } else {
@@ -445,8 +445,8 @@ int cli_cmd_joint(int argc, char **argv)
     if ((o.write != NULL || o.trc != NULL) && write_c3d_points(&o, &fr, &jo, last) != 0) {
         rc = CLI_IO;
     }
-    cli_joint_free(&jo);
-    cli_swaps_joint_free(&sw);
-    cli_frames_free(&fr);
+    joint_run_free(&jo);
+    swaps_joint_free(&sw);
+    frames_free(&fr);
     return rc;
 }

@@ -12,8 +12,8 @@
  *   joint NAME PARENT_MARKERS CHILD_MARKERS [auto|sphere|planar]
  * with comma-separated marker lists. Two joints whose lists are the same
  * share that segment. The joints are computed as `sfit joint` computes
- * them (cli_joint.h), each over FILE, after the label swaps within each
- * joint's parent and child markers are found and repaired (cli_swaps.h).
+ * them (joint_run.h), each over FILE, after the label swaps within each
+ * joint's parent and child markers are found and repaired (swaps.h).
  *
  * The picture (--svg): two orthographic views of frame K side by side,
  * the lab's vertical axis (the one along which the markers spread most at
@@ -31,7 +31,7 @@
 
 #include "cli.h"
 #include "cli_joint.h"
-#include "cli_swaps.h"
+#include "swaps.h"
 #include "skel.h"
 
 #define SK_MAX_JOINTS 32
@@ -41,20 +41,20 @@ typedef struct sk_joint {
     char name[64];
     char *parent_list, *child_list; /* as written (for segment identity) */
     char *own_line, *own_lists;     /* allocations the pointers point into */
-    char *names[CLI_MARKERS_MAX];
+    char *names[FRAMES_MARKERS_MAX];
     int np, nc;
     sfit_mode_t mode;
     int has_mode;
     /* results */
     sfit_status_t st;
     const char *stage;
-    cli_joint_out_t out;
-    cli_swaps_joint_t swaps;
+    joint_run_out_t out;
+    swaps_joint_t swaps;
     int swaps_ok;
     int lab_ok;
     sfit_vec3_t lab;              /* centre in the lab frame at frame K */
     sfit_vec3_t axis_lab;
-    sfit_vec3_t mk[CLI_MARKERS_MAX]; /* markers at frame K (parent, then child) */
+    sfit_vec3_t mk[FRAMES_MARKERS_MAX]; /* markers at frame K (parent, then child) */
 } sk_joint_t;
 
 typedef struct sk_model {
@@ -68,7 +68,7 @@ typedef struct sk_opts {
     char *svg;
     int json;
     long frame; /* -1: first frame of the range */
-    cli_joint_opts_t j;
+    joint_run_opts_t j;
 } sk_opts_t;
 
 static void sk_usage(FILE *f)
@@ -108,7 +108,7 @@ static int sk_parse(int argc, char **argv, sk_opts_t *o)
     int rc;
     memset(o, 0, sizeof *o);
     o->frame = -1;
-    cli_joint_opts_default(&o->j);
+    joint_run_opts_default(&o->j);
     rc = cli_parse(argc, argv, &args);
     o->model = pos[0];
     o->file = pos[1];
@@ -194,9 +194,9 @@ static int sk_load_model(const char *path, sk_model_t *m, char *why, size_t whyl
             }
             memcpy(lists, tok[2], lp + 1u);
             memcpy(lists + lp + 1u, tok[3], lc + 1u);
-            j->np = cli_split_list(lists, j->names, SFIT_CLUSTER_MAX_MARKERS);
+            j->np = frames_split_list(lists, j->names, SFIT_CLUSTER_MAX_MARKERS);
             j->nc = (j->np < 0) ? -1
-                                : cli_split_list(lists + lp + 1u, j->names + j->np,
+                                : frames_split_list(lists + lp + 1u, j->names + j->np,
                                                  SFIT_JOINT_MAX_CHILD);
             if (j->np < 3 || j->nc < 1) {
                 (void)snprintf(why, whylen,
@@ -225,9 +225,9 @@ static void sk_free(sk_model_t *m)
     for (k = 0; k < m->n; k++) {
         free(m->j[k].own_line);
         free(m->j[k].own_lists);
-        cli_joint_free(&m->j[k].out);
+        joint_run_free(&m->j[k].out);
         if (m->j[k].swaps_ok) {
-            cli_swaps_joint_free(&m->j[k].swaps);
+            swaps_joint_free(&m->j[k].swaps);
         }
     }
 }
@@ -369,7 +369,7 @@ static void draw_segments(FILE *f, const sk_canvas_t *c, int w, const sk_model_t
     }
 }
 
-static int write_svg(const sk_opts_t *o, const cli_frames_t *all, const sk_model_t *m, long k)
+static int write_svg(const sk_opts_t *o, const frames_data_t *all, const sk_model_t *m, long k)
 {
     static const char *const axis_name[3] = {"X", "Y", "Z"};
     sk_canvas_t c;
@@ -537,10 +537,10 @@ static void print_joint_json(const sk_joint_t *j)
     const sfit_multi_result_t *r = &j->out.res.fit;
     int k;
     printf("{\"name\":");
-    cli_print_json_string(j->name);
+    json_out_str(stdout, j->name, 0);
     if (j->st != SFIT_OK) {
         printf(",\"status\":\"%s\",\"message\":\"%s\",\"stage\":\"%s\"}", sfit_status_str(j->st),
-               cli_status_message(j->st), j->stage);
+               names_status_message(j->st, NAMES_CLI), j->stage);
         return;
     }
     printf(",\"status\":\"ok\",\"method\":\"%s\",\"mode\":\"%s\",\"frames_used\":%ld,"
@@ -548,14 +548,14 @@ static void print_joint_json(const sk_joint_t *j)
            j->out.pair_used ? j->out.method_name : r->method == SFIT_METHOD_UGDK ? "ugdk" : "gdke",
            r->mode == SFIT_MODE_PLANAR ? "planar" : "sphere", j->out.used, j->out.rejected,
            j->out.ref_frame);
-    cli_print_vec(r->center.v);
+    json_out_vec(stdout, r->center.v);
     if (r->mode == SFIT_MODE_PLANAR) {
         printf(",\"axis\":");
-        cli_print_vec(r->axis.v);
+        json_out_vec(stdout, r->axis.v);
     }
     printf(",\"center_lab\":");
     if (j->lab_ok) {
-        cli_print_vec(j->lab.v);
+        json_out_vec(stdout, j->lab.v);
     } else {
         printf("null");
     }
@@ -568,7 +568,7 @@ static void print_joint_json(const sk_joint_t *j)
     }
     printf("]");
     if (j->swaps_ok) {
-        cli_swaps_joint_json(&j->swaps, (const char *const *)j->names, j->np);
+        cli_swaps_json(&j->swaps, (const char *const *)j->names, j->np);
     }
     printf("}");
 }
@@ -578,7 +578,7 @@ static void print_joint_human(const sk_joint_t *j, long frame, const char *units
     const sfit_multi_result_t *r = &j->out.res.fit;
     if (j->st != SFIT_OK) {
         printf("%-12s failed at the %s stage (%s): %s\n", j->name, j->stage,
-               sfit_status_str(j->st), cli_status_message(j->st));
+               sfit_status_str(j->st), names_status_message(j->st, NAMES_CLI));
         return;
     }
     printf("%-12s %s, %ld frames used, %ld rejected, registration residual %.3g\n", j->name,
@@ -599,7 +599,7 @@ static void print_joint_human(const sk_joint_t *j, long frame, const char *units
         printf("  centre (lab) n/a at frame %ld (parent not registrable there)\n", frame);
     }
     if (j->swaps_ok) {
-        cli_swaps_joint_human(&j->swaps, (const char *const *)j->names, j->np, units,
+        cli_swaps_human(&j->swaps, (const char *const *)j->names, j->np, units,
                               "  label swaps  ", "               ");
     }
 }
@@ -699,8 +699,8 @@ int cli_cmd_skeleton(int argc, char **argv)
 {
     sk_opts_t o;
     sk_model_t *m;
-    cli_frames_t keep; /* the first joint's load: context points for the picture */
-    char why[CLI_FRAMES_ERR_MAX];
+    frames_data_t keep; /* the first joint's load: context points for the picture */
+    char why[FRAMES_ERR_MAX];
     long frame = 0;
     int a, rc = CLI_OK, failed = 0, have_keep = 0;
 
@@ -742,13 +742,13 @@ int cli_cmd_skeleton(int argc, char **argv)
     memset(&keep, 0, sizeof keep);
     for (a = 0; a < m->n; a++) {
         sk_joint_t *j = &m->j[a];
-        cli_joint_opts_t jo = o.j;
-        cli_frames_t fr;
+        joint_run_opts_t jo = o.j;
+        frames_data_t fr;
         int i;
-        rc = cli_frames_load(o.file, (const char *const *)j->names, j->np + j->nc, &fr, why);
+        rc = frames_load(o.file, (const char *const *)j->names, j->np + j->nc, &fr, why);
         if (rc != 0) {
             if (have_keep) {
-                cli_frames_free(&keep);
+                frames_free(&keep);
             }
             sk_free(m);
             free(m);
@@ -759,7 +759,7 @@ int cli_cmd_skeleton(int argc, char **argv)
             if (frame >= fr.nframes || o.j.first >= fr.nframes) {
                 (void)snprintf(why, sizeof why, "frame %ld: the file has %ld frames",
                                frame >= fr.nframes ? frame : o.j.first, fr.nframes);
-                cli_frames_free(&fr);
+                frames_free(&fr);
                 sk_free(m);
                 free(m);
                 return cli_input_failed(-2, o.file, why, o.json);
@@ -768,15 +768,15 @@ int cli_cmd_skeleton(int argc, char **argv)
         if (j->has_mode) {
             jo.mode = j->mode;
         }
-        j->swaps_ok = (cli_swaps_joint_run(&fr, j->np, j->nc, jo.first, jo.last,
+        j->swaps_ok = (swaps_joint_run(&fr, j->np, j->nc, jo.first, jo.last,
                                            !jo.no_repair_swaps, &j->swaps) == 0);
-        j->st = cli_joint_run(&fr, j->np, j->nc, &jo, &j->out);
+        j->st = joint_run(&fr, j->np, j->nc, &jo, &j->out);
         j->stage = j->out.stage;
         for (i = 0; i < j->np + j->nc; i++) {
-            j->mk[i] = *cli_frames_at(&fr, frame, i);
+            j->mk[i] = *frames_at(&fr, frame, i);
         }
         if (j->st == SFIT_OK) {
-            j->lab_ok = (cli_joint_lab(&fr, j->np, &j->out, frame, &j->lab, &j->axis_lab) == SFIT_OK);
+            j->lab_ok = (joint_run_lab(&fr, j->np, &j->out, frame, &j->lab, &j->axis_lab) == SFIT_OK);
         } else {
             failed++;
         }
@@ -784,7 +784,7 @@ int cli_cmd_skeleton(int argc, char **argv)
             keep = fr;
             have_keep = 1;
         } else {
-            cli_frames_free(&fr);
+            frames_free(&fr);
         }
     }
     if (o.json) {
@@ -799,7 +799,7 @@ int cli_cmd_skeleton(int argc, char **argv)
         printf("]");
         if (o.svg != NULL) {
             printf(",\"svg\":");
-            cli_print_json_string(o.svg);
+            json_out_str(stdout, o.svg, 0);
         }
         printf("}\n");
     } else {
@@ -816,7 +816,7 @@ int cli_cmd_skeleton(int argc, char **argv)
     if (o.svg != NULL && !o.json && rc != CLI_IO) {
         printf("picture      %s (frame %ld)\n", o.svg, frame);
     }
-    cli_frames_free(&keep);
+    frames_free(&keep);
     sk_free(m);
     free(m);
     return rc;

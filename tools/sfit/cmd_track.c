@@ -80,7 +80,7 @@ static void track_print(const track_opts_t *o, const sfit_sphere_t *e)
 {
     if (o->json) {
         printf("{\"n\":%lu,\"center\":", (unsigned long)e->n);
-        cli_print_vec(e->center.v);
+        json_out_vec(stdout, e->center.v);
         printf(",\"radius\":%.9g}\n", (double)e->radius);
     } else {
         printf("%lu %.9g %.9g %.9g %.9g\n", (unsigned long)e->n, (double)e->center.v[0],
@@ -137,7 +137,7 @@ int cli_cmd_track(int argc, char **argv)
         printf("# n center_x center_y center_z radius\n");
     }
     {
-        char why[TAB_ERR_MAX];
+        char why[TABLE_ERR_MAX];
         const int rrc = cli_read_xyz(o.file, &o.src, track_sample, &ctx, &in, why);
         if (rrc != 0) {
             return cli_input_failed(rrc, o.file, why, o.json);
@@ -150,7 +150,7 @@ int cli_cmd_track(int argc, char **argv)
     if (st != SFIT_OK) {
         const char *msg = (st == SFIT_E_DEGENERATE)
                               ? "degenerate geometry: samples coincident, collinear or planar"
-                              : cli_status_message(st);
+                              : names_status_message(st, NAMES_CLI);
         if (o.json) {
             printf("{\"status\":\"%s\",\"message\":\"%s\",\"n\":%lu,\"rejected\":%lu}\n",
                    sfit_status_str(st), msg, (unsigned long)sfit_incr_count(&ctx.inc),

@@ -133,37 +133,6 @@ static const char *type_name(skel_jtype_t t)
     return t == SKEL_BALL ? "ball" : (t == SKEL_HINGE ? "hinge" : "none");
 }
 
-static void print_flags_json(unsigned fl)
-{
-    static const char *const nm[] = {"no_motion", "small_range",     "few_frames",
-                                     "borderline", "forced",         "type_from_trial",
-                                     "one_trial",  "untrusted"};
-    int k, first = 1;
-    printf("[");
-    for (k = 0; k < 8; k++) {
-        if (fl & (1u << k)) {
-            printf("%s\"%s\"", first ? "" : ",", nm[k]);
-            first = 0;
-        }
-    }
-    printf("]");
-}
-
-/* Why a joint is untrusted, by name (docs/skeleton.md). */
-static void print_untrusted_json(unsigned why)
-{
-    static const char *const nm[] = {"misfit", "cost", "reach", "module"};
-    int k, first = 1;
-    printf("[");
-    for (k = 0; k < 4; k++) {
-        if (why & (1u << k)) {
-            printf("%s\"%s\"", first ? "" : ",", nm[k]);
-            first = 0;
-        }
-    }
-    printf("]");
-}
-
 static void print_flags(unsigned fl)
 {
     static const char *const nm[] = {"no-motion", "small-range", "few-frames", "borderline",
@@ -176,12 +145,12 @@ static void print_flags(unsigned fl)
     }
 }
 
-/* The pair module's members of `sfit joint --json` (cli_joint.c): flags by
+/* The pair module's members of `sfit joint --json` (joint_run.c): flags by
  * name, center_cov, axis_cov (hinge), the noise figure and its source, the
  * reason by name, misfit. */
 static void pair_json(const skel_pair_res_t *p)
 {
-    static cli_joint_out_t jo;
+    static joint_run_out_t jo;
     memset(&jo, 0, sizeof jo);
     jo.pair_used = 1;
     jo.pair = p->lib;
@@ -219,7 +188,7 @@ static int fail(const sk2_opts_t *o, const char *why)
 {
     if (o->json) {
         printf("{\"status\":\"error\",\"message\":");
-        cli_print_json_string(why);
+        json_out_str(stdout, why, 0);
         printf("}\n");
     } else {
         fprintf(stderr, "sfit: %s\n", why);
@@ -339,7 +308,7 @@ int skel_cmd(int argc, char **argv)
         printf("{\"status\":\"ok\",\"files\":%d,\"frames\":%ld,\"step\":%ld,\"dropped\":%ld,"
                "\"units\":",
                o.nfiles, rec.nframes, o.step, rec.dropped);
-        cli_print_json_string(rec.units);
+        json_out_str(stdout, rec.units, 0);
         printf(",\"segments_from\":\"%s\",\"frame\":%ld,\"trial_start\":[", map != NULL ? "map" : "data", o.frame);
         for (k = 0; k < o.nfiles; k++) {
             printf("%s%ld", k ? "," : "", rec.start[k]);
@@ -358,7 +327,7 @@ int skel_cmd(int argc, char **argv)
                 printf("%s{\"spread\":%.6g,\"markers\":[", k ? "," : "", grp->spread[k]);
                 for (i = 0; i < grp->size[k]; i++) {
                     printf("%s", i ? "," : "");
-                    cli_print_json_string(rec.label[grp->member[k][i]]);
+                    json_out_str(stdout, rec.label[grp->member[k][i]], 0);
                 }
                 printf("]}");
             }
@@ -367,11 +336,11 @@ int skel_cmd(int argc, char **argv)
         printf(",\"segments\":[");
         for (k = 0; k < s->nseg; k++) {
             printf("%s{\"name\":", k ? "," : "");
-            cli_print_json_string(s->seg[k].name);
+            json_out_str(stdout, s->seg[k].name, 0);
             printf(",\"frames_with_pose\":%ld,\"markers\":[", s->seg[k].seen);
             for (i = 0; i < s->seg[k].nm; i++) {
                 printf("%s", i ? "," : "");
-                cli_print_json_string(s->seg[k].mk[i] < rec.nmark ? rec.label[s->seg[k].mk[i]] : "?");
+                json_out_str(stdout, s->seg[k].mk[i] < rec.nmark ? rec.label[s->seg[k].mk[i]] : "?", 0);
             }
             /* the template (segment frame) its poses come from: the first npose
              * markers (a 2-marker group's third point is its joint centre) */
@@ -384,7 +353,7 @@ int skel_cmd(int argc, char **argv)
             printf("]}");
         }
         printf("],\"root\":");
-        cli_print_json_string(s->seg[s->root].name);
+        json_out_str(stdout, s->seg[s->root].name, 0);
         printf(",\"root_rule\":\"%s\",\"pairs\":[", s->root_named ? "named" : "moves_least");
         {
             int first = 1, a, b;
@@ -396,17 +365,17 @@ int skel_cmd(int argc, char **argv)
                     }
                     printf("%s{\"a\":", first ? "" : ",");
                     first = 0;
-                    cli_print_json_string(s->seg[a].name);
+                    json_out_str(stdout, s->seg[a].name, 0);
                     printf(",\"b\":");
-                    cli_print_json_string(s->seg[b].name);
+                    json_out_str(stdout, s->seg[b].name, 0);
                     printf(",\"type\":\"%s\",\"cost\":%.6g,\"rotation_spread_deg\":[%.4g,%.4g,%.4g],"
                            "\"frames\":%.0f,\"reason\":\"%s\",\"flags\":",
                            type_name(p->type), p->rms, sqrt(p->s[0]) * 57.29577951308232,
                            sqrt(p->s[1]) * 57.29577951308232, sqrt(p->s[2]) * 57.29577951308232,
-                           p->n, cli_joint_pair_reason(p->lib.reason));
-                    print_flags_json(p->flags);
+                           p->n, names_pair_reason(p->lib.reason));
+                    names_flags_json(stdout, NAMES_SKEL, p->flags);
                     printf(",\"untrusted_why\":");
-                    print_untrusted_json(p->why_untrusted);
+                    names_flags_json(stdout, NAMES_SKEL_WHY, p->why_untrusted);
                     printf(",\"reach\":[%.6g,%.6g],\"misfit\":%.6g,\"noise\":%.6g", p->reach_a,
                            p->reach_b, (double)p->lib.misfit, sqrt((double)p->lib.marker_var));
                     printf("}");
@@ -417,11 +386,11 @@ int skel_cmd(int argc, char **argv)
         for (k = 0; k < s->njoint; k++) {
             const skel_joint_t *j = &s->joint[k];
             printf("%s{\"name\":", k ? "," : "");
-            cli_print_json_string(j->name);
+            json_out_str(stdout, j->name, 0);
             printf(",\"parent\":");
-            cli_print_json_string(s->seg[j->parent].name);
+            json_out_str(stdout, s->seg[j->parent].name, 0);
             printf(",\"child\":");
-            cli_print_json_string(s->seg[j->child].name);
+            json_out_str(stdout, s->seg[j->child].name, 0);
             printf(",\"type\":\"%s\",\"center_parent\":", type_name(j->pr.type));
             jvec(j->pr.ca, 3);
             if (j->pr.type == SKEL_HINGE) {
@@ -477,23 +446,23 @@ int skel_cmd(int argc, char **argv)
             pair_json(&j->pr);
             printf(",\"type_rule\":\"%s\",\"type_trial\":", j->pr.type_rule);
             if (j->pr.type_trial >= 0) {
-                cli_print_json_string(rec.file[j->pr.type_trial]);
+                json_out_str(stdout, rec.file[j->pr.type_trial], 0);
             } else {
                 printf("null");
             }
             printf(",\"trials_used\":");
             if (j->pr.trial >= 0) {
                 printf("[");
-                cli_print_json_string(rec.file[j->pr.trial]);
+                json_out_str(stdout, rec.file[j->pr.trial], 0);
                 printf("]");
             } else {
                 printf("\"all\"");
             }
             printf(",\"lag1\":%.4g,\"inflation\":%.4g,\"frames\":%.0f,\"flags\":", j->lag1,
                    j->infl, j->pr.n);
-            print_flags_json(j->pr.flags);
+            names_flags_json(stdout, NAMES_SKEL, j->pr.flags);
             printf(",\"untrusted_why\":");
-            print_untrusted_json(j->pr.why_untrusted);
+            names_flags_json(stdout, NAMES_SKEL_WHY, j->pr.why_untrusted);
             printf(",\"reach\":[%.6g,%.6g]", j->pr.reach_a, j->pr.reach_b);
             printf(",\"bvh_distance\":");
             if (j->bvh_frames > 0) {
@@ -510,7 +479,7 @@ int skel_cmd(int argc, char **argv)
             for (k = 0; k < map->njoint; k++) {
                 if (!map_joint_in_tree(s, map, k)) {
                     printf("%s", first ? "" : ",");
-                    cli_print_json_string(map->jname[k]);
+                    json_out_str(stdout, map->jname[k], 0);
                     first = 0;
                 }
             }
@@ -521,7 +490,7 @@ int skel_cmd(int argc, char **argv)
             for (k = 0; k < s->nseg; k++) {
                 if (k != s->root && s->parent_joint[k] < 0) {
                     printf("%s", first ? "" : ",");
-                    cli_print_json_string(s->seg[k].name);
+                    json_out_str(stdout, s->seg[k].name, 0);
                     first = 0;
                 }
             }
@@ -606,7 +575,7 @@ int skel_cmd(int argc, char **argv)
                    j->pr.sigma / sqrt(j->infl), sqrt(j->infl), j->lag1,
                    (j->pr.lib.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) ? ", untrusted: " : "",
                    (j->pr.lib.flags & (uint32_t)SFIT_FLAG_UNTRUSTED)
-                       ? cli_joint_pair_reason(j->pr.lib.reason)
+                       ? names_pair_reason(j->pr.lib.reason)
                        : "");
         }
         for (k = 0; k < s->nseg; k++) {

@@ -161,7 +161,7 @@ def _runs(frames):
 
 
 def _label_swaps(frames, repair):
-    """The CLI's label-swap check (tools/sfit/cli_swaps.c) over one
+    """The label-swap check of `sfit joint` (tools/lab/swaps.c) over one
     cluster's (F, M, 3) frames: (the frames to use, the report). Input
     that is not such an array (or has too many markers or frames) is
     returned as it is with the report None: the joint's own checks then

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file py_c3d.c
- * @brief C3D files for the Python package: the CLI's reader and writer
- * (tools/sfit/c3d.c, c3d_write.c, compiled into the extension by setup.py)
+ * @brief C3D files for the Python package: the host library's reader and
+ * writer (tools/formats/c3d.c, c3d_write.c, compiled into the extension by
+ * setup.py)
  * behind three functions of sfit._sfit, wrapped by sfit.read_c3d,
  * sfit.write_c3d and sfit.write_trc (sfit/_c3d.py).
  *

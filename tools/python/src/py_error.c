@@ -16,25 +16,8 @@ static const char *const g_exc_names[N_STATUS] = {
     NULL,               "ArgError",       "TooFewError",     "NotPosDefError",
     "NoConvergenceError", "DegenerateError", "NonFiniteError", "RangeError"};
 
-static const char *sfit_py_status_message(sfit_status_t st)
-{
-    switch (st) {
-    case SFIT_E_ARG: return "invalid argument or option";
-    case SFIT_E_TOO_FEW: return "fewer valid samples than the solution needs";
-    case SFIT_E_NOT_POSDEF:
-        return "not positive definite: the noise model is larger than the spread "
-               "of the samples (or the geometry is ill-posed)";
-    case SFIT_E_NO_CONVERGENCE: return "the iteration did not converge within its bound";
-    case SFIT_E_DEGENERATE:
-        return "degenerate geometry: samples coincident, collinear, or planar "
-               "(try mode='planar')";
-    case SFIT_E_NONFINITE: return "non-finite value (NaN or Inf)";
-    case SFIT_E_RANGE: return "value out of the supported float range";
-    case SFIT_E_UNSUPPORTED: return "not in this build of the library (SFIT_FULL_SOLVER 0)";
-    case SFIT_OK: return "ok";
-    default: return "unknown status";
-    }
-}
+/* The status texts are Python's words of the host tools' one table
+ * (names_status_message, tools/lab/names.h). */
 
 /* Raise the exception of status st; `what` names the operation. n and
  * rejected (>= 0) are attached as attributes when given. Returns NULL. */
@@ -45,10 +28,11 @@ PyObject *sfit_py_raise_status(sfit_status_t st, const char *what, long n, long 
     PyObject *msg, *exc;
     if (n >= 0) {
         msg = PyUnicode_FromFormat("%s failed (%s): %s [n=%ld, rejected=%ld]", what,
-                                   sfit_status_str(st), sfit_py_status_message(st), n, rejected);
+                                   sfit_status_str(st), names_status_message(st, NAMES_PY), n,
+                                   rejected);
     } else {
         msg = PyUnicode_FromFormat("%s failed (%s): %s", what, sfit_status_str(st),
-                                   sfit_py_status_message(st));
+                                   names_status_message(st, NAMES_PY));
     }
     if (msg == NULL) {
         return NULL;
@@ -61,7 +45,7 @@ PyObject *sfit_py_raise_status(sfit_status_t st, const char *what, long n, long 
     {
         PyObject *s = PyUnicode_FromString(sfit_status_str(st));
         PyObject *c = PyLong_FromLong((long)st);
-        PyObject *m = PyUnicode_FromString(sfit_py_status_message(st));
+        PyObject *m = PyUnicode_FromString(names_status_message(st, NAMES_PY));
         PyObject *nn = (n >= 0) ? PyLong_FromLong(n) : Py_NewRef(Py_None);
         PyObject *rr = (n >= 0) ? PyLong_FromLong(rejected) : Py_NewRef(Py_None);
         int bad = (s == NULL || c == NULL || m == NULL || nn == NULL || rr == NULL)
@@ -150,8 +134,8 @@ int sfit_py_error_add(PyObject *m)
             return -1;
         }
         PyOS_snprintf(qual, sizeof qual, "sfit.%s", g_exc_names[i]);
-        g_exc[i] = PyErr_NewExceptionWithDoc(qual, sfit_py_status_message((sfit_status_t)(-i)),
-                                             bases, NULL);
+        g_exc[i] = PyErr_NewExceptionWithDoc(
+            qual, names_status_message((sfit_status_t)(-i), NAMES_PY), bases, NULL);
         Py_DECREF(bases);
         if (g_exc[i] == NULL || PyModule_AddObjectRef(m, g_exc_names[i], g_exc[i]) < 0) {
             return -1;

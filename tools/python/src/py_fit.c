@@ -13,7 +13,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "cli_refine.h" /* the recipe's flat result as the CLI prints it: tools/sfit */
+#include "refine.h" /* the recipe's flat result as the CLI prints it: tools/lab */
 
 PyObject *sfit_py_fit(PyObject *self, PyObject *args, PyObject *kw)
 {
@@ -155,7 +155,7 @@ PyObject *sfit_py_fit(PyObject *self, PyObject *args, PyObject *kw)
             rc.selfcal.planar_ratio = cfg.planar_ratio;
             st = sfit_refine_fit(v, nv, &rc, &rf);
             if (st == SFIT_OK) {
-                cli_refine_parts(&rf, &r, &u);
+                refine_parts(&rf, &r, &u);
                 refined = 1;
                 has_noise = 1;
                 nvar = rf.noise_var;

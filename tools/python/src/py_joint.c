@@ -11,7 +11,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "cli_joint.h" /* cli_joint_mgdk_cov: the CLI's noise figure */
+#include "joint_run.h" /* joint_run_mgdk_cov: the CLI's noise figure */
 
 typedef struct {
     PyObject_HEAD
@@ -256,7 +256,7 @@ static PyObject *Joint_center_at(JointObject *self, PyObject *args)
 
 /* Joint._center_cov(raw result, parent (F, Mp, 3), child (F, K, 3), var_given)
  * -> (code, cov (3, 3) or None, marker variance used): the mgdk centre's
- * covariance as the CLI reports it (cli_joint_mgdk_cov); var_given < 0 =
+ * covariance as the CLI reports it (joint_run_mgdk_cov); var_given < 0 =
  * from the parent's registration residuals. */
 static PyObject *Joint_center_cov(JointObject *self, PyObject *args)
 {
@@ -292,7 +292,7 @@ static PyObject *Joint_center_cov(JointObject *self, PyObject *args)
         goto done;
     }
     Py_BEGIN_ALLOW_THREADS
-    st = cli_joint_mgdk_cov(j, &r, (const sfit_vec3_t *)PyArray_DATA(p),
+    st = joint_run_mgdk_cov(j, &r, (const sfit_vec3_t *)PyArray_DATA(p),
                             (const sfit_vec3_t *)PyArray_DATA(c), (size_t)PyArray_DIM(p, 0),
                             (var_given >= 0.0) ? (float)var_given : -1.0f, &cov, &var);
     Py_END_ALLOW_THREADS

@@ -18,18 +18,12 @@
 
 #include <string.h>
 
-#include "cli_joint.h" /* cli_joint_pair_reason: the CLI's names */
+#include "names.h" /* names_pair_reason: the one name table */
 #include "sfit/sfit_pair.h"
 
-static const sfit_py_flag_t g_pair_flags[] = {
-    {SFIT_FLAG_UNTRUSTED, "untrusted"},         {SFIT_FLAG_FEW_SAMPLES, "few_frames"},
-    {SFIT_PAIR_FLAG_SMALL_MOTION, "small_motion"}, {SFIT_PAIR_FLAG_AXIS_FREE, "axis_free"},
-    {SFIT_PAIR_FLAG_AMBIGUOUS, "ambiguous"},    {SFIT_PAIR_FLAG_MISFIT, "misfit"},
-    {SFIT_PAIR_FLAG_NO_NOISE, "no_noise"},      {0u, NULL}};
-
 /* The information bits (facts about the data, not faults). */
-static const sfit_py_flag_t g_pair_info[] = {
-    {SFIT_PAIR_INFO_AXIS_FREE, "axis_free"}, {SFIT_PAIR_INFO_SKIN, "skin_motion"}, {0u, NULL}};
+static const json_out_flag_t g_pair_info[] = {{SFIT_PAIR_INFO_AXIS_FREE, "axis_free"},
+                                              {SFIT_PAIR_INFO_SKIN, "skin_motion"}};
 
 static PyObject *result_dict(const sfit_pair_result_t *r)
 {
@@ -52,7 +46,7 @@ static PyObject *result_dict(const sfit_pair_result_t *r)
         || sfit_py_put(d, "skin_rms", PyFloat_FromDouble((double)r->sta_rms))
         || sfit_py_put(d, "skin_ratio", PyFloat_FromDouble((double)r->sta_ratio))
         || sfit_py_put(d, "wobble_rms", PyFloat_FromDouble((double)r->wobble_rms))
-        || sfit_py_put(d, "info", sfit_py_flag_names(r->info, g_pair_info))
+        || sfit_py_put(d, "info", sfit_py_flag_names(r->info, g_pair_info, 2u))
         || sfit_py_put(d, "eigenvalues", sfit_py_vec3_out(r->eigenvalues.v))
         || sfit_py_put(d, "trust_ratio", PyFloat_FromDouble((double)r->trust_ratio))
         || sfit_py_put(d, "misfit", PyFloat_FromDouble((double)r->misfit))
@@ -64,11 +58,11 @@ static PyObject *result_dict(const sfit_pair_result_t *r)
                        PyUnicode_FromString(
                            r->noise == SFIT_PAIR_NOISE_GIVEN ? "given" : "registration_residuals"))
         || sfit_py_put(d, "frames", PyLong_FromUnsignedLong((unsigned long)r->frames))
-        || sfit_py_put(d, "flags", sfit_py_flag_names(r->flags, g_pair_flags))
+        || sfit_py_put(d, "flags", sfit_py_family_names(r->flags, NAMES_PAIR))
         || sfit_py_put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)r->flags))
         || sfit_py_put(d, "untrusted",
                        PyBool_FromLong((r->flags & (uint32_t)SFIT_FLAG_UNTRUSTED) != 0u))
-        || sfit_py_put(d, "reason", PyUnicode_FromString(cli_joint_pair_reason(r->reason)))
+        || sfit_py_put(d, "reason", PyUnicode_FromString(names_pair_reason(r->reason)))
         || sfit_py_put(
             d, "mode",
             PyUnicode_FromString(r->mode == SFIT_PAIR_MODE_HINGE ? "planar" : "sphere"))) {

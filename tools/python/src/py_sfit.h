@@ -37,6 +37,9 @@
 #include "sfit/sfit_cluster.h"
 #include "sfit/sfit_joint.h"
 
+#include "json_out.h" /* tools/formats: json_out_flag_t */
+#include "names.h"    /* tools/lab: the status texts and flag names */
+
 /* ------------------------------------------------------------------------ */
 /* Exceptions (py_error.c)                                                  */
 /* ------------------------------------------------------------------------ */
@@ -132,13 +135,11 @@ PyObject *sfit_py_mat3_out(const sfit_mat3_t *m);
 /** dict[key] = value, stealing value; -1 on failure (value freed). */
 int sfit_py_put(PyObject *dict, const char *key, PyObject *value);
 PyObject *sfit_py_flt(float x);
-/** A flag bit and its name; a table ends with {0u, NULL}. */
-typedef struct sfit_py_flag {
-    uint32_t bit;
-    const char *name;
-} sfit_py_flag_t;
-/** The names of the bits of flags set in the table tab, as a list of str. */
-PyObject *sfit_py_flag_names(uint32_t flags, const sfit_py_flag_t *tab);
+/** The names of the bits of flags that the n entries of tab name, in table
+ *  order, as a list of str. */
+PyObject *sfit_py_flag_names(uint32_t flags, const json_out_flag_t *tab, size_t n);
+/** The same for a family of the host tools' one flag-name table (names.h). */
+PyObject *sfit_py_family_names(uint32_t flags, names_family_t fam);
 /** The names of the noise estimate's flags (sfit_noise_estimate_t). */
 PyObject *sfit_py_noise_flag_names(uint32_t flags);
 /** The fields of a result into d; 0 or -1. */

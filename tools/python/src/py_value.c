@@ -51,27 +51,18 @@ PyObject *sfit_py_flt(float x)
     return PyFloat_FromDouble((double)x);
 }
 
-static const sfit_py_flag_t g_fit_flags[] = {{SFIT_FLAG_UNTRUSTED, "untrusted"},
-                                          {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
-                                          {SFIT_FLAG_NEAR_PLANAR, "near_planar"},
-                                          {SFIT_FLAG_ROUNDING, "rounding"},
-                                          {SFIT_SELFCAL_FLAG_CAPPED, "noise_capped"},
-                                          {SFIT_FLAG_COV_LIMIT, "cov_limit"},
-                                          {SFIT_MULTI_FLAG_SKIPPED, "skipped_markers"},
-                                          {0u, NULL}};
-static const sfit_py_flag_t g_noise_flags[] = {{SFIT_NOISE_FLAG_NEGATIVE, "negative"},
-                                            {SFIT_NOISE_FLAG_IMPRECISE, "imprecise"},
-                                            {0u, NULL}};
+/* The noise estimate's flags: Python's names only (the CLI prints none). */
+static const json_out_flag_t g_noise_flags[] = {{SFIT_NOISE_FLAG_NEGATIVE, "negative"},
+                                                {SFIT_NOISE_FLAG_IMPRECISE, "imprecise"}};
 
-/* The names of the bits set in flags, as a list of str. */
-PyObject *sfit_py_flag_names(uint32_t flags, const sfit_py_flag_t *tab)
+PyObject *sfit_py_flag_names(uint32_t flags, const json_out_flag_t *tab, size_t n)
 {
     PyObject *l = PyList_New(0);
     size_t i;
     if (l == NULL) {
         return NULL;
     }
-    for (i = 0; tab[i].name != NULL; i++) {
+    for (i = 0; tab != NULL && i < n; i++) {
         if (flags & tab[i].bit) {
             PyObject *s = PyUnicode_FromString(tab[i].name);
             if (s == NULL || PyList_Append(l, s) < 0) {
@@ -85,9 +76,16 @@ PyObject *sfit_py_flag_names(uint32_t flags, const sfit_py_flag_t *tab)
     return l;
 }
 
+PyObject *sfit_py_family_names(uint32_t flags, names_family_t fam)
+{
+    size_t n = 0;
+    const json_out_flag_t *tab = names_flags(fam, &n);
+    return sfit_py_flag_names(flags, tab, n);
+}
+
 PyObject *sfit_py_noise_flag_names(uint32_t flags)
 {
-    return sfit_py_flag_names(flags, g_noise_flags);
+    return sfit_py_flag_names(flags, g_noise_flags, sizeof g_noise_flags / sizeof g_noise_flags[0]);
 }
 
 static const char *mode_name(sfit_mode_t m)
@@ -104,7 +102,7 @@ static int summary_into(PyObject *d, const sfit_vec3_t *eig, const sfit_vec3_t *
         || sfit_py_put(d, "axis", sfit_py_vec3_out(axis->v)) < 0
         || sfit_py_put(d, "trust_ratio", sfit_py_flt(trust)) < 0
         || sfit_py_put(d, "leontief_ratio", sfit_py_flt(leontief)) < 0
-        || sfit_py_put(d, "flags", sfit_py_flag_names(flags, g_fit_flags)) < 0
+        || sfit_py_put(d, "flags", sfit_py_family_names(flags, NAMES_FIT)) < 0
         || sfit_py_put(d, "flags_mask", PyLong_FromUnsignedLong((unsigned long)flags)) < 0
         || sfit_py_put(d, "method",
                        PyUnicode_FromString(method == SFIT_METHOD_UGDK ? "ugdk" : "gdke"))

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """Label swaps in sfit.joint_center (repair_swaps, result.label_swaps): the
-same check as `sfit joint` (tools/sfit/cli_swaps.c), against references
+same check as `sfit joint` (tools/lab/swaps.c), against references
 made here: biobuddy's hip trial with the labels put back by this test,
 synthetic swaps with known frames, a near-symmetric cluster."""
 import json

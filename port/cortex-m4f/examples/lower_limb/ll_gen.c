@@ -2,7 +2,7 @@
 /**
  * @file ll_gen.c
  * @brief Host tool of the lower-limb firmware example: reads the four
- * trials of the shared lower-limb session (C3D, tools/sfit/c3d.c) and
+ * trials of the shared lower-limb session (C3D, tools/formats/c3d.c) and
  * writes the markers the example uses as a C array (ll_data.c): for every
  * frame, the 32 markers of the 7 segments in the order of ll_model.h,
  * floats printed with 9 significant digits (exact for a float), NaN for a

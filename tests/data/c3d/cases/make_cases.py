@@ -10,7 +10,7 @@ regenerate them:
     python3 tests/data/c3d/cases/make_cases.py
 
 Written from the format description with `struct`; shares no code with
-tools/sfit (the reader under test).
+tools/formats (the reader under test).
 """
 import os
 import struct

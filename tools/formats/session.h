@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "json_out.h"
 #include "session_model.h"
 
 #define SESSION_VERDICT_MAX 640
@@ -77,8 +78,13 @@ typedef struct session {
  * hinge's axis points): the joint and where its centre is put. */
 void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap);
 
-/** Write the session as JSON (one object). */
-void session_write_json(FILE *f, const session_t *s);
+/**
+ * Write the session as JSON (one object). A joint's "flags" are the names
+ * `flag_names` gives its flag bits (names_flags(NAMES_SESSION, ...) of
+ * tools/lab/names.h: the format holds no name table of its own).
+ */
+void session_write_json(FILE *f, const session_t *s, const json_out_flag_t *flag_names,
+                        size_t nflag_names);
 
 /**
  * Read a session JSON file written by session_write_json. 0, or -1 with a

@@ -10,9 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
-#include "cli_joint.h"
-#include "cli_swaps.h"
+#include "names.h"
+#include "joint_run.h"
+#include "swaps.h"
 #include "sfit/sfit_cluster.h"
 
 #define CHI2_3_95 7.814727903251178 /* 95 % quantile of chi^2 with 3 degrees of freedom */
@@ -82,7 +82,7 @@ static void rot_log(double r[3][3], double w[3])
 /* Rotation range of the child relative to the parent, about the parent
  * frame's x, y, z (degrees): the spread (max - min) of the rotation vector
  * of R_rel(f) R_rel(ref)^T over the frames used. */
-static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
+static void rotation_range(const frames_data_t *fr, int np, int nc, const joint_run_out_t *jo,
                            const float *axis, double range[3], double *flex)
 {
     double flo = 1e9, fhi = -1e9;
@@ -106,7 +106,7 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
     }
     for (f = 0; f < fr->nframes; f++) {
         for (k = 0; k < nc; k++) {
-            blk[(size_t)f * (size_t)nc + (size_t)k] = *cli_frames_at(fr, f, np + k);
+            blk[(size_t)f * (size_t)nc + (size_t)k] = *frames_at(fr, f, np + k);
         }
     }
     if (sfit_cluster_from_frames(&child, blk, (size_t)fr->nframes, (size_t)nc, &used) != SFIT_OK) {
@@ -117,7 +117,7 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
         sfit_pose_t pp, pc;
         double rel[3][3], d[3][3], w[3];
         if (!jo->ok[f]
-            || sfit_cluster_register(&jo->j.parent, cli_frames_at(fr, f, 0), (size_t)np, &pp,
+            || sfit_cluster_register(&jo->j.parent, frames_at(fr, f, 0), (size_t)np, &pp,
                                      NULL) != SFIT_OK
             || sfit_cluster_register(&child, blk + (size_t)f * (size_t)nc, (size_t)nc, &pc,
                                      NULL) != SFIT_OK) {
@@ -171,7 +171,7 @@ static void rotation_range(const cli_frames_t *fr, int np, int nc, const cli_joi
 
 /* The marker noise: the parent registrations' residuals over the frames
  * used, E sum |res|^2 = (3 M - 6) sigma^2 per frame. */
-static double marker_var(const cli_frames_t *fr, int np, const cli_joint_out_t *jo)
+static double marker_var(const frames_data_t *fr, int np, const joint_run_out_t *jo)
 {
     double num = 0.0, den = 0.0;
     long f;
@@ -179,7 +179,7 @@ static double marker_var(const cli_frames_t *fr, int np, const cli_joint_out_t *
         sfit_pose_t p;
         sfit_cluster_fit_t fit;
         if (jo->ok[f]
-            && sfit_cluster_register(&jo->j.parent, cli_frames_at(fr, f, 0), (size_t)np, &p, &fit)
+            && sfit_cluster_register(&jo->j.parent, frames_at(fr, f, 0), (size_t)np, &p, &fit)
                    == SFIT_OK
             && fit.used > 2u) {
             num += (double)fit.rms * (double)fit.rms * (double)fit.used;
@@ -190,7 +190,7 @@ static double marker_var(const cli_frames_t *fr, int np, const cli_joint_out_t *
 }
 
 /* The centre's covariance (library: sfit_joint_center_cov, the frames that gave the fit). */
-static int center_cov(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
+static int center_cov(const frames_data_t *fr, int np, int nc, const joint_run_out_t *jo,
                       double var, double cov[3][3])
 {
     sfit_vec3_t *pb = malloc((size_t)fr->nframes * (size_t)np * sizeof *pb);
@@ -201,10 +201,10 @@ static int center_cov(const cli_frames_t *fr, int np, int nc, const cli_joint_ou
     if (pb != NULL && cb != NULL) {
         for (f = 0; f < fr->nframes; f++) {
             for (k = 0; k < np; k++) {
-                pb[(size_t)f * (size_t)np + (size_t)k] = *cli_frames_at(fr, f, k);
+                pb[(size_t)f * (size_t)np + (size_t)k] = *frames_at(fr, f, k);
             }
             for (k = 0; k < nc; k++) {
-                cb[(size_t)f * (size_t)nc + (size_t)k] = *cli_frames_at(fr, f, np + k);
+                cb[(size_t)f * (size_t)nc + (size_t)k] = *frames_at(fr, f, np + k);
             }
         }
         if (sfit_joint_center_cov(&jo->j, &jo->res, pb, cb, (size_t)fr->nframes, (float)var, &c)
@@ -304,7 +304,7 @@ static void place_on_axis(const sm_joint_t *mj, const sm_segment_t *ps,
  * frames (soft tissue moving with the joint angle) show in it, where the
  * misfit scaling assumes independent frames. 0, or -1 (fewer than 3
  * frames per block, or a solve failed). */
-static int jackknife_cov(const cli_frames_t *fr, int np, int nc, const cli_joint_out_t *jo,
+static int jackknife_cov(const frames_data_t *fr, int np, int nc, const joint_run_out_t *jo,
                          double cov[3][3])
 {
     sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
@@ -330,7 +330,7 @@ static int jackknife_cov(const cli_frames_t *fr, int np, int nc, const cli_joint
     }
     for (f = 0; f < fr->nframes; f++) {
         for (k = 0; k < nc; k++) {
-            blk[(size_t)f * (size_t)nc + (size_t)k] = *cli_frames_at(fr, f, np + k);
+            blk[(size_t)f * (size_t)nc + (size_t)k] = *frames_at(fr, f, np + k);
         }
     }
     if (sfit_cluster_from_frames(&child, blk, (size_t)fr->nframes, (size_t)nc, &used)
@@ -344,7 +344,7 @@ static int jackknife_cov(const cli_frames_t *fr, int np, int nc, const cli_joint
             goto out;
         }
         for (f = 0, i = 0; f < fr->nframes; f++) {
-            const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
+            const sfit_vec3_t *row = frames_at(fr, f, 0);
             if (jo->ok[f] == 0u) {
                 continue;
             }
@@ -523,16 +523,16 @@ static void verdict(session_joint_t *j, const char *u)
     }
 }
 
-int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
+int session_calibrate_frames(frames_data_t *fr, const session_model_t *m, int k,
                              const char *trial, session_joint_t *j, char *err)
 {
     const sm_joint_t *mj = &m->joint[k];
     const sm_segment_t *ps = &m->seg[mj->parent], *cs = &m->seg[mj->child];
     const int np = ps->nmarkers, nc = cs->nmarkers;
     const char *path = trial;
-    cli_joint_opts_t o;
-    cli_joint_out_t jo;
-    cli_swaps_joint_t sw;
+    joint_run_opts_t o;
+    joint_run_out_t jo;
+    swaps_joint_t sw;
     double ev[3], var;
     int i;
 
@@ -543,18 +543,18 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
                        np + nc, fr->nmarkers);
         return -1;
     }
-    if (cli_swaps_joint_run(fr, np, nc, 0, -1, 1, &sw) != 0) {
+    if (swaps_joint_run(fr, np, nc, 0, -1, 1, &sw) != 0) {
         (void)snprintf(err, SM_ERR_MAX, "label swap check: out of memory");
         return -1;
     }
-    cli_joint_opts_default(&o);
+    joint_run_opts_default(&o);
     o.mode = mj->type == SM_BALL ? SFIT_MODE_SPHERE
                                  : (mj->type == SM_HINGE ? SFIT_MODE_PLANAR : SFIT_MODE_AUTO);
-    if (cli_joint_run(fr, np, nc, &o, &jo) != SFIT_OK) {
+    if (joint_run(fr, np, nc, &o, &jo) != SFIT_OK) {
         (void)snprintf(err, SM_ERR_MAX, "the joint failed at the %s stage (%s): %s", jo.stage,
-                       sfit_status_str(jo.st), cli_status_message(jo.st));
-        cli_joint_free(&jo);
-        cli_swaps_joint_free(&sw);
+                       sfit_status_str(jo.st), names_status_message(jo.st, NAMES_CLI));
+        joint_run_free(&jo);
+        swaps_joint_free(&sw);
         return -1;
     }
     (void)snprintf(j->name, sizeof j->name, "%s", mj->name);
@@ -646,8 +646,8 @@ int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
     session_semi_axes(j->cov_model, j->hinge ? CHI2_2_95 : CHI2_3_95, j->semi95_model);
     rotation_range(fr, np, nc, &jo, j->hinge ? j->axis : NULL, j->range_deg, &j->flex_deg);
     verdict(j, fr->units[0] != '\0' ? fr->units : "units");
-    cli_joint_free(&jo);
-    cli_swaps_joint_free(&sw);
+    joint_run_free(&jo);
+    swaps_joint_free(&sw);
     return 0;
 }
 
@@ -726,12 +726,12 @@ static int place_gain(const session_joint_t *j, const int *seen, double g[3][3])
     return 0;
 }
 
-long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, float *pts,
+long session_place_frames(const session_joint_t *j, frames_data_t *fr, float d, float *pts,
                           int stride, sfit_mat3_t *rot, session_place_cov_t *pc)
 {
     sfit_cluster_t cl;
     sfit_vec3_t tpl[SM_MARKERS_MAX];
-    cli_swaps_t sw;
+    swaps_t sw;
     long f, placed = 0, ngain = 0;
     int i, k;
     double rsum[SM_MARKERS_MAX][3], num = 0.0, den = 0.0, gsum[3][3] = {{0}};
@@ -753,14 +753,14 @@ long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, f
         return -1;
     }
     /* the parent's label swaps, repaired as `sfit joint` does */
-    if (fr->nframes > 0 && cli_swaps_run(fr->xyz, fr->nframes, fr->nmarkers, 0, fr->nmarkers, 0,
+    if (fr->nframes > 0 && swaps_run(fr->xyz, fr->nframes, fr->nmarkers, 0, fr->nmarkers, 0,
                                          fr->nframes - 1, 1, &sw) == 0) {
-        cli_swaps_free(&sw);
+        swaps_free(&sw);
     }
     for (f = 0; f < fr->nframes; f++) {
         sfit_pose_t pose;
         sfit_vec3_t c, a;
-        const sfit_vec3_t *row = cli_frames_at(fr, f, 0);
+        const sfit_vec3_t *row = frames_at(fr, f, 0);
         float *p = pts + (size_t)f * (size_t)stride * 3u;
         int seen[SM_MARKERS_MAX], m = 0;
         if (sfit_cluster_register(&cl, row, (size_t)j->nmarkers, &pose, NULL) != SFIT_OK

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/** @file cli_frames.c  Named marker trajectories from C3D or a wide table (cli_frames.h). */
-#include "cli_frames.h"
+/** @file frames.c  Named marker trajectories from C3D or a wide table (frames.h). */
+#include "frames.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +11,7 @@
 #include "c3d.h"
 #include "table.h"
 
-int cli_parse_frames(const char *s, long *first, long *last)
+int frames_parse_range(const char *s, long *first, long *last)
 {
     char *end;
     long a, b;
@@ -30,7 +30,7 @@ int cli_parse_frames(const char *s, long *first, long *last)
     return 0;
 }
 
-int cli_split_list(char *s, char **items, int max)
+int frames_split_list(char *s, char **items, int max)
 {
     int n = 0;
     for (;;) {
@@ -49,7 +49,7 @@ int cli_split_list(char *s, char **items, int max)
     }
 }
 
-void cli_frames_free(cli_frames_t *fr)
+void frames_free(frames_data_t *fr)
 {
     free(fr->xyz);
     free(fr->all_labels);
@@ -97,16 +97,16 @@ static int warned_before(const char *path)
     return 0;
 }
 
-static int load_c3d(const char *path, const char *const *names, int n, cli_frames_t *out,
+static int load_c3d(const char *path, const char *const *names, int n, frames_data_t *out,
                     char *why)
 {
     c3d_t c;
     char err[C3D_ERR_MAX];
     int k;
-    int idx[CLI_MARKERS_MAX];
+    int idx[FRAMES_MARKERS_MAX];
     long f;
     if (c3d_read_file(path, &c, err) != 0) {
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX, "%s", err);
+        (void)snprintf(why, FRAMES_ERR_MAX, "%s", err);
         return -2;
     }
     if (!warned_before(path)) { /* a file read for several joints warns once */
@@ -117,7 +117,7 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
     for (k = 0; k < n; k++) {
         idx[k] = c3d_find(&c, names[k]);
         if (idx[k] < 0) {
-            (void)snprintf(why, CLI_FRAMES_ERR_MAX, "no marker labelled '%s' in the C3D file",
+            (void)snprintf(why, FRAMES_ERR_MAX, "no marker labelled '%s' in the C3D file",
                            names[k]);
             c3d_free(&c);
             return -2;
@@ -131,7 +131,7 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
     out->xyz = malloc(((size_t)c.nframes * (size_t)n + 1u) * sizeof *out->xyz);
     if (out->xyz == NULL) {
         c3d_free(&c);
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX, "out of memory");
+        (void)snprintf(why, FRAMES_ERR_MAX, "out of memory");
         return -2;
     }
     for (f = 0; f < c.nframes; f++) {
@@ -158,52 +158,52 @@ static int load_c3d(const char *path, const char *const *names, int n, cli_frame
     return 0;
 }
 
-static int load_table(const char *path, const char *const *names, int n, cli_frames_t *out,
+static int load_table(const char *path, const char *const *names, int n, frames_data_t *out,
                       char *why)
 {
-    tab_t t;
-    int cols[3 * CLI_MARKERS_MAX];
-    float vals[3 * CLI_MARKERS_MAX];
+    table_t t;
+    int cols[3 * FRAMES_MARKERS_MAX];
+    float vals[3 * FRAMES_MARKERS_MAX];
     size_t cap = 0;
     int k, rc;
-    if (tab_open_file(&t, path) != 0) {
+    if (table_open_file(&t, path) != 0) {
         return -1;
     }
-    if (tab_start(&t) != 0) {
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+    if (table_start(&t) != 0) {
+        (void)snprintf(why, FRAMES_ERR_MAX, "%s", t.err);
+        table_close(&t);
         return -2;
     }
     if (!t.header) {
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX,
+        (void)snprintf(why, FRAMES_ERR_MAX,
                        "neither a C3D file nor a table with a header naming the markers' "
                        "columns (NAME_X, NAME_Y, NAME_Z)");
-        tab_close(&t);
+        table_close(&t);
         return -2;
     }
     for (k = 0; k < n; k++) {
-        if (tab_find_marker(&t, names[k], &cols[3 * k]) != 0) {
-            (void)snprintf(why, CLI_FRAMES_ERR_MAX,
+        if (table_find_marker(&t, names[k], &cols[3 * k]) != 0) {
+            (void)snprintf(why, FRAMES_ERR_MAX,
                            "no columns %s_X, %s_Y, %s_Z (or %s.x, %s:X, ...) in the header",
                            names[k], names[k], names[k], names[k], names[k]);
-            tab_close(&t);
+            table_close(&t);
             return -2;
         }
     }
-    if (tab_select_idx(&t, cols, 3 * n) != 0) {
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX, "%s", t.err);
-        tab_close(&t);
+    if (table_select_idx(&t, cols, 3 * n) != 0) {
+        (void)snprintf(why, FRAMES_ERR_MAX, "%s", t.err);
+        table_close(&t);
         return -2;
     }
     out->nmarkers = n;
-    while ((rc = tab_next(&t, vals)) != TAB_EOF) {
+    while ((rc = table_next(&t, vals)) != TABLE_EOF) {
         sfit_vec3_t *row;
         if ((size_t)out->nframes == cap) {
             const size_t nc = (cap == 0u) ? 1024u : 2u * cap;
             sfit_vec3_t *nx = realloc(out->xyz, nc * (size_t)n * sizeof *nx);
             if (nx == NULL) {
-                tab_close(&t);
-                (void)snprintf(why, CLI_FRAMES_ERR_MAX, "out of memory");
+                table_close(&t);
+                (void)snprintf(why, FRAMES_ERR_MAX, "out of memory");
                 return -2;
             }
             out->xyz = nx;
@@ -211,25 +211,25 @@ static int load_table(const char *path, const char *const *names, int n, cli_fra
         }
         row = &out->xyz[(size_t)out->nframes * (size_t)n];
         for (k = 0; k < 3 * n; k++) {
-            row[k / 3].v[k % 3] = (rc == TAB_ROW_OK) ? vals[k] : NAN;
+            row[k / 3].v[k % 3] = (rc == TABLE_ROW_OK) ? vals[k] : NAN;
         }
-        if (rc != TAB_ROW_OK) {
+        if (rc != TABLE_ROW_OK) {
             out->bad_rows++;
         }
         out->nframes++;
     }
-    tab_close(&t);
+    table_close(&t);
     return 0;
 }
 
-int cli_frames_load(const char *path, const char *const *names, int n, cli_frames_t *out,
+int frames_load(const char *path, const char *const *names, int n, frames_data_t *out,
                     char *why)
 {
     int c3d, rc;
     memset(out, 0, sizeof *out);
     why[0] = '\0';
-    if (n < 1 || n > CLI_MARKERS_MAX) {
-        (void)snprintf(why, CLI_FRAMES_ERR_MAX, "1 to %d markers", CLI_MARKERS_MAX);
+    if (n < 1 || n > FRAMES_MARKERS_MAX) {
+        (void)snprintf(why, FRAMES_ERR_MAX, "1 to %d markers", FRAMES_MARKERS_MAX);
         return -2;
     }
     c3d = (strcmp(path, "-") == 0) ? 0 : is_c3d_file(path);
@@ -239,7 +239,7 @@ int cli_frames_load(const char *path, const char *const *names, int n, cli_frame
     rc = c3d ? load_c3d(path, names, n, out, why) : load_table(path, names, n, out, why);
     if (rc != 0) {
         const int e = errno;
-        cli_frames_free(out);
+        frames_free(out);
         errno = e;
     }
     return rc;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file cli_refine.h
+ * @file refine.h
  * @brief The recipe's one flat result (sfit_refine_fit) as the sphere fit
  * and uncertainty a front end prints: shared by `sfit fit --refine`
  * (cmd_fit.c) and the Python binding's fit(refine=True)
@@ -15,7 +15,7 @@
 
 /** The geometric sphere with the start's eigenvalues, trust and verdict (a
  *  UGDK sphere), and the covariance of the geometric centre. */
-static inline void cli_refine_parts(const sfit_refine_result_t *rf, sfit_result_t *r,
+static inline void refine_parts(const sfit_refine_result_t *rf, sfit_result_t *r,
                                     sfit_uncert_t *u)
 {
     memset(r, 0, sizeof *r);

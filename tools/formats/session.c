@@ -8,48 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "json_out.h"
 
 /* ------------------------------------------------------------------ writer */
-
-static void put_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s != '\0'; s++) {
-        const unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') {
-            fprintf(f, "\\%c", c);
-        } else if (c < 0x20) {
-            fprintf(f, "\\u%04x", c);
-        } else {
-            fputc(c, f);
-        }
-    }
-    fputc('"', f);
-}
-
-static void put_vecf(FILE *f, const float *v)
-{
-    fprintf(f, "[%.9g,%.9g,%.9g]", (double)v[0], (double)v[1], (double)v[2]);
-}
-
-static void put_vecd(FILE *f, const double *v)
-{
-    fprintf(f, "[%.9g,%.9g,%.9g]", v[0], v[1], v[2]);
-}
-
-static void put_mat(FILE *f, const double m[3][3])
-{
-    int k;
-    fputc('[', f);
-    for (k = 0; k < 3; k++) {
-        if (k > 0) {
-            fputc(',', f);
-        }
-        put_vecd(f, m[k]);
-    }
-    fputc(']', f);
-}
 
 /* A written point's C3D description: the joint and where its centre is
  * put (the session's convention, shortened to fit a description). */
@@ -68,23 +29,24 @@ void session_point_desc(const session_joint_t *j, int q, char *d, size_t cap)
     }
 }
 
-void session_write_json(FILE *f, const session_t *s)
+void session_write_json(FILE *f, const session_t *s, const json_out_flag_t *flag_names,
+                        size_t nflag_names)
 {
     int i, k;
     fprintf(f, "{\"format\":\"sfit-session\",\"version\":1,\"units\":");
-    put_str(f, s->units);
+    json_out_str(f, s->units, 0);
     fprintf(f, ",\"root\":");
-    put_str(f, s->seg[s->root].name);
+    json_out_str(f, s->seg[s->root].name, 0);
     fprintf(f, ",\n\"segments\":[");
     for (i = 0; i < s->nseg; i++) {
         fprintf(f, "%s{\"name\":", i > 0 ? ",\n  " : "\n  ");
-        put_str(f, s->seg[i].name);
+        json_out_str(f, s->seg[i].name, 0);
         fprintf(f, ",\"markers\":[");
         for (k = 0; k < s->seg[i].nmarkers; k++) {
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, s->seg[i].markers[k]);
+            json_out_str(f, s->seg[i].markers[k], 0);
         }
         fprintf(f, "]}");
     }
@@ -92,20 +54,20 @@ void session_write_json(FILE *f, const session_t *s)
     for (i = 0; i < s->njoint; i++) {
         const session_joint_t *j = &s->joint[i];
         fprintf(f, "%s{\"name\":", i > 0 ? ",\n " : "\n ");
-        put_str(f, j->name);
+        json_out_str(f, j->name, 0);
         fprintf(f, ",\"parent\":");
-        put_str(f, j->parent);
+        json_out_str(f, j->parent, 0);
         fprintf(f, ",\"child\":");
-        put_str(f, j->child);
+        json_out_str(f, j->child, 0);
         fprintf(f, ",\"type\":\"%s\",\"points\":[", j->hinge ? "hinge" : "ball");
         for (k = 0; k < j->npoints; k++) {
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, j->points[k]);
+            json_out_str(f, j->points[k], 0);
         }
         fprintf(f, "],\"trial\":");
-        put_str(f, j->trial);
+        json_out_str(f, j->trial, 0);
         fprintf(f, ",\"frames_used\":%ld,\"frames\":%ld,\n  \"frame\":\"parent_template\","
                    "\"parent_markers\":[",
                 j->frames_used, j->frames_total);
@@ -113,25 +75,25 @@ void session_write_json(FILE *f, const session_t *s)
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, j->markers[k]);
+            json_out_str(f, j->markers[k], 0);
         }
         fprintf(f, "],\"template\":[");
         for (k = 0; k < j->nmarkers; k++) {
             if (k > 0) {
                 fputc(',', f);
             }
-            put_vecf(f, j->tpl[k]);
+            json_out_vec(f, j->tpl[k]);
         }
         fprintf(f, "],\n  \"center\":");
-        put_vecf(f, j->center);
+        json_out_vec(f, j->center);
         fprintf(f, ",\"axis\":");
         if (j->hinge) {
-            put_vecf(f, j->axis);
+            json_out_vec(f, j->axis);
         } else {
             fprintf(f, "null");
         }
         fprintf(f, ",\n  \"center_convention\":");
-        put_str(f, j->convention);
+        json_out_str(f, j->convention, 0);
         fprintf(f, ",\"template_reference_frame\":%ld,\"point_descriptions\":[", j->ref_frame);
         for (k = 0; k < j->npoints; k++) {
             char d[SESSION_DESC_MAX];
@@ -139,7 +101,7 @@ void session_write_json(FILE *f, const session_t *s)
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, d);
+            json_out_str(f, d, 0);
         }
         fputc(']', f);
         fprintf(f, ",\n  \"center_cov\":[");
@@ -147,51 +109,34 @@ void session_write_json(FILE *f, const session_t *s)
             if (k > 0) {
                 fputc(',', f);
             }
-            put_vecd(f, j->cov[k]);
+            json_out_vecd(f, j->cov[k]);
         }
         fprintf(f, "],\"semi_axes_95\":");
-        put_vecd(f, j->semi95);
+        json_out_vecd(f, j->semi95);
         fprintf(f, ",\n  \"misfit\":%.9g,\"model_rms\":%.9g,\"jackknife_ratio\":%.9g,"
                    "\"model_scale\":%.9g,\"center_cov_jackknife\":",
                 j->misfit, j->model_rms, j->jack_ratio, j->model_scale);
-        put_mat(f, j->cov_jack);
+        json_out_matd(f, j->cov_jack);
         fprintf(f, ",\n  \"center_cov_model\":");
-        put_mat(f, j->cov_model);
+        json_out_matd(f, j->cov_model);
         fprintf(f, ",\"semi_axes_95_model\":");
-        put_vecd(f, j->semi95_model);
+        json_out_vecd(f, j->semi95_model);
         fprintf(f, ",\n  \"skin_rms\":%.9g,\"semi_axes_95_skin\":", j->skin_rms);
-        put_vecd(f, j->semi95_skin);
+        json_out_vecd(f, j->semi95_skin);
         if (j->hinge) {
             fprintf(f, ",\"axis_cone_95_deg\":%.9g,\"axis_cone_95_model_deg\":%.9g,"
                        "\"wobble_rms_deg\":%.9g",
                     j->cone_deg, j->cone_model_deg, j->wobble_deg);
         }
         fprintf(f, ",\n  \"marker_sigma\":%.9g,\"rotation_range_deg\":", j->marker_sigma);
-        put_vecd(f, j->range_deg);
+        json_out_vecd(f, j->range_deg);
         if (j->hinge) {
             fprintf(f, ",\"flexion_range_deg\":%.9g", j->flex_deg);
         }
         fprintf(f, ",\"flags\":");
-        {
-            /* cli_print_flags_json prints to stdout: the names are few, do it here */
-            static const struct {
-                uint32_t bit;
-                const char *name;
-            } names[] = {{SFIT_FLAG_NEAR_PLANAR, "near_planar"},
-                         {SFIT_FLAG_FEW_SAMPLES, "few_samples"},
-                         {SFIT_FLAG_UNTRUSTED, "untrusted"}};
-            int n = 0;
-            size_t b;
-            fputc('[', f);
-            for (b = 0; b < sizeof names / sizeof names[0]; b++) {
-                if (j->flags & names[b].bit) {
-                    fprintf(f, "%s\"%s\"", n++ > 0 ? "," : "", names[b].name);
-                }
-            }
-            fputc(']', f);
-        }
+        json_out_flags(f, j->flags, flag_names, nflag_names);
         fprintf(f, ",\"flag_bits\":%lu,\n  \"verdict\":", (unsigned long)j->flags);
-        put_str(f, j->verdict);
+        json_out_str(f, j->verdict, 0);
         fprintf(f, "}");
     }
     fprintf(f, "]}\n");

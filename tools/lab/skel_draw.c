@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "json_out.h"
 #include "skel.h"
 
 static const char *const k_colour[] = {"#2a6fdb", "#1b9e4b", "#e08a00", "#8e44ad",
@@ -297,24 +298,6 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
 
 /* ----------------------------------------------------------------- HTML */
 
-static void jstr(FILE *f, const char *t)
-{
-    fputc('"', f);
-    for (; *t != '\0'; t++) {
-        if (*t == '"' || *t == '\\') {
-            fputc('\\', f);
-            fputc(*t, f);
-        } else if (*t == '<') {
-            fputs("\\u003c", f);
-        } else if ((unsigned char)*t < 0x20u) {
-            fprintf(f, "\\u%04x", (unsigned)(unsigned char)*t);
-        } else {
-            fputc(*t, f);
-        }
-    }
-    fputc('"', f);
-}
-
 #define HTML_MAX_FRAMES 2000L
 
 /* Number for the page's data: enough digits for mm and m alike. */
@@ -415,12 +398,12 @@ int skel_write_html(const skel_t *s, const char *path)
         fprintf(f, "{\"rate\":%g,\"stride\":%ld,\"nframes\":%ld,\"up\":%d,\"sgn\":%g,\"units\":",
                 (double)s->rec->rate, stride, nf, up, sg);
     }
-    jstr(f, s->rec->units);
+    json_out_str(f, s->rec->units, JSON_OUT_HTML);
     fputs(",\"trials\":[", f);
     for (i = 0; i < s->rec->nfiles; i++) {
         const char *name = s->rec->file[i], *slash = strrchr(name, '/');
         fprintf(f, "%s{\"name\":", i ? "," : "");
-        jstr(f, slash != NULL ? slash + 1 : name);
+        json_out_str(f, slash != NULL ? slash + 1 : name, JSON_OUT_HTML);
         fprintf(f, ",\"start\":%ld,\"frames\":%ld}", s->rec->start[i],
                 s->rec->start[i + 1] - s->rec->start[i]);
     }
@@ -429,9 +412,10 @@ int skel_write_html(const skel_t *s, const char *path)
         const int j = s->parent_joint[k];
         ell[k] = (j >= 0 && k != s->root) ? nell++ : -1;
         fprintf(f, "%s{\"name\":", k ? "," : "");
-        jstr(f, s->seg[k].name);
+        json_out_str(f, s->seg[k].name, JSON_OUT_HTML);
         fprintf(f, ",\"joint\":");
-        jstr(f, j >= 0 ? s->joint[j].name : (k == s->root ? s->seg[k].name : ""));
+        json_out_str(f, j >= 0 ? s->joint[j].name : (k == s->root ? s->seg[k].name : ""),
+                     JSON_OUT_HTML);
         fprintf(f, ",\"parent\":%d,\"in\":%d,\"leaf\":%d,\"ell\":%d,\"colour\":\"%s\"}",
                 j >= 0 ? s->joint[j].parent : -1, (k == s->root || j >= 0) ? 1 : 0, s->leaf[k],
                 ell[k], k_colour[k % NCOL]);

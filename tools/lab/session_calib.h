@@ -2,7 +2,7 @@
 /**
  * @file session_calib.h
  * @brief The computing part of `sfit calibrate` / `sfit apply` on loaded
- * trajectories (cli_frames_t), shared by the CLI and the Python binding
+ * trajectories (frames_data_t), shared by the CLI and the Python binding
  * (docs/session.md). Host only.
  */
 #ifndef SFIT_TOOLS_SESSION_CALIB_H
@@ -10,7 +10,7 @@
 
 #include <stdio.h>
 
-#include "cli_frames.h"
+#include "frames.h"
 #include "session.h"
 #include "session_model.h"
 #include "sfit/sfit_types.h"
@@ -22,7 +22,7 @@
  * semi-axes, rotation range, flags and verdict; trial is recorded in it.
  * 0, or -1 with the reason in err (SM_ERR_MAX bytes).
  */
-int session_calibrate_frames(cli_frames_t *fr, const session_model_t *m, int k,
+int session_calibrate_frames(frames_data_t *fr, const session_model_t *m, int k,
                              const char *trial, session_joint_t *j, char *err);
 
 /** What the placement of a joint centre in a trial adds to its uncertainty:
@@ -61,7 +61,7 @@ typedef struct session_place_cov {
  * frame is placed). Returns the frames placed, or -1 (a count or template
  * that does not fit j).
  */
-long session_place_frames(const session_joint_t *j, cli_frames_t *fr, float d, float *pts,
+long session_place_frames(const session_joint_t *j, frames_data_t *fr, float d, float *pts,
                           int stride, sfit_mat3_t *rot, session_place_cov_t *pc);
 
 /** pc as a JSON object (the "placement" of `sfit apply --json`; nmarkers

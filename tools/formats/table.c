@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int tab_fail(tab_t *t, const char *fmt, ...)
+static int table_fail(table_t *t, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -17,15 +17,15 @@ static int tab_fail(tab_t *t, const char *fmt, ...)
     return -1;
 }
 
-static void tab_zero(tab_t *t)
+static void table_zero(table_t *t)
 {
     memset(t, 0, sizeof *t);
     t->at_start = 1;
 }
 
-int tab_open_file(tab_t *t, const char *path)
+int table_open_file(table_t *t, const char *path)
 {
-    tab_zero(t);
+    table_zero(t);
     if (strcmp(path, "-") == 0) {
         t->f = stdin;
         return 0;
@@ -53,14 +53,14 @@ int tab_open_file(tab_t *t, const char *path)
     return 0;
 }
 
-void tab_open_mem(tab_t *t, const char *buf, size_t len)
+void table_open_mem(table_t *t, const char *buf, size_t len)
 {
-    tab_zero(t);
+    table_zero(t);
     t->mem = buf;
     t->memlen = len;
 }
 
-void tab_close(tab_t *t)
+void table_close(table_t *t)
 {
     if (t->own && t->f != NULL) {
         fclose(t->f);
@@ -75,23 +75,23 @@ void tab_close(tab_t *t)
     free(t->line);
     free(t->cells);
     free(t->sel);
-    tab_zero(t);
+    table_zero(t);
 }
 
-/* Append one byte to the line buffer (at most TAB_LINE_MAX; beyond, the
+/* Append one byte to the line buffer (at most TABLE_LINE_MAX; beyond, the
  * line is marked cut). */
-static int put(tab_t *t, size_t *n, int ch)
+static int put(table_t *t, size_t *n, int ch)
 {
     if (*n + 1u >= t->linecap) {
         size_t nc;
         char *nl;
-        if (t->linecap >= TAB_LINE_MAX) {
+        if (t->linecap >= TABLE_LINE_MAX) {
             t->toolong = 1;
             return 0;
         }
         nc = (t->linecap == 0u) ? 256u : 2u * t->linecap;
-        if (nc > TAB_LINE_MAX) {
-            nc = TAB_LINE_MAX;
+        if (nc > TABLE_LINE_MAX) {
+            nc = TABLE_LINE_MAX;
         }
         nl = realloc(t->line, nc);
         if (nl == NULL) {
@@ -105,7 +105,7 @@ static int put(tab_t *t, size_t *n, int ch)
     return 0;
 }
 
-static int get(tab_t *t)
+static int get(table_t *t)
 {
     if (t->f != NULL) {
         return fgetc(t->f);
@@ -117,7 +117,7 @@ static int get(tab_t *t)
 }
 
 /* Read one physical line into t->line (without the newline). 0 at EOF. */
-static int read_line(tab_t *t)
+static int read_line(table_t *t)
 {
     size_t n = 0;
     int ch, any = 0;
@@ -155,7 +155,7 @@ static int is_blank_line(const char *s)
     return s[strspn(s, " \t\r\v\f")] == '\0';
 }
 
-int tab_parse_number(const char *s, int decimal_comma, float *out)
+int table_parse_number(const char *s, int decimal_comma, float *out)
 {
     char buf[64];
     size_t n;
@@ -201,8 +201,8 @@ static char *trim(char *s)
     return s;
 }
 
-/* Split t->line into t->cells. Returns the count, or -1 past TAB_MAX_COLS. */
-static int split(tab_t *t)
+/* Split t->line into t->cells. Returns the count, or -1 past TABLE_MAX_COLS. */
+static int split(table_t *t)
 {
     char *p = t->line;
     int n = 0;
@@ -211,11 +211,11 @@ static int split(tab_t *t)
         if (n == t->cellcap) {
             int nc = (t->cellcap == 0) ? 16 : 2 * t->cellcap;
             char **np;
-            if (n >= TAB_MAX_COLS) {
+            if (n >= TABLE_MAX_COLS) {
                 return -1;
             }
-            if (nc > TAB_MAX_COLS) {
-                nc = TAB_MAX_COLS;
+            if (nc > TABLE_MAX_COLS) {
+                nc = TABLE_MAX_COLS;
             }
             np = realloc(t->cells, (size_t)nc * sizeof *np);
             if (np == NULL) {
@@ -251,7 +251,7 @@ static int split(tab_t *t)
 }
 
 /* Does a tab-separated cell of s hold a blank between other characters? */
-static int tab_cell_has_inner_blank(const char *s)
+static int table_cell_has_inner_blank(const char *s)
 {
     while (*s != '\0') {
         const size_t len = strcspn(s, "\t");
@@ -292,7 +292,7 @@ static int all_numbers(const char *s)
         }
         memcpy(tok, s, len);
         tok[len] = '\0';
-        if (tab_parse_number(tok, 0, &v) != 0) {
+        if (table_parse_number(tok, 0, &v) != 0) {
             return 0;
         }
         s += len;
@@ -304,7 +304,7 @@ static int all_numbers(const char *s)
 static char detect_delim(const char *s)
 {
     if (strchr(s, '\t') != NULL) {
-        return (tab_cell_has_inner_blank(s) && all_numbers(s)) ? ' ' : '\t';
+        return (table_cell_has_inner_blank(s) && all_numbers(s)) ? ' ' : '\t';
     }
     if (strchr(s, ';') != NULL) {
         return ';';
@@ -315,7 +315,7 @@ static char detect_delim(const char *s)
     return ' ';
 }
 
-int tab_start(tab_t *t)
+int table_start(table_t *t)
 {
     int n, i, header = 0;
     do {
@@ -325,15 +325,15 @@ int tab_start(tab_t *t)
         }
     } while (is_blank_line(t->line));
     if (t->toolong) {
-        return tab_fail(t, "line %lu longer than %u bytes", t->lineno, (unsigned)TAB_LINE_MAX);
+        return table_fail(t, "line %lu longer than %u bytes", t->lineno, (unsigned)TABLE_LINE_MAX);
     }
     t->delim = detect_delim(t->line);
     {
-        /* split a copy: a data line is split again by tab_next */
+        /* split a copy: a data line is split again by table_next */
         char *copy = malloc(strlen(t->line) + 1u);
         char *keep = t->line;
         if (copy == NULL) {
-            return tab_fail(t, "out of memory");
+            return table_fail(t, "out of memory");
         }
         strcpy(copy, keep);
         t->line = copy;
@@ -341,11 +341,11 @@ int tab_start(tab_t *t)
         if (n < 0) {
             t->line = keep;
             free(copy);
-            return tab_fail(t, "line %lu has more than %d cells", t->lineno, TAB_MAX_COLS);
+            return table_fail(t, "line %lu has more than %d cells", t->lineno, TABLE_MAX_COLS);
         }
         for (i = 0; i < n; i++) {
             float v;
-            if (t->cells[i][0] != '\0' && tab_parse_number(t->cells[i], t->delim == ';', &v) != 0) {
+            if (t->cells[i][0] != '\0' && table_parse_number(t->cells[i], t->delim == ';', &v) != 0) {
                 header = 1;
             }
         }
@@ -362,7 +362,7 @@ int tab_start(tab_t *t)
             if (t->names == NULL || i < n) {
                 t->line = keep;
                 free(copy);
-                return tab_fail(t, "out of memory");
+                return table_fail(t, "out of memory");
             }
         }
         t->line = keep;
@@ -371,7 +371,7 @@ int tab_start(tab_t *t)
     t->header = header;
     t->pending = !header;
     if (!header) {
-        t->lineno--; /* tab_next counts it again */
+        t->lineno--; /* table_next counts it again */
     }
     return 0;
 }
@@ -388,7 +388,7 @@ static int name_eq(const char *a, const char *b, int fold)
     return *a == '\0' && *b == '\0';
 }
 
-static int find_name(const tab_t *t, const char *name)
+static int find_name(const table_t *t, const char *name)
 {
     int fold, i;
     if (t->names == NULL) {
@@ -404,21 +404,21 @@ static int find_name(const tab_t *t, const char *name)
     return -1;
 }
 
-int tab_select_idx(tab_t *t, const int *idx, int n)
+int table_select_idx(table_t *t, const int *idx, int n)
 {
     int i;
     int *s;
-    if (n < 1 || n > TAB_MAX_COLS) {
-        return tab_fail(t, "no column selected");
+    if (n < 1 || n > TABLE_MAX_COLS) {
+        return table_fail(t, "no column selected");
     }
     for (i = 0; i < n; i++) {
         if (idx[i] < 0 || idx[i] >= t->ncols) {
-            return tab_fail(t, "column %d does not exist (the file has %d)", idx[i] + 1, t->ncols);
+            return table_fail(t, "column %d does not exist (the file has %d)", idx[i] + 1, t->ncols);
         }
     }
     s = realloc(t->sel, (size_t)n * sizeof *s);
     if (s == NULL) {
-        return tab_fail(t, "out of memory");
+        return table_fail(t, "out of memory");
     }
     memcpy(s, idx, (size_t)n * sizeof *s);
     t->sel = s;
@@ -426,9 +426,9 @@ int tab_select_idx(tab_t *t, const int *idx, int n)
     return 0;
 }
 
-int tab_select(tab_t *t, const char *spec, int want)
+int table_select(table_t *t, const char *spec, int want)
 {
-    int idx[TAB_MAX_COLS > 64 ? 64 : TAB_MAX_COLS];
+    int idx[TABLE_MAX_COLS > 64 ? 64 : TABLE_MAX_COLS];
     int n = 0;
     if (t->ncols == 0) {
         return 0; /* empty input: nothing to select, no row will come */
@@ -439,15 +439,15 @@ int tab_select(tab_t *t, const char *spec, int want)
             idx[0] = ix;
             idx[1] = iy;
             idx[2] = iz;
-            return tab_select_idx(t, idx, 3);
+            return table_select_idx(t, idx, 3);
         }
         if (want == 3 && t->ncols == 3) {
             idx[0] = 0;
             idx[1] = 1;
             idx[2] = 2;
-            return tab_select_idx(t, idx, 3);
+            return table_select_idx(t, idx, 3);
         }
-        return tab_fail(t, "%d columns%s: choose x,y,z with --cols (names or 1-based indices)",
+        return table_fail(t, "%d columns%s: choose x,y,z with --cols (names or 1-based indices)",
                         t->ncols, t->header ? " and none named x, y, z" : "");
     }
     while (*spec != '\0') {
@@ -456,7 +456,7 @@ int tab_select(tab_t *t, const char *spec, int want)
         char *it, *end;
         long v;
         if (len >= sizeof item || n >= (int)(sizeof idx / sizeof idx[0])) {
-            return tab_fail(t, "--cols: item too long or too many items");
+            return table_fail(t, "--cols: item too long or too many items");
         }
         memcpy(item, spec, len);
         item[len] = '\0';
@@ -468,22 +468,22 @@ int tab_select(tab_t *t, const char *spec, int want)
         v = strtol(it, &end, 10);
         if (end != it && *end == '\0') {
             if (v < 1 || v > t->ncols) {
-                return tab_fail(t, "--cols: column %ld does not exist (1 to %d)", v, t->ncols);
+                return table_fail(t, "--cols: column %ld does not exist (1 to %d)", v, t->ncols);
             }
             idx[n++] = (int)v - 1;
         } else {
             const int k = find_name(t, it);
             if (k < 0) {
-                return tab_fail(t, "--cols: no column named '%s'%s", it,
+                return table_fail(t, "--cols: no column named '%s'%s", it,
                                 t->header ? "" : " (the file has no header)");
             }
             idx[n++] = k;
         }
     }
     if (want > 0 && n != want) {
-        return tab_fail(t, "--cols: %d columns named, %d expected", n, want);
+        return table_fail(t, "--cols: %d columns named, %d expected", n, want);
     }
-    return tab_select_idx(t, idx, n);
+    return table_select_idx(t, idx, n);
 }
 
 /* Does header name `col` read NAME<sep><axis>? */
@@ -503,7 +503,7 @@ static int marker_col(const char *col, const char *name, char axis)
            && tolower((unsigned char)col[n + 1u]) == axis;
 }
 
-int tab_find_marker(const tab_t *t, const char *name, int idx[3])
+int table_find_marker(const table_t *t, const char *name, int idx[3])
 {
     static const char axes[3] = {'x', 'y', 'z'};
     int a, i;
@@ -524,13 +524,13 @@ int tab_find_marker(const tab_t *t, const char *name, int idx[3])
     return 0;
 }
 
-int tab_next(tab_t *t, float *vals)
+int table_next(table_t *t, float *vals)
 {
     int n, i;
     t->blank = 0;
     t->why = NULL;
     if (t->ncols == 0) {
-        return TAB_EOF;
+        return TABLE_EOF;
     }
     if (t->pending) {
         t->pending = 0;
@@ -538,34 +538,34 @@ int tab_next(tab_t *t, float *vals)
     } else {
         do {
             if (!read_line(t)) {
-                return TAB_EOF;
+                return TABLE_EOF;
             }
         } while (is_blank_line(t->line) && !t->toolong);
     }
     t->rows++;
     if (t->toolong) {
         t->why = "line too long";
-        return TAB_ROW_BAD;
+        return TABLE_ROW_BAD;
     }
     n = split(t);
     if (n < 0) {
         t->why = "too many cells";
-        return TAB_ROW_BAD;
+        return TABLE_ROW_BAD;
     }
     if (n != t->ncols) {
         t->why = (n < t->ncols) ? "fewer cells than the header / first row"
                                 : "more cells than the header / first row";
-        return TAB_ROW_BAD;
+        return TABLE_ROW_BAD;
     }
     for (i = 0; i < t->nsel; i++) {
         const char *c = t->cells[t->sel[i]];
         if (c[0] == '\0') {
             vals[i] = NAN;
             t->blank++;
-        } else if (tab_parse_number(c, t->delim == ';', &vals[i]) != 0) {
+        } else if (table_parse_number(c, t->delim == ';', &vals[i]) != 0) {
             t->why = "a selected cell is not a number";
-            return TAB_ROW_BAD;
+            return TABLE_ROW_BAD;
         }
     }
-    return TAB_ROW_OK;
+    return TABLE_ROW_OK;
 }

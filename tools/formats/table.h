@@ -26,8 +26,8 @@
  * RASIS:X, "RASIS X").
  *
  * Input from a file ('-' = stdin) or from memory (the fuzz harness).
- * Lines are limited to TAB_LINE_MAX bytes (a longer one is a bad row),
- * rows to TAB_MAX_COLS cells. Host only (allocates).
+ * Lines are limited to TABLE_LINE_MAX bytes (a longer one is a bad row),
+ * rows to TABLE_MAX_COLS cells. Host only (allocates).
  */
 #ifndef SFIT_TOOLS_TABLE_H
 #define SFIT_TOOLS_TABLE_H
@@ -35,17 +35,17 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#define TAB_LINE_MAX (1024u * 1024u)
-#define TAB_MAX_COLS 4096
-#define TAB_ERR_MAX 200
+#define TABLE_LINE_MAX (1024u * 1024u)
+#define TABLE_MAX_COLS 4096
+#define TABLE_ERR_MAX 200
 
-/** Result of tab_next. */
-enum { TAB_EOF = -1, TAB_ROW_OK = 0, TAB_ROW_BAD = 1 };
+/** Result of table_next. */
+enum { TABLE_EOF = -1, TABLE_ROW_OK = 0, TABLE_ROW_BAD = 1 };
 
 typedef struct tab {
     /* source */
     FILE *f;
-    int own; /* fclose on tab_close */
+    int own; /* fclose on table_close */
     const char *mem;
     size_t memlen, pos;
     int at_start; /* BOM not yet looked for */
@@ -53,7 +53,7 @@ typedef struct tab {
     size_t linecap;
     int toolong; /* the line in `line` was cut */
     /* format */
-    char delim;   /* ',', '\t', ';' or ' ' (runs of blanks); 0 before tab_start */
+    char delim;   /* ',', '\t', ';' or ' ' (runs of blanks); 0 before table_start */
     int header;   /* 1: the first line named the columns */
     int ncols;    /* cells per row */
     char **names; /* ncols header names, NULL without a header */
@@ -68,21 +68,21 @@ typedef struct tab {
     unsigned long rows;   /**< data rows returned so far (bad ones included) */
     int blank;            /**< blank selected cells of the last row */
     const char *why;      /**< why the last row is bad */
-    char err[TAB_ERR_MAX];
-} tab_t;
+    char err[TABLE_ERR_MAX];
+} table_t;
 
 /** Open a file ('-' = stdin). -1 if it cannot be opened (errno kept). */
-int tab_open_file(tab_t *t, const char *path);
+int table_open_file(table_t *t, const char *path);
 
 /** Read from a memory buffer (not copied; must outlive t). */
-void tab_open_mem(tab_t *t, const char *buf, size_t len);
+void table_open_mem(table_t *t, const char *buf, size_t len);
 
 /**
  * Read up to the first data row: delimiter, header, number of columns.
  * 0 on success (also for an empty input: ncols = 0); -1 with t->err on a
  * first line beyond the limits.
  */
-int tab_start(tab_t *t);
+int table_start(table_t *t);
 
 /**
  * Select columns from a spec "a,b,c" of 1-based indices or header names
@@ -90,27 +90,27 @@ int tab_start(tab_t *t);
  * the number of columns the spec must name (0: any number >= 1).
  * 0, or -1 with t->err.
  */
-int tab_select(tab_t *t, const char *spec, int want);
+int table_select(table_t *t, const char *spec, int want);
 
 /**
  * Find the x, y, z columns of marker `name` in the header (accepted names
  * above). 0 and idx[3] 0-based, or -1 with t->err.
  */
-int tab_find_marker(const tab_t *t, const char *name, int idx[3]);
+int table_find_marker(const table_t *t, const char *name, int idx[3]);
 
 /** Select the given 0-based columns (n >= 1). 0, or -1 with t->err. */
-int tab_select_idx(tab_t *t, const int *idx, int n);
+int table_select_idx(table_t *t, const int *idx, int n);
 
 /**
- * Next data row: TAB_ROW_OK with t->nsel values in vals (NaN for a blank
- * cell, counted in t->blank), TAB_ROW_BAD (t->why says why) or TAB_EOF.
+ * Next data row: TABLE_ROW_OK with t->nsel values in vals (NaN for a blank
+ * cell, counted in t->blank), TABLE_ROW_BAD (t->why says why) or TABLE_EOF.
  */
-int tab_next(tab_t *t, float *vals);
+int table_next(table_t *t, float *vals);
 
 /** Release everything (closes an owned file). */
-void tab_close(tab_t *t);
+void table_close(table_t *t);
 
 /** Parse a whole cell as a number (blanks around allowed). 0 on success. */
-int tab_parse_number(const char *s, int decimal_comma, float *out);
+int table_parse_number(const char *s, int decimal_comma, float *out);
 
 #endif /* SFIT_TOOLS_TABLE_H */
