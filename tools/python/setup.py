@@ -2,8 +2,9 @@
 """Build the sfit Python package: a CPython extension compiled from the
 library's own sources (../../lib/src, ../../lib/include, ../../port/host)
 and the host library (../../tools/formats, ../../tools/lab: the C3D reader
-and writer, the session, the label-swap check), with no copy. Needs Debian 12's python3-dev, python3-numpy and
-python3-setuptools only (no network).
+and writer, the session, the label-swap check), with no copy. Needs
+Debian 12's python3-dev, python3-numpy and python3-setuptools only (no
+network).
 
     /usr/bin/python3 -m pip install --user --break-system-packages \\
         --no-build-isolation --no-deps ./tools/python
