@@ -12,6 +12,7 @@
  * The reader and writer are host code; they are compiled into the harness.
  */
 #include "../../tools/formats/c3d.c"
+#include "../../tools/formats/c3d_param.c"
 #include "../../tools/formats/c3d_write.c"
 
 #include "fuzz_common.h"

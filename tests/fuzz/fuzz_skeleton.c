@@ -16,8 +16,10 @@
  * finite in every frame; every writer returns 0.
  */
 #include "../../tools/formats/c3d.c"
+#include "../../tools/formats/c3d_param.c"
 #include "../../tools/formats/c3d_write.c"
 #include "../../tools/formats/json_out.c"
+#include "../../tools/formats/svg.c"
 #include "../../tools/lab/skel_draw.c"
 #include "../../tools/lab/skel_group.c"
 #include "../../tools/lab/skel_pair.c"

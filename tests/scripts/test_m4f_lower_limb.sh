@@ -34,7 +34,7 @@ command -v arm-none-eabi-gcc >/dev/null 2>&1 || missing "arm-none-eabi-gcc not f
 command -v qemu-system-arm >/dev/null 2>&1 || missing "qemu-system-arm not found"
 
 # 1. the data
-"$CC" -std=c99 -O1 -I"$src/tools/formats" -I"$ex" "$ex/ll_gen.c" "$src/tools/formats/c3d.c" -lm \
+"$CC" -std=c99 -O1 -I"$src/tools/formats" -I"$ex" "$ex/ll_gen.c" "$src/tools/formats/c3d.c" "$src/tools/formats/c3d_param.c" -lm \
     -o "$out/ll_gen"
 "$out/ll_gen" "$src/tests/data/c3d/lower_limb_session" "$out/ll_data.c"
 

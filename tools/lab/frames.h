@@ -5,8 +5,8 @@
  * markers loaded from a C3D file (c3d.h) or a wide delimited table with one
  * x,y,z column triple per marker (table.h), frame by frame.
  */
-#ifndef SFIT_CLI_FRAMES_H
-#define SFIT_CLI_FRAMES_H
+#ifndef SFIT_TOOLS_FRAMES_H
+#define SFIT_TOOLS_FRAMES_H
 
 #include <stddef.h>
 
@@ -62,4 +62,4 @@ int frames_split_list(char *s, char **items, int max);
  */
 int frames_parse_range(const char *s, long *first, long *last);
 
-#endif /* SFIT_CLI_FRAMES_H */
+#endif /* SFIT_TOOLS_FRAMES_H */

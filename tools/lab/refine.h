@@ -6,8 +6,8 @@
  * (cmd_fit.c) and the Python binding's fit(refine=True)
  * (tools/python/src/py_fit.c), so that both print the same values.
  */
-#ifndef SFIT_CLI_REFINE_H
-#define SFIT_CLI_REFINE_H
+#ifndef SFIT_TOOLS_REFINE_H
+#define SFIT_TOOLS_REFINE_H
 
 #include <string.h>
 
@@ -35,4 +35,4 @@ static inline void refine_parts(const sfit_refine_result_t *rf, sfit_result_t *r
     u->noise_var = rf->cov_noise_var;
 }
 
-#endif /* SFIT_CLI_REFINE_H */
+#endif /* SFIT_TOOLS_REFINE_H */

@@ -12,6 +12,7 @@
 
 #include "json_out.h"
 #include "skel.h"
+#include "svg.h"
 
 static const char *const k_colour[] = {"#2a6fdb", "#1b9e4b", "#e08a00", "#8e44ad",
                                        "#c0392b", "#16a085", "#7f8c8d", "#d35400"};
@@ -44,23 +45,6 @@ static int seg_of(const skel_t *s, int m)
         }
     }
     return -1;
-}
-
-static void esc(FILE *f, const char *t)
-{
-    for (; *t != '\0'; t++) {
-        if (*t == '<') {
-            fputs("&lt;", f);
-        } else if (*t == '&') {
-            fputs("&amp;", f);
-        } else if (*t == '>') {
-            fputs("&gt;", f);
-        } else if (*t == '"') {
-            fputs("&quot;", f);
-        } else {
-            fputc(*t, f);
-        }
-    }
 }
 
 /* The picture's vertical: the lab axis along which the skeleton (its
@@ -191,14 +175,10 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
         w[v].scale = scale;
         w[v].ph = ph;
     }
-    f = fopen(path, "w");
+    f = svg_open(path, 2.0 * pw + 20.0, ph + 106.0);
     if (f == NULL) {
-        fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
         return -1;
     }
-    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
-               "width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\">\n",
-            2.0 * pw + 20.0, ph + 106.0, 2.0 * pw + 20.0, ph + 106.0);
     fputs("<style>text{font-family:sans-serif}.t{font-size:15px;font-weight:bold}"
           ".c{font-size:13px;fill:#333}.j{font-size:12px;fill:#b00;font-weight:bold}"
           ".b{stroke:#333;stroke-width:5;stroke-linecap:round}.fr{fill:#fafafa;stroke:#ccc}"
@@ -209,7 +189,7 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
     fprintf(f, "<text class=\"t\" x=\"10\" y=\"22\">sfit skeleton: frame %ld of %ld, %d segments, "
                "%d joints (lab frame, ",
             fr, s->rec->nframes, s->nseg, s->njoint);
-    esc(f, s->rec->units[0] ? s->rec->units : "units");
+    svg_esc(f, s->rec->units[0] ? s->rec->units : "units", 1);
     fputs(")</text>\n", f);
     for (v = 0; v < 2; v++) {
         double x, y, x2, y2;
@@ -239,8 +219,7 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
                 if (finite3d(a) && finite3d(b)) {
                     px(&w[v], a, &x, &y);
                     px(&w[v], b, &x2, &y2);
-                    fprintf(f, "<line class=\"%s\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n",
-                            (s->joint[j].pr.flags & SKEL_F_UNTRUSTED) ? "u" : "b", x, y, x2, y2);
+                    svg_line(f, (s->joint[j].pr.flags & SKEL_F_UNTRUSTED) ? "u" : "b", x, y, x2, y2);
                 }
             }
             if (s->leaf[k]) {
@@ -273,13 +252,12 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
                 }
                 px(&w[v], p0, &x, &y);
                 px(&w[v], p1, &x2, &y2);
-                fprintf(f, "<line class=\"ax\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", x,
-                        y, x2, y2);
+                svg_line(f, "ax", x, y, x2, y2);
             }
             px(&w[v], a, &x, &y);
             fprintf(f, "<circle class=\"jc\" cx=\"%.1f\" cy=\"%.1f\" r=\"6\"/>\n", x, y);
             fprintf(f, "<text class=\"j\" x=\"%.1f\" y=\"%.1f\">", x + 9.0, y + 14.0);
-            esc(f, j >= 0 ? s->joint[j].name : s->seg[k].name);
+            svg_esc(f, j >= 0 ? s->joint[j].name : s->seg[k].name, 1);
             fputs("</text>\n", f);
         }
     }
@@ -288,12 +266,7 @@ int skel_write_svg(const skel_t *s, const char *path, long fr)
                "<text class=\"c\" x=\"10\" y=\"%.0f\">orange dots: a bone whose joint is "
                "untrusted; dots: markers, coloured by segment (grey: none)</text>\n",
             ph + 80.0, ph + 96.0);
-    fputs("</svg>\n", f);
-    if (ferror(f) != 0 || fclose(f) != 0) {
-        fprintf(stderr, "sfit: cannot write %s\n", path);
-        return -1;
-    }
-    return 0;
+    return svg_close(f, path);
 }
 
 /* ----------------------------------------------------------------- HTML */
@@ -354,8 +327,8 @@ static int lab_ellipsoid(const skel_t *s, long fr, int k, double e[6])
     return 0;
 }
 
-/* The player's script, one string per line (tools/sfit/skel_view.js,
- * embedded by the build: tools/sfit/embed_js.cmake). */
+/* The player's script, one string per line (tools/lab/skel_view.js,
+ * embedded by the build: tools/lab/embed_js.cmake). */
 #include "skel_view_js.h"
 
 int skel_write_html(const skel_t *s, const char *path)

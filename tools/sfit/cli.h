@@ -182,16 +182,30 @@ typedef struct cli_args {
  */
 int cli_parse(int argc, char **argv, const cli_args_t *a);
 
-/** Sub-commands: argv[0] is the sub-command name. */
-int cli_cmd_fit(int argc, char **argv);
-int cli_cmd_noise(int argc, char **argv);
-int cli_cmd_coverage(int argc, char **argv);
-int cli_cmd_track(int argc, char **argv);
-int cli_cmd_joint(int argc, char **argv);
-int cli_cmd_skeleton(int argc, char **argv);
-int cli_cmd_c3d(int argc, char **argv);
-int cli_cmd_calibrate(int argc, char **argv); /* cmd_calibrate.c */
-int cli_cmd_apply(int argc, char **argv);     /* cmd_apply.c */
-int cli_cmd_imu(int argc, char **argv);       /* cmd_imu.c */
+/**
+ * The command table: X(NAME, ENTRY, HELP) per command, in the order `sfit
+ * --help` lists them. It declares each entry point `int ENTRY(int argc,
+ * char **argv)` (argv[0] is the command's name; defined in cmd_*.c) and is
+ * the only dispatcher (sfit_cli.c); tools/README.md says how to add one.
+ */
+#define CLI_COMMANDS(X)                                                                       \
+    X("fit", cli_cmd_fit, "fit a sphere (or a circle) to x,y,z samples")                      \
+    X("noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point")     \
+    X("track", cli_cmd_track, "incremental estimate: a new centre every K samples")           \
+    X("coverage", cli_cmd_coverage,                                                           \
+      "covered half-angle, largest tolerable noise, rotate further?")                         \
+    X("joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table")      \
+    X("skeleton", cli_cmd_skeleton,                                                           \
+      "the skeleton of a session model or found in the data:\n"                               \
+      "            segments, joints, tree; --bvh --trc --svg --html --json")                  \
+    X("calibrate", cli_cmd_calibrate,                                                         \
+      "every joint of a session model from its functional trial")                             \
+    X("apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial")    \
+    X("c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table")               \
+    X("imu-joint", cli_cmd_imu, "the joint between two IMUs: centre or hinge axis in each frame")
+
+#define CLI_DECLARE_COMMAND(name, entry, help) int entry(int argc, char **argv);
+CLI_COMMANDS(CLI_DECLARE_COMMAND)
+#undef CLI_DECLARE_COMMAND
 
 #endif /* SFIT_CLI_H */

@@ -18,6 +18,7 @@
 #include "frames.h"
 #include "session.h"
 #include "session_calib.h"
+#include "svg.h"
 
 #define CHI2_3_95 7.814727903251178
 
@@ -342,17 +343,14 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
             }
         }
     }
-    o = fopen(path, "w");
+    o = svg_open(path, W, H);
     if (o == NULL) {
-        fprintf(stderr, "sfit: cannot write %s: %s\n", path, strerror(errno));
         free(in_model);
         return -1;
     }
 #define PX(q) ((dot3((q), v.ex) - v.x0) * v.s + M)
 #define PY(q) ((v.y0 - dot3((q), v.ey)) * v.s + M + 50)
-    fprintf(o, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-               "viewBox=\"0 0 %.0f %.0f\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
+    fprintf(o, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
                "<text x=\"%.0f\" y=\"20\" font-family=\"sans-serif\" font-size=\"14\" "
                "font-weight=\"bold\">%s, frame %ld</text>\n"
                "<text x=\"%.0f\" y=\"37\" font-family=\"sans-serif\" font-size=\"12\" "
@@ -361,7 +359,7 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
                "<text x=\"%.0f\" y=\"52\" font-family=\"sans-serif\" font-size=\"12\" "
                "fill=\"#555\">markers of the model (dark grey), other markers (light grey)"
                "</text>\n",
-            W, H, W, H, M, trial, f, M, mag, M);
+            M, trial, f, M, mag, M);
     {
         /* the view: its direction and vertical in lab axes, and a scale bar */
         double toward[3], len = nice_len(110.0 / v.s);
@@ -495,13 +493,8 @@ static int write_svg(const char *path, const session_t *s, const c3d_t *c, long 
     }
 #undef PX
 #undef PY
-    fprintf(o, "</svg>\n");
     free(in_model);
-    if (fclose(o) != 0) {
-        fprintf(stderr, "sfit: cannot write %s\n", path);
-        return -1;
-    }
-    return 0;
+    return svg_close(o, path);
 }
 
 int cli_cmd_apply(int argc, char **argv)

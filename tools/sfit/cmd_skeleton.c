@@ -24,7 +24,6 @@
  * the model's markers are coloured dots, labelled; other C3D points are
  * small grey dots.
  */
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +32,7 @@
 #include "cli_joint.h"
 #include "swaps.h"
 #include "skel.h"
+#include "svg.h"
 
 #define SK_MAX_JOINTS 32
 #define SK_LINE 4096
@@ -274,23 +274,6 @@ static void proj(const sk_canvas_t *c, int w, const sfit_vec3_t *p, double *x, d
     *y = v->y0 + c->ph - 20.0 - ((double)p->v[v->v] - c->lo[v->v]) * c->scale;
 }
 
-static void svg_text(FILE *f, double x, double y, const char *cls, const char *s)
-{
-    fprintf(f, "<text class=\"%s\" x=\"%.1f\" y=\"%.1f\">", cls, x, y);
-    for (; *s != '\0'; s++) {
-        if (*s == '<') {
-            fputs("&lt;", f);
-        } else if (*s == '&') {
-            fputs("&amp;", f);
-        } else if (*s == '>') {
-            fputs("&gt;", f);
-        } else {
-            fputc(*s, f);
-        }
-    }
-    fputs("</text>\n", f);
-}
-
 static sfit_vec3_t centroid(const sfit_vec3_t *p, int n)
 {
     sfit_vec3_t c = {{0.0f, 0.0f, 0.0f}};
@@ -318,8 +301,7 @@ static void line(FILE *f, const sk_canvas_t *c, int w, const sfit_vec3_t *a, con
     }
     proj(c, w, a, &x1, &y1);
     proj(c, w, b, &x2, &y2);
-    fprintf(f, "<line class=\"%s\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", cls, x1,
-            y1, x2, y2);
+    svg_line(f, cls, x1, y1, x2, y2);
 }
 
 /* Segment lines of view w: per distinct marker list, between its joints'
@@ -436,15 +418,10 @@ static int write_svg(const sk_opts_t *o, const frames_data_t *all, const sk_mode
     c.view[1].v = up;
     c.view[1].x0 = pan_w + 20.0;
     c.view[1].y0 = 40.0;
-    f = fopen(o->svg, "w");
+    f = svg_open(o->svg, 2.0 * pan_w + 20.0, pan_h + 100.0);
     if (f == NULL) {
-        fprintf(stderr, "sfit: cannot write %s: %s\n", o->svg, strerror(errno));
         return -1;
     }
-    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-               "viewBox=\"0 0 %.0f %.0f\">\n",
-            2.0 * pan_w + 20.0, pan_h + 100.0, 2.0 * pan_w + 20.0, pan_h + 100.0);
     fputs("<style>\n"
           "  text { font-family: sans-serif; }\n"
           "  .title { font-size: 15px; font-weight: bold; }\n"
@@ -522,12 +499,7 @@ static int write_svg(const sk_opts_t *o, const frames_data_t *all, const sk_mode
     fprintf(f, "<text class=\"view\" x=\"10\" y=\"%.0f\">red: joint centres (sfit), dashed: hinge axis; blue: "
                "parent markers; green: child markers; grey: other markers</text>\n",
             pan_h + 90.0);
-    fputs("</svg>\n", f);
-    if (fclose(f) != 0) {
-        fprintf(stderr, "sfit: cannot write %s\n", o->svg);
-        return -1;
-    }
-    return 0;
+    return svg_close(f, o->svg);
 }
 
 /* ------------------------------------------------------------- command */

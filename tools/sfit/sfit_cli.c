@@ -15,19 +15,9 @@ typedef struct cli_command {
     const char *help;
 } cli_command_t;
 
-static const cli_command_t commands[] = {
-    {"fit", cli_cmd_fit, "fit a sphere (or a circle) to x,y,z samples"},
-    {"noise", cli_cmd_noise, "estimate the noise variance from a known sphere or point"},
-    {"track", cli_cmd_track, "incremental estimate: a new centre every K samples"},
-    {"coverage", cli_cmd_coverage, "covered half-angle, largest tolerable noise, rotate further?"},
-    {"joint", cli_cmd_joint, "functional joint centre from a C3D file or a wide table"},
-    {"skeleton", cli_cmd_skeleton, "the skeleton of a session model or found in the data:\n"
-                                   "            segments, joints, tree; --bvh --trc --svg --html --json"},
-    {"calibrate", cli_cmd_calibrate, "every joint of a session model from its functional trial"},
-    {"apply", cli_cmd_apply, "a calibrated session's joint centres written into a trial"},
-    {"c3d", cli_cmd_c3d, "what a C3D file holds; its markers as a wide table"},
-    {"imu-joint", cli_cmd_imu, "the joint between two IMUs: centre or hinge axis in each frame"},
-};
+#define CLI_COMMAND_ROW(name, entry, help) {name, entry, help},
+static const cli_command_t commands[] = {CLI_COMMANDS(CLI_COMMAND_ROW)};
+#undef CLI_COMMAND_ROW
 
 /* The build system passes the project version (CMakeLists.txt project()). */
 #ifndef SFIT_CLI_VERSION
