@@ -44,7 +44,7 @@ fresh; for _ in $(seq 1000); do echo '/* */'; done >> "$tmp/t/tools/lab/frames.c
 must_fail "a source file over 1,000 lines"
 fresh; touch "$tmp/t/tools/lab/extra1.c" "$tmp/t/tools/lab/extra2.h"
 must_fail "a folder with more than 20 source files"
-fresh; sed -n '/^int frames_parse_range/,/^}/p' "$src/tools/lab/frames.c" >> "$tmp/t/tools/python/src/imu_py.c"
+fresh; sed -n '/^int frames_parse_range/,/^}/p' "$src/tools/lab/frames.c" >> "$tmp/t/tools/python/src/py_imu.c"
 must_fail "a block repeated between the binding and the host code"
 fresh; head -n 10 "$src/tools/python/tests/test_hostile.py" > "$tmp/t/tools/python/tests/test_hostile.py"
 must_fail "a PENDING entry that matches no breach any more"

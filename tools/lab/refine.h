@@ -3,8 +3,8 @@
  * @file refine.h
  * @brief The recipe's one flat result (sfit_refine_fit) as the sphere fit
  * and uncertainty a front end prints: shared by `sfit fit --refine`
- * (cmd_fit.c) and the Python binding's fit(refine=True) (sfitmodule.c), so
- * that both print the same values.
+ * (cmd_fit.c) and the Python binding's fit(refine=True)
+ * (tools/python/src/py_fit.c), so that both print the same values.
  */
 #ifndef SFIT_TOOLS_REFINE_H
 #define SFIT_TOOLS_REFINE_H

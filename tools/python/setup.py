@@ -2,8 +2,9 @@
 """Build the sfit Python package: a CPython extension compiled from the
 library's own sources (../../lib/src, ../../lib/include, ../../port/host)
 and the host library (../../tools/formats, ../../tools/lab: the C3D reader
-and writer, the session, the label-swap check), with no copy. Needs Debian 12's python3-dev, python3-numpy and
-python3-setuptools only (no network).
+and writer, the session, the label-swap check), with no copy. Needs
+Debian 12's python3-dev, python3-numpy and python3-setuptools only (no
+network).
 
     /usr/bin/python3 -m pip install --user --break-system-packages \\
         --no-build-isolation --no-deps ./tools/python
@@ -49,10 +50,10 @@ host_sources = sorted(f for d in (FORMATS, LAB) for f in glob.glob(os.path.join(
                       if not os.path.basename(f).startswith("skel_"))
 ext = Extension(
     "sfit._sfit",
-    sources=[os.path.join(HERE, "src", "sfitmodule.c"), os.path.join(HERE, "src", "c3dmodule.c"),
-             os.path.join(HERE, "src", "swaps.c"), os.path.join(HERE, "src", "pair_py.c"),
-             os.path.join(HERE, "src", "imu_py.c"),
-             os.path.join(HERE, "src", "session_py.c")]
+    # the binding: every tools/python/src/py_*.c (py_module.c registers them)
+    sources=sorted(glob.glob(os.path.join(HERE, "src", "py_*.c")))
+    # the host library it binds: the C3D reader and writer, the session,
+    # the label-swap check
     + host_sources
     + lib_sources,
     include_dirs=[LIB_INC, LIB_SRC, PORT, PORT_HOST, FORMATS, LAB, numpy.get_include()],

@@ -1,18 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file c3dmodule.c
- * @brief C3D files for the Python package: the CLI's reader and writer
- * (tools/sfit/c3d.c, c3d_write.c, compiled into the extension by setup.py)
+ * @file py_c3d.c
+ * @brief C3D files for the Python package: the host library's reader and
+ * writer (tools/formats/c3d.c, c3d_write.c, compiled into the extension by
+ * setup.py)
  * behind three functions of sfit._sfit, wrapped by sfit.read_c3d,
- * sfit.write_c3d and sfit.write_trc (sfit/__init__.py).
+ * sfit.write_c3d and sfit.write_trc (sfit/_c3d.py).
  *
  * Arrays cross as bytes of float32 (no numpy C API here): the Python layer
  * makes them with numpy. A file that cannot be read raises OSError; a
  * malformed file or a refused write raises ValueError with the reader's or
  * writer's message.
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
+#include "py_sfit.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -20,8 +20,6 @@
 
 #include "c3d.h"
 #include "c3d_write.h"
-
-PyMethodDef *sfit_py_c3d_methods(void);
 
 /* Load and parse; on failure a Python exception is set and -1 returned. */
 static int load(const char *path, unsigned char **buf, size_t *len, c3d_t *c)
@@ -48,24 +46,13 @@ static int load(const char *path, unsigned char **buf, size_t *len, c3d_t *c)
     return 0;
 }
 
-static int set_item(PyObject *d, const char *k, PyObject *v)
-{
-    int rc;
-    if (v == NULL) {
-        return -1;
-    }
-    rc = PyDict_SetItemString(d, k, v);
-    Py_DECREF(v);
-    return rc;
-}
-
 static PyObject *str_or_empty(const char *s)
 {
     return PyUnicode_DecodeLatin1(s != NULL ? s : "", (Py_ssize_t)(s != NULL ? strlen(s) : 0u),
                                   "replace");
 }
 
-static PyObject *py_c3d_read(PyObject *self, PyObject *args)
+PyObject *sfit_py_c3d_read(PyObject *self, PyObject *args)
 {
     PyObject *path_b = NULL, *d = NULL, *labels = NULL, *warns = NULL, *src = NULL;
     unsigned char *buf = NULL;
@@ -104,32 +91,32 @@ static PyObject *py_c3d_read(PyObject *self, PyObject *args)
         }
         PyList_SET_ITEM(warns, k, s);
     }
-    bad |= set_item(src, "processor", str_or_empty(c.src_processor));
-    bad |= set_item(src, "points", str_or_empty(c.src_points));
-    bad |= set_item(src, "frames", str_or_empty(c.src_frames));
-    bad |= set_item(src, "scale", str_or_empty(c.src_scale));
-    bad |= set_item(src, "rate", str_or_empty(c.src_rate));
-    bad |= set_item(src, "analog", str_or_empty(c.src_analog));
-    bad |= set_item(d, "labels", labels);
+    bad |= sfit_py_put(src, "processor", str_or_empty(c.src_processor));
+    bad |= sfit_py_put(src, "points", str_or_empty(c.src_points));
+    bad |= sfit_py_put(src, "frames", str_or_empty(c.src_frames));
+    bad |= sfit_py_put(src, "scale", str_or_empty(c.src_scale));
+    bad |= sfit_py_put(src, "rate", str_or_empty(c.src_rate));
+    bad |= sfit_py_put(src, "analog", str_or_empty(c.src_analog));
+    bad |= sfit_py_put(d, "labels", labels);
     labels = NULL;
-    bad |= set_item(d, "warnings", warns);
+    bad |= sfit_py_put(d, "warnings", warns);
     warns = NULL;
-    bad |= set_item(d, "sources", src);
+    bad |= sfit_py_put(d, "sources", src);
     src = NULL;
-    bad |= set_item(d, "rate", PyFloat_FromDouble((double)c.rate));
-    bad |= set_item(d, "scale", PyFloat_FromDouble((double)c.scale));
-    bad |= set_item(d, "units", str_or_empty(c.units));
-    bad |= set_item(d, "processor", PyLong_FromLong(c.processor));
-    bad |= set_item(d, "processor_name", str_or_empty(c3d_processor_name(c.processor)));
-    bad |= set_item(d, "first_frame", PyLong_FromLong(c.first_frame));
-    bad |= set_item(d, "frames", PyLong_FromLong(c.nframes));
-    bad |= set_item(d, "npoints", PyLong_FromLong(c.npoints));
-    bad |= set_item(d, "analog_channels", PyLong_FromLong(c.analog_channels));
-    bad |= set_item(d, "analog_per_frame", PyLong_FromLong(c.analog_per_frame));
-    bad |= set_item(d, "analog_rate", PyFloat_FromDouble((double)c.analog_rate));
-    bad |= set_item(d, "zero_samples", PyLong_FromLong(c.zero_samples));
-    bad |= set_item(d, "storage", str_or_empty(c.word == 4 ? "float" : "integer"));
-    bad |= set_item(d, "xyz",
+    bad |= sfit_py_put(d, "rate", PyFloat_FromDouble((double)c.rate));
+    bad |= sfit_py_put(d, "scale", PyFloat_FromDouble((double)c.scale));
+    bad |= sfit_py_put(d, "units", str_or_empty(c.units));
+    bad |= sfit_py_put(d, "processor", PyLong_FromLong(c.processor));
+    bad |= sfit_py_put(d, "processor_name", str_or_empty(c3d_processor_name(c.processor)));
+    bad |= sfit_py_put(d, "first_frame", PyLong_FromLong(c.first_frame));
+    bad |= sfit_py_put(d, "frames", PyLong_FromLong(c.nframes));
+    bad |= sfit_py_put(d, "npoints", PyLong_FromLong(c.npoints));
+    bad |= sfit_py_put(d, "analog_channels", PyLong_FromLong(c.analog_channels));
+    bad |= sfit_py_put(d, "analog_per_frame", PyLong_FromLong(c.analog_per_frame));
+    bad |= sfit_py_put(d, "analog_rate", PyFloat_FromDouble((double)c.analog_rate));
+    bad |= sfit_py_put(d, "zero_samples", PyLong_FromLong(c.zero_samples));
+    bad |= sfit_py_put(d, "storage", str_or_empty(c.word == 4 ? "float" : "integer"));
+    bad |= sfit_py_put(d, "xyz",
                     PyBytes_FromStringAndSize((const char *)c.xyz,
                                               (Py_ssize_t)((size_t)c.nframes * (size_t)c.npoints
                                                            * 3u * sizeof(float))));
@@ -241,7 +228,7 @@ static int make_descs(PyObject *descs, c3d_add_t *add, const char ***out)
 /* _c3d_write(src, dst, names, xyz_bytes, prefix, trc[, descs]) -> bool (float
  * storage). trc = 0: write the C3D file dst; trc = 1: the TRC file dst (names
  * may be empty). descs: None or a list of str, one per name. */
-static PyObject *py_c3d_write(PyObject *self, PyObject *args)
+PyObject *sfit_py_c3d_write(PyObject *self, PyObject *args)
 {
     PyObject *src_b = NULL, *dst_b = NULL, *names, *res = NULL, *descs = Py_None;
     Py_buffer xyz;
@@ -301,15 +288,4 @@ out:
     Py_DECREF(src_b);
     Py_DECREF(dst_b);
     return res;
-}
-
-static PyMethodDef methods[] = {
-    {"_c3d_read", py_c3d_read, METH_VARARGS, "Internal: see sfit.read_c3d."},
-    {"_c3d_write", py_c3d_write, METH_VARARGS, "Internal: see sfit.write_c3d / sfit.write_trc."},
-    {NULL, NULL, 0, NULL}};
-
-/** The functions this file adds to sfit._sfit (PyModule_AddFunctions). */
-PyMethodDef *sfit_py_c3d_methods(void)
-{
-    return methods;
 }

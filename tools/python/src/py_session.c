@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file session_py.c
- * @brief A lab session for the Python package: the CLI's session model
- * parser, calibration and placement (tools/sfit/session_model.c,
- * session.c, session_calib.c and what they use, compiled into the
- * extension by setup.py) behind three functions of sfit._sfit, wrapped by
+ * @file py_session.c
+ * @brief A lab session for the Python package: the host library's session
+ * model parser, calibration and placement (tools/formats/session_model.c,
+ * session.c, tools/lab/session_calib.c and what they use, compiled into
+ * the extension by setup.py) behind three functions of sfit._sfit, wrapped by
  * sfit.session_model, sfit.calibrate and sfit.apply_session
- * (sfit/__init__.py). Registered in sfitmodule.c.
+ * (sfit/_session.py). Registered in py_module.c.
  *
  *   _session_model(text) -> str            the model as JSON
  *   _session_calibrate(model_text, joint, buf, frames, units, trial) -> str
@@ -22,20 +22,19 @@
  * A bad model or session raises ValueError with the parser's message; a
  * joint that cannot be calibrated raises ValueError with the reason.
  */
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
+#include "py_sfit.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_frames.h"
+#include "frames.h"
+#include "json_out.h"
+#include "names.h"
 #include "session.h"
 #include "session_calib.h"
 #include "session_model.h"
-
-PyMethodDef *sfit_py_session_methods(void);
 
 /* The text written to a temporary file, as a Python str. */
 static PyObject *file_text(FILE *f)
@@ -63,18 +62,6 @@ static PyObject *file_text(FILE *f)
     return s;
 }
 
-static void put_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s != '\0'; s++) {
-        if (*s == '"' || *s == '\\') {
-            fputc('\\', f);
-        }
-        fputc(*s, f);
-    }
-    fputc('"', f);
-}
-
 static int parse_model(const char *text, Py_ssize_t len, session_model_t *m)
 {
     char err[SM_ERR_MAX];
@@ -85,7 +72,7 @@ static int parse_model(const char *text, Py_ssize_t len, session_model_t *m)
     return 0;
 }
 
-static PyObject *py_session_model(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_model(PyObject *self, PyObject *args)
 {
     const char *text;
     Py_ssize_t len;
@@ -110,17 +97,17 @@ static PyObject *py_session_model(PyObject *self, PyObject *args)
         return PyErr_SetFromErrno(PyExc_OSError);
     }
     fprintf(f, "{\"root\":");
-    put_str(f, m->seg[m->root].name);
+    json_out_str(f, m->seg[m->root].name, 0u);
     fprintf(f, ",\"segments\":[");
     for (i = 0; i < m->nseg; i++) {
         fprintf(f, "%s{\"name\":", i > 0 ? "," : "");
-        put_str(f, m->seg[i].name);
+        json_out_str(f, m->seg[i].name, 0u);
         fprintf(f, ",\"markers\":[");
         for (k = 0; k < m->seg[i].nmarkers; k++) {
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, m->seg[i].markers[k]);
+            json_out_str(f, m->seg[i].markers[k], 0u);
         }
         fprintf(f, "]}");
     }
@@ -128,20 +115,20 @@ static PyObject *py_session_model(PyObject *self, PyObject *args)
     for (i = 0; i < m->njoint; i++) {
         const sm_joint_t *j = &m->joint[i];
         fprintf(f, "%s{\"name\":", i > 0 ? "," : "");
-        put_str(f, j->name);
+        json_out_str(f, j->name, 0u);
         fprintf(f, ",\"parent\":");
-        put_str(f, m->seg[j->parent].name);
+        json_out_str(f, m->seg[j->parent].name, 0u);
         fprintf(f, ",\"child\":");
-        put_str(f, m->seg[j->child].name);
+        json_out_str(f, m->seg[j->child].name, 0u);
         fprintf(f, ",\"type\":\"%s\",\"points\":[", session_model_type_name(j->type));
         for (k = 0; k < (j->type == SM_AUTO ? 3 : j->npoints); k++) {
             if (k > 0) {
                 fputc(',', f);
             }
-            put_str(f, j->points[k]);
+            json_out_str(f, j->points[k], 0u);
         }
         fprintf(f, "],\"pattern\":");
-        put_str(f, j->pattern);
+        json_out_str(f, j->pattern, 0u);
         fprintf(f, "}");
     }
     fprintf(f, "]}");
@@ -164,7 +151,7 @@ static int float_buffer(PyObject *o, Py_buffer *b, Py_ssize_t n)
     return 0;
 }
 
-static PyObject *py_session_calibrate(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_calibrate(PyObject *self, PyObject *args)
 {
     const char *text, *units, *trial;
     Py_ssize_t len, frames;
@@ -173,9 +160,11 @@ static PyObject *py_session_calibrate(PyObject *self, PyObject *args)
     Py_buffer b;
     session_model_t *m;
     session_t *s;
-    cli_frames_t fr;
+    frames_data_t fr;
     char err[SM_ERR_MAX];
     FILE *f;
+    const json_out_flag_t *flags;
+    size_t nflags = 0;
     (void)self;
     if (!PyArg_ParseTuple(args, "s#iOnss:_session_calibrate", &text, &len, &k, &bo, &frames,
                           &units, &trial)) {
@@ -230,7 +219,8 @@ static PyObject *py_session_calibrate(PyObject *self, PyObject *args)
         PyErr_SetFromErrno(PyExc_OSError);
         goto fail;
     }
-    session_write_json(f, s);
+    flags = names_flags(NAMES_SESSION, &nflags);
+    session_write_json(f, s, flags, nflags);
     free(m);
     free(s);
     return file_text(f);
@@ -240,7 +230,7 @@ fail:
     return NULL;
 }
 
-static PyObject *py_session_place(PyObject *self, PyObject *args)
+PyObject *sfit_py_session_place(PyObject *self, PyObject *args)
 {
     const char *text;
     Py_ssize_t len, frames;
@@ -249,7 +239,7 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     PyObject *bo, *out;
     Py_buffer b;
     session_t *s;
-    cli_frames_t fr;
+    frames_data_t fr;
     char err[SM_ERR_MAX];
     float *pts;
     size_t i, n;
@@ -301,7 +291,8 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     free(s);
     if (placed < 0) {
         free(pts);
-        return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate", k);
+        return PyErr_Format(PyExc_ValueError, "the session's template of joint %d is degenerate",
+                            k);
     }
     f = tmpfile();
     if (f == NULL) {
@@ -317,15 +308,4 @@ static PyObject *py_session_place(PyObject *self, PyObject *args)
     out = Py_BuildValue("(y#N)", (const char *)pts, (Py_ssize_t)(n * sizeof *pts), js);
     free(pts);
     return out;
-}
-
-static PyMethodDef methods[] = {
-    {"_session_model", py_session_model, METH_VARARGS, "Internal: see sfit.session_model."},
-    {"_session_calibrate", py_session_calibrate, METH_VARARGS, "Internal: see sfit.calibrate."},
-    {"_session_place", py_session_place, METH_VARARGS, "Internal: see sfit.apply_session."},
-    {NULL, NULL, 0, NULL}};
-
-PyMethodDef *sfit_py_session_methods(void)
-{
-    return methods;
 }
