@@ -323,6 +323,7 @@ class ImuJointResult:
     hinge_ratio: float
     line_sd: float
     line_ratio: float
+    line_off: float
     rate_rms1: float
     rate_rms2: float
     n: int

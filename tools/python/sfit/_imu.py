@@ -22,6 +22,9 @@ _IMU_FLAGS = (
     (0x40000, "slip",
      "the residual is far above the sensors' noise: a sensor slips, or the joint is not one"),
     (0x80000, "ambiguous", "ball and hinge cannot be told apart"),
+    (0x100000, "axis_off",
+     "the hinge axes from the rates disagree with the line along which the accelerometers "
+     "leave the joint free: a wobble in step with the flexion biases them"),
 )
 
 
@@ -34,15 +37,15 @@ class ImuJointResult(_Record):
     (unit; axis2 the same physical direction), axis1_cov, axis2_cov (rank 2);
     None for a ball. acc_bias1, acc_bias2 (m/s^2): the accelerometer biases
     estimated. resid_rms, noise_rms (m/s^2): the constraint's residual and
-    what the sensors' noise predicts; hinge_ratio, line_sd (m), line_ratio:
-    the evidence for the joint type; rate_rms1, rate_rms2 (rad/s); n
+    what the sensors' noise predicts; hinge_ratio, line_sd (m), line_ratio,
+    line_off: the evidence for the joint type; rate_rms1, rate_rms2 (rad/s); n
     (samples), used (kept samples the solve used); flags (names), untrusted
     (bool), reason (words; None when trusted), flags_mask (the library's bits).
     """
 
     __slots__ = ("joint", "r1", "r2", "r1_cov", "r2_cov", "axis1", "axis2", "axis1_cov",
                  "axis2_cov", "acc_bias1", "acc_bias2", "resid_rms", "noise_rms",
-                 "hinge_ratio", "line_sd", "line_ratio", "rate_rms1", "rate_rms2", "n", "used",
+                 "hinge_ratio", "line_sd", "line_ratio", "line_off", "rate_rms1", "rate_rms2", "n", "used",
                  "flags", "untrusted", "reason", "flags_mask")
     _repr_fields = ("joint", "r1", "r2", "untrusted")
 

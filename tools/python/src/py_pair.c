@@ -22,9 +22,6 @@
 #include "sfit/sfit_pair.h"
 
 /* The information bits (facts about the data, not faults). */
-static const json_out_flag_t g_pair_info[] = {{SFIT_PAIR_INFO_AXIS_FREE, "axis_free"},
-                                              {SFIT_PAIR_INFO_SKIN, "skin_motion"}};
-
 static PyObject *result_dict(const sfit_pair_result_t *r)
 {
     PyObject *d = PyDict_New();
@@ -46,7 +43,7 @@ static PyObject *result_dict(const sfit_pair_result_t *r)
         || sfit_py_put(d, "skin_rms", PyFloat_FromDouble((double)r->sta_rms))
         || sfit_py_put(d, "skin_ratio", PyFloat_FromDouble((double)r->sta_ratio))
         || sfit_py_put(d, "wobble_rms", PyFloat_FromDouble((double)r->wobble_rms))
-        || sfit_py_put(d, "info", sfit_py_flag_names(r->info, g_pair_info, 2u))
+        || sfit_py_put(d, "info", sfit_py_family_names(r->info, NAMES_PAIR_INFO))
         || sfit_py_put(d, "eigenvalues", sfit_py_vec3_out(r->eigenvalues.v))
         || sfit_py_put(d, "trust_ratio", PyFloat_FromDouble((double)r->trust_ratio))
         || sfit_py_put(d, "misfit", PyFloat_FromDouble((double)r->misfit))

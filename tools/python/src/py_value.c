@@ -51,10 +51,6 @@ PyObject *sfit_py_flt(float x)
     return PyFloat_FromDouble((double)x);
 }
 
-/* The noise estimate's flags: Python's names only (the CLI prints none). */
-static const json_out_flag_t g_noise_flags[] = {{SFIT_NOISE_FLAG_NEGATIVE, "negative"},
-                                                {SFIT_NOISE_FLAG_IMPRECISE, "imprecise"}};
-
 PyObject *sfit_py_flag_names(uint32_t flags, const json_out_flag_t *tab, size_t n)
 {
     PyObject *l = PyList_New(0);
@@ -85,7 +81,7 @@ PyObject *sfit_py_family_names(uint32_t flags, names_family_t fam)
 
 PyObject *sfit_py_noise_flag_names(uint32_t flags)
 {
-    return sfit_py_flag_names(flags, g_noise_flags, sizeof g_noise_flags / sizeof g_noise_flags[0]);
+    return sfit_py_family_names(flags, NAMES_NOISE);
 }
 
 static const char *mode_name(sfit_mode_t m)
