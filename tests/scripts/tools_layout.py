@@ -36,13 +36,6 @@ import sys
 # Known breaches, each a regular expression over the breach's message and
 # why it is still there.
 PENDING = {
-    r"^tools/python/tests/test_hostile\.py: ": "the binding's tests, to be cut with the binding",
-    r"^one flag-name table .*found in: tools/lab/names\.c(, tools/sfit/cmd_imu\.c)?"
-    r"(, tools/python/src/py_value\.c)?$":
-        "the IMU command's flag names and reasons (a NAMES_IMU family) move once a "
-        "parallel change of cmd_imu.c has landed; the binding's names of the noise "
-        "estimate's flags (py_value.c) and of the pair's information bits (py_pair.c) "
-        "wait for NAMES_NOISE and NAMES_PAIR_INFO families in lab/names.c",
 }
 
 SRC = os.path.abspath(sys.argv[1])

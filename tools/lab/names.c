@@ -2,9 +2,12 @@
 /** @file names.c  Status texts and flag names (names.h). */
 #include "names.h"
 
+#include "sfit/sfit_imu.h"
 #include "sfit/sfit_multi.h"
 #include "sfit/sfit_selfcal.h"
 #include "skel.h"
+
+#include <string.h>
 
 /* The status texts: the CLI's and Python's words side by side. */
 static const struct {
@@ -87,6 +90,51 @@ static const json_out_flag_t g_noise[] = {
     {SFIT_NOISE_FLAG_NEGATIVE, "negative"},
     {SFIT_NOISE_FLAG_IMPRECISE, "imprecise"},
 };
+/* The IMU joint's flags: a name (JSON, Python) and the reason in words (same order). */
+static const json_out_flag_t g_imu[] = {
+    {SFIT_IMU_FLAG_LOW_ROTATION, "low_rotation"},
+    {SFIT_IMU_FLAG_LOW_VARIETY, "low_variety"},
+    {SFIT_IMU_FLAG_SLIP, "slip"},
+    {SFIT_IMU_FLAG_AMBIGUOUS, "ambiguous"},
+    {SFIT_IMU_FLAG_AXIS_OFF, "axis_off"},
+};
+static const char *const g_imu_why[sizeof g_imu / sizeof g_imu[0]] = {
+    "a sensor hardly rotates: its joint position is not determined",
+    "too little variety of motion: a joint position is uncertain beyond the accepted SD",
+    "the residual is far above the sensors' noise: a sensor slips, or the joint is not one",
+    "ball and hinge cannot be told apart",
+    "the hinge axes from the rates disagree with the line along which the accelerometers "
+    "leave the joint free: a wobble in step with the flexion biases them",
+};
+
+const char *names_imu_reason(uint32_t bit)
+{
+    size_t k;
+    for (k = 0; k < sizeof g_imu / sizeof g_imu[0]; k++) {
+        if (g_imu[k].bit == bit) {
+            return g_imu_why[k];
+        }
+    }
+    return NULL;
+}
+
+char *names_imu_reasons(uint32_t flags, char *out, size_t size)
+{
+    size_t k;
+    if (out == NULL || size == 0u) {
+        return out;
+    }
+    out[0] = '\0';
+    for (k = 0; k < sizeof g_imu / sizeof g_imu[0]; k++) {
+        if (flags & g_imu[k].bit) {
+            if (out[0] != '\0') {
+                strncat(out, "; ", size - strlen(out) - 1u);
+            }
+            strncat(out, g_imu_why[k], size - strlen(out) - 1u);
+        }
+    }
+    return out;
+}
 
 const json_out_flag_t *names_flags(names_family_t fam, size_t *n)
 {
@@ -99,6 +147,7 @@ const json_out_flag_t *names_flags(names_family_t fam, size_t *n)
     case NAMES_SKEL_WHY: return NAMES_TAB(g_skel_why);
     case NAMES_PAIR_INFO: return NAMES_TAB(g_pair_info);
     case NAMES_NOISE: return NAMES_TAB(g_noise);
+    case NAMES_IMU: return NAMES_TAB(g_imu);
     case NAMES_NFAMILY:
     default: *n = 0; return NULL;
     }

@@ -32,6 +32,7 @@ typedef enum names_family {
     NAMES_SKEL_WHY,  /**< why a skeleton's joint is untrusted (SKEL_U_*) */
     NAMES_PAIR_INFO, /**< a pair's information bits (SFIT_PAIR_INFO_*: facts about the data) */
     NAMES_NOISE,     /**< a noise estimate (SFIT_NOISE_FLAG_*; Python's names, the CLI prints booleans) */
+    NAMES_IMU,       /**< the joint between two IMUs (SFIT_IMU_FLAG_*; each with a reason, names_imu_reason) */
     NAMES_NFAMILY
 } names_family_t;
 
@@ -40,6 +41,14 @@ const json_out_flag_t *names_flags(names_family_t fam, size_t *n);
 
 /** The JSON array of the names of `flags` in family `fam`. */
 void names_flags_json(FILE *f, names_family_t fam, uint32_t flags);
+
+/** Why an IMU joint carrying flag `bit` (one SFIT_IMU_FLAG_*) is untrusted, in words; NULL for
+ *  another bit. */
+const char *names_imu_reason(uint32_t bit);
+
+/** The reasons of every IMU flag set in `flags`, joined by "; " into out[size] (truncated, always
+ *  terminated); returns out. */
+char *names_imu_reasons(uint32_t flags, char *out, size_t size);
 
 /** The name of a pair's reason (sfit_pair_reason_t), as in JSON and Python. */
 const char *names_pair_reason(sfit_pair_reason_t r);

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "names.h"
 #include "sfit/sfit_imu.h"
 
 #define IMU_NCOL 13
@@ -24,24 +25,6 @@
 static const char *const imu_cols[IMU_NCOL] = {
     "time",   "acc1_x", "acc1_y", "acc1_z", "gyr1_x", "gyr1_y", "gyr1_z",
     "acc2_x", "acc2_y", "acc2_z", "gyr2_x", "gyr2_y", "gyr2_z"};
-
-/* The flags of a result, their JSON names and the reason in words. */
-static const struct {
-    uint32_t bit;
-    const char *name;
-    const char *reason;
-} imu_flags[] = {
-    {SFIT_IMU_FLAG_LOW_ROTATION, "low_rotation",
-     "a sensor hardly rotates: its joint position is not determined"},
-    {SFIT_IMU_FLAG_LOW_VARIETY, "low_variety",
-     "too little variety of motion: a joint position is uncertain beyond the accepted SD"},
-    {SFIT_IMU_FLAG_SLIP, "slip",
-     "the residual is far above the sensors' noise: a sensor slips, or the joint is not one"},
-    {SFIT_IMU_FLAG_AMBIGUOUS, "ambiguous", "ball and hinge cannot be told apart"},
-    {SFIT_IMU_FLAG_AXIS_OFF, "axis_off",
-     "the hinge axes from the rates disagree with the line along which the accelerometers "
-     "leave the joint free: a wobble in step with the flexion biases them"},
-};
 
 static void imu_usage(FILE *f)
 {
@@ -190,7 +173,8 @@ static void imu_mat_json(const char *key, const sfit_mat3_t *m)
 
 static void imu_print_json(const sfit_imu_result_t *r, double rate)
 {
-    size_t k;
+    size_t k, nf;
+    const json_out_flag_t *tab = names_flags(NAMES_IMU, &nf);
     const char *sep = "";
     printf("{\"status\":\"ok\",\"n\":%lu,\"used\":%lu,\"rate\":%.9g,\"joint\":\"%s\"",
            (unsigned long)r->n, (unsigned long)r->used, rate, r->hinge ? "hinge" : "ball");
@@ -215,24 +199,16 @@ static void imu_print_json(const sfit_imu_result_t *r, double rate)
            (double)r->rate_rms2);
     printf(",\"flags\":{\"untrusted\":%s,\"names\":[",
            (r->flags & SFIT_FLAG_UNTRUSTED) ? "true" : "false");
-    for (k = 0; k < sizeof imu_flags / sizeof imu_flags[0]; k++) {
-        if (r->flags & imu_flags[k].bit) {
-            printf("%s\"%s\"", sep, imu_flags[k].name);
+    for (k = 0; k < nf; k++) {
+        if (r->flags & tab[k].bit) {
+            printf("%s\"%s\"", sep, tab[k].name);
             sep = ",";
         }
     }
     printf("],\"reason\":");
     if (r->flags & SFIT_FLAG_UNTRUSTED) {
-        char why[512] = "";
-        for (k = 0; k < sizeof imu_flags / sizeof imu_flags[0]; k++) {
-            if (r->flags & imu_flags[k].bit) {
-                if (why[0] != '\0') {
-                    strncat(why, "; ", sizeof why - strlen(why) - 1);
-                }
-                strncat(why, imu_flags[k].reason, sizeof why - strlen(why) - 1);
-            }
-        }
-        json_out_str(stdout, why, 0);
+        char why[512];
+        json_out_str(stdout, names_imu_reasons(r->flags, why, sizeof why), 0);
     } else {
         printf("null");
     }
@@ -248,7 +224,8 @@ static void imu_print_cov_sd(const char *what, const sfit_mat3_t *c, double scal
 
 static void imu_print_human(const char *file, const sfit_imu_result_t *r, double rate)
 {
-    size_t k;
+    size_t k, nf;
+    const json_out_flag_t *tab = names_flags(NAMES_IMU, &nf);
     printf("file          %s\n", file);
     printf("samples       %lu at %.6g Hz, %lu kept for the solve\n", (unsigned long)r->n, rate,
            (unsigned long)r->used);
@@ -271,9 +248,9 @@ static void imu_print_human(const char *file, const sfit_imu_result_t *r, double
            (double)r->rate_rms2);
     if (r->flags & SFIT_FLAG_UNTRUSTED) {
         printf("UNTRUSTED     do not use this result:\n");
-        for (k = 0; k < sizeof imu_flags / sizeof imu_flags[0]; k++) {
-            if (r->flags & imu_flags[k].bit) {
-                printf("              %s\n", imu_flags[k].reason);
+        for (k = 0; k < nf; k++) {
+            if (r->flags & tab[k].bit) {
+                printf("              %s\n", names_imu_reason(tab[k].bit));
             }
         }
     } else {

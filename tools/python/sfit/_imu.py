@@ -13,20 +13,8 @@ from ._sfit import Error
 # The joint between two IMUs (sfit_imu.h, docs/imu.md)
 # ---------------------------------------------------------------------------
 
-# The library's flag bits (sfit_imu.h), their names and the reason in words
-# (the same words as `sfit imu-joint`).
-_IMU_FLAGS = (
-    (0x10000, "low_rotation", "a sensor hardly rotates: its joint position is not determined"),
-    (0x20000, "low_variety",
-     "too little variety of motion: a joint position is uncertain beyond the accepted SD"),
-    (0x40000, "slip",
-     "the residual is far above the sensors' noise: a sensor slips, or the joint is not one"),
-    (0x80000, "ambiguous", "ball and hinge cannot be told apart"),
-    (0x100000, "axis_off",
-     "the hinge axes from the rates disagree with the line along which the accelerometers "
-     "leave the joint free: a wobble in step with the flexion biases them"),
-)
-
+# The flag names and the reasons in words come from the extension (the host
+# tools' one table, tools/lab/names.c: the same words as `sfit imu-joint`).
 
 class ImuJointResult(_Record):
     """The joint between two IMUs (:func:`imu_joint`).
@@ -79,10 +67,7 @@ def imu_joint(acc1, gyr1, acc2, gyr2, rate) -> ImuJointResult:
         e.status, e.code, e.message, e.n, e.rejected = (_sfit.status_name(code), code,
                                                         str(e), None, None)
         raise e
-    mask = d["flags_mask"]
-    d["flags"] = [name for bit, name, _ in _IMU_FLAGS if mask & bit]
-    d["untrusted"] = bool(mask & 0x1)
-    d["reason"] = "; ".join(r for bit, _, r in _IMU_FLAGS if mask & bit) if mask & 0x1 else None
+    d["untrusted"] = bool(d["flags_mask"] & 0x1)
     if d["joint"] != "hinge":
         d["axis1"] = d["axis2"] = d["axis1_cov"] = d["axis2_cov"] = None
     return ImuJointResult(d)

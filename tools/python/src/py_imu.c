@@ -25,6 +25,16 @@ static PyArrayObject *imu_f32(PyObject *o, const char *what)
     return a;
 }
 
+/* The reasons in words of an untrusted result (lab/names), None when trusted. */
+static PyObject *imu_reason(uint32_t flags)
+{
+    char why[512];
+    if ((flags & SFIT_FLAG_UNTRUSTED) == 0u) {
+        Py_RETURN_NONE;
+    }
+    return PyUnicode_FromString(names_imu_reasons(flags, why, sizeof why));
+}
+
 static PyObject *imu_dict(const sfit_imu_result_t *r)
 {
     PyObject *d = PyDict_New();
@@ -52,7 +62,9 @@ static PyObject *imu_dict(const sfit_imu_result_t *r)
         || sfit_py_put(d, "line_off", PyFloat_FromDouble((double)r->line_off)) < 0
         || sfit_py_put(d, "rate_rms1", PyFloat_FromDouble((double)r->rate_rms1)) < 0
         || sfit_py_put(d, "rate_rms2", PyFloat_FromDouble((double)r->rate_rms2)) < 0
-        || sfit_py_put(d, "flags_mask", PyLong_FromUnsignedLong(r->flags)) < 0) {
+        || sfit_py_put(d, "flags_mask", PyLong_FromUnsignedLong(r->flags)) < 0
+        || sfit_py_put(d, "flags", sfit_py_family_names(r->flags, NAMES_IMU)) < 0
+        || sfit_py_put(d, "reason", imu_reason(r->flags)) < 0) {
         Py_DECREF(d);
         return NULL;
     }
