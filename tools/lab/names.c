@@ -103,8 +103,8 @@ static const char *const g_imu_why[sizeof g_imu / sizeof g_imu[0]] = {
     "too little variety of motion: a joint position is uncertain beyond the accepted SD",
     "the residual is far above the sensors' noise: a sensor slips, or the joint is not one",
     "ball and hinge cannot be told apart",
-    "the hinge axes from the rates disagree with the line along which the accelerometers "
-    "leave the joint free: a wobble in step with the flexion biases them",
+    ("the hinge axes from the rates disagree with the line along which the accelerometers "
+     "leave the joint free: a wobble in step with the flexion biases them"),
 };
 
 const char *names_imu_reason(uint32_t bit)
