@@ -12,7 +12,8 @@ begin/end -->), and fails when:
 - a module's test tests/<file> does not exist or calls no sfit_<m>_
   function; the same for its fuzz harness (tests/fuzz), garbage driver
   (tests/fuzz), on-target suite (tests/target), binding (tools/python/src)
-  and CLI file (tools/sfit, or the lab code it runs in tools/lab);
+  and CLI file (the CLI's room, or the lab code it runs; the rooms are
+  read from tools/rooms.tsv);
 - a reference function is not defined in tests/ref/*.c or not called by
   the module's test;
 - a module with sfit_<m>_init has no garbage-state entry;
@@ -35,6 +36,19 @@ NO_FUNCTION_HEADERS = {"sfit", "sfit_types", "sfit_config"}
 def read(path):
     with open(os.path.join(src, path), encoding="utf-8") as f:
         return f.read()
+
+
+def rooms():
+    """role -> folder, from the one list of tools/' rooms."""
+    out = {}
+    for line in read("tools/rooms.tsv").splitlines():
+        if line.strip() and not line.startswith("#"):
+            role, folder = line.split("\t")[:2]
+            out[role] = folder
+    return out
+
+
+ROOMS = rooms()
 
 
 def table(text, name):
@@ -112,11 +126,11 @@ for row in rows:
                 problems.append("%s: no heading #%s in %s" % (where, anchor, path))
             continue
         folder = {"test": "tests", "fuzz": "tests/fuzz", "garbage": "tests/fuzz",
-                  "target": "tests/target", "python": "tools/python/src", "cli": "tools/sfit"}[col]
+                  "target": "tests/target", "python": ROOMS["binding"], "cli": ROOMS["cli"]}[col]
         for name in re.split(r",\s*", v):
             path = os.path.join(folder, name)
-            if col == "cli":  # a command of tools/sfit, or the lab code it runs (tools/lab)
-                path = next((os.path.join(d, name) for d in ("tools/sfit", "tools/lab")
+            if col == "cli":  # a command of the CLI, or the lab code it runs
+                path = next((os.path.join(d, name) for d in (ROOMS["cli"], ROOMS["lab"])
                              if os.path.exists(os.path.join(src, d, name))), path)
             if not os.path.exists(os.path.join(src, path)):
                 problems.append("%s: %s does not exist" % (where, path))

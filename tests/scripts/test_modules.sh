@@ -10,10 +10,11 @@ name=test_modules
 # shellcheck source=tests/scripts/common.sh
 . "$src/tests/scripts/common.sh"
 rule_setup "$src/tests/scripts/modules_check.py"
+rooms() { awk -F'\t' '!/^#/ && NF >= 2 { print $2 }' "$src/tools/rooms.tsv"; }
 fresh() {
   rm -rf "$tmp/t"; mkdir -p "$tmp/t"
   (cd "$src" && tar cf - --exclude=tests/data --exclude='tests/fuzz/corpus' docs lib tests \
-     tools/flopcount/footprint_budget.txt tools/python/src tools/sfit tools/lab) | tar xf - -C "$tmp/t"
+     tools/flopcount/footprint_budget.txt tools/rooms.tsv $(rooms)) | tar xf - -C "$tmp/t"
 }
 fresh; sed -i '/^code_os sfit_gate /d' "$tmp/t/tools/flopcount/footprint_budget.txt"
 must_fail "no code-size budget for gate"

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Static analysis gate (docs/reliability.md):
 #  1. cppcheck --enable=warning,portability,performance on lib/ (host and
-#     cortex-m4f port headers) and tools/formats, tools/lab, tools/sfit: no finding.
+#     cortex-m4f port headers) and the host rooms of tools/rooms.tsv
+#     (formats, lab, the CLI): no finding.
 #  2. clang-tidy with the repository's .clang-tidy on lib/src, with the
 #     compile database of a host configure (BUILD_DIR/tidy) and again for
 #     the target (BUILD_DIR/tidy-m4f, --target=arm-none-eabi, newlib
@@ -35,11 +36,13 @@ fail=0
 
 # ---------------------------------------------------------------- 1. cppcheck
 inc=(-I lib/include -I lib/src -I port)
+# the host C rooms of tools/ but the binding (it needs Python's headers)
+mapfile -t host_rooms < <(awk -F'\t' '!/^#/ && NF >= 2 && $1 != "binding" { print $2 }' tools/rooms.tsv)
 for port in host cortex-m4f; do
   if ! cppcheck --enable=warning,portability,performance --std=c99 --error-exitcode=1 \
        --inline-suppr -q --suppress=missingIncludeSystem \
        --template='{file}:{line}: {severity}: {id}: {message}' \
-       "${inc[@]}" -I "port/$port" lib/src tools/formats tools/lab tools/sfit >"$out/cppcheck-$port.txt" 2>&1; then
+       "${inc[@]}" -I "port/$port" lib/src "${host_rooms[@]}" >"$out/cppcheck-$port.txt" 2>&1; then
     echo "$name: FAIL: cppcheck ($port port):" >&2
     cat "$out/cppcheck-$port.txt" >&2
     fail=1

@@ -46,6 +46,10 @@ fresh; touch "$tmp/t/tools/lab/extra1.c" "$tmp/t/tools/lab/extra2.h"
 must_fail "a folder with more than 20 source files"
 fresh; sed -n '/^int frames_parse_range/,/^}/p' "$src/tools/lab/frames.c" >> "$tmp/t/tools/python/src/py_imu.c"
 must_fail "a block repeated between the binding and the host code"
+fresh; mkdir "$tmp/t/tools/extra"; printf 'int extra_x(void) { return 0; }\n' > "$tmp/t/tools/extra/extra.c"
+must_fail "a folder of C sources that is no room of tools/rooms.tsv"
+fresh; sed -i 's#\ttools/lab\t#\ttools/labs\t#' "$tmp/t/tools/rooms.tsv"
+must_fail "tools/rooms.tsv naming a folder that does not exist"
 # A known breach listed as pending that is no longer there: the check, with
 # such an entry added to its list, fails on the tree.
 fresh; sed 's/^PENDING = {$/PENDING = {\n    r"^tools\/lab\/gone\\.c: ": "a breach mended long ago",/' "$rule_check" > "$tmp/stale.py"

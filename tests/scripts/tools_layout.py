@@ -4,9 +4,13 @@
 
 Usage: tools_layout.py SRC [BUILD]
 
+The rooms (formats, lab, the CLI, the binding) and what each may include
+are read from their one list, tools/rooms.tsv; every folder of tools/
+with C sources (montecarlo and flopcount aside) must be in it.
+
 - Includes: tools/formats includes only its own headers and the library's
   types (sfit/sfit_types.h); tools/lab its own, formats' and the
-  library's; the CLI (tools/sfit) and the binding (tools/python/src) any
+  library's; the CLI and the binding (tools/python/src) any
   of those; nothing outside the CLI includes a CLI header or a CLI path.
 - formats and lab write nothing to stdout.
 - No `cli_` / `CLI_` name in code (comments aside) of formats, lab, the
@@ -90,8 +94,20 @@ def strip_comments(text, strings=True):
     return "".join(out)
 
 
-FORMATS, LAB, CLI = "tools/formats", "tools/lab", "tools/sfit"
-BINDING = "tools/python/src"
+# The rooms and the dependency rule, from their one list (tools/rooms.tsv).
+ROOMS, MAY = {}, {}
+for line in read("tools/rooms.tsv").splitlines():
+    if line.strip() and not line.startswith("#"):
+        role, folder, may = line.split("\t")
+        ROOMS[role], MAY[role] = folder, may.split()
+FORMATS, LAB, CLI, BINDING = (ROOMS[r] for r in ("formats", "lab", "cli", "binding"))
+for folder in ROOMS.values():
+    if not os.path.isdir(folder):
+        fail("tools/rooms.tsv lists %s, which does not exist" % folder)
+for d in sorted(glob.glob("tools/*/")):
+    d = d.rstrip("/")
+    if c_files(d) and d not in ROOMS.values() and d not in ("tools/montecarlo", "tools/flopcount"):
+        fail("%s holds C sources but is not a room of tools/rooms.tsv" % d)
 headers = {room: {os.path.basename(h) for h in glob.glob(room + "/*.h")}
            for room in (FORMATS, LAB, CLI, BINDING)}
 GENERATED = {"skel_view_js.h"}  # lab: the skeleton page's script, made by the build
@@ -111,17 +127,15 @@ def room_of(name, own):
 
 
 # ---- includes: the dependency rule
-allowed = {
-    FORMATS: {FORMATS},
-    LAB: {FORMATS, LAB, "lib"},
-    CLI: {FORMATS, LAB, CLI, "lib"},
-    BINDING: {FORMATS, LAB, BINDING, "lib"},
-}
+allowed = {ROOMS[role]: {ROOMS[role]} | {"lib" if m == "lib" else ROOMS[m]
+                                           for m in may if m != "lib-types"}
+           for role, may in MAY.items()}
+role_of = {folder: role for role, folder in ROOMS.items()}
 for room, ok in allowed.items():
     for p in c_files(room):
         for name in INC.findall(read(p)):
             r = room_of(name, room)
-            if room == FORMATS and name == "sfit/sfit_types.h":
+            if "lib-types" in MAY[role_of[room]] and name == "sfit/sfit_types.h":
                 continue
             if room == LAB and name in GENERATED:
                 continue
@@ -135,7 +149,7 @@ outside = (c_files(FORMATS) + c_files(LAB) + c_files(BINDING) + c_files("tests",
            + c_files("port", True))
 for p in outside:
     for name in INC.findall(read(p)):
-        if "tools/sfit" in name or "/sfit/cli" in name or (
+        if CLI + "/" in name or "/sfit/cli" in name or (
                 os.path.basename(name) in cli_names and name not in headers.get(os.path.dirname(p), ())):
             fail("%s includes \"%s\", a file of the CLI" % (p, name))
 build_files = (["tools/python/setup.py"] + glob.glob("tests/**/CMakeLists.txt", recursive=True)
