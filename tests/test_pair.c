@@ -607,6 +607,92 @@ static void test_mc_weighted_gain(void **state)
     assert_true(mean <= 2.0 * se);
 }
 
+/* A knee-like hinge (0 -> 60 -> 0 degrees, three cycles, still parent at
+ * the origin) with an out-of-axis rotation of 0.7 degrees peak that is not
+ * in step with the flexion (it shows), markers with noise sigma. */
+static void wobble_trial(sfit_pair_t *s, tu_rng_t *g, double sigma, float wobble)
+{
+    sfit_pair_cfg_t cfg = sfit_pair_cfg_default;
+    const double ex[3] = {1.0, 0.0, 0.0};
+    int f, k;
+    size_t i;
+    cfg.mode = SFIT_PAIR_MODE_HINGE;
+    cfg.wobble = wobble;
+    assert_int_equal(sfit_pair_init(s, &g_pcl, &g_ccl, &cfg), SFIT_OK);
+    for (f = 0; f < 600; f++) {
+        const double u = (double)f / 600.0;
+        const double fl = (60.0 * TU_PI / 180.0) * 0.5 * (1.0 - cos(2.0 * TU_PI * 3.0 * u));
+        const double wb = (0.7 * TU_PI / 180.0) * sin(2.0 * TU_PI * 7.3 * u);
+        double w1[9], w2[9], rc[9];
+        sfit_vec3_t pm[NP], cm[NC];
+        tu_rot_axis_angle(g_hax, fl, w1);
+        tu_rot_axis_angle(ex, wb, w2);
+        mm3(w1, w2, rc);
+        for (i = 0; i < NP; i++) {
+            double x[3];
+            for (k = 0; k < 3; k++) {
+                x[k] = g_ptpl[i][k] + g_cp[k];
+            }
+            tu_add_noise(g, sigma, x);
+            tc_to_vec3(x, &pm[i]);
+        }
+        for (i = 0; i < NC; i++) {
+            double x[3], y[3];
+            mv3(rc, g_ctpl[i], x);
+            mv3(rc, g_cc, y);
+            for (k = 0; k < 3; k++) {
+                x[k] += g_cp[k] - y[k];
+            }
+            tu_add_noise(g, sigma, x);
+            tc_to_vec3(x, &cm[i]);
+        }
+        assert_int_equal(sfit_pair_add_markers(s, &g_pcl, pm, NP, &g_ccl, cm, NC), SFIT_OK);
+    }
+}
+
+/* A wobble seen means the knee wobbles: the part in step with the flexion,
+ * which no data show, is taken as a knee's (2.5 degrees rms) and at 60
+ * degrees of flexion its cone passes 10 degrees (AXIS_FREE); declared a
+ * mechanical hinge (wobble 1e-6), the same data give a cone from twice the
+ * part seen only, well inside 10 degrees. */
+static void test_hinge_wobble_seen(void **state)
+{
+    static sfit_pair_t s;
+    sfit_pair_result_t r, rm;
+    tu_rng_t g;
+    double tr, trm;
+    (void)state;
+    setup_templates();
+    tu_rng_seed(&g, 41u);
+    wobble_trial(&s, &g, 0.2, 0.0f);
+    assert_int_equal(sfit_pair_solve(&s, &r), SFIT_OK);
+    tu_rng_seed(&g, 41u);
+    wobble_trial(&s, &g, 0.2, 1e-6f);
+    assert_int_equal(sfit_pair_solve(&s, &rm), SFIT_OK);
+    tr = (double)(r.axis_cov_model.m[0] + r.axis_cov_model.m[4] + r.axis_cov_model.m[8]);
+    trm = (double)(rm.axis_cov_model.m[0] + rm.axis_cov_model.m[4] + rm.axis_cov_model.m[8]);
+    print_message("wobble seen %.2f deg rms: cone model part %.2f deg rms (default), "
+                  "%.2f (mechanical); flags 0x%x / 0x%x\n",
+                  (double)r.wobble_rms * 180.0 / TU_PI, sqrt(tr) * 180.0 / TU_PI,
+                  sqrt(trm) * 180.0 / TU_PI, (unsigned)r.flags, (unsigned)rm.flags);
+    /* the wobble shows in both, and is the same */
+    assert_true(r.wobble_rms > 0.0f);
+    assert_true(fabs((double)(r.wobble_rms - rm.wobble_rms)) <= 1e-6 * (double)r.wobble_rms);
+    assert_int_equal(r.reason, SFIT_PAIR_REASON_AXIS_FREE);
+    assert_true((rm.flags & (uint32_t)SFIT_FLAG_UNTRUSTED) == 0u);
+    /* the model part: q (1 / lambda_2 + 1 / lambda_3) per frame, q a
+     * knee's 2.5 degrees rms (w^2 / 2) or twice the part seen (4 wobble^2),
+     * whichever is larger; mechanical: 4 wobble^2 */
+    {
+        const double il = 1.0 / (double)r.eigenvalues.v[1] + 1.0 / (double)r.eigenvalues.v[2];
+        const double w = 2.5 * TU_PI / 180.0, ws = (double)r.wobble_rms;
+        const double q = (4.0 * ws * ws > 0.5 * w * w) ? 4.0 * ws * ws : 0.5 * w * w;
+        assert_true(0.5 * w * w > 4.0 * ws * ws); /* the knee's share decides here */
+        assert_true(fabs(tr - q * il) <= 1e-3 * tr);
+        assert_true(fabs(trm - 4.0 * ws * ws * il) <= 1e-3 * trm);
+    }
+}
+
 static void test_hinge_flags(void **state)
 {
     static sfit_pair_t s;
@@ -914,6 +1000,7 @@ int main(void)
         cmocka_unit_test(test_mc_bias_and_coverage),
         cmocka_unit_test(test_mc_weighted_gain),
         cmocka_unit_test(test_hinge_flags),
+        cmocka_unit_test(test_hinge_wobble_seen),
         cmocka_unit_test(test_small_motion_flag),
         cmocka_unit_test(test_noise_sources),
         cmocka_unit_test(test_add_markers_and_reset),

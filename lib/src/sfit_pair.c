@@ -1355,9 +1355,10 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
  * the part not explained by skin motion linear in the joint angle, whose
  * own share is center_cov_model; (1 + trust) restores the terms of relative
  * size trust_ratio that the first-order sandwich leaves out. Hinge: the
- * tilt the out-of-axis rotation seen can cause is axis_cov_model; the point
- * moves with it. */
-static void prv_scale(prv_ctx_t *c, float at, float mm, float wb)
+ * tilt the out-of-axis rotation seen can cause is axis_cov_model (wb: the
+ * floor, wr: a knee's in-step wobble once one is seen); the point moves
+ * with it. */
+static void prv_scale(prv_ctx_t *c, float at, float mm, float wb, float wr)
 {
     sfit_pair_result_t *r = &c->res;
     sfit_vec3_t wa;
@@ -1377,9 +1378,13 @@ static void prv_scale(prv_ctx_t *c, float at, float mm, float wb)
     if (c->mode == SFIT_PAIR_MODE_HINGE && c->lam.v[1] > 0.0f) {
         sfit_mat3_t t;
         const float l1 = (c->l1c > 0.0f) ? c->l1c : 0.0f;
-        const float pr = 0.5f * wb * wb * c->y.n;
-        const float lu =
-            (l1 > PRV_WOBBLE_Z * c->nz1 / SFIT_SQRTF(c->y.n)) ? PRV_WOBBLE_K * l1 : 0.0f;
+        const int seen = l1 > PRV_WOBBLE_Z * c->nz1 / SFIT_SQRTF(c->y.n);
+        /* A wobble seen: the knee wobbles, and how much of it follows the
+         * flexion no data can tell; that part is taken as a knee's (wr) or
+         * twice the seen part, whichever is larger. Unseen: the floor. */
+        const float w2 = seen ? wr * wr : wb * wb;
+        const float pr = 0.5f * w2 * c->y.n;
+        const float lu = seen ? PRV_WOBBLE_K * l1 : 0.0f;
         const float q = (lu > pr) ? lu : pr;
         int i, j;
         r->wobble_rms = SFIT_SQRTF(l1 / c->y.n);
@@ -1542,7 +1547,7 @@ sfit_status_t sfit_pair_solve(const sfit_pair_t *s, sfit_pair_result_t *out)
             prv_sta(s, &c);
         }
         prv_scale(&c, at, prv_or(s->cfg.max_misfit, PRV_MAX_MISFIT),
-                  prv_or(s->cfg.wobble, PRV_WOBBLE_FLOOR));
+                  prv_or(s->cfg.wobble, PRV_WOBBLE_FLOOR), prv_or(s->cfg.wobble, PRV_WOBBLE_RANGE));
     }
     if (!prv_fill(s, &c, (s->cfg.min_frames > 0u) ? s->cfg.min_frames : PRV_MIN_FRAMES)) {
         return SFIT_E_RANGE;

@@ -475,9 +475,10 @@ static void verdict(session_joint_t *j, const char *u)
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)
                && j->hinge && j->cone_model_deg > 0.0) {
         (void)snprintf(advice, sizeof advice,
-                       "untrusted: the joint turns out of its axis by %.1f degrees rms; up to "
-                       "twice that in step with the flexion would tilt the axis unseen: axis "
-                       "uncertain by %.0f degrees (95 %%)",
+                       "untrusted: the joint turns out of its axis by %.1f degrees rms; a "
+                       "knee's wobble in step with the flexion (2.5 degrees rms, or twice the "
+                       "part seen) would tilt the axis unseen: axis uncertain by %.0f degrees "
+                       "(95 %%): record more flexion",
                        j->wobble_deg, j->cone_deg);
     } else if ((j->flags & SFIT_FLAG_UNTRUSTED) && (j->flags & SFIT_PAIR_FLAG_AXIS_FREE)) {
         (void)snprintf(advice, sizeof advice,

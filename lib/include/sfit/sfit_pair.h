@@ -148,12 +148,14 @@ typedef struct sfit_pair_cfg {
                                      could tilt the axis beyond axis_tol,
                                      atan(wobble / flexion spread) (the flexion range is
                                      too small), and a floor of 0.5 degrees rms under
-                                     axis_cov's model part. Above 0: this value for both
+                                     axis_cov's model part. Above 0: this value for all
                                      (a tiny value, 1e-6, for a mechanical hinge). The
                                      model part itself comes from the data: an
                                      out-of-axis rotation seen beyond its noise (2
-                                     standard deviations) is taken to have an unseen
-                                     in-step share up to twice its size. */
+                                     standard deviations) means the joint wobbles, and
+                                     its unseen in-step share is taken as a knee's
+                                     (2.5 degrees rms; wobble above 0: that) or twice
+                                     the seen part, whichever is larger. */
     uint32_t min_frames;        /**< Untrusted (FEW_FRAMES) below this many frames
                                      (0 = default 30). */
 } sfit_pair_cfg_t;
@@ -209,8 +211,10 @@ typedef struct sfit_pair_result {
                                      angle-correlated residual (docs/pair.md#model-error);
                                      hinge: zero. */
     sfit_mat3_t axis_cov_model; /**< Hinge: the model part of axis_cov (included in it):
-                                     the tilt that the out-of-axis rotation seen
-                                     (wobble_rms) can cause; ball: zero. */
+                                     the tilt that an out-of-axis rotation in step with
+                                     the flexion can cause unseen (cfg.wobble: from the
+                                     floor, or, once one is seen (wobble_rms), a knee's
+                                     wobble or twice the seen part); ball: zero. */
     float sta_rms;              /**< Ball: RMS of the angle-correlated part of the joint
                                      model's residual beyond the noise (input units): how
                                      far the clusters move on their segments with the
