@@ -844,6 +844,119 @@ static int ref_csv(const char *path, int hinge)
     return 0;
 }
 
+static double ang_dd(const double a[3], const double b[3])
+{
+    const double c = fabs(tu_dot3(a, b)) / (tu_norm3(a) * tu_norm3(b));
+    return acos(c > 1.0 ? 1.0 : c) / DEG;
+}
+
+/* test_imu --wobble-analysis FA FB T SEED: per trial, the true motion's best
+ * fixed axis against the generator's nominal axis, and the estimates. */
+static int wobble_analysis(int T, unsigned long seed, double fa, double fb)
+{
+    tu_rng_t g;
+    int t;
+    g_wobble_f = fa;
+    g_wobble_f2 = fb;
+    tu_rng_seed(&g, seed);
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r;
+        double b1[3], b2[3], f1[3], f2[3], wander, wn = 0.0, j1[3], j2[3], rms, l1[3], l2[3];
+        int k, i;
+        make_motion(&g, 1, &m);
+        make_signals(&g, &m, getenv("WA_EXACT") ? 0 : 1);
+        assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+        ref_imu_fixed_axis(&m, NS, RATE, b1, b2, &wander, f1, f2);
+        for (k = 0; k < NS; k++) {
+            double rel[9], w[3], v[3], c[3];
+            ref_imu_relative(&m, (double)k / RATE, rel, w);
+            for (i = 0; i < 3; i++) {
+                v[i] = rel[3 * i] * g_j2[0] + rel[3 * i + 1] * g_j2[1] + rel[3 * i + 2] * g_j2[2];
+            }
+            tu_cross3(v, g_j1, c);
+            wn = fmax(wn, asin(fmin(1.0, tu_norm3(c))));
+        }
+        ref_imu_hinge_gn((const double(*)[3])g_gyr[0], (const double(*)[3])g_gyr[1], NS, j1, j2,
+                         &rms);
+        for (i = 0; i < 3; i++) {
+            l1[i] = r.axis1.v[i];
+            l2[i] = r.axis2.v[i];
+        }
+        {
+            double q1[3], q2[3], cov[36], v[6], rr;
+            int it, a;
+            ref_imu_ball_gn((const double(*)[3])g_acc[0], (const double(*)[3])g_gyr[0],
+                            (const double(*)[3])g_acc[1], (const double(*)[3])g_gyr[1], NS, RATE,
+                            -8, q1, q2, cov, &rr);
+            for (a = 0; a < 6; a++) {
+                v[a] = (a < 3) ? g_j1[a] : g_j2[a - 3];
+            }
+            for (it = 0; it < 500; it++) {
+                double x[6], nn = 0.0;
+                for (a = 0; a < 6; a++) {
+                    x[a] = 0.0;
+                    for (k = 0; k < 6; k++) {
+                        x[a] += cov[6 * a + k] * v[k];
+                    }
+                    nn += x[a] * x[a];
+                }
+                for (a = 0; a < 6; a++) {
+                    v[a] = x[a] / sqrt(nn);
+                }
+            }
+            {
+                /* the axis from the joint's acceleration: u1.j1 = u2.j2 (exact r, w') */
+                double S[36] = {0}, e6[6], lam;
+                int kk, c;
+                for (kk = 0; kk < NS; kk++) {
+                    double u[6], x1[3], y1[3], z1[3];
+                    tu_cross3(g_gyr[0][kk], m.r1, x1);
+                    tu_cross3(g_gyr[0][kk], x1, y1);
+                    tu_cross3(g_dgyr[0][kk], m.r1, z1);
+                    for (a = 0; a < 3; a++) u[a] = g_acc[0][kk][a] + y1[a] + z1[a];
+                    tu_cross3(g_gyr[1][kk], m.r2, x1);
+                    tu_cross3(g_gyr[1][kk], x1, y1);
+                    tu_cross3(g_dgyr[1][kk], m.r2, z1);
+                    for (a = 0; a < 3; a++) u[3 + a] = -(g_acc[1][kk][a] + y1[a] + z1[a]);
+                    for (a = 0; a < 6; a++) for (c = 0; c < 6; c++) S[6 * a + c] += u[a] * u[c];
+                }
+                /* smallest eigenvector: power iteration on (lam I - S) */
+                lam = 0.0;
+                for (a = 0; a < 6; a++) lam += S[7 * a];
+                for (a = 0; a < 6; a++) e6[a] = (a < 3) ? g_j1[a] + 0.1 : g_j2[a - 3] - 0.1;
+                for (it = 0; it < 20000; it++) {
+                    double x[6], nn = 0.0;
+                    for (a = 0; a < 6; a++) {
+                        x[a] = lam * e6[a];
+                        for (c = 0; c < 6; c++) x[a] -= S[6 * a + c] * e6[c];
+                        nn += x[a] * x[a];
+                    }
+                    for (a = 0; a < 6; a++) e6[a] = x[a] / sqrt(nn);
+                }
+                printf("   accaxis-nom %.2f %.2f accaxis-best %.2f %.2f norms %.3f %.3f\n",
+                       ang_dd(e6, g_j1), ang_dd(&e6[3], g_j2), ang_dd(e6, b1), ang_dd(&e6[3], b2),
+                       tu_norm3(e6), tu_norm3(&e6[3]));
+            }
+            printf("   freeline-nom %.2f %.2f freeline-best %.2f %.2f freeline-lib %.2f %.2f\n",
+                   ang_dd(v, g_j1), ang_dd(&v[3], g_j2), ang_dd(v, b1), ang_dd(&v[3], b2),
+                   ang_dd(v, l1), ang_dd(&v[3], l2));
+        }
+        printf("%2d dph %4.0f %4.0f | best-nom %.2f %.2f wander nom %.2f best %.2f | "
+               "pc-nom %.2f %.2f pc-best %.2f %.2f | lib-nom %.2f %.2f lib-best %.2f %.2f "
+               "lib-pc %.2f %.2f | ref-nom %.2f %.2f ref-best %.2f %.2f | hinge %d flags %x "
+               "off %.3f force_ratio %.3f\n",
+               t, fmod(m.ph[3][0] - m.ph[5][0] + 8 * 3.14159265, 2 * 3.14159265) / DEG,
+               fmod(m.ph[4][0] - m.ph[5][0] + 8 * 3.14159265, 2 * 3.14159265) / DEG,
+               ang_dd(b1, g_j1), ang_dd(b2, g_j2), wn / DEG, wander / DEG, ang_dd(f1, g_j1),
+               ang_dd(f2, g_j2), ang_dd(f1, b1), ang_dd(f2, b2), ang_dd(l1, g_j1),
+               ang_dd(l2, g_j2), ang_dd(l1, b1), ang_dd(l2, b2), ang_dd(l1, f1), ang_dd(l2, f2),
+               ang_dd(j1, g_j1), ang_dd(j2, g_j2), ang_dd(j1, b1), ang_dd(j2, b2), r.hinge,
+               (unsigned)r.flags, (double)r.line_off, (double)r.force_ratio);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
@@ -859,6 +972,10 @@ int main(int argc, char **argv)
                o.hinge, o.flagged, o.axis_off, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad, o.worst_ax,
                o.worst_ref);
         return 0;
+    }
+    if (argc >= 6 && strcmp(argv[1], "--wobble-analysis") == 0) { /* FA FB T SEED */
+        return wobble_analysis(atoi(argv[4]), strtoul(argv[5], NULL, 10), atof(argv[2]),
+                               atof(argv[3]));
     }
     if (argc >= 3 && strcmp(argv[1], "--ref-csv") == 0) {
         return ref_csv(argv[2], argc >= 4 && strcmp(argv[3], "hinge") == 0);

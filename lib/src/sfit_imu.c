@@ -23,6 +23,15 @@
  * solutions are (1 - beta) j j^T + beta I for both; tr J1 = tr J2 = 1 picks
  * beta = 0 (two weighted rows). The top eigenvectors start a Gauss-Newton
  * on |w1 x j1| - |w2 x j2| in the tangent planes of the two axes.
+ *
+ * Check of a hinge against the accelerometers: an axis fixed in both
+ * segments has the same component of the joint's specific force u_i =
+ * a_i - b_i + G_i r_i on both sides, u1.j1 = u2.j2. A few Gauss-Newton
+ * steps from the rates' axes fit it (prv_acc_axes); force_ratio is the rms
+ * of u1.j1 - u2.j2 at the rates' axes over the rms at the fitted ones. A
+ * wobble in step with the flexion turns the axis with the flexion's phase,
+ * biases the rates' norms (the thigh swings at the same frequency) and
+ * leaves a force residual the fitted axes halve.
  */
 #include "sfit/sfit_imu.h"
 
@@ -44,9 +53,10 @@
 #define IMU_WEIGHT_FLOOR 1e-3f /* added to |w1|^2 + |w2|^2 (rad^2/s^2): quiet samples count */
 #define IMU_RNG_SEED 0x9E3779B9u
 #define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
+#define IMU_ACC_AXIS_ITERS 4u /* Gauss-Newton steps of the axes from the joint force */
 
-const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f, 0.006f,
-                                             3.0f,  0.05f,  8.0f,  5.0f, 0.0523f};
+const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f,
+                                             3.0f,  0.05f,  8.0f,  5.0f,  0.0523f, 1.5f};
 
 SFIT_INLINE void prv_cross(const float a[3], const float b[3], float c[3])
 {
@@ -71,7 +81,8 @@ static int prv_cfg_ok(const sfit_imu_cfg_t *c)
            sfit_i_isfinite(c->acc_bias_sd) && c->acc_bias_sd >= 0.0f && prv_pos(c->min_rate) &&
            prv_pos(c->max_pos_sd) && prv_pos(c->slip_ratio) && prv_pos(c->hinge_ratio) &&
            prv_pos(c->ball_line) && sfit_i_isfinite(c->hinge_line) && c->hinge_line >= c->ball_line &&
-           prv_pos(c->hinge_off) && c->hinge_off <= 1.0f;
+           prv_pos(c->hinge_off) && c->hinge_off <= 1.0f && sfit_i_isfinite(c->wobble_ratio) &&
+           c->wobble_ratio >= 1.0f;
 }
 
 /* The counters and indices a call relies on (a garbage state is refused). */
@@ -903,6 +914,68 @@ static float prv_free_line_off(const prv_ball_t *b, const float j1[3], const flo
     return SFIT_SQRTF(1.0f - d * d);
 }
 
+/* The hinge axes from the joint's specific force: the axis is fixed in both
+ * segments, so the force's component along it is the same seen from both
+ * sensors, u1.j1 = u2.j2 with u_i = a_i - b_i + G_i r_i (the ball fit's r, b).
+ * Gauss-Newton in the tangent planes from the rates' axes (j1, j2; j2 the
+ * same physical direction); k1, k2 the result. 0 when singular. */
+static SFIT_I_NOINLINE int prv_acc_axes(const prv_used_t *u, const float x[IMU_NP],
+                                        const float j1[3], const float j2[3], float k1[3],
+                                        float k2[3], float ssr[2])
+{
+    float a[4u * IMU_NP], g[4], t[4][3];
+    uint32_t it, k, i, l;
+    memcpy(k1, j1, 3u * sizeof(float));
+    memcpy(k2, j2, 3u * sizeof(float));
+    for (it = 0u; it <= IMU_ACC_AXIS_ITERS; it++) {
+        float q = 0.0f;
+        prv_tangents(k1, t[0], t[1]);
+        prv_tangents(k2, t[2], t[3]);
+        memset(a, 0, sizeof a);
+        memset(g, 0, sizeof g);
+        for (k = 0u; k < u->n; k++) {
+            const float *p = u->k[k];
+            float u1[3], u2[3], jr[4], e;
+            prv_g(&p[3], &p[6], x, 1.0f, u1);
+            prv_g(&p[12], &p[15], &x[3], 1.0f, u2);
+            for (i = 0u; i < 3u; i++) {
+                u1[i] += p[i] - x[6u + i];
+                u2[i] += p[9u + i] - x[9u + i];
+            }
+            e = prv_dot(u1, k1) - prv_dot(u2, k2);
+            jr[0] = prv_dot(u1, t[0]);
+            jr[1] = prv_dot(u1, t[1]);
+            jr[2] = -prv_dot(u2, t[2]);
+            jr[3] = -prv_dot(u2, t[3]);
+            q += e * e;
+            for (i = 0u; i < 4u; i++) {
+                g[i] -= jr[i] * e;
+                for (l = 0u; l <= i; l++) {
+                    a[i * IMU_NP + l] += jr[i] * jr[l];
+                }
+            }
+        }
+        if (it == 0u) {
+            ssr[0] = q;
+        }
+        ssr[1] = q;
+        if (it == IMU_ACC_AXIS_ITERS) {
+            break;
+        }
+        if (!prv_chol(a, 4u)) {
+            return 0;
+        }
+        prv_chol_solve(a, 4u, g);
+        for (i = 0u; i < 3u; i++) {
+            k1[i] += g[0] * t[0][i] + g[1] * t[1][i];
+            k2[i] += g[2] * t[2][i] + g[3] * t[3][i];
+        }
+        prv_unit(k1);
+        prv_unit(k2);
+    }
+    return 1;
+}
+
 static int prv_result_finite(const sfit_imu_result_t *r)
 {
     const float *f[] = {r->r1.v, r->r2.v, r->axis1.v, r->axis2.v, r->acc_bias1.v, r->acc_bias2.v};
@@ -924,7 +997,8 @@ static int prv_result_finite(const sfit_imu_result_t *r)
     }
     return sfit_i_isfinite(r->resid_rms) && sfit_i_isfinite(r->line_sd) &&
            sfit_i_isfinite(r->line_ratio) && sfit_i_isfinite(r->noise_rms) &&
-           sfit_i_isfinite(r->hinge_ratio) && sfit_i_isfinite(r->rate_rms1) &&
+           sfit_i_isfinite(r->hinge_ratio) && sfit_i_isfinite(r->force_ratio) &&
+           sfit_i_isfinite(r->rate_rms1) &&
            sfit_i_isfinite(r->rate_rms2);
 }
 
@@ -1017,8 +1091,23 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
             r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
         }
     }
+    {
+        /* the axes the rates give against the joint's specific force: the
+         * residual of u1.j1 = u2.j2 at the rates' axes over its residual at
+         * the axes fitted to it (floored at the noise's prediction) */
+        float k1[3], k2[3], q[2];
+        if (prv_acc_axes(&u, b.x, h.j1, r.axis2.v, k1, k2, q)) {
+            const float fl = (q[1] > b.pred * (float)u.n) ? q[1] : b.pred * (float)u.n;
+            r.force_ratio = SFIT_SQRTF(q[0] / fl);
+        } else {
+            r.force_ratio = 1.0f; /* the force does not determine the axes: no evidence */
+        }
+    }
     if (r.hinge && r.line_off > s->cfg.hinge_off) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_AXIS_OFF;
+    }
+    if (r.hinge && r.force_ratio > s->cfg.wobble_ratio) {
+        r.flags |= (uint32_t)SFIT_IMU_FLAG_WOBBLE;
     }
     if (r.hinge) {
         prv_project(h.j1, &r.r1, &r.r1_cov);
