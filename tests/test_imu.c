@@ -868,22 +868,25 @@ static void test_errors(void **state)
     assert_int_equal(sfit_imu_solve(&s, &r), SFIT_E_ARG);
 }
 
-/* test_imu --write-csv FILE ball|hinge|wobble|still [SEED]: one noisy trial as the
- * CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
+/* test_imu --write-csv FILE ball|hinge|wobble|instep|still [SEED]: one noisy trial as
+ * the CSV of `sfit imu-joint`, and its truth on stdout (the CLI's script test
  * and the worked example of docs/imu.md); wobble: a hinge whose wobbles are at
- * 1 and 2 times the flexion's frequency (test_wobble's first case). */
+ * 1 and 2 times the flexion's frequency (a case of test_wobble); instep: both
+ * at the flexion's frequency (test_wobble's first case). */
 static int write_csv(const char *path, const char *kind, unsigned long seed)
 {
     tu_rng_t g;
     ref_imu_motion_t m;
     FILE *f;
     int k, s, i;
-    const int wob = strcmp(kind, "wobble") == 0;
-    const int kd = (strcmp(kind, "hinge") == 0 || wob) ? 1 : (strcmp(kind, "still") == 0) ? 2 : 0;
+    const int wob = strcmp(kind, "wobble") == 0, ins = strcmp(kind, "instep") == 0;
+    const int kd = (strcmp(kind, "hinge") == 0 || wob || ins) ? 1
+                   : (strcmp(kind, "still") == 0)             ? 2
+                                                              : 0;
     tu_rng_seed(&g, seed);
-    if (wob) {
+    if (wob || ins) {
         g_wobble_f = 1.0;
-        g_wobble_f2 = 2.0;
+        g_wobble_f2 = wob ? 2.0 : 1.0;
     }
     make_motion(&g, kd, &m);
     make_signals(&g, &m, 1);
