@@ -488,6 +488,8 @@ typedef struct hinge_mc {
     int ok_bad;   /* unflagged hinges off by > 3 deg or 10 mm */
     int ball_bad; /* unflagged balls whose centre (the joint's fixed point) is 10 mm off */
     double worst_ref, worst_ax;                /* ... to the batch reference (first 3), to the truth */
+    double fr_right_max, fr_wrong_min;         /* force_ratio: largest of the right hinges,
+                                                  smallest of the wrong ones (-1: none) */
 } hinge_mc_t;
 
 /* T knee-like hinge trials from seed, the wobble at fa and fb times the gait
@@ -497,6 +499,8 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
     tu_rng_t g;
     int t;
     memset(o, 0, sizeof *o);
+    o->fr_right_max = -1.0;
+    o->fr_wrong_min = -1.0;
     g_wobble_f = fa;
     g_wobble_f2 = fb;
     tu_rng_seed(&g, seed);
@@ -522,6 +526,11 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
             o->wrong_flagged += !(ax && pt) && (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
             o->wrong_axis_off += !(ax && pt) && (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
             o->wrong_wobble += !(ax && pt) && (r.flags & SFIT_IMU_FLAG_WOBBLE) != 0;
+            if (ax && pt) {
+                o->fr_right_max = fmax(o->fr_right_max, (double)r.force_ratio);
+            } else if (o->fr_wrong_min < 0.0 || (double)r.force_ratio < o->fr_wrong_min) {
+                o->fr_wrong_min = (double)r.force_ratio;
+            }
         } else {
             o->ball_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) &&
                            !(err3(&r.r1, m.r1, e) < 0.01 && err3(&r.r2, m.r2, e) < 0.01);
@@ -1126,10 +1135,11 @@ int main(int argc, char **argv)
     if (argc >= 6 && strcmp(argv[1], "--hinge-mc") == 0) { /* FA FB T SEED */
         hinge_mc_t o;
         hinge_mc(atoi(argv[4]), strtoul(argv[5], NULL, 10), atof(argv[2]), atof(argv[3]), 1, &o);
-        printf("hinge %d flagged %d (axis_off %d) ax_ok %d pt_ok %d unflagged_bad %d ball_bad %d "
-               "worst_ax %.2f ref %.2f\n",
-               o.hinge, o.flagged, o.axis_off, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad, o.worst_ax,
-               o.worst_ref);
+        printf("hinge %d flagged %d (axis_off %d, wobble %d) ax_ok %d pt_ok %d unflagged_bad %d "
+               "ball_bad %d wrong_hinges %d (wobble %d) force_ratio right max %.3f wrong min "
+               "%.3f worst_ax %.2f ref %.2f\n",
+               o.hinge, o.flagged, o.axis_off, o.wobble, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad,
+               o.wrong, o.wrong_wobble, o.fr_right_max, o.fr_wrong_min, o.worst_ax, o.worst_ref);
         return 0;
     }
     if (argc >= 6 && strcmp(argv[1], "--wobble-analysis") == 0) { /* FA FB T SEED */
