@@ -27,7 +27,7 @@
  * Check of a hinge against the accelerometers: an axis fixed in both
  * segments has the same component of the joint's specific force u_i =
  * a_i - b_i + G_i r_i on both sides, u1.j1 = u2.j2. A few Gauss-Newton
- * steps from the rates' axes fit it (prv_acc_axes); force_ratio is the rms
+ * steps from the rates' axes fit it (prv_force_ratio); force_ratio is the rms
  * of u1.j1 - u2.j2 at the rates' axes over the rms at the fitted ones. A
  * wobble in step with the flexion turns the axis with the flexion's phase,
  * biases the rates' norms (the thigh swings at the same frequency) and
@@ -53,7 +53,6 @@
 #define IMU_WEIGHT_FLOOR 1e-3f /* added to |w1|^2 + |w2|^2 (rad^2/s^2): quiet samples count */
 #define IMU_RNG_SEED 0x9E3779B9u
 #define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
-#define IMU_ACC_AXIS_ITERS 4u /* Gauss-Newton steps of the axes from the joint force */
 
 const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f,
                                              3.0f,  0.05f,  8.0f,  5.0f,  0.0523f, 1.5f};
@@ -366,9 +365,9 @@ static void prv_g(const float w[3], const float d[3], const float r[3], float si
 
 /* One sample of the ball problem: residual, row of the Jacobian (0 when a
  * joint force vanishes). */
-static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP])
+/* The joint's specific force in each sensor's frame at x: a_i - b_i + G_i r_i. */
+static void prv_force(const float *k, const float x[IMU_NP], float v1[3], float v2[3])
 {
-    float v1[3], v2[3], n1, n2, i1, i2;
     uint32_t i;
     prv_g(&k[3], &k[6], x, 1.0f, v1);
     prv_g(&k[12], &k[15], &x[3], 1.0f, v2);
@@ -376,6 +375,13 @@ static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP
         v1[i] += k[i] - x[6u + i];
         v2[i] += k[9u + i] - x[9u + i];
     }
+}
+
+static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP])
+{
+    float v1[3], v2[3], n1, n2, i1, i2;
+    uint32_t i;
+    prv_force(k, x, v1, v2);
     n1 = SFIT_SQRTF(prv_dot(v1, v1));
     n2 = SFIT_SQRTF(prv_dot(v2, v2));
     if (!(n1 > 0.0f) || !(n2 > 0.0f)) {
@@ -694,30 +700,46 @@ static void prv_axis_cov(const float *l, uint32_t off, float s2, const float ta[
     }
 }
 
+/* One row jr, residual e of a 4-unknown problem into a (lower) and g = -J^T e. */
+static void prv_acc4(float *a, float g[4], const float jr[4], float e)
+{
+    uint32_t i, l;
+    for (i = 0u; i < 4u; i++) {
+        g[i] -= jr[i] * e;
+        for (l = 0u; l <= i; l++) {
+            a[i * IMU_NP + l] += jr[i] * jr[l];
+        }
+    }
+}
+
 /* Normal equations of the hinge problem at (j1, j2) in the tangent planes
- * (t1a, t1b), (t2a, t2b); returns the SSR, a (lower) and g = -J^T e. */
-static float prv_hinge_pass(const prv_used_t *u, const float j1[3], const float j2[3],
-                            float t[4][3], float *a, float g[4])
+ * (t1a, t1b), (t2a, t2b); returns the SSR, a (lower) and g = -J^T e. The
+ * rates' problem |w1 x j1| = |w2 x j2| when x is NULL; else the joint
+ * force's, u1.j1 = u2.j2 with u_i = a_i - b_i + G_i r_i at the ball fit x
+ * (an axis fixed in both segments has the same component of the force on
+ * both sides). */
+static float prv_hinge_pass(const prv_used_t *u, const float *x, const float j1[3],
+                            const float j2[3], float t[4][3], float *a, float g[4])
 {
     float ssr = 0.0f;
-    uint32_t k, i, l;
+    uint32_t k;
     prv_tangents(j1, t[0], t[1]);
     prv_tangents(j2, t[2], t[3]);
     memset(a, 0, 4u * IMU_NP * sizeof(float));
     memset(g, 0, 4u * sizeof(float));
     for (k = 0u; k < u->n; k++) {
-        float g1[3], g2[3], jr[4];
-        const float e = prv_wxj(&u->k[k][3], j1, g1) - prv_wxj(&u->k[k][12], j2, g2);
+        float g1[3], g2[3], jr[4], e;
+        if (x == NULL) {
+            e = prv_wxj(&u->k[k][3], j1, g1) - prv_wxj(&u->k[k][12], j2, g2);
+        } else {
+            prv_force(u->k[k], x, g1, g2);
+            e = prv_dot(g1, j1) - prv_dot(g2, j2);
+        }
         jr[0] = prv_dot(g1, t[0]);
         jr[1] = prv_dot(g1, t[1]);
         jr[2] = -prv_dot(g2, t[2]);
         jr[3] = -prv_dot(g2, t[3]);
-        for (i = 0u; i < 4u; i++) {
-            g[i] -= jr[i] * e;
-            for (l = 0u; l <= i; l++) {
-                a[i * IMU_NP + l] += jr[i] * jr[l];
-            }
-        }
+        prv_acc4(a, g, jr, e);
         ssr += e * e;
     }
     return ssr;
@@ -732,14 +754,15 @@ static void prv_unit(float j[3])
     }
 }
 
-/* Gauss-Newton on the axes from (j1, j2); their SSR, or -1 when it fails. */
-static float prv_hinge_gn(const prv_used_t *u, float j1[3], float j2[3])
+/* Gauss-Newton on the axes from (j1, j2) (x: prv_hinge_pass); their SSR, or
+ * -1 when it fails. */
+static float prv_hinge_gn(const prv_used_t *u, const float *x, float j1[3], float j2[3])
 {
     float a[4u * IMU_NP], g[4], t[4][3], ssr = -1.0f;
     uint32_t it, i;
     for (it = 0u; it < (uint32_t)SFIT_IMU_GN_ITERS; it++) {
         float step = 0.0f;
-        ssr = prv_hinge_pass(u, j1, j2, t, a, g);
+        ssr = prv_hinge_pass(u, x, j1, j2, t, a, g);
         if (!prv_chol(a, 4u)) {
             return -1.0f;
         }
@@ -799,7 +822,7 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
         ns = 4u;
     }
     for (k = 0u; k < ns; k++) {
-        const float e = prv_hinge_gn(u, st[k][0], st[k][1]);
+        const float e = prv_hinge_gn(u, NULL, st[k][0], st[k][1]);
         if (e >= 0.0f && (best < 0.0f || e < best)) {
             best = e;
             memcpy(h->j1, st[k][0], sizeof h->j1);
@@ -809,7 +832,7 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
     for (k = 0u; k < u->n; k++) {
         ww += 0.5f * (prv_dot(&u->k[k][3], &u->k[k][3]) + prv_dot(&u->k[k][12], &u->k[k][12]));
     }
-    ssr = (best >= 0.0f) ? prv_hinge_pass(u, h->j1, h->j2, t, a, g) : 0.0f;
+    ssr = (best >= 0.0f) ? prv_hinge_pass(u, NULL, h->j1, h->j2, t, a, g) : 0.0f;
     if (best < 0.0f || !(ww > 0.0f) || !prv_chol(a, 4u)) {
         memset(h, 0, sizeof *h);
         h->ratio = 1.0f; /* no hinge fit: the joint is taken for a ball */
@@ -914,66 +937,24 @@ static float prv_free_line_off(const prv_ball_t *b, const float j1[3], const flo
     return SFIT_SQRTF(1.0f - d * d);
 }
 
-/* The hinge axes from the joint's specific force: the axis is fixed in both
- * segments, so the force's component along it is the same seen from both
- * sensors, u1.j1 = u2.j2 with u_i = a_i - b_i + G_i r_i (the ball fit's r, b).
- * Gauss-Newton in the tangent planes from the rates' axes (j1, j2; j2 the
- * same physical direction); k1, k2 the result. 0 when singular. */
-static SFIT_I_NOINLINE int prv_acc_axes(const prv_used_t *u, const float x[IMU_NP],
-                                        const float j1[3], const float j2[3], float k1[3],
-                                        float k2[3], float ssr[2])
+/* The rates' axes (j1, j2 the same physical direction) against the joint's
+ * specific force: the rms of u1.j1 - u2.j2 at them over its rms at the axes
+ * Gauss-Newton fits to it from them (floored at the noise's prediction);
+ * 1 when the force does not determine the axes (no evidence). */
+static SFIT_I_NOINLINE float prv_force_ratio(const prv_used_t *u, const prv_ball_t *b,
+                                             const float j1[3], const float j2[3])
 {
-    float a[4u * IMU_NP], g[4], t[4][3];
-    uint32_t it, k, i, l;
-    memcpy(k1, j1, 3u * sizeof(float));
-    memcpy(k2, j2, 3u * sizeof(float));
-    for (it = 0u; it <= IMU_ACC_AXIS_ITERS; it++) {
-        float q = 0.0f;
-        prv_tangents(k1, t[0], t[1]);
-        prv_tangents(k2, t[2], t[3]);
-        memset(a, 0, sizeof a);
-        memset(g, 0, sizeof g);
-        for (k = 0u; k < u->n; k++) {
-            const float *p = u->k[k];
-            float u1[3], u2[3], jr[4], e;
-            prv_g(&p[3], &p[6], x, 1.0f, u1);
-            prv_g(&p[12], &p[15], &x[3], 1.0f, u2);
-            for (i = 0u; i < 3u; i++) {
-                u1[i] += p[i] - x[6u + i];
-                u2[i] += p[9u + i] - x[9u + i];
-            }
-            e = prv_dot(u1, k1) - prv_dot(u2, k2);
-            jr[0] = prv_dot(u1, t[0]);
-            jr[1] = prv_dot(u1, t[1]);
-            jr[2] = -prv_dot(u2, t[2]);
-            jr[3] = -prv_dot(u2, t[3]);
-            q += e * e;
-            for (i = 0u; i < 4u; i++) {
-                g[i] -= jr[i] * e;
-                for (l = 0u; l <= i; l++) {
-                    a[i * IMU_NP + l] += jr[i] * jr[l];
-                }
-            }
-        }
-        if (it == 0u) {
-            ssr[0] = q;
-        }
-        ssr[1] = q;
-        if (it == IMU_ACC_AXIS_ITERS) {
-            break;
-        }
-        if (!prv_chol(a, 4u)) {
-            return 0;
-        }
-        prv_chol_solve(a, 4u, g);
-        for (i = 0u; i < 3u; i++) {
-            k1[i] += g[0] * t[0][i] + g[1] * t[1][i];
-            k2[i] += g[2] * t[2][i] + g[3] * t[3][i];
-        }
-        prv_unit(k1);
-        prv_unit(k2);
+    float a[4u * IMU_NP], g[4], t[4][3], k1[3], k2[3], q0, q1;
+    memcpy(k1, j1, sizeof k1);
+    memcpy(k2, j2, sizeof k2);
+    q0 = prv_hinge_pass(u, b->x, k1, k2, t, a, g);
+    q1 = prv_hinge_gn(u, b->x, k1, k2);
+    if (!(q1 >= 0.0f)) {
+        return 1.0f;
     }
-    return 1;
+    q1 = prv_hinge_pass(u, b->x, k1, k2, t, a, g);
+    q1 = (q1 > b->pred * (float)u->n) ? q1 : b->pred * (float)u->n;
+    return SFIT_SQRTF(q0 / q1);
 }
 
 static int prv_result_finite(const sfit_imu_result_t *r)
@@ -1091,18 +1072,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
             r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
         }
     }
-    {
-        /* the axes the rates give against the joint's specific force: the
-         * residual of u1.j1 = u2.j2 at the rates' axes over its residual at
-         * the axes fitted to it (floored at the noise's prediction) */
-        float k1[3], k2[3], q[2];
-        if (prv_acc_axes(&u, b.x, h.j1, r.axis2.v, k1, k2, q)) {
-            const float fl = (q[1] > b.pred * (float)u.n) ? q[1] : b.pred * (float)u.n;
-            r.force_ratio = SFIT_SQRTF(q[0] / fl);
-        } else {
-            r.force_ratio = 1.0f; /* the force does not determine the axes: no evidence */
-        }
-    }
+    r.force_ratio = prv_force_ratio(&u, &b, h.j1, r.axis2.v);
     if (r.hinge && r.line_off > s->cfg.hinge_off) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_AXIS_OFF;
     }
