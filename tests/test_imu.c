@@ -1048,8 +1048,8 @@ static int wobble_analysis(int T, unsigned long seed, double fa, double fb)
         ref_imu_hinge_gn((const double(*)[3])g_gyr[0], (const double(*)[3])g_gyr[1], NS, j1, j2,
                          &rms);
         for (i = 0; i < 3; i++) {
-            l1[i] = r.axis1.v[i];
-            l2[i] = r.axis2.v[i];
+            l1[i] = (double)r.axis1.v[i];
+            l2[i] = (double)r.axis2.v[i];
         }
         {
             double q1[3], q2[3], cov[36], v[6], rr;

@@ -26,12 +26,13 @@
  *
  * Check of a hinge against the accelerometers: an axis fixed in both
  * segments has the same component of the joint's specific force u_i =
- * a_i - b_i + G_i r_i on both sides, u1.j1 = u2.j2. A few Gauss-Newton
- * steps from the rates' axes fit it (prv_force_ratio); force_ratio is the rms
- * of u1.j1 - u2.j2 at the rates' axes over the rms at the fitted ones. A
+ * a_i - b_i + G_i r_i on both sides, u1.j1 = u2.j2. Gauss-Newton from the
+ * rates' axes fits it (prv_force_ratio); force_ratio is the rms of
+ * u1.j1 - u2.j2 at the rates' axes over the rms at the fitted ones. A
  * wobble in step with the flexion turns the axis with the flexion's phase,
  * biases the rates' norms (the thigh swings at the same frequency) and
- * leaves a force residual the fitted axes halve.
+ * leaves a force residual at the rates' axes 1.4 to 12 times the fitted
+ * axes' (a hinge, slow wobble: below 1.5; docs/imu.md).
  */
 #include "sfit/sfit_imu.h"
 
@@ -363,8 +364,6 @@ static void prv_g(const float w[3], const float d[3], const float r[3], float si
     }
 }
 
-/* One sample of the ball problem: residual, row of the Jacobian (0 when a
- * joint force vanishes). */
 /* The joint's specific force in each sensor's frame at x: a_i - b_i + G_i r_i. */
 static void prv_force(const float *k, const float x[IMU_NP], float v1[3], float v2[3])
 {
@@ -377,6 +376,8 @@ static void prv_force(const float *k, const float x[IMU_NP], float v1[3], float 
     }
 }
 
+/* One sample of the ball problem: residual, row of the Jacobian (0 when a
+ * joint force vanishes). */
 static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP])
 {
     float v1[3], v2[3], n1, n2, i1, i2;
