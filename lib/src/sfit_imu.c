@@ -23,6 +23,16 @@
  * solutions are (1 - beta) j j^T + beta I for both; tr J1 = tr J2 = 1 picks
  * beta = 0 (two weighted rows). The top eigenvectors start a Gauss-Newton
  * on |w1 x j1| - |w2 x j2| in the tangent planes of the two axes.
+ *
+ * Check of a hinge against the accelerometers: an axis fixed in both
+ * segments has the same component of the joint's specific force u_i =
+ * a_i - b_i + G_i r_i on both sides, u1.j1 = u2.j2. Gauss-Newton from the
+ * rates' axes fits it (prv_force_ratio); force_ratio is the rms of
+ * u1.j1 - u2.j2 at the rates' axes over the rms at the fitted ones. A
+ * wobble in step with the flexion turns the axis with the flexion's phase,
+ * biases the rates' norms (the thigh swings at the same frequency) and
+ * leaves a force residual at the rates' axes 1.4 to 12 times the fitted
+ * axes' (a hinge, slow wobble: below 1.5; docs/imu.md).
  */
 #include "sfit/sfit_imu.h"
 
@@ -45,8 +55,8 @@
 #define IMU_RNG_SEED 0x9E3779B9u
 #define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
 
-const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f, 0.006f,
-                                             3.0f,  0.05f,  8.0f,  5.0f, 0.0523f};
+const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f,
+                                             3.0f,  0.05f,  8.0f,  5.0f,  0.0523f, 1.5f};
 
 SFIT_INLINE void prv_cross(const float a[3], const float b[3], float c[3])
 {
@@ -71,7 +81,8 @@ static int prv_cfg_ok(const sfit_imu_cfg_t *c)
            sfit_i_isfinite(c->acc_bias_sd) && c->acc_bias_sd >= 0.0f && prv_pos(c->min_rate) &&
            prv_pos(c->max_pos_sd) && prv_pos(c->slip_ratio) && prv_pos(c->hinge_ratio) &&
            prv_pos(c->ball_line) && sfit_i_isfinite(c->hinge_line) && c->hinge_line >= c->ball_line &&
-           prv_pos(c->hinge_off) && c->hinge_off <= 1.0f;
+           prv_pos(c->hinge_off) && c->hinge_off <= 1.0f && sfit_i_isfinite(c->wobble_ratio) &&
+           c->wobble_ratio >= 1.0f;
 }
 
 /* The counters and indices a call relies on (a garbage state is refused). */
@@ -353,11 +364,9 @@ static void prv_g(const float w[3], const float d[3], const float r[3], float si
     }
 }
 
-/* One sample of the ball problem: residual, row of the Jacobian (0 when a
- * joint force vanishes). */
-static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP])
+/* The joint's specific force in each sensor's frame at x: a_i - b_i + G_i r_i. */
+static void prv_force(const float *k, const float x[IMU_NP], float v1[3], float v2[3])
 {
-    float v1[3], v2[3], n1, n2, i1, i2;
     uint32_t i;
     prv_g(&k[3], &k[6], x, 1.0f, v1);
     prv_g(&k[12], &k[15], &x[3], 1.0f, v2);
@@ -365,6 +374,15 @@ static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP
         v1[i] += k[i] - x[6u + i];
         v2[i] += k[9u + i] - x[9u + i];
     }
+}
+
+/* One sample of the ball problem: residual, row of the Jacobian (0 when a
+ * joint force vanishes). */
+static float prv_ball_row(const float *k, const float x[IMU_NP], float jr[IMU_NP])
+{
+    float v1[3], v2[3], n1, n2, i1, i2;
+    uint32_t i;
+    prv_force(k, x, v1, v2);
     n1 = SFIT_SQRTF(prv_dot(v1, v1));
     n2 = SFIT_SQRTF(prv_dot(v2, v2));
     if (!(n1 > 0.0f) || !(n2 > 0.0f)) {
@@ -683,30 +701,46 @@ static void prv_axis_cov(const float *l, uint32_t off, float s2, const float ta[
     }
 }
 
+/* One row jr, residual e of a 4-unknown problem into a (lower) and g = -J^T e. */
+static void prv_acc4(float *a, float g[4], const float jr[4], float e)
+{
+    uint32_t i, l;
+    for (i = 0u; i < 4u; i++) {
+        g[i] -= jr[i] * e;
+        for (l = 0u; l <= i; l++) {
+            a[i * IMU_NP + l] += jr[i] * jr[l];
+        }
+    }
+}
+
 /* Normal equations of the hinge problem at (j1, j2) in the tangent planes
- * (t1a, t1b), (t2a, t2b); returns the SSR, a (lower) and g = -J^T e. */
-static float prv_hinge_pass(const prv_used_t *u, const float j1[3], const float j2[3],
-                            float t[4][3], float *a, float g[4])
+ * (t1a, t1b), (t2a, t2b); returns the SSR, a (lower) and g = -J^T e. The
+ * rates' problem |w1 x j1| = |w2 x j2| when x is NULL; else the joint
+ * force's, u1.j1 = u2.j2 with u_i = a_i - b_i + G_i r_i at the ball fit x
+ * (an axis fixed in both segments has the same component of the force on
+ * both sides). */
+static float prv_hinge_pass(const prv_used_t *u, const float *x, const float j1[3],
+                            const float j2[3], float t[4][3], float *a, float g[4])
 {
     float ssr = 0.0f;
-    uint32_t k, i, l;
+    uint32_t k;
     prv_tangents(j1, t[0], t[1]);
     prv_tangents(j2, t[2], t[3]);
     memset(a, 0, 4u * IMU_NP * sizeof(float));
     memset(g, 0, 4u * sizeof(float));
     for (k = 0u; k < u->n; k++) {
-        float g1[3], g2[3], jr[4];
-        const float e = prv_wxj(&u->k[k][3], j1, g1) - prv_wxj(&u->k[k][12], j2, g2);
+        float g1[3], g2[3], jr[4], e;
+        if (x == NULL) {
+            e = prv_wxj(&u->k[k][3], j1, g1) - prv_wxj(&u->k[k][12], j2, g2);
+        } else {
+            prv_force(u->k[k], x, g1, g2);
+            e = prv_dot(g1, j1) - prv_dot(g2, j2);
+        }
         jr[0] = prv_dot(g1, t[0]);
         jr[1] = prv_dot(g1, t[1]);
         jr[2] = -prv_dot(g2, t[2]);
         jr[3] = -prv_dot(g2, t[3]);
-        for (i = 0u; i < 4u; i++) {
-            g[i] -= jr[i] * e;
-            for (l = 0u; l <= i; l++) {
-                a[i * IMU_NP + l] += jr[i] * jr[l];
-            }
-        }
+        prv_acc4(a, g, jr, e);
         ssr += e * e;
     }
     return ssr;
@@ -721,14 +755,15 @@ static void prv_unit(float j[3])
     }
 }
 
-/* Gauss-Newton on the axes from (j1, j2); their SSR, or -1 when it fails. */
-static float prv_hinge_gn(const prv_used_t *u, float j1[3], float j2[3])
+/* Gauss-Newton on the axes from (j1, j2) (x: prv_hinge_pass); their SSR, or
+ * -1 when it fails. */
+static float prv_hinge_gn(const prv_used_t *u, const float *x, float j1[3], float j2[3])
 {
     float a[4u * IMU_NP], g[4], t[4][3], ssr = -1.0f;
     uint32_t it, i;
     for (it = 0u; it < (uint32_t)SFIT_IMU_GN_ITERS; it++) {
         float step = 0.0f;
-        ssr = prv_hinge_pass(u, j1, j2, t, a, g);
+        ssr = prv_hinge_pass(u, x, j1, j2, t, a, g);
         if (!prv_chol(a, 4u)) {
             return -1.0f;
         }
@@ -788,7 +823,7 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
         ns = 4u;
     }
     for (k = 0u; k < ns; k++) {
-        const float e = prv_hinge_gn(u, st[k][0], st[k][1]);
+        const float e = prv_hinge_gn(u, NULL, st[k][0], st[k][1]);
         if (e >= 0.0f && (best < 0.0f || e < best)) {
             best = e;
             memcpy(h->j1, st[k][0], sizeof h->j1);
@@ -798,7 +833,7 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
     for (k = 0u; k < u->n; k++) {
         ww += 0.5f * (prv_dot(&u->k[k][3], &u->k[k][3]) + prv_dot(&u->k[k][12], &u->k[k][12]));
     }
-    ssr = (best >= 0.0f) ? prv_hinge_pass(u, h->j1, h->j2, t, a, g) : 0.0f;
+    ssr = (best >= 0.0f) ? prv_hinge_pass(u, NULL, h->j1, h->j2, t, a, g) : 0.0f;
     if (best < 0.0f || !(ww > 0.0f) || !prv_chol(a, 4u)) {
         memset(h, 0, sizeof *h);
         h->ratio = 1.0f; /* no hinge fit: the joint is taken for a ball */
@@ -903,6 +938,26 @@ static float prv_free_line_off(const prv_ball_t *b, const float j1[3], const flo
     return SFIT_SQRTF(1.0f - d * d);
 }
 
+/* The rates' axes (j1, j2 the same physical direction) against the joint's
+ * specific force: the rms of u1.j1 - u2.j2 at them over its rms at the axes
+ * Gauss-Newton fits to it from them (floored at the noise's prediction);
+ * 1 when the force does not determine the axes (no evidence). */
+static SFIT_I_NOINLINE float prv_force_ratio(const prv_used_t *u, const prv_ball_t *b,
+                                             const float j1[3], const float j2[3])
+{
+    float a[4u * IMU_NP], g[4], t[4][3], k1[3], k2[3], q0, q1;
+    memcpy(k1, j1, sizeof k1);
+    memcpy(k2, j2, sizeof k2);
+    q0 = prv_hinge_pass(u, b->x, k1, k2, t, a, g);
+    q1 = prv_hinge_gn(u, b->x, k1, k2);
+    if (!(q1 >= 0.0f)) {
+        return 1.0f;
+    }
+    q1 = prv_hinge_pass(u, b->x, k1, k2, t, a, g);
+    q1 = (q1 > b->pred * (float)u->n) ? q1 : b->pred * (float)u->n;
+    return SFIT_SQRTF(q0 / q1);
+}
+
 static int prv_result_finite(const sfit_imu_result_t *r)
 {
     const float *f[] = {r->r1.v, r->r2.v, r->axis1.v, r->axis2.v, r->acc_bias1.v, r->acc_bias2.v};
@@ -924,7 +979,8 @@ static int prv_result_finite(const sfit_imu_result_t *r)
     }
     return sfit_i_isfinite(r->resid_rms) && sfit_i_isfinite(r->line_sd) &&
            sfit_i_isfinite(r->line_ratio) && sfit_i_isfinite(r->noise_rms) &&
-           sfit_i_isfinite(r->hinge_ratio) && sfit_i_isfinite(r->rate_rms1) &&
+           sfit_i_isfinite(r->hinge_ratio) && sfit_i_isfinite(r->force_ratio) &&
+           sfit_i_isfinite(r->rate_rms1) &&
            sfit_i_isfinite(r->rate_rms2);
 }
 
@@ -1017,8 +1073,12 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
             r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
         }
     }
+    r.force_ratio = prv_force_ratio(&u, &b, h.j1, r.axis2.v);
     if (r.hinge && r.line_off > s->cfg.hinge_off) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_AXIS_OFF;
+    }
+    if (r.hinge && r.force_ratio > s->cfg.wobble_ratio) {
+        r.flags |= (uint32_t)SFIT_IMU_FLAG_WOBBLE;
     }
     if (r.hinge) {
         prv_project(h.j1, &r.r1, &r.r1_cov);

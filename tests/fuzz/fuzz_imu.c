@@ -39,7 +39,8 @@ static void fz_check_result(const sfit_imu_result_t *r)
                  fz_all_finite(r->axis1_cov.m, 9) && fz_all_finite(r->axis2_cov.m, 9) &&
                  fz_all_finite(r->acc_bias1.v, 3) && fz_all_finite(r->acc_bias2.v, 3) &&
                  fz_finite(r->resid_rms) && fz_finite(r->noise_rms) && fz_finite(r->line_sd) &&
-                 fz_finite(r->line_ratio) && fz_finite(r->line_off) && fz_finite(r->hinge_ratio),
+                 fz_finite(r->line_ratio) && fz_finite(r->line_off) && fz_finite(r->hinge_ratio) &&
+                 fz_finite(r->force_ratio),
              "imu solve: a non-finite output");
     FZ_CHECK(((r->flags & SFIT_FLAG_UNTRUSTED) != 0u) == ((r->flags & ~1u) != 0u),
              "imu solve: UNTRUSTED without a reason, or a reason without it");
@@ -79,6 +80,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 cfg.ball_line = fz_float(&in);
                 cfg.max_pos_sd = fz_float(&in);
                 cfg.hinge_off = fz_float(&in);
+                cfg.wobble_ratio = fz_float(&in);
             }
             st = sfit_imu_init(&fz_s, rate, ((sel & 8u) != 0u) ? NULL : &cfg);
             FZ_CHECK(fz_status_defined(st), "imu init: status");

@@ -711,7 +711,7 @@ static inline void fz_g_imu(fz_in_t *in, uint8_t fill)
                              && fz_all_finite(r.r1_cov.m, 9) && fz_all_finite(r.r2_cov.m, 9)
                              && fz_all_finite(r.axis1.v, 3) && fz_all_finite(r.axis2.v, 3)
                              && fz_finite(r.resid_rms) && fz_finite(r.line_ratio)
-                             && fz_finite(r.line_off),
+                             && fz_finite(r.line_off) && fz_finite(r.force_ratio),
                          "garbage: imu solve OK with a non-finite output");
             }
             FZ_CHECK(memcmp(&s, &before, sizeof s) == 0, "garbage: imu solve changed the state");

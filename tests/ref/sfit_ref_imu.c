@@ -467,3 +467,102 @@ int ref_imu_hinge_gn(const double (*gyr1)[3], const double (*gyr2)[3], size_t n,
     }
     return 0;
 }
+
+void ref_imu_relative(const ref_imu_motion_t *m, double t, double rel[9], double w[3])
+{
+    double q[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, rot[9], v[3], th[3], x[9];
+    int i, k;
+    memset(w, 0, 3 * sizeof(double));
+    for (i = m->nf1; i < m->nf1 + m->nf2; i++) {
+        ri_wave(m->off[i], m->amp[i], m->freq[i], m->ph[i], t, th);
+        ri_matvec(q, m->axis[i], v);
+        for (k = 0; k < 3; k++) {
+            w[k] += v[k] * th[1];
+        }
+        ri_rot(m->axis[i], th[0], rot);
+        ri_matmul(q, rot, q);
+    }
+    /* sensor 2 -> sensor 1: c1^T q c2 ; the rate in sensor 1's frame: c1^T w */
+    ri_matmul(q, m->c2, x);
+    for (i = 0; i < 3; i++) {
+        for (k = 0; k < 3; k++) {
+            rel[3 * i + k] = m->c1[i] * x[k] + m->c1[3 + i] * x[3 + k] + m->c1[6 + i] * x[6 + k];
+        }
+    }
+    ri_mattvec(m->c1, w, v);
+    memcpy(w, v, sizeof v);
+}
+
+/* Top eigenvector of the symmetric 3x3 s (power iteration from the largest column). */
+static void ri_top_eig(const double s[9], double v[3])
+{
+    double n;
+    int it, i, c = 0;
+    for (i = 1; i < 3; i++) {
+        c = (s[4 * i] > s[4 * c]) ? i : c;
+    }
+    for (i = 0; i < 3; i++) {
+        v[i] = s[3 * i + c];
+    }
+    for (it = 0; it < 2000; it++) {
+        double x[3];
+        ri_matvec(s, v, x);
+        n = sqrt(ri_dot(x, x));
+        if (!(n > 0.0)) {
+            break;
+        }
+        for (i = 0; i < 3; i++) {
+            v[i] = x[i] / n;
+        }
+    }
+}
+
+void ref_imu_fixed_axis(const ref_imu_motion_t *m, size_t n, double rate, double j1[3],
+                        double j2[3], double *wander, double f1[3], double f2[3])
+{
+    double mean[9], s[9], x[9], nn;
+    double q[9] = {0}, q2[9] = {0};
+    size_t k;
+    int i, l;
+    memset(mean, 0, sizeof mean);
+    for (k = 0; k < n; k++) {
+        double rel[9], w[3], w2[3];
+        ref_imu_relative(m, (double)k / rate, rel, w);
+        ri_mattvec(rel, w, w2);
+        for (i = 0; i < 9; i++) {
+            mean[i] += rel[i] / (double)n;
+        }
+        for (i = 0; i < 3; i++) {
+            for (l = 0; l < 3; l++) {
+                q[3 * i + l] += w[i] * w[l];
+                q2[3 * i + l] += w2[i] * w2[l];
+            }
+        }
+    }
+    /* j2: top eigenvector of mean^T mean; j1 = mean j2 normalised */
+    for (i = 0; i < 3; i++) {
+        for (l = 0; l < 3; l++) {
+            s[3 * i + l] = mean[i] * mean[l] + mean[3 + i] * mean[3 + l] + mean[6 + i] * mean[6 + l];
+        }
+    }
+    ri_top_eig(s, j2);
+    ri_matvec(mean, j2, j1);
+    nn = sqrt(ri_dot(j1, j1));
+    for (i = 0; i < 3; i++) {
+        j1[i] /= nn;
+    }
+    if (wander) {
+        double worst = 0.0;
+        for (k = 0; k < n; k++) {
+            double rel[9], w[3], v[3];
+            ref_imu_relative(m, (double)k / rate, rel, w);
+            ri_matvec(rel, j2, v);
+            ri_cross(v, j1, w);
+            worst = fmax(worst, asin(fmin(1.0, sqrt(ri_dot(w, w)))));
+        }
+        *wander = worst;
+    }
+    ri_top_eig(q, f1);
+    ri_top_eig(q2, f2);
+    (void)x;
+}

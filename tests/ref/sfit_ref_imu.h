@@ -70,6 +70,26 @@ int ref_imu_ball_gn(const double (*acc1)[3], const double (*gyr1)[3], const doub
 int ref_imu_hinge_gn(const double (*gyr1)[3], const double (*gyr2)[3], size_t n, double j1[3],
                      double j2[3], double *rms);
 
+/**
+ * The relative motion of a motion's joint factors at time t: rel maps
+ * sensor 2's frame to sensor 1's (c1^T Q c2, Q the product of the joint's
+ * rotations), w the relative angular velocity (segment 2 against segment 1)
+ * in sensor 1's frame (rad/s).
+ */
+void ref_imu_relative(const ref_imu_motion_t *m, double t, double rel[9], double w[3]);
+
+/**
+ * The best fixed axis of the true relative motion over n samples at rate:
+ * the direction fixed in both segments (j2 in sensor 2's frame, j1 = its
+ * image in sensor 1's) that moves least, the top singular vectors of the mean
+ * relative rotation (maximising |mean(rel) j2|); wander (rad): the largest
+ * angle between rel(t) j2 and j1 over the samples (0 for a hinge). f1, f2:
+ * the principal direction of the relative angular velocity in each sensor's
+ * frame (the top eigenvector of sum w w^T; the functional axis).
+ */
+void ref_imu_fixed_axis(const ref_imu_motion_t *m, size_t n, double rate, double j1[3],
+                        double j2[3], double *wander, double f1[3], double f2[3]);
+
 #ifdef __cplusplus
 }
 #endif

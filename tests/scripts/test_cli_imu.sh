@@ -6,6 +6,8 @@
 #  2. a knee-like hinge: joint "hinge", axes within 3 degrees, axis points
 #     within 10 mm; the text output says it in words;
 #  2b. a hinge with a wobble at the flexion's frequency: axis_off, untrusted;
+#  2c. a hinge whose wobbles are both in step with the flexion: wobble,
+#      untrusted, force_ratio in JSON, the reason in words;
 #  3. no motion: untrusted, with the reason in words;
 #  4. errors: NaN, time going backwards, unknown column, missing file, usage.
 # Usage: test_cli_imu.sh BUILD_DIR SOURCE_DIR
@@ -61,7 +63,8 @@ grep -q "^axis in sensor 1" <<<"$out" || fail "text output: no axis: $out"
 # (test_imu --write-csv ... wobble): its axis 1 is 3.4 degrees and its axis
 # point 20 mm off, and the rate axes and the freest line of the position
 # disagree by more than hinge_off (0.0523): untrusted, axis_off, in JSON
-# and in words.
+# and in words; the rate axes do not fit the accelerometers either
+# (force_ratio 3.45 > wobble_ratio 1.5): wobble.
 "$gen" --write-csv "$tmp/wobble.csv" wobble 4325 > /dev/null
 expect_rc 0 "$sfit" imu-joint --json "$tmp/wobble.csv"
 py '
@@ -69,13 +72,33 @@ import json, sys
 o = json.loads(sys.argv[1])
 assert o["status"] == "ok" and o["joint"] == "hinge", o
 assert o["line_off"] > 0.0523, o
-assert o["flags"]["untrusted"] is True and o["flags"]["names"] == ["axis_off"], o
+assert o["flags"]["untrusted"] is True and o["flags"]["names"] == ["axis_off", "wobble"], o
+assert o["force_ratio"] > 1.5, o
 assert "wobble" in o["flags"]["reason"], o
 print("wobble: line_off %.4f, flagged axis_off" % o["line_off"])
 ' "$out"
 expect_rc 0 "$sfit" imu-joint "$tmp/wobble.csv"
 grep -q "^UNTRUSTED" <<<"$out" || fail "text output: wobble not untrusted: $out"
 grep -q "leave the joint free" <<<"$out" || fail "text output: no axis_off reason: $out"
+
+# 2c. both wobbles in step with the flexion (test_imu --write-csv ... instep):
+# axis 1 is 6.8 degrees and the axis points 19 mm off; the freest line of
+# the position agrees with the rate axes (line_off 0.022, no axis_off), but
+# the rate axes do not fit the accelerometers (force_ratio 2.87): wobble.
+"$gen" --write-csv "$tmp/instep.csv" instep 4326 > /dev/null
+expect_rc 0 "$sfit" imu-joint --json "$tmp/instep.csv"
+py '
+import json, sys
+o = json.loads(sys.argv[1])
+assert o["status"] == "ok" and o["joint"] == "hinge", o
+assert o["line_off"] < 0.0523 and o["force_ratio"] > 1.5, o
+assert o["flags"]["untrusted"] is True and o["flags"]["names"] == ["wobble"], o
+assert "in step with the flexion" in o["flags"]["reason"], o
+print("in step: force_ratio %.3f, flagged wobble" % o["force_ratio"])
+' "$out"
+expect_rc 0 "$sfit" imu-joint "$tmp/instep.csv"
+grep -q "^UNTRUSTED" <<<"$out" || fail "text output: in-step wobble not untrusted: $out"
+grep -q "do not fit the accelerometers" <<<"$out" || fail "text output: no wobble reason: $out"
 
 # 3. no motion
 "$gen" --write-csv "$tmp/still.csv" still 4244 > /dev/null

@@ -150,6 +150,9 @@ void tt_imu(void)
     /* exact hinge: the freest line of the position is the axes' line */
     TT_TRUE((r.flags & SFIT_IMU_FLAG_AXIS_OFF) == 0u);
     TT_TRUE(r.line_off >= 0.0f && r.line_off < 0.0523f);
+    /* ... and its axes fit the accelerometers */
+    TT_TRUE((r.flags & SFIT_IMU_FLAG_WOBBLE) == 0u);
+    TT_TRUE(r.force_ratio >= 0.0f && r.force_ratio < 1.5f);
     {
         /* the axis in sensor 1: c1^T times the hinge factor's axis */
         double j[3], d;

@@ -97,6 +97,7 @@ static const json_out_flag_t g_imu[] = {
     {SFIT_IMU_FLAG_SLIP, "slip"},
     {SFIT_IMU_FLAG_AMBIGUOUS, "ambiguous"},
     {SFIT_IMU_FLAG_AXIS_OFF, "axis_off"},
+    {SFIT_IMU_FLAG_WOBBLE, "wobble"},
 };
 static const char *const g_imu_why[sizeof g_imu / sizeof g_imu[0]] = {
     "a sensor hardly rotates: its joint position is not determined",
@@ -105,6 +106,8 @@ static const char *const g_imu_why[sizeof g_imu / sizeof g_imu[0]] = {
     "ball and hinge cannot be told apart",
     ("the hinge axes from the rates disagree with the line along which the accelerometers "
      "leave the joint free: a wobble in step with the flexion biases them"),
+    ("the hinge axes from the rates do not fit the accelerometers: the axis turns in the "
+     "segments in step with the flexion, and the axes may be off by several degrees"),
 };
 
 const char *names_imu_reason(uint32_t bit)

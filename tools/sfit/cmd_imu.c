@@ -193,10 +193,11 @@ static void imu_print_json(const sfit_imu_result_t *r, double rate)
     imu_vec_json("acc_bias1", &r->acc_bias1);
     imu_vec_json("acc_bias2", &r->acc_bias2);
     printf(",\"resid_rms\":%.9g,\"noise_rms\":%.9g,\"hinge_ratio\":%.9g,\"line_sd\":%.9g,"
-           "\"line_ratio\":%.9g,\"line_off\":%.9g,\"rate_rms1\":%.9g,\"rate_rms2\":%.9g",
+           "\"line_ratio\":%.9g,\"line_off\":%.9g,\"force_ratio\":%.9g,\"rate_rms1\":%.9g,"
+           "\"rate_rms2\":%.9g",
            (double)r->resid_rms, (double)r->noise_rms, (double)r->hinge_ratio,
-           (double)r->line_sd, (double)r->line_ratio, (double)r->line_off, (double)r->rate_rms1,
-           (double)r->rate_rms2);
+           (double)r->line_sd, (double)r->line_ratio, (double)r->line_off,
+           (double)r->force_ratio, (double)r->rate_rms1, (double)r->rate_rms2);
     printf(",\"flags\":{\"untrusted\":%s,\"names\":[",
            (r->flags & SFIT_FLAG_UNTRUSTED) ? "true" : "false");
     for (k = 0; k < nf; k++) {

@@ -56,12 +56,20 @@ enum sfit_imu_flag {
                                                 as certain as the others (line_ratio <
                                                 cfg.ball_line) nor free with the hinge
                                                 constraint holding. */
-    SFIT_IMU_FLAG_AXIS_OFF = 0x100000u     /**< A hinge whose axes (from the rates) and the
+    SFIT_IMU_FLAG_AXIS_OFF = 0x100000u,    /**< A hinge whose axes (from the rates) and the
                                                 line along which the accelerometers leave the
                                                 joint free (result line_off) disagree by more
                                                 than cfg.hinge_off: rates off the axis in step
                                                 with the flexion (a wobble at the gait's
                                                 frequency) bias the axes. */
+    SFIT_IMU_FLAG_WOBBLE = 0x200000u       /**< A hinge whose axes (from the rates) do not fit
+                                                the accelerometers: the joint's specific force
+                                                along them differs between the sensors
+                                                cfg.wobble_ratio times more (result
+                                                force_ratio) than along the axes fitted to it.
+                                                The axis turns in the segments in step with
+                                                the flexion: no fixed axis describes the
+                                                motion to a few degrees. */
 };
 
 /** @brief Options. Defaults: ::sfit_imu_cfg_default. */
@@ -88,6 +96,8 @@ typedef struct sfit_imu_cfg {
     float hinge_off;   /**< Largest sine of the angle between a hinge's axes and the freest
                             line of the joint position (result line_off), in (0, 1]; above
                             it ::SFIT_IMU_FLAG_AXIS_OFF; 0.0523 (3 degrees). */
+    float wobble_ratio; /**< Largest result force_ratio of a trusted hinge, >= 1; above it
+                            ::SFIT_IMU_FLAG_WOBBLE; 1.5. */
 } sfit_imu_cfg_t;
 
 /** @brief The default options. */
@@ -144,6 +154,11 @@ typedef struct sfit_imu_result {
     float line_off;          /**< Sine of the angle between the line of the hinge axes
                                   and the freest line of the joint position (the top
                                   eigenvector of the covariance of (r1, r2)). */
+    float force_ratio;       /**< rms of u1.j1 - u2.j2 (u_i the joint's specific force in
+                                  sensor i's frame, a_i - b_i + G_i r_i) at the rates' axes
+                                  over its rms at the axes fitted to it (floored at the
+                                  noise's prediction): about 1 for a hinge, large when the
+                                  axis moves in the segments with the flexion. */
     float rate_rms1, rate_rms2; /**< rms angular rate of each sensor (rad/s). */
     uint32_t flags;          /**< ::SFIT_FLAG_UNTRUSTED and SFIT_IMU_FLAG_* bits. */
 } sfit_imu_result_t;
@@ -157,7 +172,8 @@ typedef struct sfit_imu_result {
  * @retval SFIT_E_ARG  NULL s, rate not a positive finite number, or an option out of
  *                     range (negative or non-finite; diff_span, gyr_noise, acc_noise,
  *                     min_rate, max_pos_sd, slip_ratio, hinge_ratio, ball_line <= 0;
- *                     hinge_line < ball_line; hinge_off not in (0, 1])
+ *                     hinge_line < ball_line; hinge_off not in (0, 1]; wobble_ratio
+ *                     below 1)
  */
 sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg);
 
@@ -185,7 +201,7 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x);
  * @retval SFIT_E_DEGENERATE      the normal matrix is singular (no motion at all)
  * @retval SFIT_E_NO_CONVERGENCE  Gauss-Newton still moving after SFIT_IMU_GN_ITERS
  * @retval SFIT_E_RANGE           a non-finite intermediate (a corrupted state)
- * @par Cost about 0.3 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.5 kB stack.
+ * @par Cost about 0.35 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
  */
 sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out);
 

@@ -324,6 +324,7 @@ class ImuJointResult:
     line_sd: float
     line_ratio: float
     line_off: float
+    force_ratio: float
     rate_rms1: float
     rate_rms2: float
     n: int

@@ -60,6 +60,7 @@ static PyObject *imu_dict(const sfit_imu_result_t *r)
         || sfit_py_put(d, "line_sd", PyFloat_FromDouble((double)r->line_sd)) < 0
         || sfit_py_put(d, "line_ratio", PyFloat_FromDouble((double)r->line_ratio)) < 0
         || sfit_py_put(d, "line_off", PyFloat_FromDouble((double)r->line_off)) < 0
+        || sfit_py_put(d, "force_ratio", PyFloat_FromDouble((double)r->force_ratio)) < 0
         || sfit_py_put(d, "rate_rms1", PyFloat_FromDouble((double)r->rate_rms1)) < 0
         || sfit_py_put(d, "rate_rms2", PyFloat_FromDouble((double)r->rate_rms2)) < 0
         || sfit_py_put(d, "flags_mask", PyLong_FromUnsignedLong(r->flags)) < 0

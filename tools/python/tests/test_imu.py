@@ -59,6 +59,25 @@ def test_hinge(tmp_path):
     assert r.axis1_cov.shape == (3, 3)
 
 
+def test_hinge_fits_the_accelerometers(tmp_path):
+    a, rate, _, cli = _trial(tmp_path, "hinge", 4243)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.force_ratio == pytest.approx(cli["force_ratio"], rel=1e-5)
+    assert r.force_ratio < 1.5 and "wobble" not in r.flags
+
+
+def test_instep_wobble_is_untrusted(tmp_path):
+    """Both wobbles in step with the flexion: the rate axes (6.8 degrees off)
+    do not fit the accelerometers: the wobble flag, as the CLI says it."""
+    a, rate, truth, cli = _trial(tmp_path, "instep", 4326)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.joint == "hinge" == cli["joint"]
+    assert _angle(r.axis1, truth["axis1"]) > 3.0
+    assert r.force_ratio == pytest.approx(cli["force_ratio"], rel=1e-5) and r.force_ratio > 1.5
+    assert r.untrusted is True and r.flags == ["wobble"] == cli["flags"]["names"]
+    assert r.reason == cli["flags"]["reason"] and "in step with the flexion" in r.reason
+
+
 def test_still_is_untrusted(tmp_path):
     a, rate, _, cli = _trial(tmp_path, "still", 4244)
     r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
