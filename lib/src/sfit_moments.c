@@ -71,8 +71,11 @@ SFIT_INLINE float prv_nonneg(float v)
     return (v < 0.0f) ? 0.0f : v;
 }
 
-/* The moments of a U b centred about their mean origin + d, written to
- * m2, m3 and d (which may be a's or b's own members); returns the count.
+/* An empty set of sums (an empty open block). */
+static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f}, {0.0f, 0.0f, 0.0f}};
+
+/* out := the moments of a U b centred about their mean origin + out->d
+ * (out may be a or b).
  * a is centred about origin + a->d, where a->d is a rebase residue
  * (prv_rebase: at most half an ulp of the origin) or a is empty; b holds
  * raw sums of z = x - origin. One pass about the origin (the union's sums
@@ -84,9 +87,10 @@ SFIT_INLINE float prv_nonneg(float v)
  *   M3 = S3 - (2 M2 + tr(M2) I) delta - n |delta|^2 delta
  * (the shift of prv_m3_shift by -delta). Every sum is about a point near
  * the samples' mean, never about the coordinate origin. */
-static uint32_t prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, float m2[6], float m3[3],
-                         float d[3])
+static void prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out)
 {
+    float *const m2 = out->m2;
+    float *const m3 = out->m3;
     const uint32_t n = a->n + b->n;
     const float na = (float)a->n;
     const float fn = (float)n;
@@ -100,31 +104,31 @@ static uint32_t prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, float m2[6]
 
     /* S3 = M3_a + (2 M2_a + tr(M2_a) I) e + S3_b */
     t = a0 + a1 + a2;
-    q0 = (a->m3[0] + b->m3[0]) + (2.0f * (a0 * e0 + a3 * e1 + a4 * e2) + t * e0);
-    q1 = (a->m3[1] + b->m3[1]) + (2.0f * (a3 * e0 + a1 * e1 + a5 * e2) + t * e1);
-    q2 = (a->m3[2] + b->m3[2]) + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
+    q0 = b->m3[0] + (2.0f * (a0 * e0 + a3 * e1 + a4 * e2) + t * e0);
+    q1 = b->m3[1] + (2.0f * (a3 * e0 + a1 * e1 + a5 * e2) + t * e1);
+    q2 = b->m3[2] + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
     /* A sum of squares about the mean is >= 0; the subtraction of two
      * nearly equal sums can round below (found by fuzz_stream). */
-    p0 = prv_nonneg((a0 + b->m2[0]) - s0 * d0);
-    p1 = prv_nonneg((a1 + b->m2[1]) - s1 * d1);
-    p2 = prv_nonneg((a2 + b->m2[2]) - s2 * d2);
-    p3 = (a3 + b->m2[3]) - s0 * d1;
-    p4 = (a4 + b->m2[4]) - s0 * d2;
-    p5 = (a5 + b->m2[5]) - s1 * d2;
+    p0 = prv_nonneg(a0 + (b->m2[0] - s0 * d0));
+    p1 = prv_nonneg(a1 + (b->m2[1] - s1 * d1));
+    p2 = prv_nonneg(a2 + (b->m2[2] - s2 * d2));
+    p3 = a3 + (b->m2[3] - s0 * d1);
+    p4 = a4 + (b->m2[4] - s0 * d2);
+    p5 = a5 + (b->m2[5] - s1 * d2);
     t = (p0 + p1 + p2) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
-    m3[0] = q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0);
-    m3[1] = q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1);
-    m3[2] = q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2);
+    m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
+    m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
+    m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
     m2[0] = p0;
     m2[1] = p1;
     m2[2] = p2;
     m2[3] = p3;
     m2[4] = p4;
     m2[5] = p5;
-    d[0] = d0;
-    d[1] = d1;
-    d[2] = d2;
-    return n;
+    out->d[0] = d0;
+    out->d[1] = d1;
+    out->d[2] = d2;
+    out->n = n;
 }
 
 /* b := a U b, both means relative to the same origin (b is the result, so
@@ -188,7 +192,7 @@ static void prv_rebase(float origin[3], sfit_cmom_t *t)
 static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
     if (blk->n > 0u) {
-        out->n = prv_fold(tot, blk, out->m2, out->m3, out->d);
+        prv_fold(tot, blk, out);
     } else {
         *out = *tot;
     }
@@ -202,8 +206,8 @@ void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
 /* Fold the open block into the total and empty it (the origin stays). */
 static void prv_close(sfit_moments_t *m)
 {
-    m->tot.n = prv_fold(&m->tot, &m->blk, m->tot.m2, m->tot.m3, m->tot.d);
-    memset(&m->blk, 0, sizeof m->blk);
+    prv_fold(&m->tot, &m->blk, &m->tot);
+    m->blk = k_none;
 }
 
 /* Fold the open block into the total, empty it and move the origin to
@@ -481,30 +485,29 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
 }
 
 /* One path whatever the open block holds (an empty one folds as zeros):
- * the solve costs the same at every N. The centred M2 lands packed in the
- * first six entries of C and M3 in b, then both are scaled in place. */
+ * the solve costs the same at every N. */
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s)
 {
-    static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f}, {0.0f, 0.0f, 0.0f}};
     float *const c = s->c.m;
-    const uint32_t n = prv_fold(tot, (blk != NULL) ? blk : &k_none, c, s->rhs.v, s->d);
-    float inv = 1.0f / (float)(n - 1u);
-    /* packed XX, YY, ZZ, XY, XZ, YZ in c[0..5]: each read before its
-     * place is written */
-    c[8] = c[2] * inv;
-    c[7] = c[5] * inv;
-    c[6] = c[4] * inv;
-    c[5] = c[7];
-    c[4] = c[1] * inv;
-    c[3] *= inv;
-    c[2] = c[6];
+    sfit_cmom_t t;
+    float inv;
+    prv_fold(tot, (blk != NULL) ? blk : &k_none, &t);
+    inv = 1.0f / (float)(t.n - 1u);
+    c[0] = t.m2[0] * inv;
+    c[4] = t.m2[1] * inv;
+    c[8] = t.m2[2] * inv;
+    c[3] = t.m2[3] * inv;
+    c[6] = t.m2[4] * inv;
+    c[7] = t.m2[5] * inv;
     c[1] = c[3];
-    c[0] *= inv;
+    c[2] = c[6];
+    c[5] = c[7];
     inv *= 0.5f;
-    s->rhs.v[0] *= inv;
-    s->rhs.v[1] *= inv;
-    s->rhs.v[2] *= inv;
-    return n;
+    s->rhs.v[0] = inv * t.m3[0];
+    s->rhs.v[1] = inv * t.m3[1];
+    s->rhs.v[2] = inv * t.m3[2];
+    memcpy(s->d, t.d, sizeof t.d);
+    return t.n;
 }
 
 sfit_status_t sfit_moments_stats(const sfit_moments_t *m, sfit_vec3_t *mean, sfit_mat3_t *c,
