@@ -72,7 +72,8 @@ SFIT_INLINE float prv_nonneg(float v)
 }
 
 /* An empty set of sums (an empty open block). */
-static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f}, {0.0f, 0.0f, 0.0f}};
+static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f},
+                                   {0.0f, 0.0f, 0.0f}};
 
 /* out := the moments of a U b centred about their mean origin + out->d
  * (out may be a or b).
@@ -89,8 +90,6 @@ static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f}, {0.0f, 0.0f, 
  * the samples' mean, never about the coordinate origin. */
 static void prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out)
 {
-    float *const m2 = out->m2;
-    float *const m3 = out->m3;
     const uint32_t n = a->n + b->n;
     const float na = (float)a->n;
     const float fn = (float)n;
@@ -116,15 +115,15 @@ static void prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *ou
     p4 = a4 + (b->m2[4] - s0 * d2);
     p5 = a5 + (b->m2[5] - s1 * d2);
     t = (p0 + p1 + p2) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
-    m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
-    m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
-    m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
-    m2[0] = p0;
-    m2[1] = p1;
-    m2[2] = p2;
-    m2[3] = p3;
-    m2[4] = p4;
-    m2[5] = p5;
+    out->m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
+    out->m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
+    out->m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
+    out->m2[0] = p0;
+    out->m2[1] = p1;
+    out->m2[2] = p2;
+    out->m2[3] = p3;
+    out->m2[4] = p4;
+    out->m2[5] = p5;
     out->d[0] = d0;
     out->d[1] = d1;
     out->d[2] = d2;
