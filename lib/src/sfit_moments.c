@@ -12,7 +12,7 @@
  * exact in float (Sterbenz) and |z| is of the order of the sphere's
  * radius, so the sums carry no large offset.
  *
- * Outer level: a full block is folded into the total (prv_fold): the
+ * Outer level: a full block is folded into the total (prv_fold_block): the
  * total's centred moments, about a mean that is the origin up to the
  * residue, and the block's raw sums about the origin are added and centred
  * once about the union's mean. A solve folds the open block the same way
@@ -88,7 +88,7 @@ static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.
  *   M3 = S3 - (2 M2 + tr(M2) I) delta - n |delta|^2 delta
  * (the shift of prv_m3_shift by -delta). Every sum is about a point near
  * the samples' mean, never about the coordinate origin. */
-static void prv_fold(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out)
+static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out)
 {
     const uint32_t n = a->n + b->n;
     const float na = (float)a->n;
@@ -176,7 +176,7 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
 /* Move the origin to the mean of a total t about it, o' = fl(origin +
  * t->d), and keep the exact residue d - (o' - origin) in t->d (o' - origin
  * is exact when |d| <= |origin|, Fast2Sum): the next block is summed about
- * the mean, and prv_fold() sees a residue. */
+ * the mean, and prv_fold_block() sees a residue. */
 static void prv_rebase(float origin[3], sfit_cmom_t *t)
 {
     int i;
@@ -191,7 +191,7 @@ static void prv_rebase(float origin[3], sfit_cmom_t *t)
 static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
     if (blk->n > 0u) {
-        prv_fold(tot, blk, out);
+        prv_fold_block(tot, blk, out);
     } else {
         *out = *tot;
     }
@@ -205,7 +205,7 @@ void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
 /* Fold the open block into the total and empty it (the origin stays). */
 static void prv_close(sfit_moments_t *m)
 {
-    prv_fold(&m->tot, &m->blk, &m->tot);
+    prv_fold_block(&m->tot, &m->blk, &m->tot);
     m->blk = k_none;
 }
 
@@ -490,7 +490,7 @@ uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, s
     float *const c = s->c.m;
     sfit_cmom_t t;
     float inv;
-    prv_fold(tot, (blk != NULL) ? blk : &k_none, &t);
+    prv_fold_block(tot, (blk != NULL) ? blk : &k_none, &t);
     inv = 1.0f / (float)(t.n - 1u);
     c[0] = t.m2[0] * inv;
     c[4] = t.m2[1] * inv;

@@ -30,10 +30,10 @@
  *  6. sfit_i_solve_fit() is inline: no frame of its own on the path, and
  *     sfit_i_fit_totals calls it once in its loop (a second inlined copy
  *     costs 16 B of frame).
- *  7. prv_fold and prv_cmom_merge (sfit_moments.c) are written out, not
+ *  7. prv_fold_block and prv_cmom_merge (sfit_moments.c) are written out, not
  *     looped: fewer live registers on sfit_moments_add's deepest path (a
  *     looped merge and centring measured 116 B against its budget of
- *     64 B); prv_fold takes three arguments (a fifth on the stack put a
+ *     64 B); prv_fold_block takes three arguments (a fifth on the stack put a
  *     frame on that path: 80 B).
  */
 #ifndef SFIT_SOLVE_H
