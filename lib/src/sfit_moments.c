@@ -16,7 +16,12 @@
  * total's centred moments, about a mean that is the origin up to the
  * residue, and the block's raw sums about the origin are added and centred
  * once about the union's mean. A solve folds the open block the same way
- * (an empty one as zeros: one path, one cost at every N). Merging two
+ * (an empty one as zeros: one path, one cost at every N). Each fold rounds
+ * the total's second moments once at the total's scale; a block's end
+ * keeps that rounding's residue (Fast2Sum) as the next block's starting
+ * sums, so the residues are added back instead of piling up over N/64
+ * folds (test_fit: the far-offset sweep at N = 1e5 and the real
+ * recordings' float-vs-double errors, docs/accuracy.md). Merging two
  * accumulators (whose means may be far apart) uses the exact
  * parallel-update formulas (for sets A, B merged into A+B with mean m,
  * a = m_A - m, b = m_B - m):
@@ -71,12 +76,24 @@ SFIT_INLINE float prv_nonneg(float v)
     return (v < 0.0f) ? 0.0f : v;
 }
 
+/* a + x, and *lo := its rounding residue x - ((a + x) - a), exact when
+ * |a| >= |x| (Fast2Sum). */
+SFIT_INLINE float prv_add_lo(float a, float x, float *lo)
+{
+    const float s = a + x;
+    *lo = x - (s - a);
+    return s;
+}
+
 /* An empty set of sums (an empty open block). */
 static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f},
                                    {0.0f, 0.0f, 0.0f}};
 
 /* out := the moments of a U b centred about their mean origin + out->d
- * (out may be a or b).
+ * (out may be a, not b), and lo->m2 := the rounding residues of out's M2
+ * (lo may be b: a block's end keeps them as the next block's sums; or lo
+ * is out, the residues stored first and then overwritten, so that the
+ * solve's fold takes the same path and needs no scratch).
  * a is centred about origin + a->d, where a->d is a rebase residue
  * (prv_rebase: at most half an ulp of the origin) or a is empty; b holds
  * raw sums of z = x - origin. One pass about the origin (the union's sums
@@ -88,7 +105,8 @@ static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.
  *   M3 = S3 - (2 M2 + tr(M2) I) delta - n |delta|^2 delta
  * (the shift of prv_m3_shift by -delta). Every sum is about a point near
  * the samples' mean, never about the coordinate origin. */
-static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out)
+static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out,
+                           sfit_cmom_t *lo)
 {
     const uint32_t n = a->n + b->n;
     const float na = (float)a->n;
@@ -99,7 +117,8 @@ static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom
     const float d0 = s0 * inv, d1 = s1 * inv, d2 = s2 * inv;
     const float a0 = a->m2[0], a1 = a->m2[1], a2 = a->m2[2];
     const float a3 = a->m2[3], a4 = a->m2[4], a5 = a->m2[5];
-    float t, q0, q1, q2, p0, p1, p2, p3, p4, p5;
+    float *const p = out->m2; /* the union's M2 (a's sums are read above: out may be a) */
+    float t, q0, q1, q2;
 
     /* S3 = M3_a + (2 M2_a + tr(M2_a) I) e + S3_b */
     t = a0 + a1 + a2;
@@ -107,23 +126,18 @@ static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom
     q1 = b->m3[1] + (2.0f * (a3 * e0 + a1 * e1 + a5 * e2) + t * e1);
     q2 = b->m3[2] + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
     /* A sum of squares about the mean is >= 0; the subtraction of two
-     * nearly equal sums can round below (found by fuzz_stream). */
-    p0 = prv_nonneg(a0 + (b->m2[0] - s0 * d0));
-    p1 = prv_nonneg(a1 + (b->m2[1] - s1 * d1));
-    p2 = prv_nonneg(a2 + (b->m2[2] - s2 * d2));
-    p3 = a3 + (b->m2[3] - s0 * d1);
-    p4 = a4 + (b->m2[4] - s0 * d2);
-    p5 = a5 + (b->m2[5] - s1 * d2);
-    t = (p0 + p1 + p2) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
-    out->m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
-    out->m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
-    out->m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
-    out->m2[0] = p0;
-    out->m2[1] = p1;
-    out->m2[2] = p2;
-    out->m2[3] = p3;
-    out->m2[4] = p4;
-    out->m2[5] = p5;
+     * nearly equal sums can round below (found by fuzz_stream). Each
+     * residue is stored before the sum (lo may be out). */
+    p[0] = prv_nonneg(prv_add_lo(a0, b->m2[0] - s0 * d0, &lo->m2[0]));
+    p[1] = prv_nonneg(prv_add_lo(a1, b->m2[1] - s1 * d1, &lo->m2[1]));
+    p[2] = prv_nonneg(prv_add_lo(a2, b->m2[2] - s2 * d2, &lo->m2[2]));
+    p[3] = prv_add_lo(a3, b->m2[3] - s0 * d1, &lo->m2[3]);
+    p[4] = prv_add_lo(a4, b->m2[4] - s0 * d2, &lo->m2[4]);
+    p[5] = prv_add_lo(a5, b->m2[5] - s1 * d2, &lo->m2[5]);
+    t = (p[0] + p[1] + p[2]) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
+    out->m3[0] = a->m3[0] + (q0 - (2.0f * (p[0] * d0 + p[3] * d1 + p[4] * d2) + t * d0));
+    out->m3[1] = a->m3[1] + (q1 - (2.0f * (p[3] * d0 + p[1] * d1 + p[5] * d2) + t * d1));
+    out->m3[2] = a->m3[2] + (q2 - (2.0f * (p[4] * d0 + p[5] * d1 + p[2] * d2) + t * d2));
     out->d[0] = d0;
     out->d[1] = d1;
     out->d[2] = d2;
@@ -191,7 +205,7 @@ static void prv_rebase(float origin[3], sfit_cmom_t *t)
 static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
     if (blk->n > 0u) {
-        prv_fold_block(tot, blk, out);
+        prv_fold_block(tot, blk, out, out);
     } else {
         *out = *tot;
     }
@@ -202,11 +216,19 @@ void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
     prv_total(&m->tot, &m->blk, out);
 }
 
-/* Fold the open block into the total and empty it (the origin stays). */
+/* Fold the open block into the total and empty it (the origin stays); its
+ * second-moment sums start at the fold's rounding residues (a correction
+ * of the total, added back at the next fold: compensated summation). */
 static void prv_close(sfit_moments_t *m)
 {
-    prv_fold_block(&m->tot, &m->blk, &m->tot);
-    m->blk = k_none;
+    prv_fold_block(&m->tot, &m->blk, &m->tot, &m->blk);
+    m->blk.n = 0u;
+    m->blk.m3[0] = 0.0f;
+    m->blk.m3[1] = 0.0f;
+    m->blk.m3[2] = 0.0f;
+    m->blk.d[0] = 0.0f;
+    m->blk.d[1] = 0.0f;
+    m->blk.d[2] = 0.0f;
 }
 
 /* Fold the open block into the total, empty it and move the origin to
@@ -490,7 +512,7 @@ uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, s
     float *const c = s->c.m;
     sfit_cmom_t t;
     float inv;
-    prv_fold_block(tot, (blk != NULL) ? blk : &k_none, &t);
+    prv_fold_block(tot, (blk != NULL) ? blk : &k_none, &t, &t);
     inv = 1.0f / (float)(t.n - 1u);
     c[0] = t.m2[0] * inv;
     c[4] = t.m2[1] * inv;
