@@ -118,8 +118,8 @@ typedef struct sfit_result {
  * @retval SFIT_E_UNSUPPORTED built with SFIT_FULL_SOLVER 0 only: the screened
  *                            solve cannot prove this fit (or cfg asks for
  *                            eigen, planar mode or a full covariance)
- * @par Cost  210 FLOPs (GDKE), 212 (UGDK, sigma^2 I) when the screen passes
- *            (cfg.eigen false); 433 / 446 with the full solver, the same at
+ * @par Cost  222 FLOPs (GDKE), 224 (UGDK, sigma^2 I) when the screen passes
+ *            (cfg.eigen false); 445 / 458 with the full solver, the same at
  *            any N (tools/flopcount: solve_gdke, solve_gdke_500, solve_ugdk,
  *            solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
@@ -153,7 +153,7 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
  *                            SFIT_MIN_SPREAD, or a singular sphere system
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost  432 FLOPs (tools/flopcount: solve_default), the full solver's
+ * @par Cost  444 FLOPs (tools/flopcount: solve_default), the full solver's
  *            path; also in a build with SFIT_FULL_SOLVER 0 (it is the plain
  *            solver, not the screen's fallback).
  * @par Range  As sfit_fit_moments().
