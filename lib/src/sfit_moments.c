@@ -85,10 +85,6 @@ SFIT_INLINE float prv_add_lo(float a, float x, float *lo)
     return s;
 }
 
-/* An empty set of sums (an empty open block). */
-static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f},
-                                   {0.0f, 0.0f, 0.0f}};
-
 /* out := the moments of a U b centred about their mean origin + out->d
  * (out may be a, not b), and lo->m2 := the rounding residues of out's M2
  * (lo may be b: a block's end keeps them as the next block's sums; or lo
@@ -117,7 +113,6 @@ static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom
     const float d0 = s0 * inv, d1 = s1 * inv, d2 = s2 * inv;
     const float a0 = a->m2[0], a1 = a->m2[1], a2 = a->m2[2];
     const float a3 = a->m2[3], a4 = a->m2[4], a5 = a->m2[5];
-    float *const p = out->m2; /* the union's M2 (a's sums are read above: out may be a) */
     float t, q0, q1, q2;
 
     /* S3 = M3_a + (2 M2_a + tr(M2_a) I) e + S3_b */
@@ -127,17 +122,22 @@ static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom
     q2 = b->m3[2] + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
     /* A sum of squares about the mean is >= 0; the subtraction of two
      * nearly equal sums can round below (found by fuzz_stream). Each
-     * residue is stored before the sum (lo may be out). */
-    p[0] = prv_nonneg(prv_add_lo(a0, b->m2[0] - s0 * d0, &lo->m2[0]));
-    p[1] = prv_nonneg(prv_add_lo(a1, b->m2[1] - s1 * d1, &lo->m2[1]));
-    p[2] = prv_nonneg(prv_add_lo(a2, b->m2[2] - s2 * d2, &lo->m2[2]));
-    p[3] = prv_add_lo(a3, b->m2[3] - s0 * d1, &lo->m2[3]);
-    p[4] = prv_add_lo(a4, b->m2[4] - s0 * d2, &lo->m2[4]);
-    p[5] = prv_add_lo(a5, b->m2[5] - s1 * d2, &lo->m2[5]);
-    t = (p[0] + p[1] + p[2]) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
-    out->m3[0] = a->m3[0] + (q0 - (2.0f * (p[0] * d0 + p[3] * d1 + p[4] * d2) + t * d0));
-    out->m3[1] = a->m3[1] + (q1 - (2.0f * (p[3] * d0 + p[1] * d1 + p[5] * d2) + t * d1));
-    out->m3[2] = a->m3[2] + (q2 - (2.0f * (p[4] * d0 + p[5] * d1 + p[2] * d2) + t * d2));
+     * residue is stored before the sum (lo may be out), a's sums are read
+     * above (out may be a). */
+    out->m2[0] = prv_nonneg(prv_add_lo(a0, b->m2[0] - s0 * d0, &lo->m2[0]));
+    out->m2[1] = prv_nonneg(prv_add_lo(a1, b->m2[1] - s1 * d1, &lo->m2[1]));
+    out->m2[2] = prv_nonneg(prv_add_lo(a2, b->m2[2] - s2 * d2, &lo->m2[2]));
+    out->m2[3] = prv_add_lo(a3, b->m2[3] - s0 * d1, &lo->m2[3]);
+    out->m2[4] = prv_add_lo(a4, b->m2[4] - s0 * d2, &lo->m2[4]);
+    out->m2[5] = prv_add_lo(a5, b->m2[5] - s1 * d2, &lo->m2[5]);
+    {
+        const float p0 = out->m2[0], p1 = out->m2[1], p2 = out->m2[2];
+        const float p3 = out->m2[3], p4 = out->m2[4], p5 = out->m2[5];
+        t = (p0 + p1 + p2) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
+        out->m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
+        out->m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
+        out->m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
+    }
     out->d[0] = d0;
     out->d[1] = d1;
     out->d[2] = d2;
@@ -509,6 +509,9 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
  * the solve costs the same at every N. */
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s)
 {
+    /* An empty set of sums (an empty open block). */
+    static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f},
+                                       {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
     float *const c = s->c.m;
     sfit_cmom_t t;
     float inv;
