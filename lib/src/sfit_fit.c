@@ -79,8 +79,10 @@ static int prv_sphere_of(const float origin[3], const float d[3], uint32_t n, fl
 static void prv_result(sfit_i_solution_t *sol, uint32_t n, int exact, int noisy,
                        sfit_result_t *out)
 {
-    if (!exact) {
-        memset(&sol->eigenvalues, 0, sizeof sol->eigenvalues); /* the screen's bounds */
+    if (!exact) { /* the screen's bounds */
+        sol->eigenvalues.v[0] = 0.0f;
+        sol->eigenvalues.v[1] = 0.0f;
+        sol->eigenvalues.v[2] = 0.0f;
     }
     if (n < SFIT_FEW_SAMPLES) {
         sol->flags |= (uint8_t)SFIT_FLAG_FEW_SAMPLES;
@@ -116,8 +118,12 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
     int exact, flag;
     sfit_status_t st;
 
-    cfg = (cfg != NULL) ? cfg : &sfit_fit_cfg_default;
-    st = sfit_i_check_cfg(cfg);
+    st = SFIT_OK;
+    if (cfg == NULL) {
+        cfg = &sfit_fit_cfg_default; /* valid: no check */
+    } else {
+        st = sfit_i_check_cfg(cfg);
+    }
     if (st == SFIT_OK && tot->n + ((blk != NULL) ? blk->n : 0u) < SFIT_MIN_SAMPLES) {
         st = SFIT_E_TOO_FEW;
     }

@@ -105,7 +105,13 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         const float b3 = a[3] * s, b6 = a[6] * s, b7 = a[7] * s;
         e2 = (b0 * b4 - b3 * b3) + (b0 * b8 - b6 * b6) + (b4 * b8 - b7 * b7);
     }
-    memset(r, 0, sizeof *r);
+    /* every member the caller reads (w: the solve below) */
+    r->eigenvalues.v[1] = 0.0f;
+    r->axis.v[0] = 0.0f;
+    r->axis.v[1] = 0.0f;
+    r->axis.v[2] = 0.0f;
+    r->rho = 0.0f;
+    r->flags = 0u;
     r->trace = a[0] + a[4] + a[8];
     if (!(e2 > 0.0f) || sfit_mat3_chol(&l, &l) != SFIT_OK) {
         return SFIT_I_SCREEN_TRIPPED;

@@ -6,14 +6,25 @@
  * Implementation notes
  * --------------------
  * Inner level: the open block sums z = x - origin, z z^T and |z|^2 z, where
- * origin is moved to the running mean at the block's start (the first
- * sample for the first block); the total keeps the exact residue. Near a
- * far-away sphere x - origin is exact in float (Sterbenz) and |z| is of the order of the sphere's radius, so the sums
- * carry no large offset.
+ * origin is the running mean at the block's start (the first sample for
+ * the first block): each block's end moves it there (prv_rebase) and the
+ * total keeps the exact residue. Near a far-away sphere x - origin is
+ * exact in float (Sterbenz) and |z| is of the order of the sphere's
+ * radius, so the sums carry no large offset.
  *
- * Outer level: a full block is converted to centred moments about its own
- * mean and merged into the total with the exact parallel-update formulas
- * (for sets A, B merged into A+B with mean m, a = m_A - m, b = m_B - m):
+ * Outer level: a full block is folded into the total (prv_fold_block): the
+ * total's centred moments, about a mean that is the origin up to the
+ * residue, and the block's raw sums about the origin are added and centred
+ * once about the union's mean. A solve folds the open block the same way
+ * (an empty one as zeros: one path, one cost at every N). Each fold rounds
+ * the total's second moments once at the total's scale; a block's end
+ * keeps that rounding's residue (Fast2Sum) as the next block's starting
+ * sums, so the residues are added back instead of piling up over N/64
+ * folds (test_fit: the far-offset sweep at N = 1e5 and the real
+ * recordings' float-vs-double errors, docs/accuracy.md). Merging two
+ * accumulators (whose means may be far apart) uses the exact
+ * parallel-update formulas (for sets A, B merged into A+B with mean m,
+ * a = m_A - m, b = m_B - m):
  *   n   = n_A + n_B
  *   M2  = M2_A + M2_B + (n_A n_B / n) delta delta^T,    delta = m_B - m_A
  *   M3  = M3_A + M3_B + (2 M2_A + tr(M2_A) I) a + (2 M2_B + tr(M2_B) I) b
@@ -59,40 +70,78 @@ static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], fl
     out[2] += 2.0f * (s->m2[4] * u0 + s->m2[5] * u1 + s->m2[2] * u2) + t * u2;
 }
 
-/* Centred moments of a block of raw sums about `origin` (b may alias raw):
- * d = mean - origin, M2 = sum z z^T - (sum z) d^T, and M3 = sum |z|^2 z
- * minus the shift of the centred set by d (prv_m3_shift). */
 /* max(v, 0); a NaN stays NaN (stats then says E_RANGE). */
 SFIT_INLINE float prv_nonneg(float v)
 {
     return (v < 0.0f) ? 0.0f : v;
 }
 
-static void prv_centre(const sfit_cmom_t *raw, sfit_cmom_t *b)
+/* a + x, and *lo := its rounding residue x - ((a + x) - a), exact when
+ * |a| >= |x| (Fast2Sum). */
+SFIT_INLINE float prv_add_lo(float a, float x, float *lo)
 {
-    const float inv = 1.0f / (float)raw->n;
-    float d[3];
-    int i;
+    const float s = a + x;
+    *lo = x - (s - a);
+    return s;
+}
 
-    for (i = 0; i < 3; i++) {
-        d[i] = raw->d[i] * inv;
-    }
+/* out := the moments of a U b centred about their mean origin + out->d
+ * (out may be a, not b), and lo->m2 := the rounding residues of out's M2
+ * (lo may be b: a block's end keeps them as the next block's sums; or lo
+ * is out, the residues stored first and then overwritten, so that the
+ * solve's fold takes the same path and needs no scratch).
+ * a is centred about origin + a->d, where a->d is a rebase residue
+ * (prv_rebase: at most half an ulp of the origin) or a is empty; b holds
+ * raw sums of z = x - origin. One pass about the origin (the union's sums
+ * about it, then centred once): a's sums move to the origin to first
+ * order in e = a->d, S2_a = M2_a and S3_a = M3_a + (2 M2_a + tr(M2_a) I) e
+ * (the dropped terms n_a e e^T and n_a |e|^2 e are (|e| / spread)^2
+ * relative); the union's mean is origin + delta, delta = (n_a e + sum z) / n,
+ *   M2 = S2 - (n delta) delta^T,
+ *   M3 = S3 - (2 M2 + tr(M2) I) delta - n |delta|^2 delta
+ * (the shift of prv_m3_shift by -delta). Every sum is about a point near
+ * the samples' mean, never about the coordinate origin. */
+static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom_t *out,
+                           sfit_cmom_t *lo)
+{
+    const uint32_t n = a->n + b->n;
+    const float na = (float)a->n;
+    const float fn = (float)n;
+    const float inv = 1.0f / fn;
+    const float e0 = a->d[0], e1 = a->d[1], e2 = a->d[2];
+    const float s0 = na * e0 + b->d[0], s1 = na * e1 + b->d[1], s2 = na * e2 + b->d[2];
+    const float d0 = s0 * inv, d1 = s1 * inv, d2 = s2 * inv;
+    const float a0 = a->m2[0], a1 = a->m2[1], a2 = a->m2[2];
+    const float a3 = a->m2[3], a4 = a->m2[4], a5 = a->m2[5];
+    float t, q0, q1, q2;
+
+    /* S3 = M3_a + (2 M2_a + tr(M2_a) I) e + S3_b */
+    t = a0 + a1 + a2;
+    q0 = b->m3[0] + (2.0f * (a0 * e0 + a3 * e1 + a4 * e2) + t * e0);
+    q1 = b->m3[1] + (2.0f * (a3 * e0 + a1 * e1 + a5 * e2) + t * e1);
+    q2 = b->m3[2] + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
     /* A sum of squares about the mean is >= 0; the subtraction of two
-     * nearly equal raw sums can round below (found by fuzz_stream). */
-    b->m2[0] = prv_nonneg(raw->m2[0] - raw->d[0] * d[0]);
-    b->m2[1] = prv_nonneg(raw->m2[1] - raw->d[1] * d[1]);
-    b->m2[2] = prv_nonneg(raw->m2[2] - raw->d[2] * d[2]);
-    b->m2[3] = raw->m2[3] - raw->d[0] * d[1];
-    b->m2[4] = raw->m2[4] - raw->d[0] * d[2];
-    b->m2[5] = raw->m2[5] - raw->d[1] * d[2];
-    b->m3[0] = raw->m3[0]; /* element by element: b may alias raw */
-    b->m3[1] = raw->m3[1];
-    b->m3[2] = raw->m3[2];
-    b->d[0] = d[0];
-    b->d[1] = d[1];
-    b->d[2] = d[2];
-    b->n = raw->n;
-    prv_m3_shift(b, -1.0f, d, b->m3);
+     * nearly equal sums can round below (found by fuzz_stream). Each
+     * residue is stored before the sum (lo may be out), a's sums are read
+     * above (out may be a). */
+    out->m2[0] = prv_nonneg(prv_add_lo(a0, b->m2[0] - s0 * d0, &lo->m2[0]));
+    out->m2[1] = prv_nonneg(prv_add_lo(a1, b->m2[1] - s1 * d1, &lo->m2[1]));
+    out->m2[2] = prv_nonneg(prv_add_lo(a2, b->m2[2] - s2 * d2, &lo->m2[2]));
+    out->m2[3] = prv_add_lo(a3, b->m2[3] - s0 * d1, &lo->m2[3]);
+    out->m2[4] = prv_add_lo(a4, b->m2[4] - s0 * d2, &lo->m2[4]);
+    out->m2[5] = prv_add_lo(a5, b->m2[5] - s1 * d2, &lo->m2[5]);
+    {
+        const float p0 = out->m2[0], p1 = out->m2[1], p2 = out->m2[2];
+        const float p3 = out->m2[3], p4 = out->m2[4], p5 = out->m2[5];
+        t = (p0 + p1 + p2) + fn * (d0 * d0 + d1 * d1 + d2 * d2);
+        out->m3[0] = a->m3[0] + (q0 - (2.0f * (p0 * d0 + p3 * d1 + p4 * d2) + t * d0));
+        out->m3[1] = a->m3[1] + (q1 - (2.0f * (p3 * d0 + p1 * d1 + p5 * d2) + t * d1));
+        out->m3[2] = a->m3[2] + (q2 - (2.0f * (p4 * d0 + p5 * d1 + p2 * d2) + t * d2));
+    }
+    out->d[0] = d0;
+    out->d[1] = d1;
+    out->d[2] = d2;
+    out->n = n;
 }
 
 /* b := a U b, both means relative to the same origin (b is the result, so
@@ -138,12 +187,25 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
     b->n += a->n;
 }
 
-/* out := tot, merged with the open block blk (raw sums; NULL: none). */
+/* Move the origin to the mean of a total t about it, o' = fl(origin +
+ * t->d), and keep the exact residue d - (o' - origin) in t->d (o' - origin
+ * is exact when |d| <= |origin|, Fast2Sum): the next block is summed about
+ * the mean, and prv_fold_block() sees a residue. */
+static void prv_rebase(float origin[3], sfit_cmom_t *t)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        const float o = origin[i] + t->d[i];
+        t->d[i] -= o - origin[i];
+        origin[i] = o;
+    }
+}
+
+/* out := tot, merged with the open block blk (raw sums). */
 static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
-    if (blk != NULL && blk->n > 0u) {
-        prv_centre(blk, out);
-        prv_cmom_merge(tot, out);
+    if (blk->n > 0u) {
+        prv_fold_block(tot, blk, out, out);
     } else {
         *out = *tot;
     }
@@ -154,29 +216,30 @@ void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
     prv_total(&m->tot, &m->blk, out);
 }
 
-/* Fold the open block into the total (centred in place) and empty it. */
+/* Fold the open block into the total and empty it (the origin stays); its
+ * second-moment sums start at the fold's rounding residues (a correction
+ * of the total, added back at the next fold: compensated summation). */
+static void prv_close(sfit_moments_t *m)
+{
+    prv_fold_block(&m->tot, &m->blk, &m->tot, &m->blk);
+    m->blk.n = 0u;
+    m->blk.m3[0] = 0.0f;
+    m->blk.m3[1] = 0.0f;
+    m->blk.m3[2] = 0.0f;
+    m->blk.d[0] = 0.0f;
+    m->blk.d[1] = 0.0f;
+    m->blk.d[2] = 0.0f;
+}
+
+/* Fold the open block into the total, empty it and move the origin to
+ * the new mean (prv_rebase). */
 static void prv_flush(sfit_moments_t *m)
 {
     if (m->blk.n == 0u) {
         return;
     }
-    prv_centre(&m->blk, &m->blk);
-    prv_cmom_merge(&m->tot, &m->blk);
-    m->tot = m->blk;
-    memset(&m->blk, 0, sizeof m->blk);
-}
-
-/* A new block is summed about the current mean: move the origin there,
- * o' = fl(origin + d), and keep the exact residue d - (o' - origin) in
- * tot.d (o' - origin is exact when |d| <= |origin|, Fast2Sum). */
-static void prv_rebase(sfit_moments_t *m)
-{
-    int i;
-    for (i = 0; i < 3; i++) {
-        const float o = m->origin[i] + m->tot.d[i];
-        m->tot.d[i] -= o - m->origin[i];
-        m->origin[i] = o;
-    }
+    prv_close(m);
+    prv_rebase(m->origin, &m->tot);
 }
 
 /* Accumulate one already validated sample. */
@@ -185,12 +248,8 @@ static void prv_add(sfit_moments_t *m, const float x[3])
     sfit_cmom_t *const b = &m->blk;
     float z0, z1, z2, q00, q11, q22, q;
 
-    if (b->n == 0u) {
-        if (m->tot.n == 0u) {
-            memcpy(m->origin, x, sizeof m->origin);
-        } else {
-            prv_rebase(m);
-        }
+    if (b->n == 0u && m->tot.n == 0u) {
+        memcpy(m->origin, x, sizeof m->origin); /* later blocks: prv_flush() moved it */
     }
     z0 = x[0] - m->origin[0];
     z1 = x[1] - m->origin[1];
@@ -240,22 +299,19 @@ sfit_status_t sfit_i_points_total(const sfit_vec3_t *pts, size_t n, sfit_i_total
     sfit_moments_t m;
     const sfit_status_t st = sfit_i_moments_of(pts, n, &m);
     if (st == SFIT_OK) {
-        sfit_i_moments_total(&m, &out->t);
+        prv_flush(&m); /* the mean a residue from the origin (sfit_i_moments_system) */
+        out->t = m.tot;
         memcpy(out->origin, m.origin, sizeof m.origin);
     }
     return st;
 }
 
-/* Start a block (the first sample's origin, or the running mean's) when
- * the open one is empty. */
+/* The first sample of an empty accumulator is its origin (later blocks
+ * start at the mean: prv_flush()). */
 static void prv_open(sfit_moments_t *m, const float x[3])
 {
-    if (m->blk.n == 0u) {
-        if (m->tot.n == 0u) {
-            memcpy(m->origin, x, sizeof m->origin);
-        } else {
-            prv_rebase(m);
-        }
+    if (m->blk.n == 0u && m->tot.n == 0u) {
+        memcpy(m->origin, x, sizeof m->origin);
     }
 }
 
@@ -421,13 +477,16 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
     if (sfit_moments_count(dst) == 0u) {
         memcpy(dst->origin, src->origin, sizeof dst->origin);
     } else {
-        prv_flush(dst);
+        if (dst->blk.n > 0u) {
+            prv_close(dst); /* dst's origin stays: s.d below is about it */
+        }
         for (i = 0; i < 3; i++) {
             s.d[i] = (src->origin[i] - dst->origin[i]) + s.d[i];
         }
     }
     prv_cmom_merge(&dst->tot, &s);
     dst->tot = s;
+    prv_rebase(dst->origin, &dst->tot);
     return SFIT_OK;
 }
 
@@ -446,11 +505,31 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
     }
 }
 
+/* One path whatever the open block holds (an empty one folds as zeros):
+ * the solve costs the same at every N. */
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s)
 {
+    /* An empty set of sums (an empty open block). */
+    static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f},
+                                       {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
+    float *const c = s->c.m;
     sfit_cmom_t t;
-    prv_total(tot, blk, &t);
-    sfit_i_cmom_system(&t, &s->c, s->rhs.v);
+    float inv;
+    prv_fold_block(tot, (blk != NULL) ? blk : &k_none, &t, &t);
+    inv = 1.0f / (float)(t.n - 1u);
+    c[0] = t.m2[0] * inv;
+    c[4] = t.m2[1] * inv;
+    c[8] = t.m2[2] * inv;
+    c[3] = t.m2[3] * inv;
+    c[6] = t.m2[4] * inv;
+    c[7] = t.m2[5] * inv;
+    c[1] = c[3];
+    c[2] = c[6];
+    c[5] = c[7];
+    inv *= 0.5f;
+    s->rhs.v[0] = inv * t.m3[0];
+    s->rhs.v[1] = inv * t.m3[1];
+    s->rhs.v[2] = inv * t.m3[2];
     memcpy(s->d, t.d, sizeof t.d);
     return t.n;
 }

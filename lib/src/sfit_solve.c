@@ -482,10 +482,13 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
     return (st == SFIT_OK) ? prv_finite(out) : st;
 }
 
-/* The solve of a system with a noise model (SFIT_NOISE_ISO, _COV); not
- * inlined, so that sfit_i_solve() is a dispatch without a frame. */
-SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_mode_t mode,
-                                                     float planar_ratio, sfit_i_solution_t *out)
+/* One solver for every noise model: a system without one (SFIT_NOISE_NONE)
+ * takes the same steps with Sigma = 0 (C' = C, no trust ratio) and gets
+ * sfit_i_solve_plain()'s answer bit for bit, so that a build with the
+ * screen links one full solver, not two (sfit_i_solve_plain() stays the
+ * whole solver of sfit_fit_moments_default() alone). */
+sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
+                           sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
      * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
@@ -524,7 +527,9 @@ SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_
             st = prv_eig_cprime(cp, lamp, &v);
         }
         if (st == SFIT_OK) {
-            prv_planar_trust(sys, lamp, &v, out);
+            if (sys->noisy) {
+                prv_planar_trust(sys, lamp, &v, out);
+            }
             st = prv_planar(sys, lamp, &v, out);
         }
     } else {
@@ -534,13 +539,6 @@ SFIT_I_NOINLINE static sfit_status_t prv_solve_noisy(sfit_i_system_t *sys, sfit_
         st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }
     return (st == SFIT_OK) ? prv_end(out) : st;
-}
-
-sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
-                           sfit_i_solution_t *out)
-{
-    return (sys->noisy == (int)SFIT_NOISE_NONE) ? sfit_i_solve_plain(sys, mode, planar_ratio, out)
-                                                : prv_solve_noisy(sys, mode, planar_ratio, out);
 }
 
 float sfit_i_coincident_scale(const float origin[3], const float d[3])

@@ -30,9 +30,11 @@
  *  6. sfit_i_solve_fit() is inline: no frame of its own on the path, and
  *     sfit_i_fit_totals calls it once in its loop (a second inlined copy
  *     costs 16 B of frame).
- *  7. prv_cmom_merge (sfit_moments.c) is written out, not looped: fewer
- *     live registers on sfit_moments_add's deepest path (a looped merge
- *     and centring measured 116 B against its budget of 64 B).
+ *  7. prv_fold_block and prv_cmom_merge (sfit_moments.c) are written out, not
+ *     looped: fewer live registers on sfit_moments_add's deepest path (a
+ *     looped merge and centring measured 116 B against its budget of
+ *     64 B); prv_fold_block takes three arguments (a fifth on the stack put a
+ *     frame on that path: 80 B).
  */
 #ifndef SFIT_SOLVE_H
 #define SFIT_SOLVE_H
@@ -159,8 +161,9 @@ float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 /**
  * @brief Solve (C - Sigma) w = b as a sphere or, near-planar/forced, with the
  * pseudo-inverse over the two largest eigen-directions; geometry checks and
- * trust ratio included. A system without a noise model goes to
- * sfit_i_solve_plain() (a dispatch without a frame of its own). sys->ms.c is used as working storage (destroyed;
+ * trust ratio included; a system without a noise model takes the same
+ * steps with Sigma = 0 (the answer of sfit_i_solve_plain(), bit for bit:
+ * one full solver in a build). sys->ms.c is used as working storage (destroyed;
  * stack trick 1), out->w and out->trace too until written last (stack
  * tricks 2, 3). Statuses as sfit_fit_moments(); out is scratch (partly
  * written) on failure.
@@ -170,7 +173,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
 
 /**
  * @brief sfit_i_solve() of a system without a noise model (sys->noisy
- * SFIT_NOISE_NONE: sfit_i_solve() delegates to it): C's Jacobi
+ * SFIT_NOISE_NONE), written for it alone: C's Jacobi
  * eigen-decomposition, the geometry checks, then the sphere (Cholesky of C)
  * or the planar pseudo-inverse. Links neither the noise models nor the
  * screen: the whole solver of sfit_fit_moments_default(). Arguments and

@@ -118,9 +118,10 @@ typedef struct sfit_result {
  * @retval SFIT_E_UNSUPPORTED built with SFIT_FULL_SOLVER 0 only: the screened
  *                            solve cannot prove this fit (or cfg asks for
  *                            eigen, planar mode or a full covariance)
- * @par Cost  114 FLOPs (GDKE), 116 (UGDK, sigma^2 I) when the screen passes
- *            (cfg.eigen false); 337 / 350 with the full solver (tools/flopcount:
- *            solve_gdke, solve_ugdk, solve_gdke_eigen, solve_ugdk_eigen).
+ * @par Cost  222 FLOPs (GDKE), 224 (UGDK, sigma^2 I) when the screen passes
+ *            (cfg.eigen false); 445 / 458 with the full solver, the same at
+ *            any N (tools/flopcount: solve_gdke, solve_gdke_500, solve_ugdk,
+ *            solve_gdke_eigen, solve_ugdk_eigen).
  * @par Range  An OK result without SFIT_FLAG_ROUNDING is within 1e-4 r of the
  *             double-precision fit of the same samples, for a spread >=
  *             SFIT_MIN_SPREAD and coordinates below 2^27 (docs/api.md#fit).
@@ -152,7 +153,7 @@ sfit_status_t sfit_fit_moments(const sfit_moments_t *m, const sfit_fit_cfg_t *cf
  *                            SFIT_MIN_SPREAD, or a singular sphere system
  * @retval SFIT_E_NO_CONVERGENCE  the eigen-solver hit its sweep bound
  * @retval SFIT_E_RANGE       the result would not be finite
- * @par Cost  336 FLOPs (tools/flopcount: solve_default), the full solver's
+ * @par Cost  444 FLOPs (tools/flopcount: solve_default), the full solver's
  *            path; also in a build with SFIT_FULL_SOLVER 0 (it is the plain
  *            solver, not the screen's fallback).
  * @par Range  As sfit_fit_moments().

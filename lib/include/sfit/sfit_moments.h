@@ -38,7 +38,9 @@ typedef struct sfit_moments {
                              block start (tot.d keeps the rounding residue). */
     sfit_cmom_t tot;    /**< Merged full blocks, mean relative to origin. */
     sfit_cmom_t blk;    /**< Open block, raw sums of z = x - origin: n, d = sum z,
-                             m2 = sum z z^T (packed), m3 = sum |z|^2 z. */
+                             m2 = sum z z^T (packed; it starts at the rounding
+                             residue of the last fold into `tot`),
+                             m3 = sum |z|^2 z. */
 } sfit_moments_t;
 
 /**
