@@ -359,6 +359,10 @@ static void test_mc_ball(void **state)
             flagged++;
             continue;
         }
+        if (getenv("IMU_DIAG") != NULL) {
+            printf("balldiag %d line_ratio %.2f hinge_ratio %.4f\n", t, (double)r.line_ratio,
+                   (double)r.hinge_ratio);
+        }
         unfl++;
         assert_false(r.hinge);
         good += (d1 < 0.01 && d2 < 0.01);
@@ -537,6 +541,13 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
         }
         o->axis_off += (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
         o->wobble += (r.flags & SFIT_IMU_FLAG_WOBBLE) != 0;
+        if (getenv("IMU_DIAG") != NULL) {
+            printf("diag %d hinge %d flags %x line_ratio %.2f hinge_ratio %.4f line_off %.4f "
+                   "force_ratio %.3f ax %.2f %.2f pt %.1f %.1f\n", t, r.hinge, (unsigned)r.flags,
+                   (double)r.line_ratio, (double)r.hinge_ratio, (double)r.line_off,
+                   (double)r.force_ratio, axis_angle_deg(&r.axis1, g_j1),
+                   axis_angle_deg(&r.axis2, g_j2), 1e3 * err3(&r.r1, p1, e), 1e3 * err3(&r.r2, p2, e));
+        }
         if (ref && t < 3) {
             double j1[3], j2[3], rms;
             assert_int_equal(ref_imu_hinge_gn((const double(*)[3])g_gyr[0],
@@ -773,7 +784,9 @@ static void test_wobble(void **state)
         assert_true(10 * (o.ok_bad + o.ball_bad) <= unfl);
         pool_unfl += unfl;
         pool_bad += o.ok_bad + o.ball_bad;
-        if (v == 4) {
+        if (v >= 3) {
+            /* the slow wobbles (0.3 and 0.45, 0.5 and 0.8): what the hinge
+             * trials ask, 90 % right hinges and at most 5 % flagged */
             assert_true(o.hinge >= (9 * T + 9) / 10);
             assert_true(o.ax_ok >= (9 * T + 9) / 10);
             assert_true(o.pt_ok >= (9 * T + 9) / 10);

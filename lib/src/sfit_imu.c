@@ -56,7 +56,7 @@
 #define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
 
 const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f,
-                                             3.0f,  0.05f,  8.0f,  5.0f,  0.0523f, 1.5f};
+                                             3.0f,  0.07f,  8.0f,  5.0f,  0.0523f, 1.5f};
 
 SFIT_INLINE void prv_cross(const float a[3], const float b[3], float c[3])
 {

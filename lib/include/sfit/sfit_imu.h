@@ -87,7 +87,7 @@ typedef struct sfit_imu_cfg {
                             ::SFIT_IMU_FLAG_LOW_ROTATION; 0.3. */
     float max_pos_sd;  /**< Largest accepted joint position SD (m); 0.006. */
     float slip_ratio;  /**< Residual rms over predicted noise above which ::SFIT_IMU_FLAG_SLIP; 3. */
-    float hinge_ratio; /**< Largest hinge residual rms over rms rate of a hinge; 0.05. */
+    float hinge_ratio; /**< Largest hinge residual rms over rms rate of a hinge; 0.07. */
     float hinge_line;  /**< A joint whose position along the line of the hinge axes is
                             this many times less certain than along the other directions
                             (result line_ratio) is a hinge, when hinge_ratio holds too; 8. */
