@@ -38,16 +38,8 @@ import numpy as np
 
 import sfit
 
-try:
-    import pytest
-except ImportError:  # the child runner needs no pytest
-    pytest = None
-
-HAVE_JOINT = hasattr(sfit, "Joint")
-ALLOWED = (sfit.Error, TypeError, ValueError)
-NAN, INF = float("nan"), float("inf")
-
-
+# pytest (None in the child runner), HAVE_JOINT, ALLOWED, NAN and INF come
+# with the inputs (hostile_inputs.py) through the table's module.
 from hostile_cases import *  # noqa: F401,F403  (the inputs and the table of cases)
 
 # ---------------------------------------------------------------------------
