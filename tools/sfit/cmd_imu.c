@@ -247,6 +247,13 @@ static void imu_print_human(const char *file, const sfit_imu_result_t *r, double
            (double)r->noise_rms);
     printf("rotation      %.3g and %.3g rad/s rms\n", (double)r->rate_rms1,
            (double)r->rate_rms2);
+    printf("evidence      hinge residual %.3g of the rates, free line %.3g", (double)r->hinge_ratio,
+           (double)r->line_ratio);
+    if (r->hinge) {
+        printf(" (off the axes %.3g), force ratio %.3g", (double)r->line_off,
+               (double)r->force_ratio);
+    }
+    printf("\n");
     if (r->flags & SFIT_FLAG_UNTRUSTED) {
         printf("UNTRUSTED     do not use this result:\n");
         for (k = 0; k < nf; k++) {
