@@ -86,6 +86,15 @@ sfit_status_t sfit_mat3_chol_solve(const sfit_mat3_t *l, const sfit_vec3_t *b, s
     return SFIT_OK;
 }
 
+/* 1 when x is zero (either sign): its bits with the sign shifted out (a
+ * NaN is not zero, as with the float comparison). */
+SFIT_INLINE int prv_is_zero(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return (u << 1) == 0u;
+}
+
 /* (x, y) := (c x - s y, s x + c y): a plane rotation of one pair. */
 static void prv_rot2(float *x, float *y, float c, float s)
 {
@@ -106,7 +115,7 @@ static void prv_rotate(float a[9], float v[9], int j)
     float theta, t, c, s;
     int k;
 
-    if (*apq == 0.0f) {
+    if (prv_is_zero(*apq)) {
         return;
     }
     /* Negligible against both diagonal entries: drop it (keeps the small

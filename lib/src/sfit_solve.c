@@ -168,22 +168,27 @@ static float prv_sg(const sfit_i_system_t *sys, int i, int j)
     return (i >= j) ? sys->sigma.m->m[3 * i + j] : sys->sigma.m->m[3 * j + i];
 }
 
-/* Column k of V as a vector, sign chosen so the largest component is > 0. */
-static void prv_axis(const sfit_mat3_t *v, int k, sfit_vec3_t *ax)
+/* Column 0 of V (finite: sfit_i_eig_sym checked it) as a vector, sign
+ * chosen so that the component largest in magnitude (the first of equal
+ * ones) is positive. On the bits, no FP operation: |x| of finite floats
+ * is ordered as the bits with the sign shifted out, and the sign change
+ * is the sign bit's (what a multiplication by -1 gives). */
+static void prv_axis(const sfit_mat3_t *v, sfit_vec3_t *ax)
 {
-    int i, imax = 0;
-    float big = -1.0f, sgn;
-    for (i = 0; i < 3; i++) {
-        const float a = SFIT_FABSF(v->m[3 * i + k]);
-        if (a > big) {
-            big = a;
-            imax = i;
-        }
-    }
-    sgn = (v->m[3 * imax + k] < 0.0f) ? -1.0f : 1.0f;
-    for (i = 0; i < 3; i++) {
-        ax->v[i] = sgn * v->m[3 * i + k];
-    }
+    uint32_t u0, u1, u2, sgn;
+    memcpy(&u0, &v->m[0], sizeof u0);
+    memcpy(&u1, &v->m[3], sizeof u1);
+    memcpy(&u2, &v->m[6], sizeof u2);
+    sgn = ((u0 << 1) > 0u) ? u0 : 0u; /* the first of the largest |v_i| > 0 */
+    sgn = ((u1 << 1) > (sgn << 1)) ? u1 : sgn;
+    sgn = ((u2 << 1) > (sgn << 1)) ? u2 : sgn;
+    sgn &= 0x80000000u;
+    u0 ^= sgn;
+    u1 ^= sgn;
+    u2 ^= sgn;
+    memcpy(&ax->v[0], &u0, sizeof u0);
+    memcpy(&ax->v[1], &u1, sizeof u1);
+    memcpy(&ax->v[2], &u2, sizeof u2);
 }
 
 /* rho(L^-1 Sigma L^-T) for C' = L L^T; b and w are scratch. */
@@ -235,11 +240,17 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t 
 static int prv_sigma_iso(const sfit_i_system_t *sys)
 {
     const float *sg;
+    uint32_t u3, u6, u7;
     if (sys->noisy != (int)SFIT_NOISE_COV) {
         return 1;
     }
     sg = sys->sigma.m->m;
-    return sg[3] == 0.0f && sg[6] == 0.0f && sg[7] == 0.0f && sg[0] == sg[4] && sg[0] == sg[8];
+    /* the lower off-diagonal entries zero (either sign; a NaN is not):
+     * their bits, the sign shifted out */
+    memcpy(&u3, &sg[3], sizeof u3);
+    memcpy(&u6, &sg[6], sizeof u6);
+    memcpy(&u7, &sg[7], sizeof u7);
+    return ((u3 | u6 | u7) << 1) == 0u && sg[0] == sg[4] && sg[0] == sg[8];
 }
 
 /* cp := C - Sigma (C when there is no noise model), C from its packed
@@ -390,7 +401,7 @@ SFIT_I_NOINLINE static sfit_status_t prv_planar(const sfit_i_system_t *sys, cons
     for (i = 0; i < 3; i++) { /* last: lamp may be out->w */
         out->w.v[i] = k0 * e[3 * i + 1] + k1 * e[3 * i + 2];
     }
-    prv_axis(v, 0, &out->axis);
+    prv_axis(v, &out->axis);
     out->mode = SFIT_MODE_PLANAR;
     return SFIT_OK;
 }
@@ -463,7 +474,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
     if (st != SFIT_OK) {
         return st;
     }
-    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
+    prv_axis(&v, &out->axis); /* the sphere's cap axis (before v is reused) */
     if (lam->v[0] < out->trace * lam->v[2]) { /* out->trace: the threshold */
         out->flags |= (uint8_t)SFIT_FLAG_NEAR_PLANAR;
         mode = (mode == SFIT_MODE_AUTO) ? SFIT_MODE_PLANAR : mode;
@@ -513,7 +524,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
     if (st != SFIT_OK) {
         return st;
     }
-    prv_axis(&v, 0, &out->axis); /* the sphere's cap axis (before v is reused) */
+    prv_axis(&v, &out->axis); /* the sphere's cap axis (before v is reused) */
     prv_cprime(c6, sys, cp);
     pt = prv_planar_test(sys, &v, out);
     if (pt < 0) {

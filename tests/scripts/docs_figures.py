@@ -16,6 +16,9 @@ fences, a figure cites its row in one of these forms, and must equal it:
     1390 estimated cycles (`solve_gdke`) cycles_est
     304 B stack (`solve_gdke`)           stack_O2 (worst case at -O2)
     4034 B (`code -Os minimal_app`)      footprint code record, -Os or -O2
+    596 B (`part -Os minimal_app_screened screen`)
+                                         footprint part record (an
+                                         application's bytes by part)
 
 A number is compared as written (thousands commas dropped; a decimal
 figure to the decimals it shows). A line that names a cost row in
@@ -39,6 +42,7 @@ NUM = r"(\d[\d,]*(?:\.\d+)?)"
 CITE = re.compile(NUM + r"\s+(FLOPs|M4F\s+instructions|instructions|estimated\s+cycles|B\s+stack)"
                   r"\s+\(`(\w+)`\)")
 SIZE = re.compile(NUM + r"\s+B\s+\(`code\s+(-Os|-O2)\s+(\w+)`\)")
+PART = re.compile(NUM + r"\s+B\s+\(`part\s+(-Os|-O2)\s+(\w+)\s+(\w+)`\)")
 BARE = re.compile(r"\b\d[\d,]*(?:\.\d+)? (?:FLOPs|M4F instructions|instructions|"
                   r"estimated cycles|cycles|B stack)\b")
 
@@ -53,6 +57,9 @@ def load(json_path, fp_path):
             if len(w) == 4 and w[0] == "code":
                 code[(w[1], "-Os")] = int(w[2])
                 code[(w[1], "-O2")] = int(w[3])
+            elif len(w) == 5 and w[0] == "part":  # keyed "APP PART"
+                code[(w[1] + " " + w[2], "-Os")] = int(w[3])
+                code[(w[1] + " " + w[2], "-O2")] = int(w[4])
     return ops, code
 
 
@@ -109,13 +116,15 @@ def check(src, ops, code):
             elif not same(num, ops[row][UNITS[unit]]):
                 errors.append("%s: %s %s (`%s`), measured %s" % (where, num, unit, row,
                                                                   ops[row][UNITS[unit]]))
-        for m in SIZE.finditer(text):
-            num, level, mod = m.groups()
+        sizes = [(m, m.group(1), m.group(2), m.group(3)) for m in SIZE.finditer(text)]
+        sizes += [(m, m.group(1), m.group(2), m.group(3) + " " + m.group(4))
+                  for m in PART.finditer(text)]
+        for m, num, level, mod in sizes:
             where = "%s:%d" % (rel, text.count("\n", 0, m.start()) + 1)
             checked += 1
             rest = blank(rest, m)
             if (mod, level) not in code:
-                errors.append("%s: no footprint record code %s" % (where, mod))
+                errors.append("%s: no footprint record code/part %s" % (where, mod))
             elif not same(num, code[(mod, level)]):
                 errors.append("%s: %s B (code %s %s), measured %d B" % (
                     where, num, level, mod, code[(mod, level)]))
@@ -139,6 +148,9 @@ def selftest(src, ops, code):
               "drifted instructions"),
              ("3 FLOPs (`no_such_row`)", "unknown row"),
              ("%d B (`code -Os minimal_app`)" % (code[("minimal_app", "-Os")] + 16), "drifted size"),
+             ("%d B (`part -Os minimal_app_screened screen`)"
+              % (code[("minimal_app_screened screen", "-Os")] + 2), "drifted part"),
+             ("4 B (`part -Os minimal_app_screened no_such_part`)", "unknown part"),
              ("`solve_gdke` costs 99 FLOPs", "uncited figure"),
              ("a frame in %d\ninstructions (`lower_limb_track_frame`)"
               % (round(ops["lower_limb_track_frame"]["insns"]) + 1), "drift over two lines")]

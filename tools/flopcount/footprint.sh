@@ -9,6 +9,10 @@
 # public struct). Prints, one record per line:
 #   code MODULE TEXT_OS TEXT_O2          .text+.rodata bytes per module (object)
 #   code_total TOTAL_OS TOTAL_O2
+#   part APP PART BYTES_OS BYTES_O2      the minimal applications' bytes by
+#                                        part (accumulator, system, driver,
+#                                        screen, cholesky, solver, jacobi,
+#                                        other; below)
 #   struct TYPE BYTES
 #   stack FUNCTION BYTES_OS BYTES_O2     worst-case stack of a public function:
 #                                        its frame + the deepest callee chain
@@ -74,8 +78,16 @@ grep -v '^staticdata' "$tmp/code.txt"
 # instead (-DSFIT_MINAPP_SCREENED: the screen and its full-solver fallback);
 # minimal_app_lean: that one against the library built without the
 # fallback (libsfit_fp_lean_*, -DSFIT_FULL_SOLVER=0).
+# Each application's bytes are also grouped into parts (records "part APP
+# PART OS O2", the itemisation of docs/cost.md), by the object and the
+# section: accumulator (sfit_moments.c but its system, sfit_check.c), system
+# (sfit_i_moments_system), driver (sfit_fit.c, the option checks and the
+# coincidence scale of sfit_solve.c, the rounding test of sfit_lean.c),
+# screen (sfit_i_solve_lean), cholesky (sfit_mat3.c but the Jacobi,
+# sfit_mat3_i.c), solver (the rest of sfit_solve.c), jacobi
+# (sfit_i_eig_sym and its rotation); anything else is "other".
 srcroot=$(cd "$here/../.." && pwd)
-minapp() { # minapp NAME LIBPREFIX [CFLAGS] -> "code NAME OS O2"
+minapp() { # minapp NAME LIBPREFIX [CFLAGS] -> "code NAME OS O2" (parts in $tmp/NAME_OPT.parts)
     for opt in Os O2; do
         if [ -f "$m4f/lib$2_$opt.a" ] &&
             "$gcc" $arch -std=c99 -"$opt" -fno-math-errno -ffunction-sections -fdata-sections \
@@ -89,14 +101,33 @@ minapp() { # minapp NAME LIBPREFIX [CFLAGS] -> "code NAME OS O2"
             function hex(s,  i, v) { v = 0; s = tolower(s); sub(/^0x/, "", s)
                 for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
                 return v }
+            function part(f, sec,  o, fn) {
+                o = f; sub(/^.*\(/, "", o); sub(/\.c\.(obj|o)\)$/, "", o)
+                fn = sec; sub(/^\.(text|rodata)\./, "", fn); sub(/\..*$/, "", fn)
+                if (o == "sfit_moments") return (fn == "sfit_i_moments_system") ? "system" : "accumulator"
+                if (o == "sfit_check") return "accumulator"
+                if (o == "sfit_fit") return "driver"
+                if (o == "sfit_lean") return (fn == "sfit_i_rounding_test") ? "driver" : "screen"
+                if (o == "sfit_solve") return (fn ~ /^sfit_i_(check_cfg|check_noise|coincident_scale)$/) ? "driver" : "solver"
+                if (o == "sfit_mat3") return (fn ~ /^(sfit_i_eig_sym|prv_rotate|prv_rot2)$/) ? "jacobi" : "cholesky"
+                if (o == "sfit_mat3_i") return "cholesky"
+                return "other"
+            }
             /^ \.(text|rodata)/ { sec = $1; if (NF == 1) { getline; sz = $2; f = $3 } else { sz = $3; f = $4 }
-                if (index(f, lib) > 0) { tot += hex(sz)
+                if (index(f, lib) > 0) { tot += hex(sz); pt[part(f, sec)] += hex(sz)
                     if (detail == 1) printf "section %s %s %d\n", tag, sec, hex(sz) > "/dev/stderr" } }
-            END { print tot + 0 }'
+            END { for (p in pt) print p, pt[p] > parts; print tot + 0 }' parts="$tmp/$1_$opt.parts"
         else
             echo -1
         fi
     done | tr '\n' ' ' | awk -v name="$1" '{ printf "code %s %d %d\n", name, $1, $2 }'
+}
+minparts() { # minparts NAME -> "part NAME PART OS O2" (after minapp NAME)
+    [ -f "$tmp/$1_Os.parts" ] && [ -f "$tmp/$1_O2.parts" ] &&
+        awk -v name="$1" 'FILENAME ~ /_Os\.parts$/ { os[$1] = $2; p[$1] = 1; next }
+            { o2[$1] = $2; p[$1] = 1 }
+            END { for (k in p) printf "part %s %s %d %d\n", name, k, os[k], o2[k] }' \
+            "$tmp/$1_Os.parts" "$tmp/$1_O2.parts" | sort
 }
 {
     minapp minimal_app sfit_fp
@@ -104,6 +135,7 @@ minapp() { # minapp NAME LIBPREFIX [CFLAGS] -> "code NAME OS O2"
     minapp minimal_app_lean sfit_fp_lean -DSFIT_MINAPP_SCREENED
 } >"$tmp/minapp.txt"
 cat "$tmp/minapp.txt"
+for a in minimal_app minimal_app_screened minimal_app_lean; do minparts "$a"; done
 if grep -q -- '-1' "$tmp/minapp.txt"; then
     echo "check minimal_app FAIL the minimal application did not link"
     fail=1
