@@ -967,13 +967,18 @@ static int write_csv(const char *path, const char *kind, unsigned long seed)
     FILE *f;
     int k, s, i;
     const int wob = strcmp(kind, "wobble") == 0, ins = strcmp(kind, "instep") == 0;
-    const int kd = (strcmp(kind, "hinge") == 0 || wob || ins) ? 1
-                   : (strcmp(kind, "still") == 0)             ? 2
-                                                              : 0;
+    const int fast = strcmp(kind, "fast") == 0; /* wobbles at 2 and 3 times the flexion's */
+    const int kd = (strcmp(kind, "hinge") == 0 || wob || ins || fast) ? 1
+                   : (strcmp(kind, "still") == 0)                     ? 2
+                                                                      : 0;
     tu_rng_seed(&g, seed);
     if (wob || ins) {
         g_wobble_f = 1.0;
         g_wobble_f2 = wob ? 2.0 : 1.0;
+    }
+    if (fast) {
+        g_wobble_f = 2.0;
+        g_wobble_f2 = 3.0;
     }
     make_motion(&g, kd, &m);
     make_signals(&g, &m, 1);
