@@ -738,6 +738,67 @@ static void test_wobble_truth(void **state)
     assert_true(o.lib_exact < 3.0 && o.ref_exact < 3.0);
 }
 
+/* The hinge from the relative rotation against the motion's own: noise-free
+ * signals of knee-like hinges with wobbles at 2 and 3 times the flexion's
+ * frequency (the rates' hinge test fails): the library's axes against the
+ * best fixed axis of the generator's relative rotations (ref_imu_fixed_axis,
+ * double), wobble_deg against the rms angle by which those rotations move
+ * that axis (axis_wander, double). The integration, the alignment on the
+ * joint's force and the drift fit (no drift here: the rates are exact) add
+ * little to the sampling: the library sees 128 kept samples, the reference
+ * all 4000, and the mean of 128 samples of a rotation that wanders 2 degrees
+ * rms about the axis has an SD of about 2 / sqrt(128) = 0.18 degrees per
+ * direction, 0.25 in the plane: asked within 0.75 (3 SD); wobble_deg's
+ * sampling SD is about 0.06 degrees (the squared angle's spread over 128
+ * samples): asked within 0.2. With noise and gyroscope biases
+ * (make_signals) the axes stay within 1 degree of the noise-free ones. */
+static void test_fixed_axis_exact(void **state)
+{
+    enum { T = 4 };
+    tu_rng_t g;
+    int t;
+    double worst_ax = 0.0, worst_wob = 0.0, worst_noisy = 0.0;
+    (void)state;
+    tu_rng_seed(&g, 4230u);
+    g_wobble_f = 2.0;
+    g_wobble_f2 = 3.0;
+    for (t = 0; t < T; t++) {
+        ref_imu_motion_t m;
+        sfit_imu_result_t r, rn;
+        double b1[3], b2[3], f1[3], f2[3], wmax, wrms, a, l1[3], l2[3];
+        int i;
+        make_motion(&g, 1, &m);
+        make_signals(&g, &m, 0);
+        assert_int_equal(run_lib(NULL, &r), SFIT_OK);
+        ref_imu_fixed_axis(&m, NS, RATE, b1, b2, NULL, f1, f2);
+        axis_wander(&m, b1, b2, &wmax, &wrms);
+        assert_true(r.hinge);
+        assert_true(r.hinge_ratio > 0.07f); /* the rates' test fails: the relative rotation's hinge */
+        a = fmax(axis_angle_deg(&r.axis1, b1), axis_angle_deg(&r.axis2, b2));
+        worst_ax = fmax(worst_ax, a);
+        worst_wob = fmax(worst_wob, fabs((double)r.wobble_deg - wrms));
+        for (i = 0; i < 3; i++) {
+            l1[i] = (double)r.axis1.v[i];
+            l2[i] = (double)r.axis2.v[i];
+        }
+        make_signals(&g, &m, 1);
+        assert_int_equal(run_lib(NULL, &rn), SFIT_OK);
+        assert_true(rn.hinge);
+        worst_noisy = fmax(worst_noisy, fmax(axis_angle_deg(&rn.axis1, l1),
+                                             axis_angle_deg(&rn.axis2, l2)));
+        print_message("fixed axis, exact signals, trial %d: axes %.3f deg from the motion's "
+                      "best fixed axis, wobble_deg %.3f (the motion's rms wander %.3f deg); "
+                      "with noise and biases %.3f deg from the noise-free axes\n",
+                      t, a, (double)r.wobble_deg, wrms,
+                      fmax(axis_angle_deg(&rn.axis1, l1), axis_angle_deg(&rn.axis2, l2)));
+    }
+    g_wobble_f = 0.15;
+    g_wobble_f2 = 0.24;
+    assert_true(worst_ax < 0.75);
+    assert_true(worst_wob < 0.2);
+    assert_true(worst_noisy < 1.0);
+}
+
 /* Monte Carlo, knee-like hinge (a slow wobble). */
 static void test_mc_hinge(void **state)
 {
@@ -926,6 +987,15 @@ static void test_errors(void **state)
     cfg.hinge_off = nan;
     assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
     cfg.hinge_off = 1.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_OK);
+    cfg = sfit_imu_cfg_default; /* hinge_wobble > 0 and finite */
+    cfg.hinge_wobble = 0.0f;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_wobble = nan;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_wobble = (float)INFINITY;
+    assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_E_ARG);
+    cfg.hinge_wobble = 5.0f;
     assert_int_equal(sfit_imu_init(&s, 200.0f, &cfg), SFIT_OK);
     assert_int_equal(sfit_imu_init(&s, 200.0f, NULL), SFIT_OK);
     memset(&x, 0, sizeof x);
@@ -1217,7 +1287,7 @@ int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_physics),  cmocka_unit_test(test_exact), cmocka_unit_test(test_exact_hinge),
-        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge), cmocka_unit_test(test_wobble_truth), cmocka_unit_test(test_wobble),
+        cmocka_unit_test(test_mc_ball), cmocka_unit_test(test_gyro_bias), cmocka_unit_test(test_vs_reference),  cmocka_unit_test(test_mc_hinge), cmocka_unit_test(test_wobble_truth), cmocka_unit_test(test_fixed_axis_exact), cmocka_unit_test(test_wobble),
         cmocka_unit_test(test_no_motion), cmocka_unit_test(test_slip), cmocka_unit_test(test_errors),
     };
     if (argc >= 6 && strcmp(argv[1], "--hinge-mc") == 0) { /* FA FB T SEED */
