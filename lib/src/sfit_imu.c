@@ -961,26 +961,14 @@ typedef struct prv_fixed {
     int ok;
 } prv_fixed_t;
 
-/* The hinge from the relative rotation of the two sensors at the kept
- * samples, R(t) = D1(t)^T R0 E(t) D2(t): D_i each sensor's integrated
- * orientation, R0 the rotation between their starts (the joint's specific
- * force is one physical vector, D1 u1 = R0 D2 u2: the rotation nearest
- * sum D1 u1 (D2 u2)^T), E(t) = exp(phi0 + tau phi1) a linear drift of the
- * integration (gyroscope biases) in sensor 2's start frame. The best fixed
- * axis is the pair (j1, j2) that R(t) moves least, R(t) j2 = j1: the top
- * singular vectors of the mean of R(t). A wobble of angle A at any frequency
- * moves it by A, whatever its rate; a ball by its whole range off the axis.
- * Passes: axis with the drift so far, the drift fitted to the axis's
- * residual R0^T D1 j1 - D2 j2 = phi x D2 j2 (least squares with a small
- * ridge: a drift about the axis changes nothing), the rms of what is left. */
-static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, prv_fixed_t *f)
+/* R0, the rotation between the two sensors' starting orientations: the
+ * joint's specific force is one physical vector, D1 u1 = R0 D2 u2, so R0 is
+ * the rotation nearest sum D1 u1 (D2 u2)^T. 0 when that is singular. */
+static int prv_start_rotation(const prv_used_t *u, const float *x, float r0[9])
 {
-    float b[9], r0[9], phi[6], a[IMU_NP * IMU_NP], g[6];
-    float t0, t1, tm, th;
-    uint32_t k, i, l, pass;
-    memset(f, 0, sizeof *f);
+    float b[9];
+    uint32_t k, i, l;
     memset(b, 0, sizeof b);
-    memset(phi, 0, sizeof phi);
     for (k = 0u; k < u->n; k++) {
         const float *q = u->k[k];
         float d1[9], d2[9], u1[3], u2[3], p1[3], p2[3];
@@ -995,7 +983,123 @@ static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, 
             }
         }
     }
-    if (!prv_polar(b, r0)) {
+    return prv_polar(b, r0);
+}
+
+/* The best fixed axis of the mean relative rotation D1^T R0 E(tau) D2 with
+ * the drift phi (E = exp(phi0 + tau phi1)): j2 the top eigenvector of M^T M,
+ * j1 = M j2 normalised; turn from the middle singular value. 0 on failure. */
+static int prv_best_axis(const prv_used_t *u, const float r0[9], const float phi[6], float tm,
+                         float th, prv_fixed_t *f)
+{
+    float mm[9], st[9], n, sg;
+    sfit_mat3_t sm, v;
+    sfit_vec3_t ev;
+    uint32_t k, i;
+    memset(mm, 0, sizeof mm);
+    for (k = 0u; k < u->n; k++) {
+        const float *q = u->k[k];
+        const float tau = (q[26] - tm) * th;
+        float d1[9], d2[9], e[9], p[3], c[9], rk[9];
+        prv_qmat(&q[18], d1);
+        prv_qmat(&q[22], d2);
+        for (i = 0u; i < 3u; i++) {
+            p[i] = phi[i] + tau * phi[3u + i];
+        }
+        prv_rodrigues(p, e);
+        prv_mm(e, d2, 0, c);
+        prv_mm(r0, c, 0, rk);
+        prv_mm(d1, rk, 1, c);
+        for (i = 0u; i < 9u; i++) {
+            mm[i] += c[i];
+        }
+    }
+    prv_mm(mm, mm, 1, st);
+    memcpy(sm.m, st, sizeof sm.m);
+    if (sfit_mat3_eig_sym(&sm, &ev, &v) != SFIT_OK) {
+        return 0;
+    }
+    /* the middle singular value of the mean rotation, the mean cosine of
+     * the turn about the axis: the rms turn is about sqrt(2 (1 - it)) */
+    sg = SFIT_SQRTF(SFIT_FABSF(ev.v[1])) / (float)u->n;
+    f->turn = (sg < 1.0f) ? SFIT_SQRTF(2.0f * (1.0f - sg)) : 0.0f;
+    f->j2[0] = v.m[2];
+    f->j2[1] = v.m[5];
+    f->j2[2] = v.m[8];
+    prv_mv(mm, f->j2, 0, f->j1);
+    n = prv_dot(f->j1, f->j1);
+    if (!(n > 0.0f)) {
+        return 0;
+    }
+    n = 1.0f / SFIT_SQRTF(n);
+    for (i = 0u; i < 3u; i++) {
+        f->j1[i] *= n;
+    }
+    return 1;
+}
+
+/* One kept sample of the drift fit at the axes (j1, j2): d = R0^T D1 j1 -
+ * D2 j2 = phi(tau) x v with v = D2 j2, rows (P, tau P), P = I - v v^T, the
+ * right-hand side v x d, into a (lower) and g; returns |d - phi(tau) x v|^2
+ * at the drift phi so far. */
+static float prv_drift_row(const float *q, const prv_fixed_t *f, const float r0[9],
+                           const float phi[6], float tau, float *a, float g[6])
+{
+    float d1[9], d2[9], vv[3], aa[3], w[3], d[3], pm[9], ts[2], res[3];
+    uint32_t i, l;
+    prv_qmat(&q[18], d1);
+    prv_qmat(&q[22], d2);
+    prv_mv(d2, f->j2, 0, vv);
+    prv_mv(d1, f->j1, 0, w);
+    prv_mv(r0, w, 1, aa);
+    for (i = 0u; i < 3u; i++) {
+        d[i] = aa[i] - vv[i];
+    }
+    prv_cross(vv, d, w);
+    for (i = 0u; i < 9u; i++) {
+        pm[i] = ((i % 4u) == 0u) ? 1.0f : 0.0f;
+    }
+    for (i = 0u; i < 3u; i++) {
+        for (l = 0u; l < 3u; l++) {
+            pm[3u * i + l] -= vv[i] * vv[l];
+        }
+    }
+    ts[0] = 1.0f;
+    ts[1] = tau;
+    for (i = 0u; i < 6u; i++) {
+        const float ti = ts[i / 3u];
+        g[i] += ti * w[i % 3u];
+        for (l = 0u; l <= i; l++) {
+            a[i * IMU_NP + l] += ti * ts[l / 3u] * pm[3u * (i % 3u) + (l % 3u)];
+        }
+    }
+    prv_cross(&phi[0], vv, w);
+    prv_cross(&phi[3], vv, res);
+    for (i = 0u; i < 3u; i++) {
+        res[i] = d[i] - w[i] - tau * res[i];
+    }
+    return prv_dot(res, res);
+}
+
+/* The hinge from the relative rotation of the two sensors at the kept
+ * samples, R(t) = D1(t)^T R0 E(t) D2(t): D_i each sensor's integrated
+ * orientation, R0 the rotation between their starts (prv_start_rotation),
+ * E(t) = exp(phi0 + tau phi1) a linear drift of the integration (gyroscope
+ * biases) in sensor 2's start frame. The best fixed axis is the pair
+ * (j1, j2) that R(t) moves least, R(t) j2 = j1: the top singular vectors of
+ * the mean of R(t). A wobble of angle A at any frequency moves it by A,
+ * whatever its rate; a ball by its whole range off the axis. Passes: axis
+ * with the drift so far, the drift fitted to the axis's residual
+ * R0^T D1 j1 - D2 j2 = phi x D2 j2 (least squares with a small ridge: a
+ * drift about the axis changes nothing); the last pass: the rms of what is
+ * left (f->wobble). */
+static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, prv_fixed_t *f)
+{
+    float r0[9], phi[6], a[IMU_NP * IMU_NP], g[6], t0, t1, tm, th;
+    uint32_t k, i, pass;
+    memset(f, 0, sizeof *f);
+    memset(phi, 0, sizeof phi);
+    if (!prv_start_rotation(u, x, r0)) {
         return;
     }
     t0 = u->k[0][26];
@@ -1003,92 +1107,14 @@ static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, 
     tm = 0.5f * (t0 + t1);
     th = (t1 > t0) ? 2.0f / (t1 - t0) : 0.0f;
     for (pass = 0u; pass < IMU_FIXED_PASSES; pass++) {
-        float mm[9], st[9], ss = 0.0f, n;
-        sfit_mat3_t sm, v;
-        sfit_vec3_t ev;
-        memset(mm, 0, sizeof mm);
-        for (k = 0u; k < u->n; k++) {
-            const float *q = u->k[k];
-            const float tau = (q[26] - tm) * th;
-            float d1[9], d2[9], e[9], p[3], c[9], rk[9];
-            prv_qmat(&q[18], d1);
-            prv_qmat(&q[22], d2);
-            for (i = 0u; i < 3u; i++) {
-                p[i] = phi[i] + tau * phi[3u + i];
-            }
-            prv_rodrigues(p, e);
-            prv_mm(e, d2, 0, c);
-            prv_mm(r0, c, 0, rk);
-            prv_mm(d1, rk, 1, c);
-            for (i = 0u; i < 9u; i++) {
-                mm[i] += c[i];
-            }
-        }
-        prv_mm(mm, mm, 1, st);
-        for (i = 0u; i < 9u; i++) {
-            sm.m[i] = st[i];
-        }
-        if (sfit_mat3_eig_sym(&sm, &ev, &v) != SFIT_OK) {
+        float ss = 0.0f;
+        if (!prv_best_axis(u, r0, phi, tm, th, f)) {
             return;
         }
-        {
-            /* the middle singular value of the mean rotation, mean cos of the
-             * turn about the axis: the rms turn is about sqrt(2 (1 - it)) */
-            const float sg = SFIT_SQRTF(SFIT_FABSF(ev.v[1])) / (float)u->n;
-            f->turn = (sg < 1.0f) ? SFIT_SQRTF(2.0f * (1.0f - sg)) : 0.0f;
-        }
-        f->j2[0] = v.m[2];
-        f->j2[1] = v.m[5];
-        f->j2[2] = v.m[8];
-        prv_mv(mm, f->j2, 0, f->j1);
-        n = prv_dot(f->j1, f->j1);
-        if (!(n > 0.0f)) {
-            return;
-        }
-        n = 1.0f / SFIT_SQRTF(n);
-        for (i = 0u; i < 3u; i++) {
-            f->j1[i] *= n;
-        }
-        /* the drift: d = R0^T D1 j1 - D2 j2 = phi(tau) x D2 j2, rows (P, tau P) with
-         * P = I - v v^T, right-hand side v x d */
         memset(a, 0, sizeof a);
         memset(g, 0, sizeof g);
         for (k = 0u; k < u->n; k++) {
-            const float *q = u->k[k];
-            const float tau = (q[26] - tm) * th;
-            float d1[9], d2[9], vv[3], aa[3], w[3], d[3], pm[9], ts[2];
-            prv_qmat(&q[18], d1);
-            prv_qmat(&q[22], d2);
-            prv_mv(d2, f->j2, 0, vv);
-            prv_mv(d1, f->j1, 0, w);
-            prv_mv(r0, w, 1, aa);
-            for (i = 0u; i < 3u; i++) {
-                d[i] = aa[i] - vv[i];
-            }
-            prv_cross(vv, d, w);
-            for (i = 0u; i < 3u; i++) {
-                for (l = 0u; l < 3u; l++) {
-                    pm[3u * i + l] = ((i == l) ? 1.0f : 0.0f) - vv[i] * vv[l];
-                }
-            }
-            ts[0] = 1.0f;
-            ts[1] = tau;
-            for (i = 0u; i < 6u; i++) {
-                const float ti = ts[i / 3u];
-                g[i] += ti * w[i % 3u];
-                for (l = 0u; l <= i; l++) {
-                    a[i * IMU_NP + l] += ti * ts[l / 3u] * pm[3u * (i % 3u) + (l % 3u)];
-                }
-            }
-            if (pass + 1u == IMU_FIXED_PASSES) {
-                float res[3];
-                prv_cross(&phi[0], vv, w);
-                prv_cross(&phi[3], vv, res);
-                for (i = 0u; i < 3u; i++) {
-                    res[i] = d[i] - w[i] - tau * res[i];
-                }
-                ss += prv_dot(res, res);
-            }
+            ss += prv_drift_row(u->k[k], f, r0, phi, (u->k[k][26] - tm) * th, a, g);
         }
         if (pass + 1u == IMU_FIXED_PASSES) {
             f->wobble = SFIT_SQRTF(ss / (float)u->n);
