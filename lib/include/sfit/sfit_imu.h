@@ -23,7 +23,12 @@
  * sfit_imu_solve() runs Gauss-Newton on the kept samples: r1, r2 and the
  * two accelerometer biases (with a prior of cfg.acc_bias_sd), the axes from
  * an algebraic lifting (j j^T is linear in the squared constraint) refined
- * by Gauss-Newton, the joint type from the hinge residual.
+ * by Gauss-Newton, the joint type from the hinge residual. Each sensor's
+ * rate is also integrated into its orientation, kept with each kept
+ * sample: the relative rotation of the two sensors (aligned on the joint's
+ * specific force, a linear drift removed) gives the best fixed axis and
+ * the angle the motion leaves it by (wobble_deg), a hinge where the rates'
+ * test fails (a wobble faster than the flexion).
  *
  * Derivation and notes: docs/api.md#imu; user page docs/imu.md.
  */
@@ -199,7 +204,7 @@ sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg
  * @retval SFIT_E_ARG        NULL pointer, or a state not from sfit_imu_init()
  * @retval SFIT_E_NONFINITE  a NaN or Inf value (state unchanged)
  * @retval SFIT_E_RANGE      a |value| above 1e4, or the sample counter is full (state unchanged)
- * @par Cost about 160 FLOPs and 1000 instructions per sample on a Cortex-M4F
+ * @par Cost about 290 FLOPs and 1360 instructions per sample on a Cortex-M4F
  * (tools/flopcount: imu_add, amortised); the sample that fills the buffer
  * moves SFIT_IMU_KEEP bytes more (imu_add_compact).
  */
@@ -215,7 +220,7 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x);
  * @retval SFIT_E_DEGENERATE      the normal matrix is singular (no motion at all)
  * @retval SFIT_E_NO_CONVERGENCE  Gauss-Newton still moving after SFIT_IMU_GN_ITERS
  * @retval SFIT_E_RANGE           a non-finite intermediate (a corrupted state)
- * @par Cost about 0.35 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
+ * @par Cost about 0.36 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
  */
 sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out);
 
