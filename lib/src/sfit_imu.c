@@ -42,7 +42,7 @@
 #include "sfit_float.h"
 
 #define IMU_NP 12u          /* unknowns of the ball solve (row stride of the matrices) */
-#define IMU_NREC 18         /* floats of a kept sample */
+#define IMU_NREC 27         /* floats of a kept sample */
 #define IMU_MIN_USED 32u    /* kept samples a solve needs */
 #define IMU_R_PRIOR 0.1f    /* prior SD of a joint position (m): holds a hinge's free line */
 #define IMU_MAXABS 1e4f     /* largest accepted |value| of a sample */
@@ -54,9 +54,15 @@
 #define IMU_WEIGHT_FLOOR 1e-3f /* added to |w1|^2 + |w2|^2 (rad^2/s^2): quiet samples count */
 #define IMU_RNG_SEED 0x9E3779B9u
 #define IMU_LINE_ITERS 40u  /* power iterations for the freest line of the position */
+#define IMU_POLAR_ITERS 30u /* Newton steps of the polar factor (quadratic: a few suffice) */
+#define IMU_FIXED_PASSES 3u /* best fixed axis and drift, alternately; the last: the wobble */
+#define IMU_DRIFT_RIDGE 1e-3f /* ridge of the drift fit, per sample */
+#define IMU_RAD2DEG 57.2957795f
+#define IMU_MIN_TURN 0.1745f  /* rms turn about the fixed axis (rad, 10 degrees) a hinge from
+                                 the relative rotation needs: a still joint fixes every axis */
 
-const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f,
-                                             3.0f,  0.07f,  8.0f,  5.0f,  0.0523f, 1.5f};
+const sfit_imu_cfg_t sfit_imu_cfg_default = {0.04f, 0.005f, 0.02f, 0.02f, 0.3f,    0.006f, 3.0f,
+                                             0.07f, 8.0f,   5.0f,  0.0523f, 1.5f, 2.5f};
 
 SFIT_INLINE void prv_cross(const float a[3], const float b[3], float c[3])
 {
@@ -82,7 +88,7 @@ static int prv_cfg_ok(const sfit_imu_cfg_t *c)
            prv_pos(c->max_pos_sd) && prv_pos(c->slip_ratio) && prv_pos(c->hinge_ratio) &&
            prv_pos(c->ball_line) && sfit_i_isfinite(c->hinge_line) && c->hinge_line >= c->ball_line &&
            prv_pos(c->hinge_off) && c->hinge_off <= 1.0f && sfit_i_isfinite(c->wobble_ratio) &&
-           c->wobble_ratio >= 1.0f;
+           c->wobble_ratio >= 1.0f && prv_pos(c->hinge_wobble);
 }
 
 /* The counters and indices a call relies on (a garbage state is refused). */
@@ -135,6 +141,8 @@ sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg
     }
     s->stride = 1u;
     s->rng = IMU_RNG_SEED;
+    s->q1[0] = 1.0f;
+    s->q2[0] = 1.0f;
     for (i = 0u; i < (uint32_t)SFIT_IMU_KEEP; i++) {
         s->order[i] = (uint8_t)i;
     }
@@ -189,6 +197,42 @@ static void prv_compact(sfit_imu_t *s)
     }
 }
 
+/* q <- q (x) dq, dq the rotation by the body rate (w + wl) / 2 over dt (q'
+ * = q (x) (0, w) / 2), renormalised; a quaternion that lost its norm
+ * restarts at the identity. */
+static void prv_q_step(float q[4], const float w[3], const float wl[3], float hdt)
+{
+    float h[3], d[4], o[4], n2, c;
+    uint32_t i;
+    for (i = 0u; i < 3u; i++) {
+        h[i] = 0.25f * hdt * (w[i] + wl[i]); /* half the angle */
+    }
+    n2 = prv_dot(h, h);
+    /* cos |h| and sin |h| / |h| to the fourth order (|h| < 0.05 at 200 Hz and 20 rad/s) */
+    c = 1.0f - n2 * (1.0f / 6.0f) * (1.0f - n2 * (1.0f / 20.0f));
+    d[0] = 1.0f - 0.5f * n2 * (1.0f - n2 * (1.0f / 12.0f));
+    d[1] = c * h[0];
+    d[2] = c * h[1];
+    d[3] = c * h[2];
+    o[0] = q[0] * d[0] - q[1] * d[1] - q[2] * d[2] - q[3] * d[3];
+    o[1] = q[0] * d[1] + q[1] * d[0] + q[2] * d[3] - q[3] * d[2];
+    o[2] = q[0] * d[2] - q[1] * d[3] + q[2] * d[0] + q[3] * d[1];
+    o[3] = q[0] * d[3] + q[1] * d[2] - q[2] * d[1] + q[3] * d[0];
+    n2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] + o[3] * o[3];
+    if (!(n2 > 0.5f) || !(n2 < 2.0f)) {
+        o[0] = 1.0f;
+        o[1] = 0.0f;
+        o[2] = 0.0f;
+        o[3] = 0.0f;
+        n2 = 1.0f;
+    }
+    /* one Newton step towards 1 / sqrt(n2), n2 within rounding of 1 */
+    c = 1.5f - 0.5f * n2;
+    for (i = 0u; i < 4u; i++) {
+        q[i] = o[i] * c;
+    }
+}
+
 sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x)
 {
     float v[12], rec[IMU_NREC], sc, q1, q2;
@@ -238,6 +282,16 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x)
             rec[15u + i] += s->dw[k - 1u] * (pa[9u + i] - pb[9u + i]);
         }
     }
+    /* each sensor's orientation: the rates integrated, sample to sample */
+    if (s->nd > 0u) {
+        prv_q_step(s->q1, &rec[3], s->wlast, 1.0f / s->rate);
+        prv_q_step(s->q2, &rec[12], &s->wlast[3], 1.0f / s->rate);
+    }
+    memcpy(s->wlast, &rec[3], 3u * sizeof(float));
+    memcpy(&s->wlast[3], &rec[12], 3u * sizeof(float));
+    memcpy(&rec[18], s->q1, sizeof s->q1);
+    memcpy(&rec[22], s->q2, sizeof s->q2);
+    rec[26] = (float)s->nd;
     q1 = prv_dot(&rec[3], &rec[3]);
     q2 = prv_dot(&rec[12], &rec[12]);
     sc = q1 + q2 + IMU_WEIGHT_FLOOR;
@@ -787,6 +841,313 @@ static float prv_hinge_gn(const prv_used_t *u, const float *x, float j1[3], floa
     return ssr;
 }
 
+/* ---- the hinge from the relative rotation ---- */
+
+/* The rotation matrix (row-major) of the unit quaternion q (w, x, y, z). */
+static void prv_qmat(const float *q, float m[9])
+{
+    const float w = q[0], x = q[1], y = q[2], z = q[3];
+    m[0] = 1.0f - 2.0f * (y * y + z * z);
+    m[1] = 2.0f * (x * y - w * z);
+    m[2] = 2.0f * (x * z + w * y);
+    m[3] = 2.0f * (x * y + w * z);
+    m[4] = 1.0f - 2.0f * (x * x + z * z);
+    m[5] = 2.0f * (y * z - w * x);
+    m[6] = 2.0f * (x * z - w * y);
+    m[7] = 2.0f * (y * z + w * x);
+    m[8] = 1.0f - 2.0f * (x * x + y * y);
+}
+
+/* c = a b (trans_a: a^T b), 3x3 row-major */
+static void prv_mm(const float a[9], const float b[9], int trans_a, float c[9])
+{
+    uint32_t i, j, k;
+    for (i = 0u; i < 3u; i++) {
+        for (j = 0u; j < 3u; j++) {
+            float t = 0.0f;
+            for (k = 0u; k < 3u; k++) {
+                t += ((trans_a != 0) ? a[3u * k + i] : a[3u * i + k]) * b[3u * k + j];
+            }
+            c[3u * i + j] = t;
+        }
+    }
+}
+
+/* o = m v (trans: m^T v) */
+static void prv_mv(const float m[9], const float v[3], int trans, float o[3])
+{
+    uint32_t i;
+    for (i = 0u; i < 3u; i++) {
+        o[i] = (trans != 0) ? m[i] * v[0] + m[3u + i] * v[1] + m[6u + i] * v[2]
+                            : m[3u * i] * v[0] + m[3u * i + 1u] * v[1] + m[3u * i + 2u] * v[2];
+    }
+}
+
+/* The rotation nearest b (its orthogonal polar factor, Newton's iteration
+ * r <- (r + r^-T) / 2 from b scaled to unit size); 0 when b is singular or
+ * a reflection. */
+static int prv_polar(const float b[9], float r[9])
+{
+    float n = 0.0f;
+    uint32_t i, it;
+    for (i = 0u; i < 9u; i++) {
+        n += b[i] * b[i];
+    }
+    if (!(n > 0.0f) || !sfit_i_isfinite(n)) {
+        return 0;
+    }
+    n = 1.0f / SFIT_SQRTF(n / 3.0f);
+    for (i = 0u; i < 9u; i++) {
+        r[i] = b[i] * n;
+    }
+    for (it = 0u; it < IMU_POLAR_ITERS; it++) {
+        float c0[3], c1[3], c2[3], x[3], y[3], z[3], det, ch = 0.0f;
+        for (i = 0u; i < 3u; i++) {
+            c0[i] = r[3u * i];
+            c1[i] = r[3u * i + 1u];
+            c2[i] = r[3u * i + 2u];
+        }
+        prv_cross(c1, c2, x);
+        prv_cross(c2, c0, y);
+        prv_cross(c0, c1, z);
+        det = prv_dot(c0, x);
+        if (!(det > 1e-6f)) {
+            return 0;
+        }
+        det = 1.0f / det;
+        for (i = 0u; i < 3u; i++) {
+            /* r^-T has the columns x, y, z over det */
+            const float a = 0.5f * (r[3u * i] + x[i] * det);
+            const float bb = 0.5f * (r[3u * i + 1u] + y[i] * det);
+            const float cc = 0.5f * (r[3u * i + 2u] + z[i] * det);
+            ch += SFIT_FABSF(a - r[3u * i]) + SFIT_FABSF(bb - r[3u * i + 1u]) +
+                  SFIT_FABSF(cc - r[3u * i + 2u]);
+            r[3u * i] = a;
+            r[3u * i + 1u] = bb;
+            r[3u * i + 2u] = cc;
+        }
+        if (ch < 1e-6f) {
+            return 1;
+        }
+    }
+    return 1;
+}
+
+/* The rotation by the vector p (Rodrigues). */
+static void prv_rodrigues(const float p[3], float m[9])
+{
+    const float a2 = prv_dot(p, p);
+    /* sin a / a and (1 - cos a) / a^2 to the fourth order (a < 0.5 rad) */
+    const float s = 1.0f - a2 * (1.0f / 6.0f) * (1.0f - a2 * (1.0f / 20.0f));
+    const float c = 0.5f * (1.0f - a2 * (1.0f / 12.0f) * (1.0f - a2 * (1.0f / 30.0f)));
+    uint32_t i, j;
+    for (i = 0u; i < 3u; i++) {
+        for (j = 0u; j < 3u; j++) {
+            m[3u * i + j] = ((i == j) ? 1.0f - c * a2 : 0.0f) + c * p[i] * p[j];
+        }
+    }
+    m[1] -= s * p[2];
+    m[2] += s * p[1];
+    m[3] += s * p[2];
+    m[5] -= s * p[0];
+    m[6] -= s * p[1];
+    m[7] += s * p[0];
+}
+
+typedef struct prv_fixed {
+    float j1[3], j2[3]; /* the best fixed axis in each sensor's frame */
+    float wobble;       /* rms angle of the relative rotation off it (rad) */
+    float turn;         /* rms angle of the relative rotation about it (rad) */
+    int ok;
+} prv_fixed_t;
+
+/* R0, the rotation between the two sensors' starting orientations: the
+ * joint's specific force is one physical vector, D1 u1 = R0 D2 u2, so R0 is
+ * the rotation nearest sum D1 u1 (D2 u2)^T. 0 when that is singular. */
+static int prv_start_rotation(const prv_used_t *u, const float *x, float r0[9])
+{
+    float b[9];
+    uint32_t k, i, l;
+    memset(b, 0, sizeof b);
+    for (k = 0u; k < u->n; k++) {
+        const float *q = u->k[k];
+        float d1[9], d2[9], u1[3], u2[3], p1[3], p2[3];
+        prv_qmat(&q[18], d1);
+        prv_qmat(&q[22], d2);
+        prv_force(q, x, u1, u2);
+        prv_mv(d1, u1, 0, p1);
+        prv_mv(d2, u2, 0, p2);
+        for (i = 0u; i < 3u; i++) {
+            for (l = 0u; l < 3u; l++) {
+                b[3u * i + l] += p1[i] * p2[l];
+            }
+        }
+    }
+    return prv_polar(b, r0);
+}
+
+/* The best fixed axis of the mean relative rotation D1^T R0 E(tau) D2 with
+ * the drift phi (E = exp(phi0 + tau phi1)): j2 the top eigenvector of M^T M,
+ * j1 = M j2 normalised; turn from the middle singular value. 0 on failure. */
+static int prv_best_axis(const prv_used_t *u, const float r0[9], const float phi[6], float tm,
+                         float th, prv_fixed_t *f)
+{
+    float mm[9], st[9], n, sg;
+    sfit_mat3_t sm, v;
+    sfit_vec3_t ev;
+    uint32_t k, i;
+    memset(mm, 0, sizeof mm);
+    for (k = 0u; k < u->n; k++) {
+        const float *q = u->k[k];
+        const float tau = (q[26] - tm) * th;
+        float d1[9], d2[9], e[9], p[3], c[9], rk[9];
+        prv_qmat(&q[18], d1);
+        prv_qmat(&q[22], d2);
+        for (i = 0u; i < 3u; i++) {
+            p[i] = phi[i] + tau * phi[3u + i];
+        }
+        prv_rodrigues(p, e);
+        prv_mm(e, d2, 0, c);
+        prv_mm(r0, c, 0, rk);
+        prv_mm(d1, rk, 1, c);
+        for (i = 0u; i < 9u; i++) {
+            mm[i] += c[i];
+        }
+    }
+    prv_mm(mm, mm, 1, st);
+    memcpy(sm.m, st, sizeof sm.m);
+    if (sfit_mat3_eig_sym(&sm, &ev, &v) != SFIT_OK) {
+        return 0;
+    }
+    /* the middle singular value of the mean rotation, the mean cosine of
+     * the turn about the axis: the rms turn is about sqrt(2 (1 - it)) */
+    sg = SFIT_SQRTF(SFIT_FABSF(ev.v[1])) / (float)u->n;
+    f->turn = (sg < 1.0f) ? SFIT_SQRTF(2.0f * (1.0f - sg)) : 0.0f;
+    f->j2[0] = v.m[2];
+    f->j2[1] = v.m[5];
+    f->j2[2] = v.m[8];
+    prv_mv(mm, f->j2, 0, f->j1);
+    n = prv_dot(f->j1, f->j1);
+    if (!(n > 0.0f)) {
+        return 0;
+    }
+    n = 1.0f / SFIT_SQRTF(n);
+    for (i = 0u; i < 3u; i++) {
+        f->j1[i] *= n;
+    }
+    return 1;
+}
+
+/* One kept sample of the drift fit at the axes (j1, j2): d = R0^T D1 j1 -
+ * D2 j2 = phi(tau) x v with v = D2 j2, rows (P, tau P), P = I - v v^T, the
+ * right-hand side v x d, into a (lower) and g; returns |d - phi(tau) x v|^2
+ * at the drift phi so far. */
+static float prv_drift_row(const float *q, const prv_fixed_t *f, const float r0[9],
+                           const float phi[6], float tau, float *a, float g[6])
+{
+    float d1[9], d2[9], vv[3], aa[3], w[3], d[3], pm[9], ts[2], res[3];
+    uint32_t i, l;
+    prv_qmat(&q[18], d1);
+    prv_qmat(&q[22], d2);
+    prv_mv(d2, f->j2, 0, vv);
+    prv_mv(d1, f->j1, 0, w);
+    prv_mv(r0, w, 1, aa);
+    for (i = 0u; i < 3u; i++) {
+        d[i] = aa[i] - vv[i];
+    }
+    prv_cross(vv, d, w);
+    for (i = 0u; i < 9u; i++) {
+        pm[i] = ((i % 4u) == 0u) ? 1.0f : 0.0f;
+    }
+    for (i = 0u; i < 3u; i++) {
+        for (l = 0u; l < 3u; l++) {
+            pm[3u * i + l] -= vv[i] * vv[l];
+        }
+    }
+    ts[0] = 1.0f;
+    ts[1] = tau;
+    for (i = 0u; i < 6u; i++) {
+        const float ti = ts[i / 3u];
+        g[i] += ti * w[i % 3u];
+        for (l = 0u; l <= i; l++) {
+            a[i * IMU_NP + l] += ti * ts[l / 3u] * pm[3u * (i % 3u) + (l % 3u)];
+        }
+    }
+    prv_cross(&phi[0], vv, w);
+    prv_cross(&phi[3], vv, res);
+    for (i = 0u; i < 3u; i++) {
+        res[i] = d[i] - w[i] - tau * res[i];
+    }
+    return prv_dot(res, res);
+}
+
+/* The hinge from the relative rotation of the two sensors at the kept
+ * samples, R(t) = D1(t)^T R0 E(t) D2(t): D_i each sensor's integrated
+ * orientation, R0 the rotation between their starts (prv_start_rotation),
+ * E(t) = exp(phi0 + tau phi1) a linear drift of the integration (gyroscope
+ * biases) in sensor 2's start frame. The best fixed axis is the pair
+ * (j1, j2) that R(t) moves least, R(t) j2 = j1: the top singular vectors of
+ * the mean of R(t). A wobble of angle A at any frequency moves it by A,
+ * whatever its rate; a ball by its whole range off the axis. Passes: axis
+ * with the drift so far, the drift fitted to the axis's residual
+ * R0^T D1 j1 - D2 j2 = phi x D2 j2 (least squares with a small ridge: a
+ * drift about the axis changes nothing); the last pass: the rms of what is
+ * left (f->wobble). */
+static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, prv_fixed_t *f)
+{
+    float r0[9], phi[6], a[IMU_NP * IMU_NP], g[6], t0, t1, tm, th;
+    uint32_t k, i, pass;
+    memset(f, 0, sizeof *f);
+    memset(phi, 0, sizeof phi);
+    if (!prv_start_rotation(u, x, r0)) {
+        return;
+    }
+    t0 = u->k[0][26];
+    t1 = u->k[u->n - 1u][26];
+    tm = 0.5f * (t0 + t1);
+    th = (t1 > t0) ? 2.0f / (t1 - t0) : 0.0f;
+    for (pass = 0u; pass < IMU_FIXED_PASSES; pass++) {
+        float ss = 0.0f;
+        if (!prv_best_axis(u, r0, phi, tm, th, f)) {
+            return;
+        }
+        memset(a, 0, sizeof a);
+        memset(g, 0, sizeof g);
+        for (k = 0u; k < u->n; k++) {
+            ss += prv_drift_row(u->k[k], f, r0, phi, (u->k[k][26] - tm) * th, a, g);
+        }
+        if (pass + 1u == IMU_FIXED_PASSES) {
+            f->wobble = SFIT_SQRTF(ss / (float)u->n);
+            f->ok = sfit_i_isfinite(f->wobble);
+            return;
+        }
+        for (i = 0u; i < 6u; i++) {
+            a[i * IMU_NP + i] += IMU_DRIFT_RIDGE * (float)u->n;
+        }
+        if (!prv_chol(a, 6u)) {
+            return;
+        }
+        prv_chol_solve(a, 6u, g);
+        memcpy(phi, g, sizeof phi);
+    }
+}
+
+/* The axes' covariance of a hinge from the relative rotation: the wobble's
+ * variance over the kept samples, in the plane normal to each axis (the
+ * samples taken for independent). */
+static void prv_fixed_cov(const prv_fixed_t *f, uint32_t n, prv_hinge_t *h)
+{
+    const float v = f->wobble * f->wobble / (float)n;
+    uint32_t i, k;
+    for (i = 0u; i < 3u; i++) {
+        for (k = 0u; k < 3u; k++) {
+            const float d = (i == k) ? 1.0f : 0.0f;
+            h->c1.m[3u * i + k] = v * (d - f->j1[i] * f->j1[k]);
+            h->c2.m[3u * i + k] = v * (d - f->j2[i] * f->j2[k]);
+        }
+    }
+}
+
 /* The top eigenvector of sum w w^T of one sensor's kept rates. */
 static void prv_rate_axis(const prv_used_t *u, uint32_t off, float j[3])
 {
@@ -980,6 +1341,7 @@ static int prv_result_finite(const sfit_imu_result_t *r)
     return sfit_i_isfinite(r->resid_rms) && sfit_i_isfinite(r->line_sd) &&
            sfit_i_isfinite(r->line_ratio) && sfit_i_isfinite(r->noise_rms) &&
            sfit_i_isfinite(r->hinge_ratio) && sfit_i_isfinite(r->force_ratio) &&
+           sfit_i_isfinite(r->wobble_deg) &&
            sfit_i_isfinite(r->rate_rms1) &&
            sfit_i_isfinite(r->rate_rms2);
 }
@@ -989,9 +1351,11 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     prv_used_t u;
     prv_ball_t b;
     prv_hinge_t h;
+    prv_fixed_t fx;
     sfit_imu_result_t r;
     sfit_status_t st;
     uint32_t i;
+    int fixed = 0;
     float sd1, sd2;
     if (s == NULL || out == NULL || !prv_state_ok(s)) {
         return SFIT_E_ARG;
@@ -1012,6 +1376,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
         return st;
     }
     prv_hinge_solve(&u, &h);
+    prv_fixed_axis(&u, b.x, &fx);
     memset(&r, 0, sizeof r);
     r.n = s->n;
     r.used = u.n;
@@ -1067,22 +1432,48 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     r.rate_rms2 = SFIT_SQRTF(s->wsum2 / (float)s->nd);
     /* a ball fixes the joint along every line; a hinge leaves it free
      * along its axis, and its rates obey the hinge constraint */
+    r.wobble_deg = fx.ok ? fx.wobble * IMU_RAD2DEG : 0.0f;
     if (r.line_ratio > s->cfg.ball_line) {
         r.hinge = r.line_ratio > s->cfg.hinge_line && h.ratio < s->cfg.hinge_ratio;
-        if (!r.hinge) {
-            r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
+    }
+    if (!r.hinge && fx.ok && r.wobble_deg < s->cfg.hinge_wobble && fx.turn > IMU_MIN_TURN) {
+        /* the rates' hinge test failed (a wobble faster than the flexion
+         * breaks |w1 x j1| = |w2 x j2| by its rate), the relative rotation
+         * holds an axis within hinge_wobble degrees: a hinge about it */
+        r.hinge = true;
+        fixed = 1;
+        {
+            /* j1's largest component positive, j2 the same physical direction */
+            uint32_t big = 0u;
+            float sg;
+            for (i = 1u; i < 3u; i++) {
+                big = (SFIT_FABSF(fx.j1[i]) > SFIT_FABSF(fx.j1[big])) ? i : big;
+            }
+            sg = (fx.j1[big] < 0.0f) ? -1.0f : 1.0f;
+            for (i = 0u; i < 3u; i++) {
+                h.j1[i] = sg * fx.j1[i];
+                h.j2[i] = sg * fx.j2[i];
+            }
         }
+        prv_fixed_cov(&fx, u.n, &h);
+        memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
+        memcpy(r.axis2.v, h.j2, sizeof r.axis2.v);
+        r.axis1_cov = h.c1;
+        r.axis2_cov = h.c2;
+    }
+    if (!r.hinge && r.line_ratio > s->cfg.ball_line) {
+        r.flags |= (uint32_t)SFIT_IMU_FLAG_AMBIGUOUS;
     }
     r.force_ratio = prv_force_ratio(&u, &b, h.j1, r.axis2.v);
-    if (r.hinge && r.line_off > s->cfg.hinge_off) {
+    if (r.hinge && fixed == 0 && r.line_off > s->cfg.hinge_off) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_AXIS_OFF;
     }
-    if (r.hinge && r.force_ratio > s->cfg.wobble_ratio) {
+    if (r.hinge && fixed == 0 && r.force_ratio > s->cfg.wobble_ratio) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_WOBBLE;
     }
     if (r.hinge) {
-        prv_project(h.j1, &r.r1, &r.r1_cov);
-        prv_project(h.j2, &r.r2, &r.r2_cov);
+        prv_project(r.axis1.v, &r.r1, &r.r1_cov);
+        prv_project(r.axis2.v, &r.r2, &r.r2_cov);
     }
     if (r.rate_rms1 < s->cfg.min_rate || r.rate_rms2 < s->cfg.min_rate) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_LOW_ROTATION;

@@ -81,6 +81,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 cfg.max_pos_sd = fz_float(&in);
                 cfg.hinge_off = fz_float(&in);
                 cfg.wobble_ratio = fz_float(&in);
+                cfg.hinge_wobble = fz_float(&in);
             }
             st = sfit_imu_init(&fz_s, rate, ((sel & 8u) != 0u) ? NULL : &cfg);
             FZ_CHECK(fz_status_defined(st), "imu init: status");

@@ -8,6 +8,8 @@
 #  2b. a hinge with a wobble at the flexion's frequency: axis_off, untrusted;
 #  2c. a hinge whose wobbles are both in step with the flexion: wobble,
 #      untrusted, force_ratio in JSON, the reason in words;
+#  2d. a hinge whose wobbles are at 2 and 3 times the flexion's frequency:
+#      a trusted hinge, axes within 3 degrees, wobble_deg in JSON and text;
 #  3. no motion: untrusted, with the reason in words;
 #  4. errors: NaN, time going backwards, unknown column, missing file, usage.
 # Usage: test_cli_imu.sh BUILD_DIR SOURCE_DIR
@@ -32,6 +34,7 @@ for k in ("r1_cov", "r2_cov"):
     assert len(o[k]) == 3 and all(len(r) == 3 for r in o[k]), o
 assert o["axis1"] is None and o["axis2"] is None, o
 assert o["flags"]["untrusted"] is False and o["flags"]["reason"] is None, o
+assert o["wobble_deg"] > 2.5, o
 for k in ("r1", "r2"):
     d = math.dist(o[k], t[k])
     assert d < 0.01, (k, d)
@@ -53,6 +56,7 @@ for k in ("axis1", "axis2"):
     assert ang(o[k], t[k]) < 3.0, (k, ang(o[k], t[k]))
     assert len(o[k + "_cov"]) == 3, o
 assert math.dist(o["r1"], t["point1"]) < 0.01 and math.dist(o["r2"], t["point2"]) < 0.01, o
+assert 0.0 < o["wobble_deg"] < 2.5, o
 print("hinge: axes %.2f, %.2f deg" % (ang(o["axis1"], t["axis1"]), ang(o["axis2"], t["axis2"])))
 ' "$tmp/knee.json" "$tmp/knee_truth.json"
 expect_rc 0 "$sfit" imu-joint "$tmp/knee.csv"
@@ -99,6 +103,31 @@ print("in step: force_ratio %.3f, flagged wobble" % o["force_ratio"])
 expect_rc 0 "$sfit" imu-joint "$tmp/instep.csv"
 grep -q "^UNTRUSTED" <<<"$out" || fail "text output: in-step wobble not untrusted: $out"
 grep -q "do not fit the accelerometers" <<<"$out" || fail "text output: no wobble reason: $out"
+
+# 2d. wobbles of 2 degrees at 2 and 3 times the flexion's frequency: the
+# rates' hinge test fails (hinge_ratio above 0.07), the relative rotation
+# leaves its best fixed axis by about 2 degrees rms (wobble_deg): a trusted
+# hinge, axes within 3 degrees, axis points within 10 mm.
+"$gen" --write-csv "$tmp/fast.csv" fast 4327 > "$tmp/fast_truth.json"
+expect_rc 0 "$sfit" imu-joint --json "$tmp/fast.csv"
+echo "$out" > "$tmp/fast.json"
+py '
+import json, sys, math
+o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
+assert o["status"] == "ok" and o["joint"] == "hinge", o
+assert o["hinge_ratio"] > 0.07 and 1.5 < o["wobble_deg"] < 2.5, o
+assert o["flags"]["untrusted"] is False, o
+def ang(a, b):
+    c = abs(sum(x * y for x, y in zip(a, b))) / math.hypot(*a) / math.hypot(*b)
+    return math.degrees(math.acos(min(1.0, c)))
+for k in ("axis1", "axis2"):
+    assert ang(o[k], t[k]) < 3.0, (k, ang(o[k], t[k]))
+assert math.dist(o["r1"], t["point1"]) < 0.01 and math.dist(o["r2"], t["point2"]) < 0.01, o
+print("fast wobble: wobble_deg %.2f, axes %.2f, %.2f deg" % (o["wobble_deg"], ang(o["axis1"], t["axis1"]), ang(o["axis2"], t["axis2"])))
+' "$tmp/fast.json" "$tmp/fast_truth.json"
+expect_rc 0 "$sfit" imu-joint "$tmp/fast.csv"
+grep -q "^joint         hinge" <<<"$out" || fail "text output: fast wobble not a hinge: $out"
+grep -q "wobble [0-9.]* degrees" <<<"$out" || fail "text output: no wobble angle: $out"
 
 # 3. no motion
 "$gen" --write-csv "$tmp/still.csv" still 4244 > /dev/null

@@ -192,11 +192,11 @@ static void imu_print_json(const sfit_imu_result_t *r, double rate)
     }
     imu_vec_json("acc_bias1", &r->acc_bias1);
     imu_vec_json("acc_bias2", &r->acc_bias2);
-    printf(",\"resid_rms\":%.9g,\"noise_rms\":%.9g,\"hinge_ratio\":%.9g,\"line_sd\":%.9g,"
-           "\"line_ratio\":%.9g,\"line_off\":%.9g,\"force_ratio\":%.9g,\"rate_rms1\":%.9g,"
-           "\"rate_rms2\":%.9g",
+    printf(",\"resid_rms\":%.9g,\"noise_rms\":%.9g,\"hinge_ratio\":%.9g,\"wobble_deg\":%.9g,"
+           "\"line_sd\":%.9g,\"line_ratio\":%.9g,\"line_off\":%.9g,\"force_ratio\":%.9g,"
+           "\"rate_rms1\":%.9g,\"rate_rms2\":%.9g",
            (double)r->resid_rms, (double)r->noise_rms, (double)r->hinge_ratio,
-           (double)r->line_sd, (double)r->line_ratio, (double)r->line_off,
+           (double)r->wobble_deg, (double)r->line_sd, (double)r->line_ratio, (double)r->line_off,
            (double)r->force_ratio, (double)r->rate_rms1, (double)r->rate_rms2);
     printf(",\"flags\":{\"untrusted\":%s,\"names\":[",
            (r->flags & SFIT_FLAG_UNTRUSTED) ? "true" : "false");
@@ -247,8 +247,8 @@ static void imu_print_human(const char *file, const sfit_imu_result_t *r, double
            (double)r->noise_rms);
     printf("rotation      %.3g and %.3g rad/s rms\n", (double)r->rate_rms1,
            (double)r->rate_rms2);
-    printf("evidence      hinge residual %.3g of the rates, free line %.3g", (double)r->hinge_ratio,
-           (double)r->line_ratio);
+    printf("evidence      hinge residual %.3g of the rates, wobble %.3g degrees, free line %.3g",
+           (double)r->hinge_ratio, (double)r->wobble_deg, (double)r->line_ratio);
     if (r->hinge) {
         printf(" (off the axes %.3g), force ratio %.3g", (double)r->line_off,
                (double)r->force_ratio);

@@ -23,7 +23,12 @@
  * sfit_imu_solve() runs Gauss-Newton on the kept samples: r1, r2 and the
  * two accelerometer biases (with a prior of cfg.acc_bias_sd), the axes from
  * an algebraic lifting (j j^T is linear in the squared constraint) refined
- * by Gauss-Newton, the joint type from the hinge residual.
+ * by Gauss-Newton, the joint type from the hinge residual. Each sensor's
+ * rate is also integrated into its orientation, kept with each kept
+ * sample: the relative rotation of the two sensors (aligned on the joint's
+ * specific force, a linear drift removed) gives the best fixed axis and
+ * the angle the motion leaves it by (wobble_deg), a hinge where the rates'
+ * test fails (a wobble faster than the flexion).
  *
  * Derivation and notes: docs/api.md#imu; user page docs/imu.md.
  */
@@ -98,6 +103,9 @@ typedef struct sfit_imu_cfg {
                             it ::SFIT_IMU_FLAG_AXIS_OFF; 0.0523 (3 degrees). */
     float wobble_ratio; /**< Largest result force_ratio of a trusted hinge, >= 1; above it
                             ::SFIT_IMU_FLAG_WOBBLE; 1.5. */
+    float hinge_wobble; /**< Largest result wobble_deg (degrees) of a hinge found from the
+                            relative rotation (when the rates' hinge test above fails, as
+                            with a wobble faster than the flexion); 3. */
 } sfit_imu_cfg_t;
 
 /** @brief The default options. */
@@ -123,8 +131,13 @@ typedef struct sfit_imu {
     uint32_t head;                               /**< Next ring slot. */
     uint32_t rng;                                /**< xorshift state of the selection. */
     float wsum1, wsum2;                          /**< Sums of |w1|^2, |w2|^2. */
+    float q1[4], q2[4];                          /**< Each sensor's orientation against its
+                                                      first differentiated sample (unit
+                                                      quaternion, the rates integrated). */
+    float wlast[6];                              /**< The last differentiated rates. */
     float ring[2 * SFIT_IMU_DIFF_MAX + 1][12];   /**< a1, w1, a2, w2 of the last samples. */
-    float keep[SFIT_IMU_KEEP][18];               /**< a1, w1, w1', a2, w2, w2'. */
+    float keep[SFIT_IMU_KEEP][27];               /**< a1, w1, w1', a2, w2, w2', q1, q2, and
+                                                      the sample's index. */
     float score[SFIT_IMU_KEEP];                  /**< Sum of the weights of each kept
                                                       sample's window. */
     uint8_t order[SFIT_IMU_KEEP];                /**< Slots in time order. */
@@ -147,6 +160,12 @@ typedef struct sfit_imu_result {
     float resid_rms;         /**< rms of |a1 + G1 r1| - |a2 + G2 r2| (m/s^2). */
     float noise_rms;         /**< The rms the sensors' noise predicts for it (m/s^2). */
     float hinge_ratio;       /**< Hinge residual rms over the rms rate. */
+    float wobble_deg;        /**< rms angle (degrees) by which the relative rotation of the
+                                  two sensors (their integrated rates, aligned on the joint's
+                                  specific force, a linear gyroscope drift removed) moves the
+                                  best fixed axis off itself: about 2 for a hinge with 2
+                                  degrees of wobble at any frequency, several for a ball;
+                                  0 when it cannot be computed. */
     float line_sd;           /**< SD of the joint position along the line of the hinge
                                   axes (m): large for a hinge, small for a ball. */
     float line_ratio;        /**< line_sd over the rms SD of the other five directions
@@ -173,7 +192,7 @@ typedef struct sfit_imu_result {
  *                     range (negative or non-finite; diff_span, gyr_noise, acc_noise,
  *                     min_rate, max_pos_sd, slip_ratio, hinge_ratio, ball_line <= 0;
  *                     hinge_line < ball_line; hinge_off not in (0, 1]; wobble_ratio
- *                     below 1)
+ *                     below 1; hinge_wobble <= 0)
  */
 sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg);
 
@@ -185,7 +204,7 @@ sfit_status_t sfit_imu_init(sfit_imu_t *s, float rate, const sfit_imu_cfg_t *cfg
  * @retval SFIT_E_ARG        NULL pointer, or a state not from sfit_imu_init()
  * @retval SFIT_E_NONFINITE  a NaN or Inf value (state unchanged)
  * @retval SFIT_E_RANGE      a |value| above 1e4, or the sample counter is full (state unchanged)
- * @par Cost about 160 FLOPs and 1000 instructions per sample on a Cortex-M4F
+ * @par Cost about 290 FLOPs and 1360 instructions per sample on a Cortex-M4F
  * (tools/flopcount: imu_add, amortised); the sample that fills the buffer
  * moves SFIT_IMU_KEEP bytes more (imu_add_compact).
  */
@@ -201,7 +220,7 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x);
  * @retval SFIT_E_DEGENERATE      the normal matrix is singular (no motion at all)
  * @retval SFIT_E_NO_CONVERGENCE  Gauss-Newton still moving after SFIT_IMU_GN_ITERS
  * @retval SFIT_E_RANGE           a non-finite intermediate (a corrupted state)
- * @par Cost about 0.35 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
+ * @par Cost about 0.36 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
  */
 sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out);
 

@@ -321,6 +321,7 @@ class ImuJointResult:
     resid_rms: float
     noise_rms: float
     hinge_ratio: float
+    wobble_deg: float
     line_sd: float
     line_ratio: float
     line_off: float

@@ -25,17 +25,19 @@ class ImuJointResult(_Record):
     (unit; axis2 the same physical direction), axis1_cov, axis2_cov (rank 2);
     None for a ball. acc_bias1, acc_bias2 (m/s^2): the accelerometer biases
     estimated. resid_rms, noise_rms (m/s^2): the constraint's residual and
-    what the sensors' noise predicts; hinge_ratio, line_sd (m), line_ratio,
-    line_off: the evidence for the joint type; force_ratio: the hinge axes'
-    fit to the accelerometers (about 1 for a hinge; above 1.5 the ``wobble``
-    flag); rate_rms1, rate_rms2 (rad/s); n
+    what the sensors' noise predicts; hinge_ratio, wobble_deg (degrees: the
+    rms angle by which the two sensors' relative rotation leaves its best
+    fixed axis), line_sd (m), line_ratio, line_off: the evidence for the
+    joint type; force_ratio: the hinge axes' fit to the accelerometers
+    (about 1 for a hinge; above 1.5 the ``wobble`` flag); rate_rms1,
+    rate_rms2 (rad/s); n
     (samples), used (kept samples the solve used); flags (names), untrusted
     (bool), reason (words; None when trusted), flags_mask (the library's bits).
     """
 
     __slots__ = ("joint", "r1", "r2", "r1_cov", "r2_cov", "axis1", "axis2", "axis1_cov",
                  "axis2_cov", "acc_bias1", "acc_bias2", "resid_rms", "noise_rms",
-                 "hinge_ratio", "line_sd", "line_ratio", "line_off", "force_ratio",
+                 "hinge_ratio", "wobble_deg", "line_sd", "line_ratio", "line_off", "force_ratio",
                  "rate_rms1", "rate_rms2", "n", "used",
                  "flags", "untrusted", "reason", "flags_mask")
     _repr_fields = ("joint", "r1", "r2", "untrusted")

@@ -57,6 +57,7 @@ static PyObject *imu_dict(const sfit_imu_result_t *r)
         || sfit_py_put(d, "resid_rms", PyFloat_FromDouble((double)r->resid_rms)) < 0
         || sfit_py_put(d, "noise_rms", PyFloat_FromDouble((double)r->noise_rms)) < 0
         || sfit_py_put(d, "hinge_ratio", PyFloat_FromDouble((double)r->hinge_ratio)) < 0
+        || sfit_py_put(d, "wobble_deg", PyFloat_FromDouble((double)r->wobble_deg)) < 0
         || sfit_py_put(d, "line_sd", PyFloat_FromDouble((double)r->line_sd)) < 0
         || sfit_py_put(d, "line_ratio", PyFloat_FromDouble((double)r->line_ratio)) < 0
         || sfit_py_put(d, "line_off", PyFloat_FromDouble((double)r->line_off)) < 0

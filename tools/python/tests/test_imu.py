@@ -100,3 +100,16 @@ def test_errors():
         sfit.imu_joint(bad, z, z, z, 200.0)
     with pytest.raises(sfit.TooFewError):
         sfit.imu_joint(z[:10], z[:10], z[:10], z[:10], 200.0)
+
+
+def test_fast_wobble_is_a_hinge_by_its_angle(tmp_path):
+    """Wobbles of 2 degrees at 2 and 3 times the flexion's frequency: the
+    rates' hinge test fails, the relative rotation stays about 2 degrees
+    from its best fixed axis (wobble_deg): a trusted hinge, as the CLI says."""
+    a, rate, truth, cli = _trial(tmp_path, "fast", 4327)
+    r = sfit.imu_joint(a[:, 1:4], a[:, 4:7], a[:, 7:10], a[:, 10:13], rate)
+    assert r.joint == "hinge" == cli["joint"] and r.untrusted is False
+    assert r.hinge_ratio > 0.07
+    assert r.wobble_deg == pytest.approx(cli["wobble_deg"], rel=1e-5) and 1.5 < r.wobble_deg < 2.5
+    assert _angle(r.axis1, truth["axis1"]) < 3.0 and _angle(r.axis2, truth["axis2"]) < 3.0
+    assert np.linalg.norm(r.r1 - truth["point1"]) < 0.01
