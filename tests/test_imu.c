@@ -499,14 +499,26 @@ typedef struct hinge_mc {
      * nearest the sensors: what the motion itself shows */
     int bax_ok, bpt_ok, ok_bad_best, far; /* far: best axis > 3 deg from the generator's */
     double wob_min, wob_max;               /* wobble_deg of the trials */
+    /* the unflagged hinges: r1's 95 % ellipsoid about the generator's axis
+     * point, how often it covers it and the median e^T C^-1 e (3 expected
+     * of an honest covariance; -1 counted as not covered: C not positive) */
+    int cov_n, cov_in;
+    double d2_med;
 } hinge_mc_t;
 
 /* T knee-like hinge trials from seed, the wobble at fa and fb times the gait
  * frequency; ref: the batch reference on the first 3 trials. */
 static double ang_dd(const double a[3], const double b[3]);
 
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, hinge_mc_t *o)
 {
+    static double d2s[1024];
     tu_rng_t g;
     int t;
     memset(o, 0, sizeof *o);
@@ -552,6 +564,13 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
             o->pt_ok += pt;
             o->worst_ax = fmax(o->worst_ax, a);
             o->ok_bad += !(r.flags & SFIT_FLAG_UNTRUSTED) && !(ax && pt);
+            if (!(r.flags & SFIT_FLAG_UNTRUSTED) && o->cov_n < 1024) {
+                double d2;
+                (void)err3(&r.r1, p1, e);
+                d2 = tu_mahal(r.r1_cov.m, e);
+                d2s[o->cov_n++] = (d2 < 0.0) ? 1e30 : d2;
+                o->cov_in += d2 >= 0.0 && d2 <= CHI2_3_95;
+            }
             o->wrong += !(ax && pt);
             o->wrong_flagged += !(ax && pt) && (r.flags & SFIT_FLAG_UNTRUSTED) != 0;
             o->wrong_axis_off += !(ax && pt) && (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
@@ -583,6 +602,10 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
             o->worst_ref = fmax(o->worst_ref, fmax(axis_angle_deg(&r.axis1, j1),
                                                    axis_angle_deg(&r.axis2, j2)));
         }
+    }
+    if (o->cov_n > 0) {
+        qsort(d2s, (size_t)o->cov_n, sizeof d2s[0], cmp_double);
+        o->d2_med = 0.5 * (d2s[(o->cov_n - 1) / 2] + d2s[o->cov_n / 2]);
     }
     g_wobble_f = 0.15;
     g_wobble_f2 = 0.24;
@@ -1297,10 +1320,12 @@ int main(int argc, char **argv)
                "ball_bad %d wrong_hinges %d (wobble %d) force_ratio right max %.3f wrong min "
                "%.3f worst_ax %.2f ref %.2f; against the motion's best fixed axis: ax_ok %d "
                "pt_ok %d unflagged_bad %d (best axis over 3 deg from the generator's in %d); "
-               "wobble_deg %.2f to %.2f\n",
+               "wobble_deg %.2f to %.2f; r1 ellipsoid covers the axis point %d of %d unflagged "
+               "hinges (median d2 %.2f)\n",
                o.hinge, o.flagged, o.axis_off, o.wobble, o.ax_ok, o.pt_ok, o.ok_bad, o.ball_bad,
                o.wrong, o.wrong_wobble, o.fr_right_max, o.fr_wrong_min, o.worst_ax, o.worst_ref,
-               o.bax_ok, o.bpt_ok, o.ok_bad_best, o.far, o.wob_min, o.wob_max);
+               o.bax_ok, o.bpt_ok, o.ok_bad_best, o.far, o.wob_min, o.wob_max, o.cov_in,
+               o.cov_n, o.d2_med);
         return 0;
     }
     if (argc >= 4 && strcmp(argv[1], "--ball-mc") == 0) { /* T SEED */

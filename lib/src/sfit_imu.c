@@ -57,6 +57,7 @@
 #define IMU_POLAR_ITERS 30u /* Newton steps of the polar factor (quadratic: a few suffice) */
 #define IMU_FIXED_PASSES 3u /* best fixed axis and drift, alternately; the last: the wobble */
 #define IMU_DRIFT_RIDGE 1e-3f /* ridge of the drift fit, per sample */
+#define IMU_RHO_MAX 0.9f /* the wobble's lag-one autocorrelation, at most: n_eff >= n / 19 */
 #define IMU_RAD2DEG 57.2957795f
 #define IMU_MIN_TURN 0.1745f  /* rms turn about the fixed axis (rad, 10 degrees) a hinge from
                                  the relative rotation needs: a still joint fixes every axis */
@@ -958,6 +959,7 @@ typedef struct prv_fixed {
     float j1[3], j2[3]; /* the best fixed axis in each sensor's frame */
     float wobble;       /* rms angle of the relative rotation off it (rad) */
     float turn;         /* rms angle of the relative rotation about it (rad) */
+    float neff;         /* the kept samples' effective number for the axis's variance */
     int ok;
 } prv_fixed_t;
 
@@ -1040,12 +1042,12 @@ static int prv_best_axis(const prv_used_t *u, const float r0[9], const float phi
 
 /* One kept sample of the drift fit at the axes (j1, j2): d = R0^T D1 j1 -
  * D2 j2 = phi(tau) x v with v = D2 j2, rows (P, tau P), P = I - v v^T, the
- * right-hand side v x d, into a (lower) and g; returns |d - phi(tau) x v|^2
- * at the drift phi so far. */
+ * right-hand side v x d, into a (lower) and g; res = d - phi(tau) x v at the
+ * drift phi so far, and returns |res|^2. */
 static float prv_drift_row(const float *q, const prv_fixed_t *f, const float r0[9],
-                           const float phi[6], float tau, float *a, float g[6])
+                           const float phi[6], float tau, float *a, float g[6], float res[3])
 {
-    float d1[9], d2[9], vv[3], aa[3], w[3], d[3], pm[9], ts[2], res[3];
+    float d1[9], d2[9], vv[3], aa[3], w[3], d[3], pm[9], ts[2];
     uint32_t i, l;
     prv_qmat(&q[18], d1);
     prv_qmat(&q[22], d2);
@@ -1092,7 +1094,10 @@ static float prv_drift_row(const float *q, const prv_fixed_t *f, const float r0[
  * with the drift so far, the drift fitted to the axis's residual
  * R0^T D1 j1 - D2 j2 = phi x D2 j2 (least squares with a small ridge: a
  * drift about the axis changes nothing); the last pass: the rms of what is
- * left (f->wobble). */
+ * left (f->wobble) and, from its lag-one autocorrelation rho over the kept
+ * samples (in time order), their effective number n (1 - rho) / (1 + rho):
+ * a wobble that follows the flexion is one error repeated over many kept
+ * samples, not independent ones. */
 static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, prv_fixed_t *f)
 {
     float r0[9], phi[6], a[IMU_NP * IMU_NP], g[6], t0, t1, tm, th;
@@ -1107,18 +1112,25 @@ static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, 
     tm = 0.5f * (t0 + t1);
     th = (t1 > t0) ? 2.0f / (t1 - t0) : 0.0f;
     for (pass = 0u; pass < IMU_FIXED_PASSES; pass++) {
-        float ss = 0.0f;
+        float ss = 0.0f, lag = 0.0f, prev[3] = {0.0f, 0.0f, 0.0f};
         if (!prv_best_axis(u, r0, phi, tm, th, f)) {
             return;
         }
         memset(a, 0, sizeof a);
         memset(g, 0, sizeof g);
         for (k = 0u; k < u->n; k++) {
-            ss += prv_drift_row(u->k[k], f, r0, phi, (u->k[k][26] - tm) * th, a, g);
+            float res[3];
+            ss += prv_drift_row(u->k[k], f, r0, phi, (u->k[k][26] - tm) * th, a, g, res);
+            lag += prv_dot(res, prev);
+            memcpy(prev, res, sizeof prev);
         }
         if (pass + 1u == IMU_FIXED_PASSES) {
+            float rho = (ss > 0.0f) ? lag / ss : 0.0f;
+            rho = (rho > 0.0f) ? rho : 0.0f;
+            rho = (rho < IMU_RHO_MAX) ? rho : IMU_RHO_MAX;
             f->wobble = SFIT_SQRTF(ss / (float)u->n);
-            f->ok = sfit_i_isfinite(f->wobble);
+            f->neff = (float)u->n * (1.0f - rho) / (1.0f + rho);
+            f->ok = sfit_i_isfinite(f->wobble) && sfit_i_isfinite(f->neff);
             return;
         }
         for (i = 0u; i < 6u; i++) {
@@ -1133,11 +1145,11 @@ static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, 
 }
 
 /* The axes' covariance of a hinge from the relative rotation: the wobble's
- * variance over the kept samples, in the plane normal to each axis (the
- * samples taken for independent). */
-static void prv_fixed_cov(const prv_fixed_t *f, uint32_t n, prv_hinge_t *h)
+ * variance over the kept samples' effective number, in the plane normal to
+ * each axis. */
+static void prv_fixed_cov(const prv_fixed_t *f, prv_hinge_t *h)
 {
-    const float v = f->wobble * f->wobble / (float)n;
+    const float v = f->wobble * f->wobble / f->neff;
     uint32_t i, k;
     for (i = 0u; i < 3u; i++) {
         for (k = 0u; k < 3u; k++) {
@@ -1246,6 +1258,45 @@ static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
                 acc2 += t[3u * k + l] * pm[3u * i + l];
             }
             c->m[3u * i + k] = 0.5f * (acc + acc2); /* symmetric to the last bit */
+            c->m[3u * k + i] = c->m[3u * i + k];
+        }
+    }
+}
+
+/* The axis point p = r - (r.j) j nearest the sensor and its covariance: the
+ * centre's covariance C projected, P C P, plus the axis's covariance Cj
+ * carried through the projection, A Cj A^T with A = dp/dj = -((j.r) I + j r^T)
+ * (the centre and the axis taken for independent). Without the second term
+ * the covariance is singular along the axis, where the point moves by |p|
+ * times the axis's error. */
+static void prv_point_cov(const float j[3], const sfit_mat3_t *cj, sfit_vec3_t *p, sfit_mat3_t *c)
+{
+    float am[9], t[9];
+    const float d = prv_dot(p->v, j);
+    uint32_t i, k, l;
+    for (i = 0u; i < 3u; i++) {
+        for (k = 0u; k < 3u; k++) {
+            am[3u * i + k] = -(((i == k) ? d : 0.0f) + j[i] * p->v[k]);
+        }
+    }
+    for (i = 0u; i < 3u; i++) {
+        for (k = 0u; k < 3u; k++) {
+            float acc = 0.0f;
+            for (l = 0u; l < 3u; l++) {
+                acc += am[3u * i + l] * cj->m[3u * l + k];
+            }
+            t[3u * i + k] = acc;
+        }
+    }
+    prv_project(j, p, c);
+    for (i = 0u; i < 3u; i++) {
+        for (k = 0u; k <= i; k++) {
+            float acc = 0.0f, acc2 = 0.0f;
+            for (l = 0u; l < 3u; l++) {
+                acc += t[3u * i + l] * am[3u * k + l];
+                acc2 += t[3u * k + l] * am[3u * i + l];
+            }
+            c->m[3u * i + k] += 0.5f * (acc + acc2);
             c->m[3u * k + i] = c->m[3u * i + k];
         }
     }
@@ -1455,7 +1506,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
                 h.j2[i] = sg * fx.j2[i];
             }
         }
-        prv_fixed_cov(&fx, u.n, &h);
+        prv_fixed_cov(&fx, &h);
         memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
         memcpy(r.axis2.v, h.j2, sizeof r.axis2.v);
         r.axis1_cov = h.c1;
@@ -1472,8 +1523,8 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
         r.flags |= (uint32_t)SFIT_IMU_FLAG_WOBBLE;
     }
     if (r.hinge) {
-        prv_project(r.axis1.v, &r.r1, &r.r1_cov);
-        prv_project(r.axis2.v, &r.r2, &r.r2_cov);
+        prv_point_cov(r.axis1.v, &r.axis1_cov, &r.r1, &r.r1_cov);
+        prv_point_cov(r.axis2.v, &r.axis2_cov, &r.r2, &r.r2_cov);
     }
     if (r.rate_rms1 < s->cfg.min_rate || r.rate_rms2 < s->cfg.min_rate) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_LOW_ROTATION;
