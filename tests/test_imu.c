@@ -586,6 +586,24 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
         }
         o->axis_off += (r.flags & SFIT_IMU_FLAG_AXIS_OFF) != 0;
         o->wobble += (r.flags & SFIT_IMU_FLAG_WOBBLE) != 0;
+        if (getenv("IMU_DIAG") != NULL && r.hinge) {
+            double ea[3], jj[3], ax, d2p;
+            int i;
+            (void)err3(&r.r1, p1, ea);
+            for (i = 0; i < 3; i++) {
+                jj[i] = (double)r.axis1.v[i];
+            }
+            ax = tu_dot3(ea, jj);
+            d2p = tu_mahal(r.r1_cov.m, ea);
+            printf("cov %d d2 %.2f along %.2f mm (sd %.2f) |e| %.2f mm sd_tr %.2f mm ax_sd %.3f deg\n", t, d2p,
+                   1e3 * ax,
+                   1e3 * sqrt(fabs(tu_dot3(jj, (double[3]){
+                       (double)(r.r1_cov.m[0] * r.axis1.v[0] + r.r1_cov.m[1] * r.axis1.v[1] + r.r1_cov.m[2] * r.axis1.v[2]),
+                       (double)(r.r1_cov.m[3] * r.axis1.v[0] + r.r1_cov.m[4] * r.axis1.v[1] + r.r1_cov.m[5] * r.axis1.v[2]),
+                       (double)(r.r1_cov.m[6] * r.axis1.v[0] + r.r1_cov.m[7] * r.axis1.v[1] + r.r1_cov.m[8] * r.axis1.v[2])}))),
+                   1e3 * tu_norm3(ea), 1e3 * sqrt((double)(r.r1_cov.m[0] + r.r1_cov.m[4] + r.r1_cov.m[8])),
+                   sqrt((double)(r.axis1_cov.m[0] + r.axis1_cov.m[4] + r.axis1_cov.m[8]) / 2.0) / DEG);
+        }
         if (getenv("IMU_DIAG") != NULL) {
             printf("diag %d hinge %d flags %x line_ratio %.2f hinge_ratio %.4f wobble_deg %.2f "
                    "line_off %.4f force_ratio %.3f ax %.2f %.2f pt %.1f %.1f\n", t, r.hinge,

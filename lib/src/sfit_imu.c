@@ -1302,6 +1302,19 @@ static void prv_point_cov(const float j[3], const sfit_mat3_t *cj, sfit_vec3_t *
     }
 }
 
+/* The trace of c, less j^T c j when j is given: the variance in the plane
+ * normal to j (the trace of P c P with P = I - j j^T). */
+static float prv_plane_var(const sfit_mat3_t *c, const float *j)
+{
+    float v = c->m[0] + c->m[4] + c->m[8];
+    if (j != NULL) {
+        float cj[3];
+        prv_mv(c->m, j, 0, cj);
+        v -= prv_dot(j, cj);
+    }
+    return v;
+}
+
 /* The sine of the angle between the line of the axes (j1, j2)/sqrt(2) and the
  * freest line of the joint position: the top eigenvector of the 6x6
  * covariance of (r1, r2) (power iteration from the axes' line). For a
@@ -1522,6 +1535,11 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     if (r.hinge && fixed == 0 && r.force_ratio > s->cfg.wobble_ratio) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_WOBBLE;
     }
+    /* low_variety judges what the motion fixes of the position: for a
+     * hinge, the centre's variance in the plane normal to the axis (the
+     * axis's own error is in the axis points' covariance, not here) */
+    sd1 = prv_plane_var(&r.r1_cov, r.hinge ? r.axis1.v : NULL);
+    sd2 = prv_plane_var(&r.r2_cov, r.hinge ? r.axis2.v : NULL);
     if (r.hinge) {
         prv_point_cov(r.axis1.v, &r.axis1_cov, &r.r1, &r.r1_cov);
         prv_point_cov(r.axis2.v, &r.axis2_cov, &r.r2, &r.r2_cov);
@@ -1529,8 +1547,8 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     if (r.rate_rms1 < s->cfg.min_rate || r.rate_rms2 < s->cfg.min_rate) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_LOW_ROTATION;
     }
-    sd1 = SFIT_SQRTF(SFIT_FABSF(r.r1_cov.m[0] + r.r1_cov.m[4] + r.r1_cov.m[8]));
-    sd2 = SFIT_SQRTF(SFIT_FABSF(r.r2_cov.m[0] + r.r2_cov.m[4] + r.r2_cov.m[8]));
+    sd1 = SFIT_SQRTF(SFIT_FABSF(sd1));
+    sd2 = SFIT_SQRTF(SFIT_FABSF(sd2));
     if (!(sd1 <= s->cfg.max_pos_sd) || !(sd2 <= s->cfg.max_pos_sd)) {
         r.flags |= (uint32_t)SFIT_IMU_FLAG_LOW_VARIETY;
     }
