@@ -545,6 +545,10 @@ static void hinge_mc(int T, unsigned long seed, double fa, double fb, int ref, h
             double b1[3], b2[3], f1[3], f2[3], q1[3], q2[3];
             ref_imu_fixed_axis(&m, NS, RATE, b1, b2, NULL, f1, f2);
             o->far += fmax(ang_dd(b1, g_j1), ang_dd(b2, g_j2)) > 3.0;
+            if (getenv("IMU_DIAG") != NULL && r.hinge) {
+                printf("best %d lib-best %.2f %.2f gen-best %.2f %.2f\n", t, axis_angle_deg(&r.axis1, b1),
+                       axis_angle_deg(&r.axis2, b2), ang_dd(b1, g_j1), ang_dd(b2, g_j2));
+            }
             if (r.hinge) {
                 const double a = fmax(axis_angle_deg(&r.axis1, b1), axis_angle_deg(&r.axis2, b2));
                 int ax, pt;
