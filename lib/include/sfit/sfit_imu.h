@@ -50,9 +50,11 @@ enum sfit_imu_flag {
     SFIT_IMU_FLAG_LOW_ROTATION = 0x10000u, /**< A sensor's rms rate is below cfg.min_rate:
                                                 its joint position is not determined. */
     SFIT_IMU_FLAG_LOW_VARIETY = 0x20000u,  /**< A joint position's standard deviation
-                                                (sqrt of its covariance's trace) exceeds
-                                                cfg.max_pos_sd: too little variety of
-                                                motion for the wanted precision. */
+                                                (sqrt of its covariance's trace; for a
+                                                hinge, of the centre's in the plane normal
+                                                to the axis) exceeds cfg.max_pos_sd: too
+                                                little variety of motion for the wanted
+                                                precision. */
     SFIT_IMU_FLAG_SLIP = 0x40000u,         /**< The residual is cfg.slip_ratio times the
                                                 noise the sensors' noise predicts: a
                                                 sensor slips, or the joint is not one. */
@@ -150,7 +152,9 @@ typedef struct sfit_imu_result {
     bool hinge;              /**< The joint type from the data: true = hinge. */
     sfit_vec3_t r1, r2;      /**< Ball: the joint centre in each sensor's frame (m).
                                   Hinge: the point of the axis nearest each sensor. */
-    sfit_mat3_t r1_cov, r2_cov;       /**< Their covariances (m^2). */
+    sfit_mat3_t r1_cov, r2_cov;       /**< Their covariances (m^2); a hinge's: the
+                                           centre's in the plane normal to the axis plus
+                                           the axis's carried through the projection. */
     sfit_vec3_t axis1, axis2;         /**< Hinge: unit axis in each frame, axis1's
                                            largest component positive, axis2 the same
                                            physical direction; ball: the best hinge fit
