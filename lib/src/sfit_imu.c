@@ -1229,23 +1229,16 @@ static SFIT_I_NOINLINE void prv_hinge_solve(const prv_used_t *u, prv_hinge_t *h)
     }
 }
 
-/* p - (p.j) j and P C P with P = I - j j^T */
-static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
+/* out = A C A^T, symmetric to the last bit (each pair of entries averaged). */
+static void prv_sandwich(const float a[9], const sfit_mat3_t *c, float out[9])
 {
-    float pm[9], t[9];
-    const float d = prv_dot(p->v, j);
+    float t[9];
     uint32_t i, k, l;
-    for (i = 0u; i < 3u; i++) {
-        p->v[i] -= d * j[i];
-        for (k = 0u; k < 3u; k++) {
-            pm[3u * i + k] = ((i == k) ? 1.0f : 0.0f) - j[i] * j[k];
-        }
-    }
     for (i = 0u; i < 3u; i++) {
         for (k = 0u; k < 3u; k++) {
             float acc = 0.0f;
             for (l = 0u; l < 3u; l++) {
-                acc += pm[3u * i + l] * c->m[3u * l + k];
+                acc += a[3u * i + l] * c->m[3u * l + k];
             }
             t[3u * i + k] = acc;
         }
@@ -1254,13 +1247,28 @@ static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
         for (k = 0u; k <= i; k++) {
             float acc = 0.0f, acc2 = 0.0f;
             for (l = 0u; l < 3u; l++) {
-                acc += t[3u * i + l] * pm[3u * k + l];
-                acc2 += t[3u * k + l] * pm[3u * i + l];
+                acc += t[3u * i + l] * a[3u * k + l];
+                acc2 += t[3u * k + l] * a[3u * i + l];
             }
-            c->m[3u * i + k] = 0.5f * (acc + acc2); /* symmetric to the last bit */
-            c->m[3u * k + i] = c->m[3u * i + k];
+            out[3u * i + k] = 0.5f * (acc + acc2);
+            out[3u * k + i] = out[3u * i + k];
         }
     }
+}
+
+/* p - (p.j) j and P C P with P = I - j j^T */
+static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
+{
+    float pm[9];
+    const float d = prv_dot(p->v, j);
+    uint32_t i, k;
+    for (i = 0u; i < 3u; i++) {
+        p->v[i] -= d * j[i];
+        for (k = 0u; k < 3u; k++) {
+            pm[3u * i + k] = ((i == k) ? 1.0f : 0.0f) - j[i] * j[k];
+        }
+    }
+    prv_sandwich(pm, c, c->m);
 }
 
 /* The axis point p = r - (r.j) j nearest the sensor and its covariance: the
@@ -1271,34 +1279,18 @@ static void prv_project(const float j[3], sfit_vec3_t *p, sfit_mat3_t *c)
  * times the axis's error. */
 static void prv_point_cov(const float j[3], const sfit_mat3_t *cj, sfit_vec3_t *p, sfit_mat3_t *c)
 {
-    float am[9], t[9];
+    float am[9], s[9];
     const float d = prv_dot(p->v, j);
-    uint32_t i, k, l;
+    uint32_t i, k;
     for (i = 0u; i < 3u; i++) {
         for (k = 0u; k < 3u; k++) {
             am[3u * i + k] = -(((i == k) ? d : 0.0f) + j[i] * p->v[k]);
         }
     }
-    for (i = 0u; i < 3u; i++) {
-        for (k = 0u; k < 3u; k++) {
-            float acc = 0.0f;
-            for (l = 0u; l < 3u; l++) {
-                acc += am[3u * i + l] * cj->m[3u * l + k];
-            }
-            t[3u * i + k] = acc;
-        }
-    }
+    prv_sandwich(am, cj, s);
     prv_project(j, p, c);
-    for (i = 0u; i < 3u; i++) {
-        for (k = 0u; k <= i; k++) {
-            float acc = 0.0f, acc2 = 0.0f;
-            for (l = 0u; l < 3u; l++) {
-                acc += t[3u * i + l] * am[3u * k + l];
-                acc2 += t[3u * k + l] * am[3u * i + l];
-            }
-            c->m[3u * i + k] += 0.5f * (acc + acc2);
-            c->m[3u * k + i] = c->m[3u * i + k];
-        }
+    for (i = 0u; i < 9u; i++) {
+        c->m[i] += s[i];
     }
 }
 
