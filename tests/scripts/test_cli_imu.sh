@@ -20,11 +20,17 @@ build=$1 src=$2
 cli_setup test_cli_imu "$build" "$src"
 gen="$build/tests/test_imu"
 [ -x "$gen" ] || missing "$gen not built"
+# run_case NAME KIND SEED: the generator's trial KIND (its truth in
+# $tmp/NAME_truth.json) through `sfit imu-joint --json` ($out, and
+# $tmp/NAME.json).
+run_case() {
+  "$gen" --write-csv "$tmp/$1.csv" "$2" "$3" > "$tmp/$1_truth.json"
+  expect_rc 0 "$sfit" imu-joint --json "$tmp/$1.csv"
+  echo "$out" > "$tmp/$1.json"
+}
 
 # 1. ball
-"$gen" --write-csv "$tmp/hip.csv" ball 4242 > "$tmp/hip_truth.json"
-expect_rc 0 "$sfit" imu-joint --json "$tmp/hip.csv"
-echo "$out" > "$tmp/hip.json"
+run_case hip ball 4242
 py '
 import json, sys, math
 o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
@@ -42,16 +48,12 @@ print("ball: r1 %.4f m, r2 %.4f m from the truth" % (math.dist(o["r1"], t["r1"])
 ' "$tmp/hip.json" "$tmp/hip_truth.json"
 
 # 2. hinge
-"$gen" --write-csv "$tmp/knee.csv" hinge 4243 > "$tmp/knee_truth.json"
-expect_rc 0 "$sfit" imu-joint --json "$tmp/knee.csv"
-echo "$out" > "$tmp/knee.json"
+run_case knee hinge 4243
 py '
 import json, sys, math
+from imu_c3d_trials import angle as ang
 o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
 assert o["status"] == "ok" and o["joint"] == "hinge", o
-def ang(a, b):
-    c = abs(sum(x * y for x, y in zip(a, b))) / math.hypot(*a) / math.hypot(*b)
-    return math.degrees(math.acos(min(1.0, c)))
 for k in ("axis1", "axis2"):
     assert ang(o[k], t[k]) < 3.0, (k, ang(o[k], t[k]))
     assert len(o[k + "_cov"]) == 3, o
@@ -69,8 +71,7 @@ grep -q "^axis in sensor 1" <<<"$out" || fail "text output: no axis: $out"
 # disagree by more than hinge_off (0.0523): untrusted, axis_off, in JSON
 # and in words; the rate axes do not fit the accelerometers either
 # (force_ratio 3.45 > wobble_ratio 1.5): wobble.
-"$gen" --write-csv "$tmp/wobble.csv" wobble 4325 > /dev/null
-expect_rc 0 "$sfit" imu-joint --json "$tmp/wobble.csv"
+run_case wobble wobble 4325
 py '
 import json, sys
 o = json.loads(sys.argv[1])
@@ -89,8 +90,7 @@ grep -q "leave the joint free" <<<"$out" || fail "text output: no axis_off reaso
 # axis 1 is 6.8 degrees and the axis points 19 mm off; the freest line of
 # the position agrees with the rate axes (line_off 0.022, no axis_off), but
 # the rate axes do not fit the accelerometers (force_ratio 2.87): wobble.
-"$gen" --write-csv "$tmp/instep.csv" instep 4326 > /dev/null
-expect_rc 0 "$sfit" imu-joint --json "$tmp/instep.csv"
+run_case instep instep 4326
 py '
 import json, sys
 o = json.loads(sys.argv[1])
@@ -108,18 +108,14 @@ grep -q "do not fit the accelerometers" <<<"$out" || fail "text output: no wobbl
 # rates' hinge test fails (hinge_ratio above 0.07), the relative rotation
 # leaves its best fixed axis by about 2 degrees rms (wobble_deg): a trusted
 # hinge, axes within 3 degrees, axis points within 10 mm.
-"$gen" --write-csv "$tmp/fast.csv" fast 4327 > "$tmp/fast_truth.json"
-expect_rc 0 "$sfit" imu-joint --json "$tmp/fast.csv"
-echo "$out" > "$tmp/fast.json"
+run_case fast fast 4327
 py '
 import json, sys, math
+from imu_c3d_trials import angle as ang
 o = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
 assert o["status"] == "ok" and o["joint"] == "hinge", o
 assert o["hinge_ratio"] > 0.07 and 1.5 < o["wobble_deg"] < 2.5, o
 assert o["flags"]["untrusted"] is False, o
-def ang(a, b):
-    c = abs(sum(x * y for x, y in zip(a, b))) / math.hypot(*a) / math.hypot(*b)
-    return math.degrees(math.acos(min(1.0, c)))
 for k in ("axis1", "axis2"):
     assert ang(o[k], t[k]) < 3.0, (k, ang(o[k], t[k]))
 assert math.dist(o["r1"], t["point1"]) < 0.01 and math.dist(o["r2"], t["point2"]) < 0.01, o
@@ -130,8 +126,7 @@ grep -q "^joint         hinge" <<<"$out" || fail "text output: fast wobble not a
 grep -q "wobble [0-9.]* degrees" <<<"$out" || fail "text output: no wobble angle: $out"
 
 # 3. no motion
-"$gen" --write-csv "$tmp/still.csv" still 4244 > /dev/null
-expect_rc 0 "$sfit" imu-joint --json "$tmp/still.csv"
+run_case still still 4244
 py '
 import json, sys
 o = json.loads(sys.argv[1])
