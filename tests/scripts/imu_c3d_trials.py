@@ -39,6 +39,13 @@ def angle(a, b):
     return math.degrees(math.acos(min(1.0, c)))
 
 
+def sanitizer_clean(what, trial, p):
+    """A sanitized build reports on stderr (and aborts): fail on any report."""
+    if 'Sanitizer' in p.stderr or 'runtime error:' in p.stderr or p.returncode < 0:
+        sys.stderr.write(p.stderr[-4000:])
+        raise SystemExit('%s on %s: exit %d with a sanitizer report' % (what, trial, p.returncode))
+
+
 def run(build, trial, carrier, seed, tmp):
     truth, data = imu_from_c3d.generate(trial, seed, carrier, False)
     path = os.path.join(tmp, '%s_%d.csv' % (trial, seed))
@@ -48,9 +55,11 @@ def run(build, trial, carrier, seed, tmp):
     p = subprocess.run([os.path.join(build, 'bin', 'sfit'), 'imu-joint', '--json', path],
                        capture_output=True, text=True)
     t_cli = time.perf_counter() - t0
+    sanitizer_clean('sfit imu-joint', trial, p)
     o = json.loads(p.stdout)
     q = subprocess.run([os.path.join(build, 'tests', 'test_imu'), '--ref-csv', path, truth['kind']],
                        capture_output=True, text=True, check=True)
+    sanitizer_clean('test_imu --ref-csv', trial, q)
     ref = json.loads(q.stdout)
     os.unlink(path)
     r = dict(truth=truth, out=o, ref=ref, t_cli=t_cli)
