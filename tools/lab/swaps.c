@@ -395,64 +395,17 @@ long swaps_runs(const swaps_t *s, int st, long (*runs)[2], long max)
     return n;
 }
 
-int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long first,
-                  long last, int repair, swaps_t *out)
+/* Steps 1-3 of swaps_run on the frames fr (buffers allocated by it). */
+static void checked(sfit_vec3_t *xyz, int stride, int off, int m, long first, long last,
+                    int repair, swaps_t *out, long *fr, int *lab, double *buf, ok_cache_t *oc,
+                    double *dc)
 {
-    long *fr = NULL, f;
-    int *lab = NULL;
-    double *buf = NULL;
-    ok_cache_t *oc = NULL;
-    double *dc = NULL; /* the distances of frame fr[k] at dc + k MAX_PAIRS */
     size_t n = 0, na, k;
     dist_t anchor;
     double s0;
+    long f;
     int c;
 
-    memset(out, 0, sizeof *out);
-    out->m = m;
-    if (xyz == NULL || nframes < 0 || m < 1 || m > SWAPS_MAX_MARKERS || off < 0
-        || off + m > stride) {
-        return -1;
-    }
-    if (last < 0 || last >= nframes) {
-        last = nframes - 1;
-    }
-    if (first < 0) {
-        first = 0;
-    }
-    out->first = first;
-    out->last = last;
-    out->nframes = nframes;
-    out->status = malloc(((size_t)nframes + 1u) * sizeof *out->status);
-    if (out->status == NULL) {
-        return -1;
-    }
-    for (f = 0; f < nframes; f++) {
-        out->status[f] = SWAPS_UNCHECKED;
-    }
-    out->ncand = make_cands(m, out->cand);
-    out->why = SWAPS_WHY_FEW_MARKERS;
-    if (m < 3) {
-        return 0;
-    }
-    out->why = SWAPS_WHY_FEW_FRAMES;
-    if (first > last) {
-        return 0;
-    }
-    /* the frames with >= 3 markers seen */
-    fr = malloc(((size_t)(last - first) + 1u) * sizeof *fr);
-    lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
-    buf = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *buf);
-    oc = malloc(sizeof *oc);
-    dc = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *dc);
-    if (fr == NULL || lab == NULL || buf == NULL || oc == NULL || dc == NULL) {
-        free(fr);
-        free(lab);
-        free(buf);
-        free(oc);
-        free(dc);
-        return -1;
-    }
     for (f = first; f <= last; f++) {
         dist_t d;
         if (frame_dist(xyz, f, stride, off, m, d) >= 3) {
@@ -461,12 +414,7 @@ int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long f
         }
     }
     if ((long)n < SWAPS_MIN_FRAMES) {
-        free(fr);
-        free(lab);
-        free(buf);
-        free(oc);
-        free(dc);
-        return 0;
+        return;
     }
     /* 1. the anchor: the start of the range, as given */
     na = (n < (size_t)SWAPS_ANCHOR) ? n : (size_t)SWAPS_ANCHOR;
@@ -493,12 +441,7 @@ int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long f
     s0 = pooled_scale(dc, m, na, NULL, out->cand, anchor, buf);
     if (!(s0 > 0.0) || !isfinite(s0)) { /* markers on one point: nothing to tell */
         out->why = SWAPS_WHY_DEGENERATE;
-        free(fr);
-        free(lab);
-        free(buf);
-        free(oc);
-        free(dc);
-        return 0;
+        return;
     }
     /* 2. provisional labels, reference and scale */
     cache_reset(oc, anchor, m);
@@ -514,12 +457,7 @@ int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long f
     out->scale = pooled_scale(dc, m, n, lab, out->cand, out->ref, buf);
     if (!(out->scale > 0.0) || !isfinite(out->scale)) {
         out->why = SWAPS_WHY_DEGENERATE;
-        free(fr);
-        free(lab);
-        free(buf);
-        free(oc);
-        free(dc);
-        return 0;
+        return;
     }
     out->decide = 2.0 * SWAPS_Z * out->scale;
     for (c = 0; c < out->ncand; c++) {
@@ -591,10 +529,64 @@ int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long f
             memcpy(row, tmp, (size_t)m * sizeof *row);
         }
     }
+}
+
+int swaps_run(sfit_vec3_t *xyz, long nframes, int stride, int off, int m, long first,
+                  long last, int repair, swaps_t *out)
+{
+    long *fr = NULL, f;
+    int *lab = NULL;
+    double *buf = NULL;
+    ok_cache_t *oc = NULL;
+    double *dc = NULL; /* the distances of frame fr[k] at dc + k MAX_PAIRS */
+    int rc = -1;
+
+    memset(out, 0, sizeof *out);
+    out->m = m;
+    if (xyz == NULL || nframes < 0 || m < 1 || m > SWAPS_MAX_MARKERS || off < 0
+        || off + m > stride) {
+        return -1;
+    }
+    if (last < 0 || last >= nframes) {
+        last = nframes - 1;
+    }
+    if (first < 0) {
+        first = 0;
+    }
+    out->first = first;
+    out->last = last;
+    out->nframes = nframes;
+    out->status = malloc(((size_t)nframes + 1u) * sizeof *out->status);
+    if (out->status == NULL) {
+        return -1;
+    }
+    for (f = 0; f < nframes; f++) {
+        out->status[f] = SWAPS_UNCHECKED;
+    }
+    out->ncand = make_cands(m, out->cand);
+    out->why = SWAPS_WHY_FEW_MARKERS;
+    if (m < 3) {
+        return 0;
+    }
+    out->why = SWAPS_WHY_FEW_FRAMES;
+    if (first > last) {
+        return 0;
+    }
+    /* the frames with >= 3 markers seen */
+    fr = malloc(((size_t)(last - first) + 1u) * sizeof *fr);
+    lab = malloc(((size_t)(last - first) + 1u) * sizeof *lab);
+    buf = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *buf);
+    oc = malloc(sizeof *oc);
+    dc = malloc(((size_t)(last - first) + 1u) * SWAPS_MAX_PAIRS * sizeof *dc);
+    if (fr != NULL && lab != NULL && buf != NULL && oc != NULL && dc != NULL) {
+        checked(xyz, stride, off, m, first, last, repair, out, fr, lab, buf, oc, dc);
+        rc = 0;
+    }
     free(fr);
     free(lab);
     free(buf);
     free(oc);
     free(dc);
-    return 0;
+    return rc;
 }
+
