@@ -86,3 +86,32 @@ expect_help() {
     *) fail "'sfit $*': stdout is not the usage of $1: $(sed -n 1p "$tmp/usage.out")" ;;
   esac
 }
+
+# san_build OUT TARGET...: builds TARGETs of $src in OUT with gcc's (or
+# $SFIT_SAN_CC's) AddressSanitizer + UndefinedBehaviorSanitizer,
+# -fno-sanitize-recover=all (without it UBSan only prints and exits 0),
+# Debug -O1 -Werror, and exports ASAN_OPTIONS / UBSAN_OPTIONS that abort on
+# the first report. Skips (missing) when the compiler cannot link a
+# sanitized program. Sets $cc and $san; uses the caller's $name and $src.
+san_build() {
+  local out=$1 req=OFF t; shift
+  cc=${SFIT_SAN_CC:-gcc}
+  command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
+  command -v cmake >/dev/null 2>&1 || missing "cmake not found"
+  san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+  mkdir -p "$out"
+  printf 'int main(void) { return 0; }\n' > "$out/probe.c"
+  # shellcheck disable=SC2086
+  "$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  for t in "$@"; do
+    case $t in test_*) req=ON ;; esac # a unit test needs cmocka
+  done
+  CC="$cc" cmake -S "$src" -B "$out" -DCMAKE_BUILD_TYPE=Debug -DSFIT_WERROR=ON \
+    -DSFIT_TESTS_REQUIRE_CMOCKA=$req \
+    -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
+    || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
+  cmake --build "$out" -j2 --target "$@" >"$out/build.log" 2>&1 \
+    || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
+}

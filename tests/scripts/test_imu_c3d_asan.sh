@@ -21,30 +21,12 @@ build=$(cd "$1" && pwd)
 src=$(cd "$2" && pwd)
 out="$build/imu-asan"
 name=test_imu_c3d_asan
-cc=${SFIT_SAN_CC:-gcc}
 
 # shellcheck source=tests/scripts/common.sh
 . "$(dirname "$0")/common.sh"
-command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
-command -v cmake >/dev/null 2>&1 || missing "cmake not found"
 [ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
 /usr/bin/python3 -c 'import numpy' 2>/dev/null || missing "numpy not found for /usr/bin/python3"
-
-san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
-mkdir -p "$out"
-printf 'int main(void) { return 0; }\n' > "$out/probe.c"
-# shellcheck disable=SC2086
-"$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
-
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-
-CC="$cc" cmake -S "$src" -B "$out" -DCMAKE_BUILD_TYPE=Debug -DSFIT_WERROR=ON \
-  -DSFIT_TESTS_REQUIRE_CMOCKA=ON \
-  -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
-  || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
-cmake --build "$out" -j2 --target sfit_cli test_imu >"$out/build.log" 2>&1 \
-  || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
+san_build "$out" sfit_cli test_imu
 for f in "$out/bin/sfit" "$out/tests/test_imu"; do
   [ -x "$f" ] || { echo "$name: FAIL: $f not built" >&2; exit 1; }
 done

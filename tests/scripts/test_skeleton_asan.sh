@@ -22,28 +22,11 @@ build=$(cd "$1" && pwd)
 src=$(cd "$2" && pwd)
 out="$build/skel-asan"
 name=test_skeleton_asan
-cc=${SFIT_SAN_CC:-gcc}
 
 # shellcheck source=tests/scripts/common.sh
 . "$(dirname "$0")/common.sh"
-command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
-command -v cmake >/dev/null 2>&1 || missing "cmake not found"
 [ -x /usr/bin/python3 ] || missing "/usr/bin/python3 not found"
-
-san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
-mkdir -p "$out"
-printf 'int main(void) { return 0; }\n' > "$out/probe.c"
-# shellcheck disable=SC2086
-"$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
-
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-
-CC="$cc" cmake -S "$src" -B "$out" -DCMAKE_BUILD_TYPE=Debug -DSFIT_WERROR=ON \
-  -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
-  || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
-cmake --build "$out" -j2 --target sfit_cli >"$out/build.log" 2>&1 \
-  || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
+san_build "$out" sfit_cli
 sfit="$out/bin/sfit"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
