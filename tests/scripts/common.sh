@@ -87,12 +87,13 @@ expect_help() {
   esac
 }
 
-# san_build OUT TARGET...: builds TARGETs of $src in OUT with gcc's (or
-# $SFIT_SAN_CC's) AddressSanitizer + UndefinedBehaviorSanitizer,
-# -fno-sanitize-recover=all (without it UBSan only prints and exits 0),
-# Debug -O1 -Werror, and exports ASAN_OPTIONS / UBSAN_OPTIONS that abort on
-# the first report. Skips (missing) when the compiler cannot link a
-# sanitized program. Sets $cc and $san; uses the caller's $name and $src.
+# san_build OUT [TARGET...]: builds TARGETs (default: everything) of $src
+# in OUT with gcc's (or $SFIT_SAN_CC's) AddressSanitizer +
+# UndefinedBehaviorSanitizer, -fno-sanitize-recover=all (without it UBSan
+# only prints and exits 0), Debug -O1 -Werror, and exports ASAN_OPTIONS /
+# UBSAN_OPTIONS (unless set) that abort on the first report. Skips
+# (missing) when the compiler cannot link a sanitized program. Sets $cc and
+# $san; uses the caller's $name and $src.
 san_build() {
   local out=$1 req=OFF t; shift
   cc=${SFIT_SAN_CC:-gcc}
@@ -103,8 +104,8 @@ san_build() {
   printf 'int main(void) { return 0; }\n' > "$out/probe.c"
   # shellcheck disable=SC2086
   "$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
-  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
-  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
   for t in "$@"; do
     case $t in test_*) req=ON ;; esac # a unit test needs cmocka
   done
@@ -112,6 +113,7 @@ san_build() {
     -DSFIT_TESTS_REQUIRE_CMOCKA=$req \
     -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
     || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
-  cmake --build "$out" -j2 --target "$@" >"$out/build.log" 2>&1 \
+  # shellcheck disable=SC2046
+  cmake --build "$out" -j2 $([ $# -gt 0 ] && printf -- '--target %s ' "$@") >"$out/build.log" 2>&1 \
     || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
 }

@@ -8,7 +8,8 @@
 #   -fsanitize=address,undefined -fno-sanitize-recover=all
 # (without the last flag UBSan only prints and the test still passes) and
 # -DSFIT_WERROR=ON, builds it and runs its ctest without the script tests
-# (no recursion), and the CLI scripts (tests/scripts/test_cli*.sh) with its
+# (no recursion), the CLI scripts (tests/scripts/test_cli*.sh) and the IMU
+# trials from real motion (tests/scripts/imu_c3d_trials.py --check) with its
 # sanitized sfit. Then replays the committed fuzz seed corpus through the
 # harnesses built with gcc and the same sanitizers (tests/fuzz/replay_main.c),
 # so the harnesses also compile and hold under gcc.
@@ -20,28 +21,12 @@ build=$(cd "$1" && pwd)
 src=$(cd "$2" && pwd)
 out="$build/asan"
 name=test_sanitizers
-cc=${SFIT_SAN_CC:-gcc}
 
 # shellcheck source=tests/scripts/common.sh
 . "$(dirname "$0")/common.sh"
-command -v "$cc" >/dev/null 2>&1 || missing "$cc not found"
-command -v cmake >/dev/null 2>&1 || missing "cmake not found"
-
-san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
-mkdir -p "$out"
-printf 'int main(void) { return 0; }\n' > "$out/probe.c"
-# shellcheck disable=SC2086
-"$cc" $san "$out/probe.c" -o "$out/probe" >/dev/null 2>&1 || missing "$cc cannot link $san"
-
 # LeakSanitizer on (the library allocates nothing; a leak would be in a test).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
-export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-
-CC="$cc" cmake -S "$src" -B "$out" -DCMAKE_BUILD_TYPE=Debug -DSFIT_WERROR=ON \
-  -DCMAKE_C_FLAGS="$san -O1" -DCMAKE_EXE_LINKER_FLAGS="$san" >"$out/configure.log" 2>&1 \
-  || { cat "$out/configure.log" >&2; echo "$name: FAIL: configure" >&2; exit 1; }
-cmake --build "$out" -j2 >"$out/build.log" 2>&1 \
-  || { tail -n 60 "$out/build.log" >&2; echo "$name: FAIL: build" >&2; exit 1; }
+san_build "$out"
 if ! ctest --test-dir "$out" -E '^sfit\.script\.' --output-on-failure -j2 >"$out/ctest.log" 2>&1; then
   cat "$out/ctest.log" >&2
   echo "$name: FAIL: a test failed under ASan+UBSan" >&2
@@ -61,6 +46,22 @@ for t in "$src"/tests/scripts/test_cli*.sh; do
   fi
   ncli=$((ncli + 1))
 done
+
+# The joint from two IMUs on signals made from real motion (the checks of
+# test_imu_c3d.sh) with the sanitized sfit and test_imu; imu_c3d_trials.py
+# fails on a sanitizer report.
+nimu=0
+if [ -x "$out/tests/test_imu" ] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  if ! /usr/bin/python3 "$src/tests/scripts/imu_c3d_trials.py" "$out" --check >"$out/imu_c3d.log" 2>&1; then
+    cat "$out/imu_c3d.log" >&2
+    echo "$name: FAIL: the IMU trials from real motion with the sanitized sfit" >&2
+    exit 1
+  fi
+  nimu=1
+elif [ "${CI:-}" = "true" ]; then
+  echo "$name: FAIL: test_imu or numpy missing for the IMU trials (required in CI)" >&2
+  exit 1
+fi
 
 # Fuzz seed corpus through gcc-built harnesses (no libFuzzer needed).
 nrep=0
@@ -83,4 +84,4 @@ if [ -d "$src/tests/fuzz" ]; then
     nrep=$((nrep + $(find "$corpus" -type f | wc -l)))
   done
 fi
-echo "$name: ok: ${ntests:-all} tests pass under $cc -fsanitize=address,undefined -fno-sanitize-recover=all; $ncli CLI scripts with the sanitized sfit; $nrep fuzz seeds replayed"
+echo "$name: ok: ${ntests:-all} tests pass under $cc -fsanitize=address,undefined -fno-sanitize-recover=all; $ncli CLI scripts and $nimu set of IMU trials from real motion with the sanitized sfit; $nrep fuzz seeds replayed"
