@@ -444,6 +444,25 @@ static int new_point_group(const c3d_t *c, const c3d_add_t *add, unsigned data_b
     return 0;
 }
 
+/* A new parameter for chunk k of family f in group pg: BASE, BASE2, ... */
+static int put_chunk(bbuf_t *out, const c3d_t *c, int proc, int pg, const family_t *f, int k,
+                     const char *base, const unsigned char *buf, char *err)
+{
+    char nm[32];
+    bbuf_t nb;
+    int rc = 0;
+    memset(&nb, 0, sizeof nb);
+    (void)snprintf(nm, sizeof nm, k == 0 ? "%s" : "%s%d", base, k + 1);
+    strarr_body(&nb, f, &f->ch[k], buf, c);
+    if (nb.oom) {
+        rc = wfail(err, "out of memory");
+    } else if (put_entry(out, c, NULL, proc, nm, pg, 0, 0, &nb, err) != 0) {
+        rc = -1;
+    }
+    free(nb.p);
+    return rc;
+}
+
 /* The rebuilt parameter section (without its 4-byte head). */
 static int build_params(const unsigned char *buf, const c3d_t *c, const c3d_add_t *add,
                         family_t *lab, family_t *des, unsigned data_block, int to_float,
@@ -519,17 +538,9 @@ static int build_params(const unsigned char *buf, const c3d_t *c, const c3d_add_
                 continue;
             }
             for (k = 0; k < f->nch; k++) {
-                if (f->ch[k].entry < 0) {
-                    char nm[32];
-                    bbuf_t nb;
-                    memset(&nb, 0, sizeof nb);
-                    (void)snprintf(nm, sizeof nm, k == 0 ? "%s" : "%s%d", bases[fi], k + 1);
-                    strarr_body(&nb, f, &f->ch[k], buf, c);
-                    if (nb.oom || put_entry(out, c, NULL, proc, nm, pg, 0, 0, &nb, err) != 0) {
-                        free(nb.p);
-                        return nb.oom ? wfail(err, "out of memory") : -1;
-                    }
-                    free(nb.p);
+                if (f->ch[k].entry < 0
+                    && put_chunk(out, c, proc, pg, f, k, bases[fi], buf, err) != 0) {
+                    return -1;
                 }
             }
         }
@@ -541,16 +552,9 @@ static int build_params(const unsigned char *buf, const c3d_t *c, const c3d_add_
             continue;
         }
         for (k = 0; k < f->nch; k++) {
-            char nm[32];
-            bbuf_t nb;
-            memset(&nb, 0, sizeof nb);
-            (void)snprintf(nm, sizeof nm, k == 0 ? "%s" : "%s%d", bases[fi], k + 1);
-            strarr_body(&nb, f, &f->ch[k], buf, c);
-            if (nb.oom || put_entry(out, c, NULL, proc, nm, pg, 0, 0, &nb, err) != 0) {
-                free(nb.p);
-                return nb.oom ? wfail(err, "out of memory") : -1;
+            if (put_chunk(out, c, proc, pg, f, k, bases[fi], buf, err) != 0) {
+                return -1;
             }
-            free(nb.p);
         }
     }
     if (out->oom) {
