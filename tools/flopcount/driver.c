@@ -811,14 +811,16 @@ static void fc_turn(int ax, float amp, float m, float ph, float t, float w[3], f
     d[ax] += th2;
 }
 
+/* the joint in each sensor's frame (m) */
+static const float fc_ir1[3] = {0.12f, -0.2f, 0.05f}, fc_ir2[3] = {-0.03f, 0.08f, 0.27f};
+
 static void fc_imu_sample(unsigned k, sfit_imu_sample_t *x)
 {
-    static const float r1[3] = {0.12f, -0.2f, 0.05f}, r2[3] = {-0.03f, 0.08f, 0.27f};
     const float t = (float)k * 0.005f, om = 4.9087385f; /* 2 periods */
     float w1[3] = {0.0f, 0.0f, 0.0f}, d1[3] = {0.0f, 0.0f, 0.0f}, w2[3], d2[3], g1[3], g2[3];
     /* the joint's acceleration minus gravity, world: a sway and a bounce */
-    float f1[3] = {-0.4f * sinf(om * t), -0.3f * cosf(0.5f * om * t),
-                   9.81f - 0.5f * sinf(2.0f * om * t)};
+    float f1[3] = {-1.5f * sinf(om * t), -1.0f * cosf(0.5f * om * t),
+                   9.81f - 1.0f * sinf(2.0f * om * t)};
     float f2[3];
     int i;
     /* the parent: R1 = Rz(yaw) Ry(pitch) Rx(roll) */
@@ -831,8 +833,8 @@ static void fc_imu_sample(unsigned k, sfit_imu_sample_t *x)
     memcpy(f2, f1, sizeof f2);
     fc_turn(1, 0.5f, 3.0f, 1.0f, t, w2, d2, f2);
     fc_turn(0, 0.35f, 2.0f, 2.0f, t, w2, d2, f2);
-    fc_g(w1, d1, r1, g1);
-    fc_g(w2, d2, r2, g2);
+    fc_g(w1, d1, fc_ir1, g1);
+    fc_g(w2, d2, fc_ir2, g2);
     for (i = 0; i < 3; i++) {
         x->acc1.v[i] = f1[i] - g1[i];
         x->acc2.v[i] = f2[i] - g2[i];
@@ -867,7 +869,11 @@ static void fc_prep_imu(void)
 
 static void fc_imu_adds(void)
 {
+    const uint32_t stride = fc_imu.stride;
     fc_imu_feed(FC_NIMU);
+    if (fc_imu.stride != 2u * stride) { /* the steady state: one compaction amortised */
+        fc_st = SFIT_E_ARG;
+    }
 }
 
 static void fc_prep_imu_compact(void)
@@ -881,6 +887,9 @@ static void fc_prep_imu_compact(void)
 static void fc_imu_add1(void)
 {
     fc_imu_feed(1u);
+    if (fc_imu.nfull != (uint32_t)SFIT_IMU_KEEP / 2u) { /* it compacted */
+        fc_st = SFIT_E_ARG;
+    }
 }
 
 /* a full buffer: SFIT_IMU_KEEP - 1 closed windows and an open one */
@@ -892,9 +901,23 @@ static void fc_prep_imu_full(void)
     }
 }
 
+/* The case the row stands for, checked (driver code, not counted): a full
+ * buffer, an unflagged ball, the relative rotation's path to its end
+ * (wobble_deg is 0 when it stops early), r1 and r2 as generated to 2 mm. */
 static void fc_imu_solve(void)
 {
+    int k;
     fc_keep(sfit_imu_solve(&fc_imu, &fc_ires));
+    if (fc_ires.used != (uint32_t)SFIT_IMU_KEEP || fc_ires.flags != 0u || fc_ires.hinge ||
+        !(fc_ires.wobble_deg > 0.0f)) {
+        fc_st = SFIT_E_ARG;
+    }
+    for (k = 0; k < 3; k++) {
+        const float e1 = fc_ires.r1.v[k] - fc_ir1[k], e2 = fc_ires.r2.v[k] - fc_ir2[k];
+        if (!(e1 < 0.002f && e1 > -0.002f && e2 < 0.002f && e2 > -0.002f)) {
+            fc_st = SFIT_E_ARG;
+        }
+    }
 }
 
 /* ---- issue 30: the whole lower limb per frame -------------------------------
