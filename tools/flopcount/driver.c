@@ -740,12 +740,17 @@ static void fc_pair_solve(void)
     fc_keep(sfit_pair_solve(&fc_pair, &fc_pres));
 }
 
-/* ---- the joint between two IMUs (sfit_imu.h): exact signals of a parent
- * turning about its z axis and a child turning about its y axis on it,
- * 200 Hz, generated in the driver (outside the counts). imu_add: per sample
- * in the steady state (amortised over FC_NIMU samples, compactions
- * included); imu_add_compact: the sample whose window fills the buffer;
- * imu_solve: the solve of a full buffer. ---- */
+/* ---- the joint between two IMUs (sfit_imu.h): exact signals of a ball
+ * joint, 200 Hz, generated in the driver (outside the counts). The parent
+ * yaws, pitches and rolls, R1 = Rz Ry Rx; the child swings about two axes
+ * on it, R2 = R1 Ry Rx; every angle a harmonic of one table period, so
+ * the table holds one period of every signal and repeats seamlessly. The
+ * motion determines both joint positions and the relative rotation: the
+ * solve returns an unflagged ball with r1, r2 as generated and runs every
+ * pass (the fixed axis's three included). imu_add: per sample in the
+ * steady state (amortised over FC_NIMU samples, compactions included);
+ * imu_add_compact: the sample whose window fills the buffer; imu_solve: the
+ * solve of a full buffer (SFIT_IMU_KEEP kept samples). ---- */
 #define FC_NIMU 256u
 #define FC_IMU_TAB 512u /* one period of every signal: 2.56 s */
 static sfit_imu_sample_t fc_itab[FC_IMU_TAB];
@@ -773,31 +778,63 @@ static void fc_g(const float w[3], const float d[3], const float r[3], float o[3
     }
 }
 
+/* One more turn of a frame about its own axis ax (0, 1, 2 = x, y, z) by
+ * the angle amp sin(m w0 t + ph), w0 = 2 pi / 2.56 s (one table period):
+ * the new frame F' = F R(th). Its rate and angular acceleration, each in
+ * its own frame: w' = R^T w + th' e, w'' = R^T w' + (R^T w) x th' e + th'' e
+ * (e the axis, R's derivative R [th' e]x); f, a vector of the old frame,
+ * into the new one. */
+static void fc_turn(int ax, float amp, float m, float ph, float t, float w[3], float d[3],
+                    float f[3])
+{
+    const float om = m * 2.4543693f, x = om * t + ph, th = amp * sinf(x);
+    const float th1 = amp * om * cosf(x), th2 = -om * om * th, c = cosf(th), s = sinf(th);
+    const int i = (ax + 1) % 3, j = (ax + 2) % 3;
+    float *v[3];
+    float e[3] = {0.0f, 0.0f, 0.0f}, u[3];
+    int k;
+    v[0] = w;
+    v[1] = d;
+    v[2] = f;
+    for (k = 0; k < 3; k++) {
+        /* R^T about ax: (i, j) -> (c vi + s vj, -s vi + c vj) */
+        const float vi = v[k][i], vj = v[k][j];
+        v[k][i] = c * vi + s * vj;
+        v[k][j] = -s * vi + c * vj;
+    }
+    e[ax] = th1;
+    fc_cross(w, e, u);
+    for (k = 0; k < 3; k++) {
+        d[k] += u[k];
+    }
+    w[ax] += th1;
+    d[ax] += th2;
+}
+
+/* the joint in each sensor's frame (m) */
+static const float fc_ir1[3] = {0.12f, -0.2f, 0.05f}, fc_ir2[3] = {-0.03f, 0.08f, 0.27f};
+
 static void fc_imu_sample(unsigned k, sfit_imu_sample_t *x)
 {
-    static const float r1[3] = {0.12f, -0.2f, 0.05f}, r2[3] = {-0.03f, 0.08f, 0.27f};
-    const float t = (float)k * 0.005f, om = 4.9087385f, ob = 7.3631078f; /* 2, 3 periods */
-    const float al = 0.3f * sinf(om * t), ald = 0.3f * om * cosf(om * t),
-                aldd = -0.3f * om * om * sinf(om * t);
-    const float be = 0.5f * sinf(ob * t + 1.0f), bed = 0.5f * ob * cosf(ob * t + 1.0f),
-                bedd = -0.5f * ob * ob * sinf(ob * t + 1.0f);
-    const float ca = cosf(al), sa = sinf(al), cb = cosf(be), sb = sinf(be);
-    /* joint acceleration minus gravity, world: a sway and a bounce */
-    const float pw[3] = {-0.4f * sinf(om * t), -0.3f * cosf(0.5f * om * t), 9.81f - 0.5f * sinf(2.0f * om * t)};
-    float w1[3] = {0.0f, 0.0f, ald}, d1[3] = {0.0f, 0.0f, aldd};
-    float w2[3] = {-sb * ald, bed, cb * ald};
-    float d2[3] = {-sb * aldd - cb * bed * ald, bedd, cb * aldd - sb * bed * ald};
-    float f1[3], f2[3], g1[3], g2[3];
+    const float t = (float)k * 0.005f, om = 4.9087385f; /* 2 periods */
+    float w1[3] = {0.0f, 0.0f, 0.0f}, d1[3] = {0.0f, 0.0f, 0.0f}, w2[3], d2[3], g1[3], g2[3];
+    /* the joint's acceleration minus gravity, world: a sway and a bounce */
+    float f1[3] = {-1.5f * sinf(om * t), -1.0f * cosf(0.5f * om * t),
+                   9.81f - 1.0f * sinf(2.0f * om * t)};
+    float f2[3];
     int i;
-    /* into the parent frame (R1 = Rz(al)), then the child's (R2 = R1 Ry(be)) */
-    f1[0] = ca * pw[0] + sa * pw[1];
-    f1[1] = -sa * pw[0] + ca * pw[1];
-    f1[2] = pw[2];
-    f2[0] = cb * f1[0] - sb * f1[2];
-    f2[1] = f1[1];
-    f2[2] = sb * f1[0] + cb * f1[2];
-    fc_g(w1, d1, r1, g1);
-    fc_g(w2, d2, r2, g2);
+    /* the parent: R1 = Rz(yaw) Ry(pitch) Rx(roll) */
+    fc_turn(2, 0.3f, 2.0f, 0.0f, t, w1, d1, f1);
+    fc_turn(1, 0.15f, 1.0f, 1.3f, t, w1, d1, f1);
+    fc_turn(0, 0.2f, 3.0f, 0.4f, t, w1, d1, f1);
+    /* the child on it (a ball joint): R2 = R1 Ry(flexion) Rx(abduction) */
+    memcpy(w2, w1, sizeof w2);
+    memcpy(d2, d1, sizeof d2);
+    memcpy(f2, f1, sizeof f2);
+    fc_turn(1, 0.5f, 3.0f, 1.0f, t, w2, d2, f2);
+    fc_turn(0, 0.35f, 2.0f, 2.0f, t, w2, d2, f2);
+    fc_g(w1, d1, fc_ir1, g1);
+    fc_g(w2, d2, fc_ir2, g2);
     for (i = 0; i < 3; i++) {
         x->acc1.v[i] = f1[i] - g1[i];
         x->acc2.v[i] = f2[i] - g2[i];
@@ -832,7 +869,11 @@ static void fc_prep_imu(void)
 
 static void fc_imu_adds(void)
 {
+    const uint32_t stride = fc_imu.stride;
     fc_imu_feed(FC_NIMU);
+    if (fc_imu.stride != 2u * stride) { /* the steady state: one compaction amortised */
+        fc_st = SFIT_E_ARG;
+    }
 }
 
 static void fc_prep_imu_compact(void)
@@ -846,17 +887,37 @@ static void fc_prep_imu_compact(void)
 static void fc_imu_add1(void)
 {
     fc_imu_feed(1u);
+    if (fc_imu.nfull != (uint32_t)SFIT_IMU_KEEP / 2u) { /* it compacted */
+        fc_st = SFIT_E_ARG;
+    }
 }
 
+/* a full buffer: SFIT_IMU_KEEP - 1 closed windows and an open one */
 static void fc_prep_imu_full(void)
 {
     fc_prep_imu();
-    fc_imu_feed(400u);
+    while (!(fc_imu.nfull == (uint32_t)SFIT_IMU_KEEP - 1u && fc_imu.wpos > 0u)) {
+        fc_imu_feed(1u);
+    }
 }
 
+/* The case the row stands for, checked (driver code, not counted): a full
+ * buffer, an unflagged ball, the relative rotation's path to its end
+ * (wobble_deg is 0 when it stops early), r1 and r2 as generated to 2 mm. */
 static void fc_imu_solve(void)
 {
+    int k;
     fc_keep(sfit_imu_solve(&fc_imu, &fc_ires));
+    if (fc_ires.used != (uint32_t)SFIT_IMU_KEEP || fc_ires.flags != 0u || fc_ires.hinge ||
+        !(fc_ires.wobble_deg > 0.0f)) {
+        fc_st = SFIT_E_ARG;
+    }
+    for (k = 0; k < 3; k++) {
+        const float e1 = fc_ires.r1.v[k] - fc_ir1[k], e2 = fc_ires.r2.v[k] - fc_ir2[k];
+        if (!(e1 < 0.002f && e1 > -0.002f && e2 < 0.002f && e2 > -0.002f)) {
+            fc_st = SFIT_E_ARG;
+        }
+    }
 }
 
 /* ---- issue 30: the whole lower limb per frame -------------------------------

@@ -224,7 +224,8 @@ sfit_status_t sfit_imu_add(sfit_imu_t *s, const sfit_imu_sample_t *x);
  * @retval SFIT_E_DEGENERATE      the normal matrix is singular (no motion at all)
  * @retval SFIT_E_NO_CONVERGENCE  Gauss-Newton still moving after SFIT_IMU_GN_ITERS
  * @retval SFIT_E_RANGE           a non-finite intermediate (a corrupted state)
- * @par Cost about 0.36 MFLOPs with a full buffer (tools/flopcount: imu_solve), 3.3 kB stack.
+ * @par Cost about 2.8 MFLOPs with a full buffer on a ball joint (tools/flopcount: imu_solve;
+ * most of it the rates' hinge fit, which a ball runs to SFIT_IMU_GN_ITERS), 3.3 kB stack.
  */
 sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out);
 
