@@ -1144,18 +1144,22 @@ static SFIT_I_NOINLINE void prv_fixed_axis(const prv_used_t *u, const float *x, 
     }
 }
 
-/* The axes' covariance of a hinge from the relative rotation: the wobble's
- * variance over the kept samples' effective number, in the plane normal to
- * each axis. */
-static void prv_fixed_cov(const prv_fixed_t *f, prv_hinge_t *h)
+/* The wobble's share of the axes' covariance, added to h->c1, h->c2 in the
+ * plane normal to each axis (h->j1, h->j2): the wobble's variance over the
+ * kept samples' effective number. Whatever the axes were found from (the
+ * rates or the relative rotation), the part of the wobble in step with the
+ * flexion over the trial tilts the axis the motion shows, and that part is
+ * an average of the wobble over its independent samples; for the relative
+ * rotation's axes it is the whole covariance. */
+static void prv_wobble_cov(const prv_fixed_t *f, prv_hinge_t *h)
 {
     const float v = f->wobble * f->wobble / f->neff;
     uint32_t i, k;
     for (i = 0u; i < 3u; i++) {
         for (k = 0u; k < 3u; k++) {
             const float d = (i == k) ? 1.0f : 0.0f;
-            h->c1.m[3u * i + k] = v * (d - f->j1[i] * f->j1[k]);
-            h->c2.m[3u * i + k] = v * (d - f->j2[i] * f->j2[k]);
+            h->c1.m[3u * i + k] += v * (d - h->j1[i] * h->j1[k]);
+            h->c2.m[3u * i + k] += v * (d - h->j2[i] * h->j2[k]);
         }
     }
 }
@@ -1444,6 +1448,9 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     r.r2_cov = b.c2;
     memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
     memcpy(r.axis2.v, h.j2, sizeof r.axis2.v);
+    if (fx.ok) {
+        prv_wobble_cov(&fx, &h); /* the rates' axes: estimation + the wobble's share */
+    }
     r.axis1_cov = h.c1;
     r.axis2_cov = h.c2;
     r.hinge_ratio = h.ratio;
@@ -1511,7 +1518,9 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
                 h.j2[i] = sg * fx.j2[i];
             }
         }
-        prv_fixed_cov(&fx, &h);
+        memset(&h.c1, 0, sizeof h.c1); /* the rates' share was of their axes */
+        memset(&h.c2, 0, sizeof h.c2);
+        prv_wobble_cov(&fx, &h);
         memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
         memcpy(r.axis2.v, h.j2, sizeof r.axis2.v);
         r.axis1_cov = h.c1;
