@@ -1448,7 +1448,7 @@ sfit_status_t sfit_imu_solve(const sfit_imu_t *s, sfit_imu_result_t *out)
     r.r2_cov = b.c2;
     memcpy(r.axis1.v, h.j1, sizeof r.axis1.v);
     memcpy(r.axis2.v, h.j2, sizeof r.axis2.v);
-    if (fx.ok) {
+    if (fx.ok != 0) {
         prv_wobble_cov(&fx, &h); /* the rates' axes: estimation + the wobble's share */
     }
     r.axis1_cov = h.c1;
