@@ -467,6 +467,23 @@ static void test_ref_skin(void **state)
     setup_templates();
     ref_tpls(&tp, &tc);
     memcpy(g_sta, gain, sizeof g_sta);
+    /* Skin just above the noise (sta_ratio 3-20): the share of the noise
+     * subtracted from the size matters there (about 20 %), so the
+     * comparison with the reference tests it. */
+    for (method = 0; method < 3; method += 2) {
+        int k;
+        for (k = 0; k < 9; k++) {
+            g_sta[k] = 0.15 * gain[k];
+        }
+        tu_rng_seed(&g, 31u);
+        init_pair(&s, (sfit_pair_method_t)method, SFIT_PAIR_MODE_BALL);
+        run_trial(&s, &g, 0, 40.0, 0.0, 0.5, 0);
+        assert_int_equal(sfit_pair_solve(&s, &r), SFIT_OK);
+        (void)check_sta_ref(&r, &tp, &tc);
+        assert_true(r.sta_ratio > 3.0f && r.sta_ratio < 20.0f);
+        assert_true((r.info & (uint32_t)SFIT_PAIR_INFO_SKIN) != 0u);
+    }
+    memcpy(g_sta, gain, sizeof g_sta);
     for (method = 0; method < 3; method += 2) {
         tu_rng_seed(&g, 31u);
         init_pair(&s, (sfit_pair_method_t)method, SFIT_PAIR_MODE_BALL);
@@ -481,6 +498,40 @@ static void test_ref_skin(void **state)
         assert_true((r.flags & (uint32_t)SFIT_PAIR_FLAG_AXIS_FREE) == 0u);
     }
     memset(g_sta, 0, sizeof g_sta);
+}
+
+/* The size quantiles of the skin term (docs/pair.md#model-error), derived
+ * by quadrature in the reference: k_fq is 3 F(3, nu)'s 95 % quantile over
+ * chi^2(3)'s (F(3, 1) = 215.71, F(3, 3) = 9.2766, F(3, 6) = 4.7571 from the
+ * tables), and with the library's constants (3.563 and 0.195 for nu = 3 ...)
+ * the region holds 95 % of the error at every sta_ratio from the detection
+ * threshold to 300 (the noise subtracted in full, the old rule, holds
+ * less near the threshold: the check can fail). */
+static void test_sta_quantiles(void **state)
+{
+    static const int nu[3] = {1, 3, 6};
+    static const double f95[3] = {215.71, 9.2766, 4.7571};
+    static const double lib_fq[3] = {82.8, 3.563, 1.828}, lib_nc[3] = {0.007, 0.195, 0.44};
+    static const double thr[3] = {3.841, 2.605, 2.099};
+    static const double rhos[5] = {0.0, 5.0, 10.0, 50.0, 300.0};
+    int i, j;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        double kfq, knc;
+        assert_int_equal(ref_pair_sta_quantiles(nu[i], &kfq, &knc), 0);
+        print_message("skin quantiles nu %d: k_fq %.5g (library %.4g), k_nc %.4f (library %.3g)\n",
+                      nu[i], kfq, lib_fq[i], knc, lib_nc[i]);
+        assert_near(kfq, 3.0 * f95[i] / 7.814727903251178, 2e-3 * kfq, "k_fq vs F table");
+        assert_near(lib_fq[i], kfq, 1e-3 * kfq, "library k_fq");
+        assert_near(lib_nc[i], knc, 0.01, "library k_nc");
+        for (j = 0; j < 5; j++) {
+            const double rho = (j == 0) ? thr[i] : rhos[j];
+            const double cv = ref_pair_sta_coverage(nu[i], rho, lib_fq[i], lib_nc[i]);
+            assert_true(cv > 0.948 && cv < 0.952);
+        }
+    }
+    /* the full noise subtracted: under 95 % near the threshold */
+    assert_true(ref_pair_sta_coverage(3, 3.0, 3.563, 1.0) < 0.94);
 }
 
 static void test_ref_hinge(void **state)
@@ -996,6 +1047,7 @@ int main(void)
         cmocka_unit_test(test_exact_hinge),
         cmocka_unit_test(test_ref_ball),
         cmocka_unit_test(test_ref_skin),
+        cmocka_unit_test(test_sta_quantiles),
         cmocka_unit_test(test_ref_hinge),
         cmocka_unit_test(test_mc_bias_and_coverage),
         cmocka_unit_test(test_mc_weighted_gain),

@@ -1191,6 +1191,7 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
 {
     static const float k_chi[3] = {3.841f, 2.605f, 2.099f};
     static const float k_fq[3] = {82.8f, 3.563f, 1.828f};
+    static const float k_nc[3] = {0.007f, 0.195f, 0.44f};
     const prv_sys_t *y = &c->y;
     float lm[3][9], lt[3][9], x[3], beta[3];
     sfit_mat3_t cm, crt, cinv, mm, minv, g2, h, t1, sig, pm, qm, l;
@@ -1334,11 +1335,18 @@ static SFIT_I_NOINLINE void prv_sta(const sfit_pair_t *s, prv_ctx_t *c)
     }
     /* The skin is seen when the angle-correlated residual passes its 95 %
      * quantile under the noise alone, chi^2(nu) / nu, nu = 3 kept - 3
-     * (1 for one direction); its size, s^2, takes the 95 % quantile of
-     * 3 F(3, nu) against chi^2(3)'s (s^2 comes from nu dof). */
+     * (1 for one direction). Its size: vis estimates the total scale
+     * s^2 denom + noise from nu dof, vis ~ (s^2 denom + noise) chi^2(nu) / nu,
+     * so s^2 is (vis nu / X - noise) / denom, X ~ chi^2(nu) (Jeffreys prior
+     * on the scale). The region that holds 95 % of the centre's error under
+     * that spread is s^2 = k_fq (vis - k_nc noise) / denom: k_fq is 3 F(3, nu)'s
+     * 95 % quantile over chi^2(3)'s (the limit of much skin), and k_nc the
+     * share of the noise to subtract so the region stays a 95 % one where the
+     * skin is near the noise (0.19-0.21 for nu = 3 over sta_ratio 2.6-300;
+     * tests/ref/sfit_ref_pair.c derives both by quadrature). */
     if (noise > 0.0f && vis > 0.0f && denom > 0.0f && sfit_i_isfinite(vis)
         && vis > k_chi[kept - 1] * noise) {
-        const float s2 = k_fq[kept - 1] * (vis - noise) / denom;
+        const float s2 = k_fq[kept - 1] * (vis - k_nc[kept - 1] * noise) / denom;
         c->sta_excess = vis - noise;
         c->res.sta_rms = SFIT_SQRTF(c->sta_excess / y->n);
         prv_sandwich(&y->abar, &h, &t1);

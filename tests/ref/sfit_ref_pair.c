@@ -792,11 +792,110 @@ static void rp_bcov(const double c[9], const double s[9], double o[9])
     }
 }
 
+#define RP_PI 3.14159265358979323846
+
+/* chi^2(3)'s distribution function, chi^2(nu)'s upper tail, and the
+ * density of t = sqrt(X), X ~ chi^2(nu) (smooth at 0 for nu >= 1). */
+static double rp_chi3_cdf(double x)
+{
+    return x <= 0.0 ? 0.0 : erf(sqrt(0.5 * x)) - sqrt(2.0 * x / RP_PI) * exp(-0.5 * x);
+}
+
+static double rp_chi_sf(int nu, double x)
+{
+    if (nu == 1) {
+        return erfc(sqrt(0.5 * x));
+    }
+    if (nu == 3) {
+        return 1.0 - rp_chi3_cdf(x);
+    }
+    return exp(-0.5 * x) * (1.0 + 0.5 * x + 0.125 * x * x); /* nu = 6 */
+}
+
+static double rp_t_pdf(int nu, double t)
+{
+    const double x = t * t;
+    double px;
+    if (nu == 1) {
+        return 2.0 * exp(-0.5 * x) / sqrt(2.0 * RP_PI); /* pdf(x) 2t */
+    }
+    if (nu == 3) {
+        px = sqrt(x) * exp(-0.5 * x) / (sqrt(2.0) * sqrt(RP_PI)); /* 2^1.5 Gamma(1.5) */
+    } else {
+        px = x * x * exp(-0.5 * x) / 16.0; /* 2^3 Gamma(3) */
+    }
+    return px * 2.0 * t;
+}
+
+double ref_pair_sta_coverage(int nu, double rho, double kfq, double knc)
+{
+    const double q = 7.814727903251178; /* chi^2(3) 95 % */
+    /* t = sqrt(X) to sqrt(rho nu), or to 12 where chi^2(nu <= 6)'s tail
+     * (below 1e-26) is covered anyway (s^2 small there: the integrand is its
+     * density); fine steps near 0, where the heavy tail of s^2 lives */
+    const double top = (rho * (double)nu < 144.0) ? sqrt(rho * (double)nu) : 12.0;
+    const int m = 40000; /* Simpson, even */
+    double sum = 0.0;
+    int i;
+    /* covered when s^2_true <= 0 (X >= rho nu) or Z <= q kfq (rho - knc) / (rho nu / X - 1) */
+    for (i = 0; i <= m; i++) {
+        const double t = top * (double)i / (double)m;
+        const double w = (i == 0 || i == m) ? 1.0 : ((i % 2) ? 4.0 : 2.0);
+        double f = 0.0;
+        if (t > 0.0) {
+            const double st = rho * (double)nu / (t * t) - 1.0;
+            f = rp_t_pdf(nu, t) * (st > 0.0 ? rp_chi3_cdf(q * kfq * (rho - knc) / st) : 1.0);
+        }
+        sum += w * f;
+    }
+    return sum * top / (3.0 * (double)m) + rp_chi_sf(nu, top * top);
+}
+
+int ref_pair_sta_quantiles(int nu, double *kfq, double *knc)
+{
+    static double cache[7][2]; /* by nu; computed once */
+    double lo = 0.1, hi = 1e4;
+    int it;
+    if (nu != 1 && nu != 3 && nu != 6) {
+        return 1;
+    }
+    if (cache[nu][0] > 0.0) {
+        *kfq = cache[nu][0];
+        *knc = cache[nu][1];
+        return 0;
+    }
+    /* kfq: much skin (rho large, the noise's share negligible) */
+    for (it = 0; it < 200; it++) {
+        const double mid = sqrt(lo * hi);
+        if (ref_pair_sta_coverage(nu, 1e6, mid, 0.0) < 0.95) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    *kfq = sqrt(lo * hi);
+    lo = -1.0;
+    hi = 1.0;
+    for (it = 0; it < 100; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (ref_pair_sta_coverage(nu, 20.0, *kfq, mid) > 0.95) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    *knc = 0.5 * (lo + hi);
+    cache[nu][0] = *kfq;
+    cache[nu][1] = *knc;
+    return 0;
+}
+
 int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                  const ref_pair_tpl_t *tc, double var_p, double var_c, const double cp[3],
                  const double cc[3], double model[9], double *ratio, double *excess)
 {
-    static const double k_chi[3] = {3.841, 2.605, 2.099}, k_fq[3] = {82.8, 3.563, 1.828};
+    static const double k_chi[3] = {3.841, 2.605, 2.099};
+    static const int k_nu[3] = {1, 3, 6};
     double abar[9] = {0}, sig[9] = {0}, pm[9], cm[9], xp[3], xc[3];
     double st[3] = {0}, sr[3] = {0}, stt[9] = {0}, str[9] = {0};
     double cmat[9], xm[9], w[3], v[9], cinv[9] = {0}, proj[9] = {0}, t[9], mm[9], minv[9];
@@ -947,7 +1046,11 @@ int ref_pair_sta(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
         *ratio = vis / noise;
     }
     if (noise > 0.0 && den > 0.0 && vis > k_chi[(int)nk - 1] * noise) {
-        const double s2 = k_fq[(int)nk - 1] * (vis - noise) / den;
+        double kfq = 0.0, knc = 0.0, s2;
+        if (ref_pair_sta_quantiles(k_nu[(int)nk - 1], &kfq, &knc) != 0) {
+            return 1;
+        }
+        s2 = kfq * (vis - knc * noise) / den;
         double hm[9], ah[9];
         rp_mm(h, minv, hm); /* M^-1 G M^-1 */
         rp_mm(abar, hm, ah);

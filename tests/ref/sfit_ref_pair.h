@@ -82,6 +82,21 @@ int ref_pair_cov(const ref_pair_frame_t *f, size_t n, const ref_pair_tpl_t *tp,
                  const double cc[3], double cov[9], double *cost, double *expect);
 
 /**
+ * The size quantiles of the skin term, by quadrature (docs/pair.md#model-error).
+ * The visible sum vis estimates the total scale s^2 den + noise from nu dof
+ * (vis ~ (s^2 den + noise) chi^2(nu) / nu); with a Jeffreys prior on that
+ * scale, s^2 den / noise = rho nu / X - 1, rho = vis / noise, X ~ chi^2(nu).
+ * ref_pair_sta_coverage: the probability that the centre's error, N(0, s^2 Q),
+ * lies in the 95 % ellipsoid of the reported s^2 = kfq (vis - knc noise) / den
+ * (chi^2(3) quantile), averaged over that spread of s^2.
+ * ref_pair_sta_quantiles: kfq, the limit of much skin (3 F(3, nu)'s 95 %
+ * quantile over chi^2(3)'s), and knc, the share of the noise for which the
+ * coverage is 95 % at rho = 20. nu is 1, 3 or 6. Returns 0 on success.
+ */
+double ref_pair_sta_coverage(int nu, double rho, double kfq, double knc);
+int ref_pair_sta_quantiles(int nu, double *kfq, double *knc);
+
+/**
  * Skin motion linear in the joint angle (docs/pair.md#model-error), frame
  * by frame: the regression of the ball's residual r_f = A_f^T cp - g_f on
  * theta_f = vee(skew(Abar^T (A_f - Abar))) over the directions theta

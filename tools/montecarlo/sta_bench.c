@@ -251,7 +251,12 @@ typedef struct res {
     int reason; /* sfit_pair_reason_t of a flagged result (ball reported for a hinge: 7) */
 } res_t;
 
-static res_t g_r[TMAX];
+/* Ball cells of the full grid run NBLK blocks of the trial count, each from
+ * its own seed: 8000 trials put the binomial standard error of a 92-95 %
+ * coverage at 0.3 %, where 1000 leave it at 0.85 % (an exact 92 % cell
+ * would then read below 92 % half the time). */
+#define NBLK 8
+static res_t g_r[NBLK * TMAX];
 
 static int inv3(const double a[9], double o[9])
 {
@@ -468,7 +473,7 @@ static void trial(const cell_t *c, tu_rng_t *g, res_t *out)
 }
 
 typedef struct stat {
-    int n, unflagged, covered, why[8];
+    int n, unflagged, covered, below, why[8]; /* below: unflagged with d' C^-1 d < 0.8 */
     double mean_err, p95_err, med_d2, med_sd, mean_sta, med_frac;
 } stat_t;
 
@@ -478,7 +483,7 @@ static int cmp_d(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static double g_tmp[TMAX];
+static double g_tmp[NBLK * TMAX];
 
 static void stats(int n, stat_t *s)
 {
@@ -507,6 +512,7 @@ static void stats(int n, stat_t *s)
         if (g_r[i].ok && !g_r[i].flagged) {
             s->unflagged++;
             s->covered += g_r[i].covered;
+            s->below += g_r[i].d2 < 0.8;
             g_tmp[m++] = g_r[i].d2;
         }
     }
@@ -615,7 +621,8 @@ static const char *cname(const cell_t *c, char *buf, size_t n)
 /* The claims of the check grid (3 binomial standard errors around the
  * band, at least 30 unflagged results for a coverage):
  *  - ball: coverage of the 95 % ellipsoid among unflagged results in
- *    92-98 % and median d' C^-1 d >= 0.8 (not inflated), with and without
+ *    92-98 % and median d' C^-1 d >= 0.8 (not inflated; a sign test on the
+ *    count below 0.8), with and without
  *    skin motion; without it at least 90 % unflagged; the mild cell (2 mm,
  *    RoM 30, sigma 0.5) at least 30 % unflagged;
  *  - hinge: the axis cone covers at least 92 % of the unflagged results
@@ -639,8 +646,11 @@ static int check_cell(const cell_t *c, const stat_t *s, double cov)
             printf("  FAIL: coverage %.3f above %.3f\n", cov, hi);
             fail = 1;
         }
-        if (c->kind == K_BALL && s->med_d2 < 0.8) {
-            printf("  FAIL: median d'C^-1 d %.3f (inflated)\n", s->med_d2);
+        /* the median at least 0.8: a sign test, 3 standard errors as for
+         * the coverage (the median of 200 trials moves by about 0.1) */
+        if (c->kind == K_BALL && (double)s->below > 0.5 * u + 1.5 * sqrt((double)u)) {
+            printf("  FAIL: median d'C^-1 d %.3f, %d of %d below 0.8 (inflated)\n", s->med_d2,
+                   s->below, u);
             fail = 1;
         }
     }
@@ -706,15 +716,19 @@ int main(int argc, char **argv)
         char nm[64];
         int t;
         double cov;
-        tu_rng_seed(&g, 0x57A0000ull + (uint64_t)ci * 7919u);
-        for (t = 0; t < trials; t++) {
-            trial(c, &g, &g_r[t]);
+        const int nblk = (!check && c->kind == K_BALL) ? NBLK : 1;
+        int b;
+        for (b = 0; b < nblk; b++) {
+            tu_rng_seed(&g, 0x57A0000ull + (uint64_t)ci * 7919u + (uint64_t)1000003u * (uint64_t)b);
+            for (t = 0; t < trials; t++) {
+                trial(c, &g, &g_r[b * trials + t]);
+            }
         }
-        stats(trials, &s);
+        stats(nblk * trials, &s);
         cov = s.unflagged > 0 ? (double)s.covered / s.unflagged : 0.0;
         cname(c, nm, sizeof nm);
         fprintf(csv, "%s,%s,%g,%g,%g,%d,%d,%d,%d,%.4f,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g\n", nm,
-                k_sta_name[c->sta], c->rom, c->sigma, c->amp, trials, s.n, s.unflagged,
+                k_sta_name[c->sta], c->rom, c->sigma, c->amp, nblk * trials, s.n, s.unflagged,
                 s.covered, cov, s.mean_err, s.p95_err, s.med_d2, s.med_sd, s.mean_sta,
                 s.med_frac);
         fprintf(md, "| %s | %g | %g | %g | %.3g / %.3g %s | %d of %d | %s%.0f %% | %.3g | %.3g | %.2f |\n",

@@ -159,7 +159,11 @@ typedef struct sfit_imu_result {
                                            largest component positive, axis2 the same
                                            physical direction; ball: the best hinge fit
                                            (for information). */
-    sfit_mat3_t axis1_cov, axis2_cov; /**< Their covariances (rank 2, rad^2). */
+    sfit_mat3_t axis1_cov, axis2_cov; /**< Their covariances (rank 2, rad^2): the
+                                           estimate's, plus the wobble's share (the
+                                           wobble's variance over the kept samples'
+                                           effective number, normal to the axis:
+                                           docs/imu.md). */
     sfit_vec3_t acc_bias1, acc_bias2; /**< Estimated accelerometer biases (m/s^2). */
     float resid_rms;         /**< rms of |a1 + G1 r1| - |a2 + G2 r2| (m/s^2). */
     float noise_rms;         /**< The rms the sensors' noise predicts for it (m/s^2). */
