@@ -13,7 +13,7 @@ set grid
 set output d."/sta_bench.png"
 f = d."/sta_bench.csv"
 ball(m, v) = (strcol(2) eq m && strcol(1) eq ("ball ".m)) ? v : NaN
-set multiplot layout 1,3 title "sfit_pair under skin motion (STA): 500 frames, RoM 20-60 deg, sigma 0.5-1 mm, 200 trials per cell"
+set multiplot layout 1,3 title "sfit_pair under skin motion (STA): 500 frames, RoM 20-60 deg, sigma 0.5-1 mm, 8000 trials per ball cell"
 set title "95 % ellipsoid coverage among unflagged results"
 set xlabel "skin motion (mm rms at a 30 deg swing)"
 set ylabel "coverage"
