@@ -57,7 +57,7 @@ if grep -lE '^[[:space:]]*joint[[:space:]]+[^[:space:]]+[[:space:]]+[^[:space:]]
 fi
 
 # 4. user docs
-if grep -niE 'issues? #?[0-9]+|this branch|must-show' "$src/README.md" "$src"/docs/*.md; then
+if grep -niE 'issues?[- ]?#?[0-9]+|this branch|must-show' "$src/README.md" "$src"/docs/*.md; then
   fail "user docs name an issue or a branch (history goes to CHANGELOG.md)"
 fi
 
