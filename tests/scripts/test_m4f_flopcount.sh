@@ -31,11 +31,12 @@ for op in moments_add moments_add_batch batch_per_point solve_gdke solve_gdke_50
 done
 # Instruction limits (M4F instructions, not FLOPs): the batch accumulator
 # at most 64 per sample amortised; the screened solve at N = 500 (an open
-# block) at most 800.
+# block) at most 800; the joint between two IMUs at most 2000 per sample,
+# in the steady state and for the sample that fills its buffer (docs/imu.md).
 insns() {
     printf '%s\n' "$json" | sed -n "s/.*{\"name\": \"$1\", .*\"insns\": \([0-9.]*\),.*/\1/p"
 }
-for lim in moments_add_batch:64 solve_gdke_500:800; do
+for lim in moments_add_batch:64 solve_gdke_500:800 imu_add:2000 imu_add_compact:2000; do
     op=${lim%%:*}
     max=${lim#*:}
     got=$(insns "$op")
