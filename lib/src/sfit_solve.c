@@ -29,9 +29,11 @@ static int prv_psd(const float *c)
         dmax = (c[i] > dmax) ? c[i] : dmax;
     }
     s = 1.0f / dmax;
-    for (i = 0; i < 9; i++) { /* the lower triangle (what the factor reads) */
-        a.m[i] = (i % 4 == 0) ? c[i] * s + (SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f)
-                              : ((i % 3 < i / 3) ? c[i] * s : 0.0f);
+    for (i = 0; i < 9; i++) { /* the factor reads the lower triangle only */
+        a.m[i] = c[i] * s;
+    }
+    for (i = 0; i < 9; i += 4) {
+        a.m[i] += SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f;
     }
     return sfit_mat3_chol(&a, &a) == SFIT_OK;
 }
@@ -63,8 +65,9 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
         && cfg->mode != SFIT_MODE_PLANAR) {
         return SFIT_E_ARG;
     }
-    if (!sfit_i_isfinite(cfg->planar_ratio) || cfg->planar_ratio < 0.0f
-        || cfg->planar_ratio >= 1.0f || sfit_i_bool_byte(&cfg->eigen) > 1u) {
+    /* 0 <= planar_ratio < 1: NaN and +-Inf fail one of the comparisons */
+    if (!(cfg->planar_ratio >= 0.0f && cfg->planar_ratio < 1.0f)
+        || sfit_i_bool_byte(&cfg->eigen) > 1u) {
         return SFIT_E_ARG;
     }
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);
