@@ -129,8 +129,8 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
     }
     lo *= tr; /* <= lambda_min(C') */
-    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)
-        || !(0.3f * tr > SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)) {
+    if (!(0.3f * tr > scale * scale)
+        || !(0.3f * tr > (SFIT_I_SPREAD2_NORMAL ? SFIT_MIN_SPREAD * SFIT_MIN_SPREAD : FLT_MIN))) {
         return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */
     }
     if (var > 0.0f) {

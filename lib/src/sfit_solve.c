@@ -428,8 +428,11 @@ static void prv_init(sfit_i_system_t *sys, float planar_ratio, sfit_i_solution_t
 static sfit_status_t prv_geometry(const sfit_i_system_t *sys, const sfit_i_solution_t *out)
 {
     const sfit_vec3_t *const lam = &out->eigenvalues;
-    if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
-        || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
+    /* lambda_max > FLT_MIN and >= SFIT_MIN_SPREAD^2 (NaN fails): the one
+     * test that implies the other (SFIT_I_SPREAD2_NORMAL). */
+    if ((SFIT_I_SPREAD2_NORMAL ? !(lam->v[2] >= SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)
+                               : !(lam->v[2] > FLT_MIN))
+        || lam->v[2] <= sys->scale * sys->scale) {
         return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
     }
     if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {

@@ -43,6 +43,8 @@
 #include "sfit/sfit_multi.h"
 #include "sfit_moments_i.h"
 
+#include <float.h>
+
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
     sfit_i_msys_t ms;         /**< ms.c: C (or sum of C_p), symmetric (its lower triangle is
@@ -189,6 +191,12 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
  */
 sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
                                 const sfit_fit_cfg_t *cfg, sfit_result_t *out);
+
+/** @brief 1 when SFIT_MIN_SPREAD^2 is above FLT_MIN (its documented range,
+ * SFIT_MIN_SPREAD >= 1e-12): a spread test against it then also proves
+ * the variance normal, so the geometry checks need no test against
+ * FLT_MIN of their own (a constant: one of the two tests is compiled). */
+#define SFIT_I_SPREAD2_NORMAL (SFIT_MIN_SPREAD * SFIT_MIN_SPREAD > FLT_MIN)
 
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
