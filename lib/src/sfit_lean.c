@@ -81,7 +81,6 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     const float *a = l.m;
     const float var = sys->sigma.var, scale = sys->scale; /* SFIT_NOISE_NONE or _ISO */
     float tr, s, e2, det, lo;
-    int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
     /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags (sfit_i_cov_limit,
@@ -141,12 +140,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         r->rho = var / lo;
     }
     sfit_i_chol_solve(&l, sys->ms.rhs.v, r->w.v);
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r->w.v[i])) {
-            return SFIT_I_SCREEN_TRIPPED;
-        }
-    }
-    if (!sfit_i_isfinite(r->trace)) {
+    if (sfit_i_solution_finite(r) != SFIT_OK) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* The bounds must also prove that the fit is inside the coverage limit

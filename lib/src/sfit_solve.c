@@ -441,8 +441,7 @@ static sfit_status_t prv_geometry(const sfit_i_system_t *sys, const sfit_i_solut
     return SFIT_OK;
 }
 
-/* w and the trace of a solution finite (SFIT_OK), else SFIT_E_RANGE. */
-static sfit_status_t prv_finite(const sfit_i_solution_t *out)
+sfit_status_t sfit_i_solution_finite(const sfit_i_solution_t *out)
 {
     int i;
     for (i = 0; i < 3; i++) {
@@ -459,7 +458,7 @@ static sfit_status_t prv_end(sfit_i_solution_t *out)
     if (out->rho >= 1.0f) {
         out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
     }
-    return sfit_i_isfinite(out->rho) ? prv_finite(out) : SFIT_E_RANGE;
+    return sfit_i_isfinite(out->rho) ? sfit_i_solution_finite(out) : SFIT_E_RANGE;
 }
 
 sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
@@ -496,7 +495,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
         sfit_i_chol_solve(cp, sys->ms.rhs.v, out->w.v);
         out->mode = SFIT_MODE_SPHERE;
     }
-    return (st == SFIT_OK) ? prv_finite(out) : st;
+    return (st == SFIT_OK) ? sfit_i_solution_finite(out) : st;
 }
 
 /* One solver for every noise model: a system without one (SFIT_NOISE_NONE)

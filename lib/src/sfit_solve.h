@@ -157,6 +157,10 @@ sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg);
 /** @brief Sigma_hat of a noise model as a full symmetric matrix (zero for none). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg);
 
+/** @brief SFIT_OK when w and the trace of a solution are finite, else
+ * SFIT_E_RANGE (the full solver's last check; the screen's too). */
+sfit_status_t sfit_i_solution_finite(const sfit_i_solution_t *out);
+
 /** @brief Coincidence threshold (a spread) for samples whose mean is origin + d. */
 float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 
