@@ -104,8 +104,9 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         const float b3 = a[3] * s, b6 = a[6] * s, b7 = a[7] * s;
         e2 = (b0 * b4 - b3 * b3) + (b0 * b8 - b6 * b6) + (b4 * b8 - b7 * b7);
     }
-    /* every member the caller reads (w: the solve below) */
-    r->eigenvalues.v[1] = 0.0f;
+    /* every member the caller reads (w: the solve below; the bounds in
+     * eigenvalues v[0] and v[2] at the end; v[1] is not read: the caller
+     * clears the three) */
     r->axis.v[0] = 0.0f;
     r->axis.v[1] = 0.0f;
     r->axis.v[2] = 0.0f;

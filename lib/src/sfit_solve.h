@@ -217,8 +217,9 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
  * (out is scratch). The rounding flag needs the centre: the caller tests
  * it (sfit_i_rounding_test) on the bounds the screen leaves in
  * out->eigenvalues (v[0] <= lambda_min(C'), v[2] >= lambda_max(C); v[1]
- * zero) and runs the full solver when they cannot prove it clear. Axis
- * left zero. ratio: the planar threshold in use.
+ * not written) and runs the full solver when they cannot prove it clear;
+ * a screened result clears the three. Axis left zero. ratio: the planar
+ * threshold in use.
  */
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out);
