@@ -10,48 +10,50 @@
 #include <float.h>
 #include <string.h>
 
-/* A noise covariance c: its nine entries finite and the lower triangle
- * positive semi-definite, tested by the Cholesky factor that every fit
- * links anyway: c / max(diag) plus a shift of 2^-16 above the factor's
- * pivot threshold must factor. A semi-definite c (v v^T, every scale) then
- * passes, with its rounding; an indefinite one whose smallest eigenvalue is
- * below -(2^-16 + SFIT_CHOL_PIVOT_EPS) max(diag) is refused (a larger
- * |off-diagonal| than max(diag) overflows or fails a pivot). */
+/* Positive semi-definite test of the lower triangle of a finite 3x3 c by
+ * the Cholesky factor that every fit links anyway: c / max(diag) plus a
+ * shift of 2^-16 above the factor's pivot threshold must factor. A
+ * semi-definite c (v v^T, every scale) then passes, with its rounding; an
+ * indefinite one whose smallest eigenvalue is below -(2^-16 +
+ * SFIT_CHOL_PIVOT_EPS) max(diag) is refused (a larger |off-diagonal| than
+ * max(diag) overflows or fails a pivot). */
 static int prv_psd(const float *c)
 {
     sfit_mat3_t a;
     float dmax = FLT_MIN, s;
     int i;
-    for (i = 0; i < 9; i++) {
-        if (!sfit_i_isfinite(c[i])) {
+    for (i = 0; i < 9; i += 4) {
+        if (!(c[i] >= 0.0f)) {
             return 0;
         }
-        if (i % 4 == 0) { /* the diagonal */
-            if (!(c[i] >= 0.0f)) {
-                return 0;
-            }
-            dmax = (c[i] > dmax) ? c[i] : dmax;
-        }
+        dmax = (c[i] > dmax) ? c[i] : dmax;
     }
     s = 1.0f / dmax;
     for (i = 0; i < 9; i++) { /* the factor reads the lower triangle only */
         a.m[i] = c[i] * s;
-        if (i % 4 == 0) {
-            a.m[i] += SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f;
-        }
+    }
+    for (i = 0; i < 9; i += 4) {
+        a.m[i] += SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f;
     }
     return sfit_mat3_chol(&a, &a) == SFIT_OK;
 }
 
 sfit_status_t sfit_i_check_noise(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov)
 {
+    const float *c = cov->m;
+    int i;
     switch (kind) {
     case SFIT_NOISE_NONE:
         return SFIT_OK;
     case SFIT_NOISE_ISO:
         return (sfit_i_isfinite(var) && var >= 0.0f) ? SFIT_OK : SFIT_E_ARG;
     case SFIT_NOISE_COV:
-        return prv_psd(cov->m) ? SFIT_OK : SFIT_E_ARG;
+        for (i = 0; i < 9; i++) {
+            if (!sfit_i_isfinite(c[i])) {
+                return SFIT_E_ARG;
+            }
+        }
+        return prv_psd(c) ? SFIT_OK : SFIT_E_ARG;
     default:
         return SFIT_E_ARG;
     }
