@@ -281,7 +281,7 @@ static void prv_add(sfit_moments_t *m, const float x[3])
 sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x)
 {
     sfit_status_t st = sfit_i_check_add(m, x);
-    if (st == SFIT_OK && sfit_moments_count(m) == UINT32_MAX) {
+    if (st == SFIT_OK && m->tot.n + m->blk.n == UINT32_MAX) { /* m not NULL here */
         st = SFIT_E_RANGE;
     }
     if (st == SFIT_OK) {
