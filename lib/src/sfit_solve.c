@@ -171,6 +171,20 @@ static float prv_sg(const sfit_i_system_t *sys, int i, int j)
     return (i >= j) ? sys->sigma.m->m[3 * i + j] : sys->sigma.m->m[3 * j + i];
 }
 
+/* m := Sigma (sub 0) or m - Sigma (sub 1), full (Sigma_ij: prv_sg). */
+static void prv_sigma_to(const sfit_i_system_t *sys, float m[9], int sub)
+{
+    int i;
+    for (i = 0; i < 9; i++) {
+        const float g = prv_sg(sys, i / 3, i % 3);
+        if (sub) {
+            m[i] -= g;
+        } else {
+            m[i] = g;
+        }
+    }
+}
+
 /* Column 0 of V (finite: sfit_i_eig_sym checked it) as a vector, sign
  * chosen so that the component largest in magnitude (the first of equal
  * ones) is positive. On the bits, no FP operation: |x| of finite floats
@@ -203,23 +217,22 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t 
     sfit_status_t st;
 
     /* Y^T = (L^-1 Sigma)^T: row i of b := L^-1 (row i of Sigma = its
-     * column i), in place; then transposed to Y. */
-    for (i = 0; i < 9; i++) {
-        b->m[i] = prv_sg(sys, i / 3, i % 3);
-    }
-    for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < i; j++) {
-            t = b->m[3 * i + j];
-            b->m[3 * i + j] = b->m[3 * j + i];
-            b->m[3 * j + i] = t;
+     * column i), in place (passes 0-2); then b is transposed to Y, and
+     * B = L^-1 Y^T is formed row by row from the rows of Y, in place
+     * (passes 3-5; B symmetric). One loop: one call site. */
+    prv_sigma_to(sys, b->m, 0);
+    for (i = 0; i < 6; i++) {
+        if (i == 3) {
+            int r;
+            for (r = 0; r < 3; r++) {
+                for (j = 0; j < r; j++) {
+                    t = b->m[3 * r + j];
+                    b->m[3 * r + j] = b->m[3 * j + r];
+                    b->m[3 * j + r] = t;
+                }
+            }
         }
-    }
-    /* B = L^-1 Y^T: row i of B from row i of Y, in place (B symmetric). */
-    for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
+        sfit_i_chol_forward(l, &b->m[3 * (i % 3)], &b->m[3 * (i % 3)]);
     }
     b->m[1] = b->m[3];
     b->m[2] = b->m[6];
@@ -260,12 +273,9 @@ static int prv_sigma_iso(const sfit_i_system_t *sys)
  * lower triangle c6. */
 static void prv_cprime(const float c6[6], const sfit_i_system_t *sys, sfit_mat3_t *cp)
 {
-    int i;
     sfit_i_sym_unpack(c6, cp);
     if (sys->noisy) {
-        for (i = 0; i < 9; i++) {
-            cp->m[i] -= prv_sg(sys, i / 3, i % 3);
-        }
+        prv_sigma_to(sys, cp->m, 1);
     }
 }
 
