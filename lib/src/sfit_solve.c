@@ -269,11 +269,11 @@ static int prv_sigma_iso(const sfit_i_system_t *sys)
     return ((u3 | u6 | u7) << 1) == 0u && sg[0] == sg[4] && sg[0] == sg[8];
 }
 
-/* cp := C - Sigma (C when there is no noise model), C from its packed
- * lower triangle c6. */
-static void prv_cprime(const float c6[6], const sfit_i_system_t *sys, sfit_mat3_t *cp)
+/* cp := C - Sigma (C when there is no noise model), C from the lower
+ * triangle of the copy c. */
+static void prv_cprime(const sfit_mat3_t *c, const sfit_i_system_t *sys, sfit_mat3_t *cp)
 {
-    sfit_i_sym_unpack(c6, cp);
+    sfit_i_sym_full(c, cp->m);
     if (sys->noisy) {
         prv_sigma_to(sys, cp->m, 1);
     }
@@ -475,7 +475,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
                                  sfit_i_solution_t *out)
 {
     sfit_mat3_t *const cp = &sys->ms.c;
-    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    const sfit_mat3_t c = *cp;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     sfit_mat3_t v;
     sfit_status_t st;
@@ -497,7 +497,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
     if (mode == SFIT_MODE_PLANAR) {
         st = prv_planar(sys, lam, &v, out);
     } else { /* C' = C: its Cholesky factor and w = C^-1 b */
-        sfit_i_sym_unpack(c6, cp);
+        sfit_i_sym_full(&c, cp->m);
         out->trace = cp->m[0] + cp->m[4] + cp->m[8];
         if (sfit_mat3_chol(cp, cp) != SFIT_OK) {
             return SFIT_E_DEGENERATE;
@@ -517,9 +517,9 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
                            sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
-     * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
+     * its factor); C itself is kept as a copy (stack trick 1, sfit_solve.h). */
     sfit_mat3_t *const cp = &sys->ms.c;
-    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    const sfit_mat3_t c = *cp;
     sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
      * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
@@ -540,7 +540,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         return st;
     }
     prv_axis(&v, &out->axis); /* the sphere's cap axis (before v is reused) */
-    prv_cprime(c6, sys, cp);
+    prv_cprime(&c, sys, cp);
     pt = prv_planar_test(sys, &v, out);
     if (pt < 0) {
         return (sfit_status_t)pt;
@@ -560,7 +560,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         }
     } else {
         if (PRV_IS_P(pt) && !prv_sigma_iso(sys)) {
-            prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
+            prv_cprime(&c, sys, cp); /* destroyed by the decomposition of C' */
         }
         st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }

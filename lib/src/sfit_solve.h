@@ -14,8 +14,11 @@
  * against it (giving up trick 2 and 3, a local lamp and threshold, costs
  * 24 B on that path: 336 B).
  *  1. The system's C (sys->ms.c) is the full solver's working matrix: the
- *     Jacobi, then C' and its Cholesky factor; C itself is kept packed
- *     (6 floats) in sfit_i_solve_plain() and the noisy solve.
+ *     Jacobi, then C' and its Cholesky factor; C itself is kept as a
+ *     copy in sfit_i_solve_plain() and the noisy solve, mirrored back by
+ *     sfit_i_sym_full() (the 6 floats of packed storage took 8 B less
+ *     frame, 312 -> 304 B on sfit_fit_moments, but linked
+ *     sfit_i_sym_unpack() too: 42 B more code in the two-fit application).
  *  2. sfit_i_solve(): out->w holds the eigenvalues of C' (lamp) or the
  *     trust ratio's scratch until the solution's w is written last
  *     (prv_sphere, prv_planar).
