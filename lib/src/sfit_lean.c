@@ -91,11 +91,14 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
-    /* C' = C - var I (lower triangle is what the Cholesky reads). */
-    l = *c;
-    l.m[0] -= var;
-    l.m[4] -= var;
-    l.m[8] -= var;
+    /* C' = C - var I: its lower triangle, what the Cholesky reads (and
+     * all that the system holds of C). */
+    l.m[0] = c->m[0] - var;
+    l.m[3] = c->m[3];
+    l.m[4] = c->m[4] - var;
+    l.m[6] = c->m[6];
+    l.m[7] = c->m[7];
+    l.m[8] = c->m[8] - var;
     /* Everything relative to tr(C) (no overflow of the products; an
      * underflow only weakens the bound): e2 / tr^2 and det C' / tr^3. */
     s = 1.0f / tr;

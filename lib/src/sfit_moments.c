@@ -527,10 +527,7 @@ uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, s
     c[8] = t.m2[2] * inv;
     c[3] = t.m2[3] * inv;
     c[6] = t.m2[4] * inv;
-    c[7] = t.m2[5] * inv;
-    c[1] = c[3];
-    c[2] = c[6];
-    c[5] = c[7];
+    c[7] = t.m2[5] * inv; /* the lower triangle: what the solvers read */
     inv *= 0.5f;
     s->rhs.v[0] = inv * t.m3[0];
     s->rhs.v[1] = inv * t.m3[1];

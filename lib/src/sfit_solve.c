@@ -475,12 +475,13 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
                                  sfit_i_solution_t *out)
 {
     sfit_mat3_t *const cp = &sys->ms.c;
-    const sfit_mat3_t c = *cp;
+    sfit_mat3_t c;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     sfit_mat3_t v;
     sfit_status_t st;
 
     prv_init(sys, planar_ratio, out);
+    c = *cp; /* C, mirrored by prv_init() */
     st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
@@ -519,7 +520,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
     /* C's storage in the system is the working matrix (Jacobi, then C' and
      * its factor); C itself is kept as a copy (stack trick 1, sfit_solve.h). */
     sfit_mat3_t *const cp = &sys->ms.c;
-    const sfit_mat3_t c = *cp;
+    sfit_mat3_t c;
     sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
      * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
@@ -531,6 +532,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
      * its own it puts a frame on the Jacobi's path (measured 336 B on
      * sfit_fit_moments against its budget of 320). */
     prv_init(sys, planar_ratio, out);
+    c = *cp; /* C, mirrored by prv_init() */
     st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
