@@ -81,7 +81,6 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
     const float *a = l.m;
     const float var = sys->sigma.var, scale = sys->scale; /* SFIT_NOISE_NONE or _ISO */
     float tr, s, e2, det, lo;
-    int i;
 
     tr = c->m[0] + c->m[4] + c->m[8];
     /* Below SFIT_COV_MIN_SAMPLES the coverage limit flags (sfit_i_cov_limit,
@@ -92,11 +91,14 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         || !sfit_i_isfinite(tr)) {
         return SFIT_I_SCREEN_TRIPPED;
     }
-    /* C' = C - var I (lower triangle is what the Cholesky reads). */
-    l = *c;
-    l.m[0] -= var;
-    l.m[4] -= var;
-    l.m[8] -= var;
+    /* C' = C - var I: its lower triangle, what the Cholesky reads (and
+     * all that the system holds of C). */
+    l.m[0] = c->m[0] - var;
+    l.m[3] = c->m[3];
+    l.m[4] = c->m[4] - var;
+    l.m[6] = c->m[6];
+    l.m[7] = c->m[7];
+    l.m[8] = c->m[8] - var;
     /* Everything relative to tr(C) (no overflow of the products; an
      * underflow only weakens the bound): e2 / tr^2 and det C' / tr^3. */
     s = 1.0f / tr;
@@ -105,8 +107,9 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         const float b3 = a[3] * s, b6 = a[6] * s, b7 = a[7] * s;
         e2 = (b0 * b4 - b3 * b3) + (b0 * b8 - b6 * b6) + (b4 * b8 - b7 * b7);
     }
-    /* every member the caller reads (w: the solve below) */
-    r->eigenvalues.v[1] = 0.0f;
+    /* every member the caller reads (w: the solve below; the bounds in
+     * eigenvalues v[0] and v[2] at the end; v[1] is not read: the caller
+     * clears the three) */
     r->axis.v[0] = 0.0f;
     r->axis.v[1] = 0.0f;
     r->axis.v[2] = 0.0f;
@@ -129,8 +132,8 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         return SFIT_I_SCREEN_TRIPPED; /* near-planar, collinear or ill-conditioned */
     }
     lo *= tr; /* <= lambda_min(C') */
-    if (!(0.3f * tr > scale * scale) || !(0.3f * tr > FLT_MIN)
-        || !(0.3f * tr > SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)) {
+    if (!(0.3f * tr > scale * scale)
+        || !(0.3f * tr > (SFIT_I_SPREAD2_NORMAL ? SFIT_MIN_SPREAD * SFIT_MIN_SPREAD : FLT_MIN))) {
         return SFIT_I_SCREEN_TRIPPED; /* lambda_max(C) >= tr/3: not provably spread */
     }
     if (var > 0.0f) {
@@ -141,12 +144,7 @@ int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
         r->rho = var / lo;
     }
     sfit_i_chol_solve(&l, sys->ms.rhs.v, r->w.v);
-    for (i = 0; i < 3; i++) {
-        if (!sfit_i_isfinite(r->w.v[i])) {
-            return SFIT_I_SCREEN_TRIPPED;
-        }
-    }
-    if (!sfit_i_isfinite(r->trace)) {
+    if (sfit_i_solution_finite(r) != SFIT_OK) {
         return SFIT_I_SCREEN_TRIPPED;
     }
     /* The bounds must also prove that the fit is inside the coverage limit

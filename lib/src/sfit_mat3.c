@@ -54,19 +54,13 @@ sfit_status_t sfit_mat3_chol(const sfit_mat3_t *a, sfit_mat3_t *l)
 void sfit_i_chol_solve(const sfit_mat3_t *l, const float b[3], float x[3])
 {
     const float *L = l->m;
-    float y0, y1, y2, x0, x1, x2;
+    float x0, x1, x2;
 
-    {
-        float y[3];
-        sfit_i_chol_forward(l, b, y); /* L y = b */
-        y0 = y[0];
-        y1 = y[1];
-        y2 = y[2];
-    }
+    sfit_i_chol_forward(l, b, x); /* L y = b, y in x (it reads b[i] before writing y[i]) */
     /* Backward: L^T x = y. */
-    x2 = y2 / L[8];
-    x1 = (y1 - L[7] * x2) / L[4];
-    x0 = (y0 - L[3] * x1 - L[6] * x2) / L[0];
+    x2 = x[2] / L[8];
+    x1 = (x[1] - L[7] * x2) / L[4];
+    x0 = (x[0] - L[3] * x1 - L[6] * x2) / L[0];
     x[0] = x0; x[1] = x1; x[2] = x2;
 }
 
@@ -159,10 +153,12 @@ sfit_status_t sfit_i_eig_sym(float A[9], sfit_vec3_t *w, float *V)
         }
     }
     /* Cyclic sweeps over the planes (0,1), (0,2), (1,2); converged when
-     * every off-diagonal entry is zero at a sweep's start (or at the end). */
+     * every off-diagonal entry is zero at a sweep's start (or at the end);
+     * each tested on its bits, one at a time (prv_is_zero: no FP compare,
+     * one M4F instruction less per test than the float comparison). */
     for (k = 0; k <= SFIT_JACOBI_MAX_SWEEPS; k++) {
         int j;
-        if (A[1] == 0.0f && A[2] == 0.0f && A[5] == 0.0f) {
+        if (prv_is_zero(A[1]) && prv_is_zero(A[2]) && prv_is_zero(A[5])) {
             converged = 1;
             break;
         }

@@ -86,10 +86,12 @@ SFIT_INLINE float prv_add_lo(float a, float x, float *lo)
 }
 
 /* out := the moments of a U b centred about their mean origin + out->d
- * (out may be a, not b), and lo->m2 := the rounding residues of out's M2
- * (lo may be b: a block's end keeps them as the next block's sums; or lo
- * is out, the residues stored first and then overwritten, so that the
- * solve's fold takes the same path and needs no scratch).
+ * (out may be a; out may be b only when lo is out too: each of b's sums is
+ * read before the same one of out and lo is written, so that an empty b
+ * can be the zeroed out itself), and lo->m2 := the rounding residues of
+ * out's M2 (lo may be b: a block's end keeps them as the next block's
+ * sums; or lo is out, the residues stored first and then overwritten, so
+ * that the solve's fold takes the same path and needs no scratch).
  * a is centred about origin + a->d, where a->d is a rebase residue
  * (prv_rebase: at most half an ulp of the origin) or a is empty; b holds
  * raw sums of z = x - origin. One pass about the origin (the union's sums
@@ -279,7 +281,7 @@ static void prv_add(sfit_moments_t *m, const float x[3])
 sfit_status_t sfit_moments_add(sfit_moments_t *m, const sfit_vec3_t *x)
 {
     sfit_status_t st = sfit_i_check_add(m, x);
-    if (st == SFIT_OK && sfit_moments_count(m) == UINT32_MAX) {
+    if (st == SFIT_OK && m->tot.n + m->blk.n == UINT32_MAX) { /* m not NULL here */
         st = SFIT_E_RANGE;
     }
     if (st == SFIT_OK) {
@@ -509,23 +511,23 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3])
  * the solve costs the same at every N. */
 uint32_t sfit_i_moments_system(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_i_msys_t *s)
 {
-    /* An empty set of sums (an empty open block). */
-    static const sfit_cmom_t k_none = {0u, {0.0f, 0.0f, 0.0f},
-                                       {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
     float *const c = s->c.m;
     sfit_cmom_t t;
     float inv;
-    prv_fold_block(tot, (blk != NULL) ? blk : &k_none, &t, &t);
+    if (blk == NULL) {
+        /* An empty set of sums (no open block) in t itself: the fold reads
+         * each of b's sums before it writes the same one of out and lo. */
+        memset(&t, 0, sizeof t);
+        blk = &t;
+    }
+    prv_fold_block(tot, blk, &t, &t);
     inv = 1.0f / (float)(t.n - 1u);
     c[0] = t.m2[0] * inv;
     c[4] = t.m2[1] * inv;
     c[8] = t.m2[2] * inv;
     c[3] = t.m2[3] * inv;
     c[6] = t.m2[4] * inv;
-    c[7] = t.m2[5] * inv;
-    c[1] = c[3];
-    c[2] = c[6];
-    c[5] = c[7];
+    c[7] = t.m2[5] * inv; /* the lower triangle: what the solvers read */
     inv *= 0.5f;
     s->rhs.v[0] = inv * t.m3[0];
     s->rhs.v[1] = inv * t.m3[1];

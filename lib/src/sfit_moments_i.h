@@ -29,14 +29,17 @@ void sfit_i_cmom_system(const sfit_cmom_t *t, sfit_mat3_t *c, float b[3]);
 
 /** @brief The linear system of a total: C, b and its mean. */
 typedef struct sfit_i_msys {
-    sfit_mat3_t c;   /**< C = M2/(N-1), full symmetric */
+    sfit_mat3_t c;   /**< C = M2/(N-1), symmetric: its lower triangle (the upper one is
+                          not written by sfit_i_moments_system(); the solvers read the
+                          lower one, the full solver mirrors it) */
     sfit_vec3_t rhs; /**< b = S/2 = M3/(2(N-1)) */
     float d[3];      /**< mean - origin */
 } sfit_i_msys_t;
 
 /**
  * @brief The fit system s of the totals tot and open block blk (raw sums of
- * an accumulator; NULL when there is none) of >= 2 samples (C and b as
+ * an accumulator; NULL when there is none) of >= 2 samples (C, lower
+ * triangle only, and b as
  * sfit_i_cmom_system()); returns the sample count (the totals stay in this
  * function's frame, off the solver's stack path: stack trick 5,
  * sfit_solve.h).

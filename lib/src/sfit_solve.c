@@ -29,9 +29,11 @@ static int prv_psd(const float *c)
         dmax = (c[i] > dmax) ? c[i] : dmax;
     }
     s = 1.0f / dmax;
-    for (i = 0; i < 9; i++) { /* the lower triangle (what the factor reads) */
-        a.m[i] = (i % 4 == 0) ? c[i] * s + (SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f)
-                              : ((i % 3 < i / 3) ? c[i] * s : 0.0f);
+    for (i = 0; i < 9; i++) { /* the factor reads the lower triangle only */
+        a.m[i] = c[i] * s;
+    }
+    for (i = 0; i < 9; i += 4) {
+        a.m[i] += SFIT_CHOL_PIVOT_EPS + 1.52587890625e-5f;
     }
     return sfit_mat3_chol(&a, &a) == SFIT_OK;
 }
@@ -63,8 +65,9 @@ sfit_status_t sfit_i_check_cfg(const sfit_fit_cfg_t *cfg)
         && cfg->mode != SFIT_MODE_PLANAR) {
         return SFIT_E_ARG;
     }
-    if (!sfit_i_isfinite(cfg->planar_ratio) || cfg->planar_ratio < 0.0f
-        || cfg->planar_ratio >= 1.0f || sfit_i_bool_byte(&cfg->eigen) > 1u) {
+    /* 0 <= planar_ratio < 1: NaN and +-Inf fail one of the comparisons */
+    if (!(cfg->planar_ratio >= 0.0f && cfg->planar_ratio < 1.0f)
+        || sfit_i_bool_byte(&cfg->eigen) > 1u) {
         return SFIT_E_ARG;
     }
     return sfit_i_check_noise(cfg->noise, cfg->noise_var, &cfg->noise_cov);
@@ -168,6 +171,20 @@ static float prv_sg(const sfit_i_system_t *sys, int i, int j)
     return (i >= j) ? sys->sigma.m->m[3 * i + j] : sys->sigma.m->m[3 * j + i];
 }
 
+/* m := Sigma (sub 0) or m - Sigma (sub 1), full (Sigma_ij: prv_sg). */
+static void prv_sigma_to(const sfit_i_system_t *sys, float m[9], int sub)
+{
+    int i;
+    for (i = 0; i < 9; i++) {
+        const float g = prv_sg(sys, i / 3, i % 3);
+        if (sub) {
+            m[i] -= g;
+        } else {
+            m[i] = g;
+        }
+    }
+}
+
 /* Column 0 of V (finite: sfit_i_eig_sym checked it) as a vector, sign
  * chosen so that the component largest in magnitude (the first of equal
  * ones) is positive. On the bits, no FP operation: |x| of finite floats
@@ -200,23 +217,22 @@ static sfit_status_t prv_trust_chol(const sfit_mat3_t *l, const sfit_i_system_t 
     sfit_status_t st;
 
     /* Y^T = (L^-1 Sigma)^T: row i of b := L^-1 (row i of Sigma = its
-     * column i), in place; then transposed to Y. */
-    for (i = 0; i < 9; i++) {
-        b->m[i] = prv_sg(sys, i / 3, i % 3);
-    }
-    for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
-    }
-    for (i = 0; i < 3; i++) {
-        for (j = 0; j < i; j++) {
-            t = b->m[3 * i + j];
-            b->m[3 * i + j] = b->m[3 * j + i];
-            b->m[3 * j + i] = t;
+     * column i), in place (passes 0-2); then b is transposed to Y, and
+     * B = L^-1 Y^T is formed row by row from the rows of Y, in place
+     * (passes 3-5; B symmetric). One loop: one call site. */
+    prv_sigma_to(sys, b->m, 0);
+    for (i = 0; i < 6; i++) {
+        if (i == 3) {
+            int r;
+            for (r = 0; r < 3; r++) {
+                for (j = 0; j < r; j++) {
+                    t = b->m[3 * r + j];
+                    b->m[3 * r + j] = b->m[3 * j + r];
+                    b->m[3 * j + r] = t;
+                }
+            }
         }
-    }
-    /* B = L^-1 Y^T: row i of B from row i of Y, in place (B symmetric). */
-    for (i = 0; i < 3; i++) {
-        sfit_i_chol_forward(l, &b->m[3 * i], &b->m[3 * i]);
+        sfit_i_chol_forward(l, &b->m[3 * (i % 3)], &b->m[3 * (i % 3)]);
     }
     b->m[1] = b->m[3];
     b->m[2] = b->m[6];
@@ -253,16 +269,13 @@ static int prv_sigma_iso(const sfit_i_system_t *sys)
     return ((u3 | u6 | u7) << 1) == 0u && sg[0] == sg[4] && sg[0] == sg[8];
 }
 
-/* cp := C - Sigma (C when there is no noise model), C from its packed
- * lower triangle c6. */
-static void prv_cprime(const float c6[6], const sfit_i_system_t *sys, sfit_mat3_t *cp)
+/* cp := C - Sigma (C when there is no noise model), C from the lower
+ * triangle of the copy c. */
+static void prv_cprime(const sfit_mat3_t *c, const sfit_i_system_t *sys, sfit_mat3_t *cp)
 {
-    int i;
-    sfit_i_sym_unpack(c6, cp);
+    sfit_i_sym_full(c, cp->m);
     if (sys->noisy) {
-        for (i = 0; i < 9; i++) {
-            cp->m[i] -= prv_sg(sys, i / 3, i % 3);
-        }
+        prv_sigma_to(sys, cp->m, 1);
     }
 }
 
@@ -425,8 +438,11 @@ static void prv_init(sfit_i_system_t *sys, float planar_ratio, sfit_i_solution_t
 static sfit_status_t prv_geometry(const sfit_i_system_t *sys, const sfit_i_solution_t *out)
 {
     const sfit_vec3_t *const lam = &out->eigenvalues;
-    if (!(lam->v[2] > FLT_MIN) || lam->v[2] <= sys->scale * sys->scale
-        || lam->v[2] < SFIT_MIN_SPREAD * SFIT_MIN_SPREAD) {
+    /* lambda_max > FLT_MIN and >= SFIT_MIN_SPREAD^2 (NaN fails): the one
+     * test that implies the other (SFIT_I_SPREAD2_NORMAL). */
+    if ((SFIT_I_SPREAD2_NORMAL ? !(lam->v[2] >= SFIT_MIN_SPREAD * SFIT_MIN_SPREAD)
+                               : !(lam->v[2] > FLT_MIN))
+        || lam->v[2] <= sys->scale * sys->scale) {
         return SFIT_E_DEGENERATE; /* coincident, or a spread too small for float */
     }
     if (lam->v[1] <= SFIT_COLLINEAR_RATIO * lam->v[2]) {
@@ -435,8 +451,7 @@ static sfit_status_t prv_geometry(const sfit_i_system_t *sys, const sfit_i_solut
     return SFIT_OK;
 }
 
-/* w and the trace of a solution finite (SFIT_OK), else SFIT_E_RANGE. */
-static sfit_status_t prv_finite(const sfit_i_solution_t *out)
+sfit_status_t sfit_i_solution_finite(const sfit_i_solution_t *out)
 {
     int i;
     for (i = 0; i < 3; i++) {
@@ -453,19 +468,20 @@ static sfit_status_t prv_end(sfit_i_solution_t *out)
     if (out->rho >= 1.0f) {
         out->flags |= (uint8_t)SFIT_FLAG_UNTRUSTED;
     }
-    return sfit_i_isfinite(out->rho) ? prv_finite(out) : SFIT_E_RANGE;
+    return sfit_i_isfinite(out->rho) ? sfit_i_solution_finite(out) : SFIT_E_RANGE;
 }
 
 sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float planar_ratio,
                                  sfit_i_solution_t *out)
 {
     sfit_mat3_t *const cp = &sys->ms.c;
-    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    sfit_mat3_t c;
     const sfit_vec3_t *const lam = &out->eigenvalues;
     sfit_mat3_t v;
     sfit_status_t st;
 
     prv_init(sys, planar_ratio, out);
+    c = *cp; /* C, mirrored by prv_init() */
     st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
@@ -482,7 +498,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
     if (mode == SFIT_MODE_PLANAR) {
         st = prv_planar(sys, lam, &v, out);
     } else { /* C' = C: its Cholesky factor and w = C^-1 b */
-        sfit_i_sym_unpack(c6, cp);
+        sfit_i_sym_full(&c, cp->m);
         out->trace = cp->m[0] + cp->m[4] + cp->m[8];
         if (sfit_mat3_chol(cp, cp) != SFIT_OK) {
             return SFIT_E_DEGENERATE;
@@ -490,7 +506,7 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
         sfit_i_chol_solve(cp, sys->ms.rhs.v, out->w.v);
         out->mode = SFIT_MODE_SPHERE;
     }
-    return (st == SFIT_OK) ? prv_finite(out) : st;
+    return (st == SFIT_OK) ? sfit_i_solution_finite(out) : st;
 }
 
 /* One solver for every noise model: a system without one (SFIT_NOISE_NONE)
@@ -502,9 +518,9 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
                            sfit_i_solution_t *out)
 {
     /* C's storage in the system is the working matrix (Jacobi, then C' and
-     * its factor); C itself is kept packed (stack trick 1, sfit_solve.h). */
+     * its factor); C itself is kept as a copy (stack trick 1, sfit_solve.h). */
     sfit_mat3_t *const cp = &sys->ms.c;
-    const float c6[6] = {cp->m[0], cp->m[4], cp->m[8], cp->m[3], cp->m[6], cp->m[7]};
+    sfit_mat3_t c;
     sfit_mat3_t v;
     /* C''s eigenvalues (or scratch) until w is written last (prv_sphere,
      * prv_planar): no frame of their own (stack trick 2, sfit_solve.h). */
@@ -516,6 +532,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
      * its own it puts a frame on the Jacobi's path (measured 336 B on
      * sfit_fit_moments against its budget of 320). */
     prv_init(sys, planar_ratio, out);
+    c = *cp; /* C, mirrored by prv_init() */
     st = sfit_i_eig_sym(cp->m, &out->eigenvalues, v.m);
     if (st != SFIT_OK) {
         return (st == SFIT_E_NONFINITE) ? SFIT_E_RANGE : st;
@@ -525,7 +542,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         return st;
     }
     prv_axis(&v, &out->axis); /* the sphere's cap axis (before v is reused) */
-    prv_cprime(c6, sys, cp);
+    prv_cprime(&c, sys, cp);
     pt = prv_planar_test(sys, &v, out);
     if (pt < 0) {
         return (sfit_status_t)pt;
@@ -545,7 +562,7 @@ sfit_status_t sfit_i_solve(sfit_i_system_t *sys, sfit_mode_t mode, float planar_
         }
     } else {
         if (PRV_IS_P(pt) && !prv_sigma_iso(sys)) {
-            prv_cprime(c6, sys, cp); /* destroyed by the decomposition of C' */
+            prv_cprime(&c, sys, cp); /* destroyed by the decomposition of C' */
         }
         st = prv_sphere(sys, PRV_IS_P(pt), &v, out);
     }

@@ -14,8 +14,11 @@
  * against it (giving up trick 2 and 3, a local lamp and threshold, costs
  * 24 B on that path: 336 B).
  *  1. The system's C (sys->ms.c) is the full solver's working matrix: the
- *     Jacobi, then C' and its Cholesky factor; C itself is kept packed
- *     (6 floats) in sfit_i_solve_plain() and the noisy solve.
+ *     Jacobi, then C' and its Cholesky factor; C itself is kept as a
+ *     copy in sfit_i_solve_plain() and the noisy solve, mirrored back by
+ *     sfit_i_sym_full() (the 6 floats of packed storage took 8 B less
+ *     frame, 312 -> 304 B on sfit_fit_moments, but linked
+ *     sfit_i_sym_unpack() too: 42 B more code in the two-fit application).
  *  2. sfit_i_solve(): out->w holds the eigenvalues of C' (lamp) or the
  *     trust ratio's scratch until the solution's w is written last
  *     (prv_sphere, prv_planar).
@@ -42,6 +45,8 @@
 #include "sfit/sfit_fit.h"
 #include "sfit/sfit_multi.h"
 #include "sfit_moments_i.h"
+
+#include <float.h>
 
 /** @brief The linear problem (C - Sigma) w = b of every GDKE-type estimator. */
 typedef struct sfit_i_system {
@@ -155,6 +160,10 @@ sfit_status_t sfit_i_check_multi_cfg(const sfit_multi_cfg_t *cfg);
 /** @brief Sigma_hat of a noise model as a full symmetric matrix (zero for none). */
 void sfit_i_sigma(sfit_noise_kind_t kind, float var, const sfit_mat3_t *cov, sfit_mat3_t *sg);
 
+/** @brief SFIT_OK when w and the trace of a solution are finite, else
+ * SFIT_E_RANGE (the full solver's last check; the screen's too). */
+sfit_status_t sfit_i_solution_finite(const sfit_i_solution_t *out);
+
 /** @brief Coincidence threshold (a spread) for samples whose mean is origin + d. */
 float sfit_i_coincident_scale(const float origin[3], const float d[3]);
 
@@ -190,6 +199,12 @@ sfit_status_t sfit_i_solve_plain(sfit_i_system_t *sys, sfit_mode_t mode, float p
 sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *pt,
                                 const sfit_fit_cfg_t *cfg, sfit_result_t *out);
 
+/** @brief 1 when SFIT_MIN_SPREAD^2 is above FLT_MIN (its documented range,
+ * SFIT_MIN_SPREAD >= 1e-12): a spread test against it then also proves
+ * the variance normal, so the geometry checks need no test against
+ * FLT_MIN of their own (a constant: one of the two tests is compiled). */
+#define SFIT_I_SPREAD2_NORMAL (SFIT_MIN_SPREAD * SFIT_MIN_SPREAD > FLT_MIN)
+
 /** @brief sfit_i_solve_lean(): the screen cannot prove the answer; run sfit_i_solve(). */
 #define SFIT_I_SCREEN_TRIPPED 1
 
@@ -205,8 +220,9 @@ sfit_status_t sfit_i_fit_totals(const sfit_moments_t *m, const sfit_i_total_t *p
  * (out is scratch). The rounding flag needs the centre: the caller tests
  * it (sfit_i_rounding_test) on the bounds the screen leaves in
  * out->eigenvalues (v[0] <= lambda_min(C'), v[2] >= lambda_max(C); v[1]
- * zero) and runs the full solver when they cannot prove it clear. Axis
- * left zero. ratio: the planar threshold in use.
+ * not written) and runs the full solver when they cannot prove it clear;
+ * a screened result clears the three. Axis left zero. ratio: the planar
+ * threshold in use.
  */
 int sfit_i_solve_lean(const sfit_i_system_t *sys, uint32_t n, float ratio,
                       sfit_i_solution_t *out);
