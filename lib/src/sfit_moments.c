@@ -423,8 +423,10 @@ sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, 
     return SFIT_OK;
 }
 
-/* 2^SFIT_COORD_MAX_EXP: the coordinate range of a sample (and so of an
- * origin and a mean) is (-PRV_RANGE, PRV_RANGE). */
+/* 2^SFIT_COORD_MAX_EXP: the coordinate range of a sample is (-PRV_RANGE,
+ * PRV_RANGE); an origin and a mean are rounded means of samples, so
+ * [-PRV_RANGE, PRV_RANGE] (the float mean of samples near -2^27 can round
+ * to -2^27 itself: found by fuzz_stream). */
 #define PRV_RANGE ((float)(1UL << SFIT_COORD_MAX_EXP))
 /* Relative slack of the checks below for the rounding of the sums. */
 #define PRV_SLACK 1.00390625f /* 1 + 2^-8 */
@@ -432,7 +434,7 @@ sfit_status_t sfit_moments_add_block(sfit_moments_t *m, const sfit_vec3_t *pts, 
 /* 1 when the total s of an accumulator with origin `origin` is one the API
  * can build (issue 32: a merged source that is not would make dst unusable
  * for good, stats and fit E_RANGE): origin and mean origin + d inside the
- * coordinate range; the sums of squares 0 <= M2_ii <= n (2 range)^2 and
+ * closed coordinate range; the sums of squares 0 <= M2_ii <= n (2 range)^2 and
  * |M2_ij| <= (M2_ii + M2_jj)/2 (Cauchy-Schwarz); |M3_i| <= 4 range tr M2
  * (sum |y|^2 |y_i| <= max |y| tr M2, and |y| < 2 sqrt(3) range). Every
  * comparison fails on NaN. Given a dst built by the API, the merged totals
@@ -449,8 +451,8 @@ static int prv_total_ok(const float origin[3], const sfit_cmom_t *s)
     const float tiny = FLT_EPSILON * tr + (float)s->n * FLT_MIN;
     int i, ok = 1;
     for (i = 0; i < 3; i++) {
-        ok = ok && SFIT_FABSF(origin[i]) < PRV_RANGE
-             && SFIT_FABSF(origin[i] + s->d[i]) < PRV_RANGE && m2[i] >= -tiny && m2[i] <= lim
+        ok = ok && SFIT_FABSF(origin[i]) <= PRV_RANGE
+             && SFIT_FABSF(origin[i] + s->d[i]) <= PRV_RANGE && m2[i] >= -tiny && m2[i] <= lim
              && SFIT_FABSF(m2[3 + i]) <= (0.5f * PRV_SLACK) * pair[i] + tiny
              && SFIT_FABSF(s->m3[i]) <= (4.0f * PRV_SLACK * PRV_RANGE) * tr + tiny;
     }
