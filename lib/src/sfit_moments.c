@@ -12,10 +12,12 @@
  * exact in float (Sterbenz) and |z| is of the order of the sphere's
  * radius, so the sums carry no large offset.
  *
- * Outer level: a full block is folded into the total (prv_fold_block): the
- * total's centred moments, about a mean that is the origin up to the
- * residue, and the block's raw sums about the origin are added and centred
- * once about the union's mean. A solve folds the open block the same way
+ * Outer level: the total keeps its sums about the origin too (the
+ * origin is its mean rounded to float, the residue d; prv_rebase moves
+ * the centred sums of a fold or a merge there). A full block is folded
+ * into the total (prv_fold_block): the two sets of sums about the origin
+ * are added and centred once about the union's mean. A solve folds the
+ * open block the same way
  * (an empty one as zeros: one path, one cost at every N). Each fold rounds
  * the total's second moments once at the total's scale; a block's end
  * keeps that rounding's residue (Fast2Sum) as the next block's starting
@@ -59,15 +61,36 @@ uint32_t sfit_moments_count(const sfit_moments_t *m)
     return (m == NULL) ? 0u : m->tot.n + m->blk.n;
 }
 
+/* Where M2(i, j) is in the packed XX, YY, ZZ, XY, XZ, YZ (row i, column j). */
+static const uint8_t k_packed[9] = {0u, 3u, 4u, 3u, 1u, 5u, 4u, 5u, 2u};
+
 /* out += (2 M2 + tr(M2) I) u + n |u|^2 u with u = k delta: the shift of M3
- * by u of a set with centred M2. */
-static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], float out[3])
+ * by u of a set with centred M2; with m2 (the set's own M2), then also
+ * M2 += n u u^T: the set's sums about its mean - u (loops: off the
+ * per-sample path, a block's end or a merge, and small). */
+static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], float out[3],
+                         float *m2)
 {
-    const float u0 = k * delta[0], u1 = k * delta[1], u2 = k * delta[2];
-    const float t = (s->m2[0] + s->m2[1] + s->m2[2]) + (float)s->n * (u0 * u0 + u1 * u1 + u2 * u2);
-    out[0] += 2.0f * (s->m2[0] * u0 + s->m2[3] * u1 + s->m2[4] * u2) + t * u0;
-    out[1] += 2.0f * (s->m2[3] * u0 + s->m2[1] * u1 + s->m2[5] * u2) + t * u1;
-    out[2] += 2.0f * (s->m2[4] * u0 + s->m2[5] * u1 + s->m2[2] * u2) + t * u2;
+    float u[3], t, uu = 0.0f;
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        u[i] = k * delta[i];
+        uu += u[i] * u[i];
+    }
+    t = (s->m2[0] + s->m2[1] + s->m2[2]) + (float)s->n * uu;
+    for (i = 0; i < 3; i++) {
+        float mu = 0.0f;
+        for (j = 0; j < 3; j++) {
+            mu += s->m2[k_packed[3 * i + j]] * u[j];
+        }
+        out[i] += 2.0f * mu + t * u[i];
+    }
+    for (i = 0; m2 != NULL && i < 3; i++) { /* after the reads of M2 above */
+        const float f = (float)s->n * u[i];
+        for (j = i; j < 3; j++) {
+            m2[k_packed[3 * i + j]] += f * u[j];
+        }
+    }
 }
 
 /* max(v, 0); a NaN stays NaN (stats then says E_RANGE). */
@@ -92,13 +115,12 @@ SFIT_INLINE float prv_add_lo(float a, float x, float *lo)
  * out's M2 (lo may be b: a block's end keeps them as the next block's
  * sums; or lo is out, the residues stored first and then overwritten, so
  * that the solve's fold takes the same path and needs no scratch).
- * a is centred about origin + a->d, where a->d is a rebase residue
- * (prv_rebase: at most half an ulp of the origin) or a is empty; b holds
- * raw sums of z = x - origin. One pass about the origin (the union's sums
- * about it, then centred once): a's sums move to the origin to first
- * order in e = a->d, S2_a = M2_a and S3_a = M3_a + (2 M2_a + tr(M2_a) I) e
- * (the dropped terms n_a e e^T and n_a |e|^2 e are (|e| / spread)^2
- * relative); the union's mean is origin + delta, delta = (n_a e + sum z) / n,
+ * a holds sums about the origin with mean origin + a->d, where a->d is a
+ * rebase residue (prv_rebase: at most half an ulp of the origin) or a is
+ * empty; b holds raw sums of z = x - origin. One pass about the origin:
+ * the union's sums about it are S2 = S2_a + S2_b and S3 = S3_a + S3_b,
+ * its mean is origin + delta, delta = (n_a e + sum z) / n with e = a->d,
+ * and they are centred once:
  *   M2 = S2 - (n delta) delta^T,
  *   M3 = S3 - (2 M2 + tr(M2) I) delta - n |delta|^2 delta
  * (the shift of prv_m3_shift by -delta). Every sum is about a point near
@@ -115,13 +137,9 @@ static void prv_fold_block(const sfit_cmom_t *a, const sfit_cmom_t *b, sfit_cmom
     const float d0 = s0 * inv, d1 = s1 * inv, d2 = s2 * inv;
     const float a0 = a->m2[0], a1 = a->m2[1], a2 = a->m2[2];
     const float a3 = a->m2[3], a4 = a->m2[4], a5 = a->m2[5];
-    float t, q0, q1, q2;
+    const float q0 = b->m3[0], q1 = b->m3[1], q2 = b->m3[2];
+    float t;
 
-    /* S3 = M3_a + (2 M2_a + tr(M2_a) I) e + S3_b */
-    t = a0 + a1 + a2;
-    q0 = b->m3[0] + (2.0f * (a0 * e0 + a3 * e1 + a4 * e2) + t * e0);
-    q1 = b->m3[1] + (2.0f * (a3 * e0 + a1 * e1 + a5 * e2) + t * e1);
-    q2 = b->m3[2] + (2.0f * (a4 * e0 + a5 * e1 + a2 * e2) + t * e2);
     /* A sum of squares about the mean is >= 0; the subtraction of two
      * nearly equal sums can round below (found by fuzz_stream). Each
      * residue is stored before the sum (lo may be out), a's sums are read
@@ -175,8 +193,8 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
     b->m3[0] = a->m3[0] + b->m3[0];
     b->m3[1] = a->m3[1] + b->m3[1];
     b->m3[2] = a->m3[2] + b->m3[2];
-    prv_m3_shift(a, -fb, delta, b->m3); /* m_A - m = -fb delta */
-    prv_m3_shift(b, fa, delta, b->m3);  /* m_B - m = fa delta (b's m2 and n still B's) */
+    prv_m3_shift(a, -fb, delta, b->m3, NULL); /* m_A - m = -fb delta */
+    prv_m3_shift(b, fa, delta, b->m3, NULL);  /* m_B - m = fa delta (b's m2 and n still B's) */
     b->m2[0] = a->m2[0] + (b->m2[0] + w * delta[0] * delta[0]);
     b->m2[1] = a->m2[1] + (b->m2[1] + w * delta[1] * delta[1]);
     b->m2[2] = a->m2[2] + (b->m2[2] + w * delta[2] * delta[2]);
@@ -189,10 +207,18 @@ static void prv_cmom_merge(const sfit_cmom_t *a, sfit_cmom_t *b)
     b->n += a->n;
 }
 
-/* Move the origin to the mean of a total t about it, o' = fl(origin +
- * t->d), and keep the exact residue d - (o' - origin) in t->d (o' - origin
- * is exact when |d| <= |origin|, Fast2Sum): the next block is summed about
- * the mean, and prv_fold_block() sees a residue. */
+/* Move the origin to the mean of a centred total t about it, o' =
+ * fl(origin + t->d), keep the exact residue e = d - (o' - origin) in t->d
+ * (o' - origin is exact when |d| <= |origin|, Fast2Sum), and move t's
+ * sums to o' (the mean is o' + e): S2 = M2 + n e e^T, S3 = M3 + (2 M2 +
+ * tr(M2) I) e + n |e|^2 e (prv_m3_shift). The next block is summed about
+ * o', and prv_fold_block() adds the two sets of sums as they are. The
+ * n e e^T terms are (|e| / spread)^2 relative, below the sums' rounding,
+ * except where the spread is of the order of the origin's ulp (near the
+ * coordinate range): there a total kept centred and added as if about
+ * o' failed Cauchy-Schwarz (found by a stress run of merges). The move
+ * of the sums is the caller's second call (one frame less on
+ * sfit_moments_add's deepest path). */
 static void prv_rebase(float origin[3], sfit_cmom_t *t)
 {
     int i;
@@ -203,14 +229,11 @@ static void prv_rebase(float origin[3], sfit_cmom_t *t)
     }
 }
 
-/* out := tot, merged with the open block blk (raw sums). */
+/* out := tot, merged with the open block blk (raw sums; an empty one
+ * folds its residues), centred. */
 static void prv_total(const sfit_cmom_t *tot, const sfit_cmom_t *blk, sfit_cmom_t *out)
 {
-    if (blk->n > 0u) {
-        prv_fold_block(tot, blk, out, out);
-    } else {
-        *out = *tot;
-    }
+    prv_fold_block(tot, blk, out, out);
 }
 
 void sfit_i_moments_total(const sfit_moments_t *m, sfit_cmom_t *out)
@@ -242,6 +265,7 @@ static void prv_flush(sfit_moments_t *m)
     }
     prv_close(m);
     prv_rebase(m->origin, &m->tot);
+    prv_m3_shift(&m->tot, 1.0f, m->tot.d, m->tot.m3, m->tot.m2);
 }
 
 /* Accumulate one already validated sample. */
@@ -481,9 +505,7 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
     if (sfit_moments_count(dst) == 0u) {
         memcpy(dst->origin, src->origin, sizeof dst->origin);
     } else {
-        if (dst->blk.n > 0u) {
-            prv_close(dst); /* dst's origin stays: s.d below is about it */
-        }
+        prv_close(dst); /* centred; dst's origin stays: s.d below is about it */
         for (i = 0; i < 3; i++) {
             s.d[i] = (src->origin[i] - dst->origin[i]) + s.d[i];
         }
@@ -491,6 +513,7 @@ sfit_status_t sfit_moments_merge(sfit_moments_t *dst, const sfit_moments_t *src)
     prv_cmom_merge(&dst->tot, &s);
     dst->tot = s;
     prv_rebase(dst->origin, &dst->tot);
+    prv_m3_shift(&dst->tot, 1.0f, dst->tot.d, dst->tot.m3, dst->tot.m2);
     return SFIT_OK;
 }
 
