@@ -61,9 +61,6 @@ uint32_t sfit_moments_count(const sfit_moments_t *m)
     return (m == NULL) ? 0u : m->tot.n + m->blk.n;
 }
 
-/* Where M2(i, j) is in the packed XX, YY, ZZ, XY, XZ, YZ (row i, column j). */
-static const uint8_t k_packed[9] = {0u, 3u, 4u, 3u, 1u, 5u, 4u, 5u, 2u};
-
 /* out += (2 M2 + tr(M2) I) u + n |u|^2 u with u = k delta: the shift of M3
  * by u of a set with centred M2; with m2 (the set's own M2), then also
  * M2 += n u u^T: the set's sums about its mean - u (loops: off the
@@ -71,6 +68,8 @@ static const uint8_t k_packed[9] = {0u, 3u, 4u, 3u, 1u, 5u, 4u, 5u, 2u};
 static void prv_m3_shift(const sfit_cmom_t *s, float k, const float delta[3], float out[3],
                          float *m2)
 {
+    /* Where M2(i, j) is in the packed XX, YY, ZZ, XY, XZ, YZ (row i, column j). */
+    static const uint8_t k_packed[9] = {0u, 3u, 4u, 3u, 1u, 5u, 4u, 5u, 2u};
     float u[3], t, uu = 0.0f;
     int i, j;
     for (i = 0; i < 3; i++) {
