@@ -16,9 +16,10 @@
  * origin is its mean rounded to float, the residue d; prv_rebase moves
  * the centred sums of a fold or a merge there). A full block is folded
  * into the total (prv_fold_block): the two sets of sums about the origin
- * are added and centred once about the union's mean. A solve folds the
- * open block the same way
- * (an empty one as zeros: one path, one cost at every N). Each fold rounds
+ * are added and centred once about the union's mean. A solve, the
+ * statistics and a merge's source fold the open block the same way (an
+ * empty one as its residues or zeros: one path, one cost at every N).
+ * Each fold rounds
  * the total's second moments once at the total's scale; a block's end
  * keeps that rounding's residue (Fast2Sum) as the next block's starting
  * sums, so the residues are added back instead of piling up over N/64

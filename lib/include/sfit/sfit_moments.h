@@ -20,7 +20,8 @@
 extern "C" {
 #endif
 
-/** @brief Centred moments in packed form; members are private. */
+/** @brief Moments in packed form (sums about a point near the mean: the
+ *  mean, or an accumulator's origin); members are private. */
 typedef struct sfit_cmom {
     uint32_t n;    /**< Sample count. */
     float d[3];    /**< Mean minus the owner's origin. */
@@ -36,7 +37,8 @@ typedef struct sfit_moments {
     float origin[3];    /**< Frame of `tot` and reference point of the open block:
                              the first sample, then the rounded mean at each
                              block start (tot.d keeps the rounding residue). */
-    sfit_cmom_t tot;    /**< Merged full blocks, mean relative to origin. */
+    sfit_cmom_t tot;    /**< Merged full blocks: mean relative to origin (d, the
+                             rounding residue), sums about origin (y = x - origin). */
     sfit_cmom_t blk;    /**< Open block, raw sums of z = x - origin: n, d = sum z,
                              m2 = sum z z^T (packed; it starts at the rounding
                              residue of the last fold into `tot`),
